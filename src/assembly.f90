@@ -1,0 +1,451 @@
+!> The discrete system of a scene: DOF numbering, the element data of every integration
+!> point (B matrices and weights, computed once), the sparse K0 and M on one pattern, and
+!> the internal forces Bσ assembled from the element stresses.
+module assembly
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str
+  use mesh, only: DOF_NAMES, ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8
+  use scene, only: scene_t, function_value, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
+  use dof_map, only: build_dof_map
+  use sparse_matrix, only: sym_csc_t
+  use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
+    elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
+  use material_law, only: law_update, law_is_linear, PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS
+  implicit none
+  private
+  public :: system_t, build_system, internal_force, commit_state, external_force, strain_energy, &
+    element_stress, nodal_values, mass_times, initial_state, dof_label
+
+  !> Nodal forces of one LOAD statement on the free DOFs (sparse).
+  type :: load_vector_t
+    integer, allocatable :: eq(:)
+    real(dp), allocatable :: f(:)
+    integer :: func = 0
+  end type load_vector_t
+
+  type :: system_t
+    integer :: neq = 0                       !< free equations
+    integer :: ngp = 0                       !< integration points
+    integer, allocatable :: eqn(:, :)        !< (3, nnode) equation of each node DOF (>0), fixed (-1), absent (0)
+    type(sym_csc_t) :: pat                   !< shared pattern of K0, M and the iteration matrix
+    real(dp), allocatable :: kval(:), mval(:)
+    logical :: mass_diagonal = .false.       !< every model lumped: M is its diagonal
+    real(dp), allocatable :: mdiag(:)
+    logical :: linear = .true.               !< every law linear: one solve per step, no iteration
+    ! Element data (for every mesh element; empty ranges for unmodelled ones).
+    integer, allocatable :: edof_ptr(:), edof(:)  !< equations of the element DOFs (0: fixed or absent)
+    integer, allocatable :: gp_ptr(:)        !< (nelem+1) integration points of each element
+    integer, allocatable :: b_ptr(:)         !< (ngp+1) offsets of each B in bmat
+    real(dp), allocatable :: bmat(:), wt(:)
+    real(dp), allocatable :: dmat(:, :, :)   !< (MAX_NSTRAIN, MAX_NSTRAIN, nmodel) elastic matrices
+    integer, allocatable :: pk(:)            !< (nmodel) material-point kind
+    ! Integration-point state: committed (end of the last step) and trial.
+    real(dp), allocatable :: eps(:, :), sig(:, :), eps_t(:, :), sig_t(:, :)
+    real(dp) :: work_t = 0.0_dp              !< internal work of the trial increment
+    ! External forces.
+    real(dp), allocatable :: fgrav(:)        !< M g on the free DOFs
+    type(load_vector_t), allocatable :: loads(:)
+  end type system_t
+
+contains
+
+  !> Name of an equation: "node N (x, y) DOF".
+  function dof_label(scn, sys, ieq) result(s)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    integer, intent(in) :: ieq
+    character(len=:), allocatable :: s
+    integer :: loc(2)
+    loc = findloc(sys%eqn, ieq)
+    s = 'node ' // str(loc(2)) // ' (x = ' // str(scn%mesh%x(1, loc(2))) // ', y = ' // str(scn%mesh%x(2, loc(2))) // &
+      ') DOF ' // trim(DOF_NAMES(loc(1)))
+  end function dof_label
+
+  !> Number the DOFs, compute the element data, assemble K0, M and the load vectors.
+  subroutine build_system(scn, sys, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(out) :: sys
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: e, et, im, nen, ndof, nstr, ngp, ig, igp, nb, k, a, d, n, i, nmodel
+    logical :: mask(3)
+    real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), w, ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF)
+    real(dp) :: g(MAX_EDOF), rho
+    integer, allocatable :: eptr(:), edofs(:)
+
+    stat = STAT_OK
+    call build_dof_map(scn, sys%eqn, sys%neq)
+    if (sys%neq == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, scn%path // ':1: every degree of freedom is fixed: nothing moves')
+      return
+    end if
+    nmodel = size(scn%models)
+    allocate (sys%dmat(MAX_NSTRAIN, MAX_NSTRAIN, nmodel), sys%pk(nmodel))
+    sys%dmat = 0.0_dp
+    do im = 1, nmodel
+      associate (md => scn%models(im))
+        select case (md%etype)
+        case (ET_SPRING, ET_BAR2)
+          sys%pk(im) = PK_1D
+        case (ET_BEAM2)
+          sys%pk(im) = PK_BEAM
+        case (ET_QUAD4, ET_QUAD8)
+          sys%pk(im) = merge(PK_PSTRESS, PK_PSTRAIN, md%sec%plane_stress)
+        case default
+          sys%pk(im) = 0
+        end select
+        if (md%material > 0 .and. md%etype /= ET_MASS) then
+          nstr = elem_nstrain(md%etype)
+          call elem_elastic_d(md%etype, scn%materials(md%material)%young, scn%materials(md%material)%poisson, &
+            md%sec, sys%dmat(1:nstr, 1:nstr, im))
+          sys%linear = sys%linear .and. law_is_linear(scn%materials(md%material))
+        end if
+      end associate
+    end do
+
+    ! Element DOFs and integration-point counts.
+    allocate (sys%edof_ptr(scn%mesh%nelem + 1), sys%gp_ptr(scn%mesh%nelem + 1))
+    sys%edof_ptr(1) = 1
+    sys%gp_ptr(1) = 1
+    nb = 0
+    do e = 1, scn%mesh%nelem
+      ndof = 0
+      ngp = 0
+      im = scn%elem_model(e)
+      if (im > 0) then
+        et = scn%mesh%etype(e)
+        ndof = elem_ndof(et)
+        ngp = elem_ngauss(et, scn%models(im)%sec)
+        nb = nb + ngp * elem_nstrain(et) * ndof
+      end if
+      sys%edof_ptr(e + 1) = sys%edof_ptr(e) + ndof
+      sys%gp_ptr(e + 1) = sys%gp_ptr(e) + ngp
+    end do
+    sys%ngp = sys%gp_ptr(scn%mesh%nelem + 1) - 1
+    allocate (sys%edof(sys%edof_ptr(scn%mesh%nelem + 1) - 1), sys%b_ptr(sys%ngp + 1), sys%bmat(nb), sys%wt(sys%ngp))
+    allocate (sys%eps(MAX_NSTRAIN, sys%ngp), sys%sig(MAX_NSTRAIN, sys%ngp))
+    sys%eps = 0.0_dp
+    sys%sig = 0.0_dp
+    sys%b_ptr(1) = 1
+    do e = 1, scn%mesh%nelem
+      im = scn%elem_model(e)
+      if (im == 0) cycle
+      et = scn%mesh%etype(e)
+      nen = scn%mesh%nen(e)
+      mask = elem_dof_mask(et)
+      k = sys%edof_ptr(e)
+      do a = 1, nen
+        n = scn%mesh%conn(a, e)
+        do d = 1, 3
+          if (.not. mask(d)) cycle
+          sys%edof(k) = max(sys%eqn(d, n), 0)
+          k = k + 1
+        end do
+      end do
+      x(:, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
+      ndof = elem_ndof(et)
+      nstr = elem_nstrain(et)
+      do ig = 1, sys%gp_ptr(e + 1) - sys%gp_ptr(e)
+        igp = sys%gp_ptr(e) + ig - 1
+        call elem_gauss_b(et, x(:, 1:nen), scn%models(im)%sec, ig, b(1:nstr, 1:ndof), w)
+        sys%bmat(sys%b_ptr(igp):sys%b_ptr(igp) + nstr * ndof - 1) = reshape(b(1:nstr, 1:ndof), [nstr * ndof])
+        sys%wt(igp) = w
+        sys%b_ptr(igp + 1) = sys%b_ptr(igp) + nstr * ndof
+      end do
+    end do
+
+    ! One pattern for K0, M and K0 + c M.
+    allocate (eptr(scn%mesh%nelem + 1))
+    eptr = sys%edof_ptr
+    edofs = sys%edof
+    call sys%pat%build(sys%neq, eptr, edofs)
+    allocate (sys%kval(sys%pat%nnz), sys%mval(sys%pat%nnz), sys%fgrav(sys%neq))
+    sys%kval = 0.0_dp
+    sys%mval = 0.0_dp
+    sys%fgrav = 0.0_dp
+    do e = 1, scn%mesh%nelem
+      im = scn%elem_model(e)
+      if (im == 0) cycle
+      et = scn%mesh%etype(e)
+      nen = scn%mesh%nen(e)
+      ndof = elem_ndof(et)
+      nstr = elem_nstrain(et)
+      associate (dofs => sys%edof(sys%edof_ptr(e):sys%edof_ptr(e + 1) - 1))
+        ke(1:ndof, 1:ndof) = 0.0_dp
+        do igp = sys%gp_ptr(e), sys%gp_ptr(e + 1) - 1
+          b(1:nstr, 1:ndof) = reshape(sys%bmat(sys%b_ptr(igp):sys%b_ptr(igp + 1) - 1), [nstr, ndof])
+          ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + sys%wt(igp) * &
+            matmul(transpose(b(1:nstr, 1:ndof)), matmul(sys%dmat(1:nstr, 1:nstr, im), b(1:nstr, 1:ndof)))
+        end do
+        if (nstr > 0) call sys%pat%add_element(sys%kval, dofs, ke(1:ndof, 1:ndof))
+        x(:, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
+        rho = 0.0_dp
+        if (scn%models(im)%material > 0) rho = scn%materials(scn%models(im)%material)%density
+        call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, scn%models(im)%lumped, me(1:ndof, 1:ndof))
+        call sys%pat%add_element(sys%mval, dofs, me(1:ndof, 1:ndof))
+        ! Gravity: M g with g on the translations, the consistent body force of the element.
+        mask = elem_dof_mask(et)
+        k = 0
+        do a = 1, nen
+          do d = 1, 3
+            if (.not. mask(d)) cycle
+            k = k + 1
+            g(k) = 0.0_dp
+            if (d <= 2) g(k) = scn%gravity(d)
+          end do
+        end do
+        g(1:ndof) = matmul(me(1:ndof, 1:ndof), g(1:ndof))
+        do k = 1, ndof
+          if (dofs(k) > 0) sys%fgrav(dofs(k)) = sys%fgrav(dofs(k)) + g(k)
+        end do
+      end associate
+    end do
+
+    ! A DOF with neither mass nor stiffness makes K0 + 4M/h2 singular.
+    block
+      real(dp), allocatable :: dk(:), dm(:)
+      allocate (dk(sys%neq), dm(sys%neq))
+      call sys%pat%diagonal(sys%kval, dk)
+      call sys%pat%diagonal(sys%mval, dm)
+      do i = 1, sys%neq
+        if (dk(i) <= 0.0_dp .and. dm(i) <= 0.0_dp) then
+          call set_error(stat, errmsg, STAT_INPUT, scn%path // ':1: singular system: ' // dof_label(scn, sys, i) // &
+            ' has neither mass nor stiffness (fix it, or give it a mass or an element)')
+          return
+        end if
+      end do
+      sys%mass_diagonal = .true.
+      do k = 1, sys%pat%nnz
+        if (sys%mval(k) /= 0.0_dp) then
+          if (.not. is_diagonal_position(sys%pat, k)) sys%mass_diagonal = .false.
+        end if
+      end do
+      if (sys%mass_diagonal) sys%mdiag = dm
+    end block
+
+    call build_loads(scn, sys, stat, errmsg)
+    if (stat /= STAT_OK) return
+    allocate (sys%eps_t, source=sys%eps)
+    allocate (sys%sig_t, source=sys%sig)
+  end subroutine build_system
+
+  !> True when position k of the pattern is a diagonal entry.
+  pure logical function is_diagonal_position(pat, k)
+    type(sym_csc_t), intent(in) :: pat
+    integer, intent(in) :: k
+    integer :: lo, hi, mid
+    ! column j holds positions colptr(j) .. colptr(j+1)-1; find j by bisection
+    lo = 1
+    hi = pat%n
+    do while (lo < hi)
+      mid = (lo + hi + 1) / 2
+      if (pat%colptr(mid) <= k) then
+        lo = mid
+      else
+        hi = mid - 1
+      end if
+    end do
+    is_diagonal_position = pat%rowind(k) == lo
+  end function is_diagonal_position
+
+  subroutine build_loads(scn, sys, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: il, i, n, d, k, cnt
+    stat = STAT_OK
+    allocate (sys%loads(size(scn%loads)))
+    do il = 1, size(scn%loads)
+      associate (ld => scn%loads(il), nodes => scn%mesh%ngroups(scn%loads(il)%ngroup)%items)
+        cnt = 0
+        do i = 1, size(nodes)
+          do d = 1, 3
+            if (ld%force(d) /= 0.0_dp .and. sys%eqn(d, nodes(i)) > 0) cnt = cnt + 1
+          end do
+        end do
+        allocate (sys%loads(il)%eq(cnt), sys%loads(il)%f(cnt))
+        k = 0
+        do i = 1, size(nodes)
+          n = nodes(i)
+          do d = 1, 3
+            if (ld%force(d) /= 0.0_dp .and. sys%eqn(d, n) > 0) then
+              k = k + 1
+              sys%loads(il)%eq(k) = sys%eqn(d, n)
+              sys%loads(il)%f(k) = ld%force(d)
+            end if
+          end do
+        end do
+        sys%loads(il)%func = ld%func
+      end associate
+    end do
+  end subroutine build_loads
+
+  !> External forces at time t: gravity and the LOAD statements, times their functions.
+  subroutine external_force(scn, sys, t, f)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: t
+    real(dp), intent(out) :: f(:)
+    integer :: il
+    real(dp) :: s
+    f = function_value(scn%functions, scn%gravity_func, t) * sys%fgrav
+    do il = 1, size(sys%loads)
+      s = function_value(scn%functions, sys%loads(il)%func, t)
+      f(sys%loads(il)%eq) = f(sys%loads(il)%eq) + s * sys%loads(il)%f
+    end do
+  end subroutine external_force
+
+  !> y = M x.
+  subroutine mass_times(sys, x, y)
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: y(:)
+    if (sys%mass_diagonal) then
+      y = sys%mdiag * x
+    else
+      call sys%pat%matvec(sys%mval, x, y)
+    end if
+  end subroutine mass_times
+
+  !> Trial state for the total displacement u: strains, stresses by the laws along the step's
+  !> strain path (from the committed state), the internal forces fint = sum B'sigma w, and the
+  !> work of the increment in sys%work_t.
+  subroutine internal_force(scn, sys, u, fint)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    real(dp), intent(in) :: u(:)
+    real(dp), intent(out) :: fint(:)
+    integer :: e, im, ndof, nstr, igp, k, p, j
+    real(dp) :: ue(MAX_EDOF), fe(MAX_EDOF), deps(MAX_NSTRAIN), sbar(MAX_NSTRAIN), qn(0), q(0), work, dissip, wsum
+    fint = 0.0_dp
+    wsum = 0.0_dp
+    do e = 1, scn%mesh%nelem
+      im = scn%elem_model(e)
+      if (im == 0) cycle
+      if (sys%gp_ptr(e + 1) == sys%gp_ptr(e)) cycle
+      ndof = sys%edof_ptr(e + 1) - sys%edof_ptr(e)
+      do k = 1, ndof
+        j = sys%edof(sys%edof_ptr(e) + k - 1)
+        ue(k) = 0.0_dp
+        if (j > 0) ue(k) = u(j)
+      end do
+      fe(1:ndof) = 0.0_dp
+      nstr = elem_nstrain(scn%mesh%etype(e))
+      do igp = sys%gp_ptr(e), sys%gp_ptr(e + 1) - 1
+        p = sys%b_ptr(igp)
+        ! eps = B ue (B stored column-major, nstr x ndof)
+        sys%eps_t(1:nstr, igp) = 0.0_dp
+        do k = 1, ndof
+          sys%eps_t(1:nstr, igp) = sys%eps_t(1:nstr, igp) + sys%bmat(p + (k - 1) * nstr:p + k * nstr - 1) * ue(k)
+        end do
+        deps(1:nstr) = sys%eps_t(1:nstr, igp) - sys%eps(1:nstr, igp)
+        call law_update(scn%materials(scn%models(im)%material), scn%models(im)%sec, sys%pk(im), &
+          sys%dmat(1:nstr, 1:nstr, im), 1, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), qn, &
+          sys%sig_t(1:nstr, igp), sbar(1:nstr), q, work, dissip)
+        wsum = wsum + sys%wt(igp) * work
+        do k = 1, ndof
+          fe(k) = fe(k) + sys%wt(igp) * dot_product(sys%bmat(p + (k - 1) * nstr:p + k * nstr - 1), &
+            sys%sig_t(1:nstr, igp))
+        end do
+      end do
+      do k = 1, ndof
+        j = sys%edof(sys%edof_ptr(e) + k - 1)
+        if (j > 0) fint(j) = fint(j) + fe(k)
+      end do
+    end do
+    sys%work_t = wsum
+  end subroutine internal_force
+
+  !> Accept the trial state as the state at the end of the step.
+  subroutine commit_state(sys)
+    type(system_t), intent(inout) :: sys
+    sys%eps = sys%eps_t
+    sys%sig = sys%sig_t
+  end subroutine commit_state
+
+  !> Recoverable elastic energy of the committed state, sum of ½ sigma.eps w.
+  pure real(dp) function strain_energy(sys) result(w)
+    type(system_t), intent(in) :: sys
+    integer :: igp
+    w = 0.0_dp
+    do igp = 1, sys%ngp
+      w = w + 0.5_dp * sys%wt(igp) * dot_product(sys%sig(:, igp), sys%eps(:, igp))
+    end do
+  end function strain_energy
+
+  !> Element means of the integration-point stresses, (MAX_NSTRAIN, nelem).
+  subroutine element_stress(sys, s)
+    type(system_t), intent(in) :: sys
+    real(dp), intent(out) :: s(:, :)
+    integer :: e, n
+    do e = 1, size(s, 2)
+      n = sys%gp_ptr(e + 1) - sys%gp_ptr(e)
+      if (n == 0) then
+        s(:, e) = 0.0_dp
+      else
+        s(:, e) = sum(sys%sig(:, sys%gp_ptr(e):sys%gp_ptr(e + 1) - 1), dim=2) / n
+      end if
+    end do
+  end subroutine element_stress
+
+  !> Free-DOF vector to nodal values (3, nnode); fixed and absent DOFs are zero.
+  pure subroutine nodal_values(sys, u, out)
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: u(:)
+    real(dp), intent(out) :: out(:, :)
+    integer :: n, d
+    do n = 1, size(out, 2)
+      do d = 1, 3
+        out(d, n) = 0.0_dp
+        if (sys%eqn(d, n) > 0) out(d, n) = u(sys%eqn(d, n))
+      end do
+    end do
+  end subroutine nodal_values
+
+  !> Initial displacement and velocity from the INITIAL statements. STATIC FORCE preloads are
+  !> returned in fstatic (the caller solves K0 u = fstatic and adds it). Values on fixed DOFs
+  !> are refused.
+  subroutine initial_state(scn, sys, u, v, fstatic, has_static, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(out) :: u(:), v(:), fstatic(:)
+    logical, intent(out) :: has_static
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: ic, i, d, n, j
+    stat = STAT_OK
+    u = 0.0_dp
+    v = 0.0_dp
+    fstatic = 0.0_dp
+    has_static = .false.
+    do ic = 1, size(scn%initials)
+      associate (c => scn%initials(ic), nodes => scn%mesh%ngroups(scn%initials(ic)%ngroup)%items)
+        do i = 1, size(nodes)
+          n = nodes(i)
+          do d = 1, 3
+            if (.not. c%mask(d)) cycle
+            j = sys%eqn(d, n)
+            if (j <= 0) then
+              if (c%values(d) /= 0.0_dp .and. j < 0 .and. c%kind /= INIT_STATIC) then
+                call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(c%line) // ': INITIAL: node ' // &
+                  str(n) // ' DOF ' // trim(DOF_NAMES(d)) // ' is fixed and cannot have a non-zero initial value')
+                return
+              end if
+              cycle
+            end if
+            select case (c%kind)
+            case (INIT_DISPLACEMENT)
+              u(j) = c%values(d)
+            case (INIT_VELOCITY)
+              v(j) = c%values(d)
+            case (INIT_STATIC)
+              fstatic(j) = fstatic(j) + c%values(d)
+              has_static = .true.
+            end select
+          end do
+        end do
+      end associate
+    end do
+  end subroutine initial_state
+end module assembly

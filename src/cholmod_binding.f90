@@ -1,0 +1,203 @@
+!> Sparse Cholesky factorization of a symmetric positive definite sym_csc_t matrix through
+!> CHOLMOD (src/cholmod_shim.c, the project's only C interop).
+!>
+!> Usage: call f%factorize(pat, values, stat, errmsg) once (copies the pattern, analyzes,
+!> factorizes); later factorize calls with the same pattern and new values only refactorize;
+!> call f%solve(b, x, stat, errmsg) as often as needed (allocation-free after the first);
+!> call f%destroy() when done. Do not copy a cholmod_factor_t (the copy would share the C
+!> handle): pass it by reference. gfortran 12 does not finalize non-allocatable locals at
+!> scope exit, so call destroy explicitly.
+module cholmod_binding
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_int, c_double, c_char, c_null_char, &
+    c_associated
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
+  use sparse_matrix, only: sym_csc_t
+  implicit none
+  private
+  public :: cholmod_factor_t, cholmod_version
+
+  type :: cholmod_factor_t
+    private
+    type(c_ptr) :: handle = c_null_ptr
+  contains
+    procedure :: factorize
+    procedure :: solve
+    procedure :: is_factored
+    procedure :: destroy
+    final :: cholmod_factor_final
+  end type cholmod_factor_t
+
+  ! Return codes of the shim.
+  integer(c_int), parameter :: RB_OK = 0, RB_NOT_POSDEF = 1, RB_FAIL = 2, RB_BADARG = 3
+  integer, parameter :: MSGLEN = 320
+
+  interface
+    function rb_chol_new() bind(c, name='rb_chol_new') result(h)
+      import :: c_ptr
+      type(c_ptr) :: h
+    end function rb_chol_new
+
+    subroutine rb_chol_free(h) bind(c, name='rb_chol_free')
+      import :: c_ptr
+      type(c_ptr), value :: h
+    end subroutine rb_chol_free
+
+    function rb_chol_is_factored(h) bind(c, name='rb_chol_is_factored') result(r)
+      import :: c_ptr, c_int
+      type(c_ptr), value :: h
+      integer(c_int) :: r
+    end function rb_chol_is_factored
+
+    subroutine rb_chol_version(v) bind(c, name='rb_chol_version')
+      import :: c_int
+      integer(c_int), intent(out) :: v(3)
+    end subroutine rb_chol_version
+
+    function rb_chol_factorize(h, n, nnz, colptr, rowind, values, minor, msg, msglen) &
+        bind(c, name='rb_chol_factorize') result(rc)
+      import :: c_ptr, c_int, c_double, c_char
+      type(c_ptr), value :: h
+      integer(c_int), value :: n, nnz
+      integer(c_int), intent(in) :: colptr(*), rowind(*)
+      real(c_double), intent(in) :: values(*)
+      integer(c_int), intent(out) :: minor
+      character(kind=c_char), intent(inout) :: msg(*)
+      integer(c_int), value :: msglen
+      integer(c_int) :: rc
+    end function rb_chol_factorize
+
+    function rb_chol_solve(h, n, b, x, msg, msglen) bind(c, name='rb_chol_solve') result(rc)
+      import :: c_ptr, c_int, c_double, c_char
+      type(c_ptr), value :: h
+      integer(c_int), value :: n
+      real(c_double), intent(in) :: b(*)
+      real(c_double), intent(inout) :: x(*)
+      character(kind=c_char), intent(inout) :: msg(*)
+      integer(c_int), value :: msglen
+      integer(c_int) :: rc
+    end function rb_chol_solve
+  end interface
+
+contains
+
+  !> Factorize the SPD matrix (pat, values). The first call copies the pattern and analyzes
+  !> (fill-reducing ordering); later calls must pass the same pattern and only refactorize.
+  !> Not positive definite: stat = STAT_RUN, errmsg names the 1-based column whose pivot failed,
+  !> minor = that column (0 on success).
+  subroutine factorize(self, pat, values, stat, errmsg, minor)
+    class(cholmod_factor_t), intent(inout) :: self
+    type(sym_csc_t), intent(in) :: pat
+    real(dp), intent(in), contiguous :: values(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer, intent(out), optional :: minor
+    character(kind=c_char) :: cmsg(MSGLEN)
+    integer(c_int) :: rc, cminor
+
+    stat = STAT_OK
+    if (present(minor)) minor = 0
+    if (.not. allocated(pat%colptr) .or. .not. allocated(pat%rowind) .or. pat%n < 1) then
+      call set_error(stat, errmsg, STAT_INPUT, 'CHOLMOD factorize: empty or unbuilt sparse pattern')
+      return
+    end if
+    if (size(values) /= pat%nnz) then
+      call set_error(stat, errmsg, STAT_INPUT, 'CHOLMOD factorize: ' // str(size(values)) // &
+                     ' values for a pattern with ' // str(pat%nnz) // ' entries')
+      return
+    end if
+    if (.not. c_associated(self%handle)) then
+      self%handle = rb_chol_new()
+      if (.not. c_associated(self%handle)) then
+        call set_error(stat, errmsg, STAT_RUN, 'CHOLMOD: cannot start (out of memory?)')
+        return
+      end if
+    end if
+    cmsg(1) = c_null_char
+    rc = rb_chol_factorize(self%handle, int(pat%n, c_int), int(pat%nnz, c_int), pat%colptr, pat%rowind, &
+                           values, cminor, cmsg, int(MSGLEN, c_int))
+    if (rc == RB_OK) return
+    if (rc == RB_NOT_POSDEF) then
+      if (present(minor)) minor = int(cminor)
+      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
+    else if (rc == RB_BADARG) then
+      call set_error(stat, errmsg, STAT_INPUT, c_to_f(cmsg))
+    else
+      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
+    end if
+  end subroutine factorize
+
+  !> x = A^{-1} b with the current factor. No allocation after the first call on success.
+  subroutine solve(self, b, x, stat, errmsg)
+    class(cholmod_factor_t), intent(inout) :: self
+    real(dp), intent(in), contiguous :: b(:)
+    real(dp), intent(out), contiguous :: x(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(kind=c_char) :: cmsg(MSGLEN)
+    integer(c_int) :: rc
+
+    stat = STAT_OK
+    if (.not. c_associated(self%handle)) then
+      call set_error(stat, errmsg, STAT_INPUT, 'CHOLMOD solve: matrix not factorized')
+      return
+    end if
+    if (size(x) /= size(b)) then
+      call set_error(stat, errmsg, STAT_INPUT, 'CHOLMOD solve: size(x) = ' // str(size(x)) // &
+                     ' differs from size(b) = ' // str(size(b)))
+      return
+    end if
+    rc = rb_chol_solve(self%handle, int(size(b), c_int), b, x, cmsg, int(MSGLEN, c_int))
+    if (rc == RB_OK) return
+    if (rc == RB_BADARG) then
+      call set_error(stat, errmsg, STAT_INPUT, c_to_f(cmsg))
+    else
+      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
+    end if
+  end subroutine solve
+
+  !> True when the last factorize succeeded and destroy has not been called since.
+  logical function is_factored(self)
+    class(cholmod_factor_t), intent(in) :: self
+    is_factored = .false.
+    if (c_associated(self%handle)) is_factored = rb_chol_is_factored(self%handle) /= 0
+  end function is_factored
+
+  !> Free the factor, the matrix copy, the workspaces and the CHOLMOD common. Idempotent.
+  subroutine destroy(self)
+    class(cholmod_factor_t), intent(inout) :: self
+    if (c_associated(self%handle)) call rb_chol_free(self%handle)
+    self%handle = c_null_ptr
+  end subroutine destroy
+
+  subroutine cholmod_factor_final(self)
+    type(cholmod_factor_t), intent(inout) :: self
+    call self%destroy()
+  end subroutine cholmod_factor_final
+
+  !> CHOLMOD version compiled against, e.g. '3.0.14'.
+  function cholmod_version() result(s)
+    character(len=:), allocatable :: s
+    integer(c_int) :: v(3)
+    call rb_chol_version(v)
+    s = str(int(v(1))) // '.' // str(int(v(2))) // '.' // str(int(v(3)))
+  end function cholmod_version
+
+  !> NUL-terminated C string -> Fortran string.
+  pure function c_to_f(c) result(s)
+    character(kind=c_char), intent(in) :: c(:)
+    character(len=:), allocatable :: s
+    integer :: i, n
+    n = size(c)
+    do i = 1, size(c)
+      if (c(i) == c_null_char) then
+        n = i - 1
+        exit
+      end if
+    end do
+    allocate (character(len=n) :: s)
+    do i = 1, n
+      s(i:i) = c(i)
+    end do
+  end function c_to_f
+end module cholmod_binding

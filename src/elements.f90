@@ -1,0 +1,269 @@
+!> Element dispatcher: what the assembly sees of an element, whatever its type.
+!> Every element gives, at each integration point ig, a strain-displacement matrix B
+!> (nstrain x ndof, global element DOFs) and a weight wt such that
+!>   strain = B u_e,   f_int_e = sum_ig B^T sigma wt,   K_e = sum_ig B^T D B wt,
+!> so internal forces always come from stresses (never K u) and nonlinear laws use the same
+!> path as elastic ones. Element DOFs are node-major, per node in the order of the element's
+!> mask (UX, UY[, RZ]). Strain measures are documented in each element module:
+!> MASS (none), SPRING (elongation, wt 1), BAR2 (axial strain, wt A L), BEAM2 (axial strain and
+!> curvature, wt w L/2), QUAD4/QUAD8 (exx, eyy, ezz = 0 row, gxy; wt w det J thickness).
+!> Output arrays may be larger than needed: the leading block is filled, the rest zeroed.
+module elements
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str
+  use mesh, only: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, MAX_NEN, etype_nen, etype_name
+  use section, only: section_t
+  use element_mass, only: mass_mass
+  use element_spring, only: spring_b, spring_check
+  use element_bar2, only: bar2_b, bar2_mass, bar2_check
+  use element_beam2, only: beam2_ngauss, beam2_b, beam2_mass, BEAM2_MAX_GAUSS
+  use element_quad, only: quad_ngauss, quad_b, quad_mass, quad_check, quad_elastic_d
+  implicit none
+  private
+  public :: MAX_EDOF, MAX_NSTRAIN, MAX_GAUSS
+  public :: elem_dof_mask, elem_nen, elem_ndof, elem_nstrain, elem_ngauss
+  public :: elem_gauss_b, elem_mass, elem_elastic_d, elem_check_geometry, elem_check_section, elem_stiffness
+
+  integer, parameter :: MAX_EDOF = 16     !< QUAD8: 8 nodes x 2
+  integer, parameter :: MAX_NSTRAIN = 4   !< quads
+  integer, parameter :: MAX_GAUSS = 9     !< QUAD8 3 x 3
+
+contains
+
+  !> Which of UX, UY, RZ each node of an element of type et carries.
+  pure function elem_dof_mask(et) result(mask)
+    integer, intent(in) :: et
+    logical :: mask(3)
+    mask = [.true., .true., et == ET_BEAM2]
+  end function elem_dof_mask
+
+  !> Number of nodes.
+  pure integer function elem_nen(et)
+    integer, intent(in) :: et
+    elem_nen = etype_nen(et)
+  end function elem_nen
+
+  !> Number of element DOFs: nen * count(mask).
+  pure integer function elem_ndof(et)
+    integer, intent(in) :: et
+    elem_ndof = etype_nen(et) * count(elem_dof_mask(et))
+  end function elem_ndof
+
+  !> Number of (generalized) strain components.
+  pure integer function elem_nstrain(et)
+    integer, intent(in) :: et
+    select case (et)
+    case (ET_SPRING, ET_BAR2)
+      elem_nstrain = 1
+    case (ET_BEAM2)
+      elem_nstrain = 2
+    case (ET_QUAD4, ET_QUAD8)
+      elem_nstrain = 4
+    case default
+      elem_nstrain = 0
+    end select
+  end function elem_nstrain
+
+  !> Number of integration points.
+  pure integer function elem_ngauss(et, sec)
+    integer, intent(in) :: et
+    type(section_t), intent(in) :: sec
+    select case (et)
+    case (ET_SPRING, ET_BAR2)
+      elem_ngauss = 1
+    case (ET_BEAM2)
+      elem_ngauss = beam2_ngauss(sec)
+    case (ET_QUAD4)
+      elem_ngauss = quad_ngauss(4)
+    case (ET_QUAD8)
+      elem_ngauss = quad_ngauss(8)
+    case default
+      elem_ngauss = 0
+    end select
+  end function elem_ngauss
+
+  !> Node coordinates into a fixed-size local array.
+  pure subroutine local_coords(et, x, xl)
+    integer, intent(in) :: et
+    real(dp), intent(in) :: x(:, :)
+    real(dp), intent(out) :: xl(2, MAX_NEN)
+    integer :: nen
+    nen = etype_nen(et)
+    xl = 0.0_dp
+    xl(:, 1:nen) = x(1:2, 1:nen)
+  end subroutine local_coords
+
+  !> B (at least nstrain x ndof) and weight at integration point ig (1..elem_ngauss);
+  !> x(2, 1:nen) are the node coordinates.
+  pure subroutine elem_gauss_b(et, x, sec, ig, b, wt)
+    integer, intent(in) :: et, ig
+    real(dp), intent(in) :: x(:, :)
+    type(section_t), intent(in) :: sec
+    real(dp), intent(out) :: b(:, :), wt
+    real(dp) :: xl(2, MAX_NEN), bl(MAX_NSTRAIN, MAX_EDOF), b1(1, 4), b2(2, 6)
+    integer :: ns, nd
+    call local_coords(et, x, xl)
+    bl = 0.0_dp
+    wt = 0.0_dp
+    ! Exact-shape locals for the small elements: sections of bl would need temporaries.
+    select case (et)
+    case (ET_SPRING)
+      call spring_b(xl(:, 1:2), sec, b1, wt)
+      bl(1:1, 1:4) = b1
+    case (ET_BAR2)
+      call bar2_b(xl(:, 1:2), sec%area, b1, wt)
+      bl(1:1, 1:4) = b1
+    case (ET_BEAM2)
+      call beam2_b(xl(:, 1:2), sec, ig, b2, wt)
+      bl(1:2, 1:6) = b2
+    case (ET_QUAD4)
+      call quad_b(4, xl, sec%thickness, ig, bl, wt)
+    case (ET_QUAD8)
+      call quad_b(8, xl, sec%thickness, ig, bl, wt)
+    end select
+    ns = elem_nstrain(et)
+    nd = elem_ndof(et)
+    b = 0.0_dp
+    b(1:ns, 1:nd) = bl(1:ns, 1:nd)
+  end subroutine elem_gauss_b
+
+  !> Element mass matrix (at least ndof x ndof, full symmetric). rho is the material density
+  !> (unused by MASS, which takes sec%mass, and by SPRING, which is massless).
+  pure subroutine elem_mass(et, x, sec, rho, lumped, me)
+    integer, intent(in) :: et
+    real(dp), intent(in) :: x(:, :), rho
+    type(section_t), intent(in) :: sec
+    logical, intent(in) :: lumped
+    real(dp), intent(out) :: me(:, :)
+    real(dp) :: xl(2, MAX_NEN), ml(MAX_EDOF, MAX_EDOF), m2(2, 2), m4(4, 4), m6(6, 6)
+    integer :: nd
+    call local_coords(et, x, xl)
+    ml = 0.0_dp
+    select case (et)
+    case (ET_MASS)
+      call mass_mass(sec, m2)
+      ml(1:2, 1:2) = m2
+    case (ET_BAR2)
+      call bar2_mass(xl(:, 1:2), sec%area, rho, lumped, m4)
+      ml(1:4, 1:4) = m4
+    case (ET_BEAM2)
+      call beam2_mass(xl(:, 1:2), sec%area, rho, lumped, m6)
+      ml(1:6, 1:6) = m6
+    case (ET_QUAD4)
+      call quad_mass(4, xl, sec%thickness, rho, lumped, ml)
+    case (ET_QUAD8)
+      call quad_mass(8, xl, sec%thickness, rho, lumped, ml)
+    end select
+    nd = elem_ndof(et)
+    me = 0.0_dp
+    me(1:nd, 1:nd) = ml(1:nd, 1:nd)
+  end subroutine elem_mass
+
+  !> Elastic D (at least nstrain x nstrain). SPRING: k = young (for springs YOUNG is the
+  !> stiffness in N/m); BAR2: young; BEAM2: diag(E A, E I); quads: 4 x 4 plane strain (3D
+  !> isotropic law with ezz = 0, szz = nu (sxx + syy)) or plane stress (sec%plane_stress:
+  !> szz = 0, row and column zz zero).
+  pure subroutine elem_elastic_d(et, young, poisson, sec, d)
+    integer, intent(in) :: et
+    real(dp), intent(in) :: young, poisson
+    type(section_t), intent(in) :: sec
+    real(dp), intent(out) :: d(:, :)
+    real(dp) :: dq(4, 4)
+    d = 0.0_dp
+    select case (et)
+    case (ET_SPRING, ET_BAR2)
+      d(1, 1) = young
+    case (ET_BEAM2)
+      d(1, 1) = young * sec%area
+      d(2, 2) = young * sec%inertia
+    case (ET_QUAD4, ET_QUAD8)
+      call quad_elastic_d(young, poisson, sec%plane_stress, dq)
+      d(1:4, 1:4) = dq
+    end select
+  end subroutine elem_elastic_d
+
+  !> Reject an element whose geometry makes it singular: zero-length BAR2/BEAM2, coincident
+  !> SPRING nodes without a direction, degenerate or inverted quads, and a BEAM2 section asking
+  !> for more than 5 Gauss points. Lengths count as zero below zero_tol * ref, ref being
+  !> size_ref (the model size, e.g. its bounding-box diagonal) or at least the element's largest
+  !> coordinate. The message says what is wrong; the caller adds where.
+  pure subroutine elem_check_geometry(et, x, sec, stat, errmsg, size_ref)
+    integer, intent(in) :: et
+    real(dp), intent(in) :: x(:, :)
+    type(section_t), intent(in) :: sec
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp), intent(in), optional :: size_ref
+    real(dp) :: xl(2, MAX_NEN), ref
+    integer :: nen
+    stat = STAT_OK
+    call local_coords(et, x, xl)
+    nen = etype_nen(et)
+    ref = maxval(abs(xl(:, 1:nen)))
+    if (present(size_ref)) ref = max(ref, size_ref)
+    select case (et)
+    case (ET_SPRING)
+      call spring_check(xl(:, 1:2), sec, ref, stat, errmsg)
+    case (ET_BAR2)
+      call bar2_check(xl(:, 1:2), ref, 'BAR2', stat, errmsg)
+    case (ET_BEAM2)
+      call bar2_check(xl(:, 1:2), ref, 'BEAM2', stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (sec%gauss > BEAM2_MAX_GAUSS) then
+        call set_error(stat, errmsg, STAT_INPUT, 'BEAM2 accepts 1 to ' // str(BEAM2_MAX_GAUSS) // &
+          ' Gauss points, the section asks for ' // str(sec%gauss))
+      end if
+    case (ET_QUAD4)
+      call quad_check(4, xl, ref, stat, errmsg)
+    case (ET_QUAD8)
+      call quad_check(8, xl, ref, stat, errmsg)
+    end select
+  end subroutine elem_check_geometry
+
+  !> Reject section data that leave the element without stiffness or mass where it needs them:
+  !> BAR2/BEAM2 area <= 0, BEAM2 inertia <= 0, quad thickness <= 0, MASS mass < 0.
+  pure subroutine elem_check_section(et, sec, stat, errmsg)
+    integer, intent(in) :: et
+    type(section_t), intent(in) :: sec
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    select case (et)
+    case (ET_MASS)
+      if (sec%mass < 0.0_dp) call set_error(stat, errmsg, STAT_INPUT, 'MASS element with negative mass ' // str(sec%mass))
+    case (ET_BAR2, ET_BEAM2)
+      if (sec%area <= 0.0_dp) then
+        call set_error(stat, errmsg, STAT_INPUT, etype_name(et) // ' section needs a positive area (got ' // &
+          str(sec%area) // ')')
+      else if (et == ET_BEAM2 .and. sec%inertia <= 0.0_dp) then
+        call set_error(stat, errmsg, STAT_INPUT, 'BEAM2 section needs a positive inertia (got ' // str(sec%inertia) // ')')
+      end if
+    case (ET_QUAD4, ET_QUAD8)
+      if (sec%thickness <= 0.0_dp) then
+        call set_error(stat, errmsg, STAT_INPUT, etype_name(et) // ' needs a positive thickness (got ' // &
+          str(sec%thickness) // ')')
+      end if
+    end select
+  end subroutine elem_check_section
+
+  !> Stiffness sum_ig B^T D B wt (at least ndof x ndof) for one D at every point, e.g. the
+  !> elastic one. Used for the initial stiffness and in tests.
+  pure subroutine elem_stiffness(et, x, sec, d, ke)
+    integer, intent(in) :: et
+    real(dp), intent(in) :: x(:, :), d(:, :)
+    type(section_t), intent(in) :: sec
+    real(dp), intent(out) :: ke(:, :)
+    real(dp) :: b(MAX_NSTRAIN, MAX_EDOF), db(MAX_NSTRAIN, MAX_EDOF), kl(MAX_EDOF, MAX_EDOF), wt
+    integer :: ig, ns, nd
+    ns = elem_nstrain(et)
+    nd = elem_ndof(et)
+    kl = 0.0_dp
+    do ig = 1, elem_ngauss(et, sec)
+      call elem_gauss_b(et, x, sec, ig, b, wt)
+      db(1:ns, 1:nd) = matmul(d(1:ns, 1:ns), b(1:ns, 1:nd))
+      kl(1:nd, 1:nd) = kl(1:nd, 1:nd) + wt * matmul(transpose(b(1:ns, 1:nd)), db(1:ns, 1:nd))
+    end do
+    ke = 0.0_dp
+    ke(1:nd, 1:nd) = kl(1:nd, 1:nd)
+  end subroutine elem_stiffness
+end module elements

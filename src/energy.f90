@@ -1,0 +1,106 @@
+!> The energy accounts behind history.csv. Cumulative works are summed with Neumaier's
+!> compensated summation so that round-off of the running sums stays out of the balance.
+module energy
+  use kinds, only: dp
+  implicit none
+  private
+  public :: energy_t
+
+  type :: sum_t
+    real(dp) :: s = 0.0_dp, c = 0.0_dp
+  end type sum_t
+
+  type :: energy_t
+    real(dp) :: kinetic = 0.0_dp       !< ½ v'Mv
+    type(sum_t) :: internal_sum        !< work of the internal forces since t = 0 (plus the initial strain energy)
+    type(sum_t) :: external_sum        !< work of the external forces as the scheme sees it, ½ du'(F(n)+F(n+1))
+    type(sum_t) :: correction_sum      !< energy restored by corrections
+    real(dp) :: initial = 0.0_dp       !< kinetic + internal at t = 0
+    real(dp) :: max_balance = 0.0_dp   !< max |balance| so far
+    real(dp) :: max_scale = 0.0_dp     !< max (kinetic + internal) so far
+  contains
+    procedure :: start
+    procedure :: add_step
+    procedure :: internal
+    procedure :: external
+    procedure :: correction
+    procedure :: balance
+    procedure :: relative_balance
+  end type energy_t
+
+contains
+
+  pure subroutine add(acc, x)
+    type(sum_t), intent(inout) :: acc
+    real(dp), intent(in) :: x
+    real(dp) :: t
+    t = acc%s + x
+    if (abs(acc%s) >= abs(x)) then
+      acc%c = acc%c + ((acc%s - t) + x)
+    else
+      acc%c = acc%c + ((x - t) + acc%s)
+    end if
+    acc%s = t
+  end subroutine add
+
+  pure real(dp) function value(acc)
+    type(sum_t), intent(in) :: acc
+    value = acc%s + acc%c
+  end function value
+
+  !> Initial state: kinetic energy and initial internal energy (strain energy of u0).
+  pure subroutine start(self, kinetic0, internal0)
+    class(energy_t), intent(inout) :: self
+    real(dp), intent(in) :: kinetic0, internal0
+    self%kinetic = kinetic0
+    self%internal_sum = sum_t()
+    self%external_sum = sum_t()
+    self%correction_sum = sum_t()
+    call add(self%internal_sum, internal0)
+    self%initial = kinetic0 + internal0
+    self%max_balance = 0.0_dp
+    self%max_scale = abs(self%initial)
+  end subroutine start
+
+  !> Account for one step: new kinetic energy and the works of the step.
+  pure subroutine add_step(self, kinetic, dw_internal, dw_external, dw_correction)
+    class(energy_t), intent(inout) :: self
+    real(dp), intent(in) :: kinetic, dw_internal, dw_external, dw_correction
+    self%kinetic = kinetic
+    call add(self%internal_sum, dw_internal)
+    call add(self%external_sum, dw_external)
+    call add(self%correction_sum, dw_correction)
+    self%max_balance = max(self%max_balance, abs(self%balance()))
+    self%max_scale = max(self%max_scale, abs(self%kinetic + self%internal()))
+  end subroutine add_step
+
+  pure real(dp) function internal(self)
+    class(energy_t), intent(in) :: self
+    internal = value(self%internal_sum)
+  end function internal
+
+  pure real(dp) function external(self)
+    class(energy_t), intent(in) :: self
+    external = value(self%external_sum)
+  end function external
+
+  pure real(dp) function correction(self)
+    class(energy_t), intent(in) :: self
+    correction = value(self%correction_sum)
+  end function correction
+
+  !> Energy the scheme created: kinetic + internal - external - (kinetic + internal at t = 0).
+  !> Energy restored by corrections is work done on the system, so it counts as external.
+  pure real(dp) function balance(self)
+    class(energy_t), intent(in) :: self
+    balance = ((self%kinetic + value(self%internal_sum)) - value(self%external_sum) - value(self%correction_sum)) &
+      - self%initial
+  end function balance
+
+  !> max |balance| relative to the largest kinetic + internal seen.
+  pure real(dp) function relative_balance(self)
+    class(energy_t), intent(in) :: self
+    relative_balance = 0.0_dp
+    if (self%max_scale > 0.0_dp) relative_balance = self%max_balance / self%max_scale
+  end function relative_balance
+end module energy

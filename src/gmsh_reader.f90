@@ -1,0 +1,1154 @@
+!> Reader for Gmsh ASCII meshes, MSH format 4.1 ($MeshFormat 4.1 0 8), in the xy plane.
+!>
+!> Sections read: $MeshFormat, $PhysicalNames, $Entities, $Nodes, $Elements; any other section is
+!> skipped. Element types: 15 (point) -> MASS, 1 (2-node line) -> BAR2, 3 (4-node quadrangle) ->
+!> QUAD4, 16 (8-node quadrangle, corners then mid-sides 1-2, 2-3, 3-4, 4-1 as ours) -> QUAD8.
+!> Quadrangles given clockwise (a surface whose normal is -z) are renumbered counter-clockwise.
+!>
+!> The file is parsed line by line into local arrays and added to the mesh only once all of it is
+!> valid, so a failed read leaves the mesh untouched. Every error message starts with
+!> "<path>:<line>: ". Cost is O(file size): node tags go through an array over [minTag, maxTag].
+module gmsh_reader
+  use, intrinsic :: iso_fortran_env, only: int64, iostat_end, iostat_eor
+  use kinds, only: dp, zero_tol
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str
+  use mesh, only: mesh_t, ET_MASS, ET_BAR2, ET_QUAD4, ET_QUAD8, etype_nen
+  implicit none
+  private
+  public :: read_gmsh
+
+  !> A $PhysicalNames entry.
+  type :: pname_t
+    integer :: dim = 0, tag = 0
+    character(len=:), allocatable :: name
+  end type pname_t
+
+  !> Parser state: the current line and its tokens, and everything read so far (local numbering).
+  type :: gmsh_t
+    character(len=:), allocatable :: path
+    integer :: unit = -1
+    integer :: lineno = 0
+    character(len=:), allocatable :: line
+    integer :: ntok = 0
+    integer, allocatable :: tb(:), te(:)          !< token bounds in line
+    integer :: npn = 0
+    type(pname_t), allocatable :: pn(:)            !< physical names
+    integer :: nent = 0
+    integer, allocatable :: ent_dim(:), ent_tag(:) !< entities
+    integer, allocatable :: ent_ptr(:)             !< physical tags of entity i: ent_phys(ent_ptr(i):ent_ptr(i+1)-1)
+    integer :: nphys = 0
+    integer, allocatable :: ent_phys(:)
+    integer :: nnode = 0
+    real(dp), allocatable :: x(:, :)               !< (2, nnode)
+    integer(int64) :: fsize = -1                   !< file size in bytes (-1 if unknown), bounds allocations
+    integer :: tagmin = 0, tagmax = -1
+    logical :: dense = .true.                      !< node tags mapped by node_of_tag, else by sorted_tag
+    integer, allocatable :: node_of_tag(:)         !< dense: (tagmin:tagmax) local node number, 0 if none
+    integer, allocatable :: sorted_tag(:), sorted_node(:)  !< sparse: tags ascending and their nodes
+    integer :: nelem = 0
+    integer, allocatable :: etype(:), edim(:), eent(:), conn(:, :)
+    logical :: have_nodes = .false., have_elements = .false., have_entities = .false.
+  end type gmsh_t
+
+contains
+
+  !> Read the Gmsh 4.1 ASCII file `path` and append its nodes, elements and groups to m.
+  !> Groups (with P = prefix): element group P (all elements of dimension >= 1) and node group P (all
+  !> nodes); for each physical group named NAME (or physical_<tag> when unnamed), element group P.NAME
+  !> (its elements, points included) and node group P.NAME (their nodes, sorted). A blank prefix gives
+  !> plain NAME groups and no P groups. Physical groups of the same name and different dimensions merge.
+  subroutine read_gmsh(m, path, prefix, stat, errmsg)
+    type(mesh_t), intent(inout) :: m
+    character(len=*), intent(in) :: path
+    character(len=*), intent(in) :: prefix
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(gmsh_t) :: g
+    character(len=256) :: iomsg
+    integer :: ios
+
+    stat = STAT_OK
+    g%path = path
+    allocate (g%tb(32), g%te(32))
+    open (newunit=g%unit, file=path, status='old', action='read', form='formatted', access='sequential', &
+          iostat=ios, iomsg=iomsg)
+    if (ios /= 0) then
+      call set_error(stat, errmsg, STAT_INPUT, path // ':0: cannot open the mesh file: ' // trim(iomsg))
+      return
+    end if
+
+    inquire (unit=g%unit, size=g%fsize)
+    call parse_file(g, m, prefix, stat, errmsg)
+    close (g%unit)
+  end subroutine read_gmsh
+
+  !> Parse the open file section by section; on success append its content to m.
+  subroutine parse_file(g, m, prefix, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    type(mesh_t), intent(inout) :: m
+    character(len=*), intent(in) :: prefix
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    logical :: ok
+
+    stat = STAT_OK
+    call next_line(g, ok, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (.not. ok) then
+      call fail(g, stat, errmsg, 'empty file, expected $MeshFormat')
+      return
+    end if
+    if (tok(g, 1) /= '$MeshFormat') then
+      call fail(g, stat, errmsg, 'expected $MeshFormat on the first line, found "' // clip(g%line) // '"')
+      return
+    end if
+    call read_format(g, stat, errmsg)
+    if (stat /= STAT_OK) return
+
+    do
+      call next_line(g, ok, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (.not. ok) exit
+      if (g%ntok /= 1 .or. g%line(g%tb(1):g%tb(1)) /= '$') then
+        call fail(g, stat, errmsg, 'expected a section header such as $Nodes, found "' // clip(g%line) // '"')
+        return
+      end if
+      select case (tok(g, 1))
+      case ('$MeshFormat')
+        call fail(g, stat, errmsg, 'second $MeshFormat section')
+      case ('$PhysicalNames')
+        call read_physical_names(g, stat, errmsg)
+      case ('$Entities')
+        call read_entities(g, stat, errmsg)
+      case ('$Nodes')
+        call read_nodes(g, stat, errmsg)
+      case ('$Elements')
+        call read_elements(g, stat, errmsg)
+      case default
+        call skip_section(g, stat, errmsg)
+      end select
+      if (stat /= STAT_OK) return
+    end do
+
+    if (.not. g%have_nodes) then
+      call fail(g, stat, errmsg, 'end of file: missing $Nodes section')
+    else if (.not. g%have_elements) then
+      call fail(g, stat, errmsg, 'end of file: missing $Elements section')
+    else
+      call commit(g, m, prefix)
+    end if
+
+  end subroutine parse_file
+
+  ! ---------------------------------------------------------------------------------------------
+  ! Sections. Each is entered just after its header line and leaves after its $End line.
+
+  !> $MeshFormat: "4.1 0 8" (version, 0 = ASCII, size of double).
+  subroutine read_format(g, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: version
+    integer :: ftype, dsize
+    logical :: ok
+
+    call data_line(g, 'the format line "4.1 0 8"', stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (g%ntok /= 3) then
+      call fail(g, stat, errmsg, 'expected the format line "version file-type data-size" (4.1 0 8), found "' // &
+        clip(g%line) // '"')
+      return
+    end if
+    call parse_real(tok(g, 1), version, ok)
+    if (.not. ok) then
+      call fail(g, stat, errmsg, 'expected a version number, found "' // tok(g, 1) // '"')
+      return
+    end if
+    if (abs(version - 4.1_dp) > 1.0e-9_dp) then
+      call fail(g, stat, errmsg, 'MSH format version ' // tok(g, 1) // ' is not supported, expected 4.1 ' // &
+        '(in Gmsh: Mesh.MshFileVersion = 4.1)')
+      return
+    end if
+    call get_int(g, 2, 0, huge(1), 'the file type', ftype, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (ftype /= 0) then
+      call fail(g, stat, errmsg, 'binary MSH files are not supported, expected file type 0 (ASCII; in Gmsh: ' // &
+        'Mesh.Binary = 0)')
+      return
+    end if
+    call get_int(g, 3, 0, huge(1), 'the data size', dsize, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call end_section(g, '$EndMeshFormat', stat, errmsg)
+  end subroutine read_format
+
+  !> $PhysicalNames: count, then "dim tag "name"" lines.
+  subroutine read_physical_names(g, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: n, i, q1, q2
+    type(pname_t), allocatable :: tmp(:)
+
+    call header_ints(g, 1, 'the number of physical names', stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_int(g, 1, 0, huge(1), 'the number of physical names', n, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (too_many(g, n, 6)) then
+      call fail(g, stat, errmsg, 'the file is too small to hold the ' // tok(g, 1) // ' physical names announced')
+      return
+    end if
+    ! Several $PhysicalNames sections accumulate.
+    if (.not. allocated(g%pn)) allocate (g%pn(0))
+    allocate (tmp(g%npn + n))
+    tmp(1:g%npn) = g%pn(1:g%npn)
+    call move_alloc(tmp, g%pn)
+    do i = 1, n
+      call data_line(g, 'a physical name line: dim tag "name"', stat, errmsg)
+      if (stat /= STAT_OK) return
+      q1 = index(g%line, '"')
+      q2 = index(g%line, '"', back=.true.)
+      if (g%ntok < 3 .or. q1 == 0 .or. q2 <= q1) then
+        call fail(g, stat, errmsg, 'expected a physical name line: dim tag "name", found "' // clip(g%line) // '"')
+        return
+      end if
+      g%npn = g%npn + 1
+      call get_int(g, 1, 0, 3, 'a dimension (0 to 3)', g%pn(g%npn)%dim, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call get_int(g, 2, 1, huge(1), 'a physical tag (positive)', g%pn(g%npn)%tag, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (g%te(2) >= q1) then
+        call fail(g, stat, errmsg, 'expected a physical name line: dim tag "name", found "' // clip(g%line) // '"')
+        return
+      end if
+      g%pn(g%npn)%name = g%line(q1 + 1:q2 - 1)
+    end do
+    call end_section(g, '$EndPhysicalNames', stat, errmsg)
+  end subroutine read_physical_names
+
+  !> $Entities: numbers of points, curves, surfaces, volumes, then one line per entity:
+  !>   point:  tag x y z numPhysicalTags physicalTag...
+  !>   others: tag minX minY minZ maxX maxY maxZ numPhysicalTags physicalTag... numBounding boundingTag...
+  subroutine read_entities(g, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: counts(0:3), dim, i, k, np, nb, first, bound
+    character(len=*), parameter :: what(0:3) = [character(len=7) :: 'point', 'curve', 'surface', 'volume']
+
+    if (g%have_entities) then
+      call fail(g, stat, errmsg, 'second $Entities section')
+      return
+    end if
+    g%have_entities = .true.
+    call header_ints(g, 4, 'the entity counts "numPoints numCurves numSurfaces numVolumes"', stat, errmsg)
+    if (stat /= STAT_OK) return
+    do dim = 0, 3
+      call get_int(g, dim + 1, 0, huge(1), 'an entity count', counts(dim), stat, errmsg)
+      if (stat /= STAT_OK) return
+    end do
+    if (sum(int(counts, int64)) > huge(1) - 1) then
+      call fail(g, stat, errmsg, 'too many entities')
+      return
+    end if
+    if (too_many(g, sum(counts), 8)) then
+      call fail(g, stat, errmsg, 'the file is too small to hold the entities announced')
+      return
+    end if
+    allocate (g%ent_dim(sum(counts)), g%ent_tag(sum(counts)), g%ent_ptr(sum(counts) + 1), g%ent_phys(16))
+    g%ent_ptr(1) = 1
+    do dim = 0, 3
+      first = 5
+      if (dim > 0) first = 8
+      do i = 1, counts(dim)
+        call data_line(g, 'a ' // trim(what(dim)) // ' entity line', stat, errmsg)
+        if (stat /= STAT_OK) return
+        if (g%ntok < first) then
+          call fail(g, stat, errmsg, 'expected a ' // trim(what(dim)) // ' entity line with at least ' // &
+            str(first) // ' fields, found ' // str(g%ntok))
+          return
+        end if
+        g%nent = g%nent + 1
+        g%ent_dim(g%nent) = dim
+        call get_int(g, 1, 1, huge(1), 'an entity tag (positive)', g%ent_tag(g%nent), stat, errmsg)
+        if (stat /= STAT_OK) return
+        do k = 2, first - 1
+          call get_real_tok(g, k, 'a coordinate', stat, errmsg)
+          if (stat /= STAT_OK) return
+        end do
+        call get_int(g, first, 0, g%ntok - first, 'the number of physical tags', np, stat, errmsg)
+        if (stat /= STAT_OK) return
+        nb = 0
+        if (dim > 0) then
+          if (g%ntok < first + np + 1) then
+            call fail(g, stat, errmsg, 'expected the number of bounding entities after the physical tags')
+            return
+          end if
+          call get_int(g, first + np + 1, 0, huge(1), 'the number of bounding entities', nb, stat, errmsg)
+          if (stat /= STAT_OK) return
+          nb = nb + 1
+        end if
+        if (g%ntok /= first + np + nb) then
+          call fail(g, stat, errmsg, 'expected ' // str(first + np + nb) // ' fields on this ' // trim(what(dim)) // &
+            ' entity line, found ' // str(g%ntok))
+          return
+        end if
+        call grow(g%ent_phys, g%nphys + np)
+        do k = 1, np
+          ! Gmsh may write a physical tag negated to flip the orientation; the group is the same.
+          call get_int(g, first + k, -huge(1), huge(1), 'a physical tag', g%ent_phys(g%nphys + k), stat, errmsg)
+          if (stat /= STAT_OK) return
+          g%ent_phys(g%nphys + k) = abs(g%ent_phys(g%nphys + k))
+        end do
+        g%nphys = g%nphys + np
+        g%ent_ptr(g%nent + 1) = g%nphys + 1
+        do k = first + np + 2, g%ntok
+          call get_int(g, k, -huge(1), huge(1), 'a bounding entity tag', bound, stat, errmsg)
+          if (stat /= STAT_OK) return
+        end do
+      end do
+    end do
+    call end_section(g, '$EndEntities', stat, errmsg)
+  end subroutine read_entities
+
+  !> $Nodes: "numEntityBlocks numNodes minNodeTag maxNodeTag", then per block
+  !> "entityDim entityTag parametric numNodesInBlock", its node tags (one per line), its coordinates
+  !> "x y z [u [v [w]]]" (one node per line).
+  subroutine read_nodes(g, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: nblock, nnode, b, edim, etag, param, nb, k, tag, ios, zline
+    integer, allocatable :: btag(:), perm(:)
+    integer(int64) :: range
+    real(dp) :: xyz(3), z0, zdev, ext
+    real(dp) :: lo(2), hi(2)
+
+    if (g%have_nodes) then
+      call fail(g, stat, errmsg, 'second $Nodes section')
+      return
+    end if
+    g%have_nodes = .true.
+    call header_ints(g, 4, 'the node header "numEntityBlocks numNodes minNodeTag maxNodeTag"', stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_int(g, 1, 0, huge(1), 'the number of entity blocks', nblock, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_int(g, 2, 0, huge(1), 'the number of nodes', nnode, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_int(g, 3, 0, huge(1), 'the minimum node tag', g%tagmin, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_int(g, 4, 0, huge(1), 'the maximum node tag', g%tagmax, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (nnode > 0 .and. int(g%tagmax, int64) - g%tagmin + 1 < nnode) then
+      call fail(g, stat, errmsg, 'node tag range [' // tok(g, 3) // ', ' // tok(g, 4) // '] cannot hold ' // &
+        tok(g, 2) // ' nodes')
+      return
+    end if
+    ! A node takes at least 8 bytes ("t\n" and "x y z\n"): a larger count is garbage, not worth allocating.
+    if (too_many(g, nnode, 8)) then
+      call fail(g, stat, errmsg, 'the file is too small to hold the ' // tok(g, 2) // ' nodes announced')
+      return
+    end if
+    if (nnode == 0) then
+      g%tagmin = 1
+      g%tagmax = 0
+    end if
+    ! Tags go through a direct array over [tagmin, tagmax] unless the range is much larger than the
+    ! number of nodes (sparse tags); then through a sorted list and binary search.
+    range = int(g%tagmax, int64) - g%tagmin + 1
+    g%dense = range <= max(10000000_int64, 4_int64 * nnode)
+    if (g%dense) then
+      allocate (g%x(2, nnode), g%node_of_tag(g%tagmin:g%tagmax), btag(0), stat=ios)
+    else
+      allocate (g%x(2, nnode), g%sorted_tag(nnode), btag(0), stat=ios)
+    end if
+    if (ios /= 0) then
+      call fail(g, stat, errmsg, 'cannot allocate ' // tok(g, 2) // ' nodes with tags in [' // tok(g, 3) // ', ' // &
+        tok(g, 4) // ']')
+      return
+    end if
+    if (g%dense) g%node_of_tag = 0
+    z0 = 0.0_dp
+    zdev = 0.0_dp
+    zline = 0
+    lo = huge(1.0_dp)
+    hi = -huge(1.0_dp)
+
+    do b = 1, nblock
+      call header_ints(g, 4, 'a node block header "entityDim entityTag parametric numNodesInBlock"', stat, errmsg)
+      if (stat /= STAT_OK) return
+      call get_int(g, 1, 0, 3, 'an entity dimension (0 to 3)', edim, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call get_int(g, 2, -huge(1), huge(1), 'an entity tag', etag, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call get_int(g, 3, 0, 1, 'the parametric flag (0 or 1)', param, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call get_int(g, 4, 0, nnode - g%nnode, 'the number of nodes in the block (at most the ' // &
+        'nodes announced in the $Nodes header not yet read)', nb, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (size(btag) < nb) then
+        deallocate (btag)
+        allocate (btag(nb))
+      end if
+      do k = 1, nb
+        call data_line(g, 'a node tag', stat, errmsg)
+        if (stat /= STAT_OK) return
+        if (g%ntok /= 1) then
+          call fail(g, stat, errmsg, 'expected one node tag on the line, found "' // clip(g%line) // '"')
+          return
+        end if
+        call get_int(g, 1, g%tagmin, g%tagmax, 'a node tag in the header range [minNodeTag, maxNodeTag]', &
+          tag, stat, errmsg)
+        if (stat /= STAT_OK) return
+        if (g%dense) then
+          if (g%node_of_tag(tag) /= 0) then
+            call fail(g, stat, errmsg, 'duplicate node tag ' // str(tag))
+            return
+          end if
+          g%node_of_tag(tag) = g%nnode + k
+        else
+          g%sorted_tag(g%nnode + k) = tag
+        end if
+        btag(k) = tag
+      end do
+      do k = 1, nb
+        call data_line(g, 'the coordinates "x y z" of a node', stat, errmsg)
+        if (stat /= STAT_OK) return
+        if (g%ntok < 3 .or. g%ntok > 3 + param * min(edim, 3)) then
+          call fail(g, stat, errmsg, 'expected the coordinates "x y z" of node ' // str(btag(k)) // ', found "' // &
+            clip(g%line) // '"')
+          return
+        end if
+        call get_reals(g, 3, 'a node coordinate', xyz, stat, errmsg)
+        if (stat /= STAT_OK) return
+        g%x(:, g%nnode + k) = xyz(1:2)
+        lo = min(lo, xyz(1:2))
+        hi = max(hi, xyz(1:2))
+        if (g%nnode + k == 1) z0 = xyz(3)
+        if (abs(xyz(3) - z0) > zdev) then
+          zdev = abs(xyz(3) - z0)
+          zline = g%lineno
+        end if
+      end do
+      g%nnode = g%nnode + nb
+    end do
+    if (g%nnode /= nnode) then
+      call next_line_or_eof(g, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call fail(g, stat, errmsg, 'expected ' // str(nnode) // ' nodes as announced in the $Nodes header, the ' // &
+        'blocks hold ' // str(g%nnode))
+      return
+    end if
+    ! rebond is 2D: the mesh must lie in a plane z = constant (normally z = 0).
+    ext = 0.0_dp
+    if (nnode > 0) ext = maxval(hi - lo)
+    if (zdev > 1.0e-9_dp * ext) then
+      g%lineno = zline
+      call fail(g, stat, errmsg, 'node out of the xy plane: z differs by ' // str(zdev) // ' from the first node; ' // &
+        'expected a plane mesh with constant z')
+      return
+    end if
+    call end_section(g, '$EndNodes', stat, errmsg)
+    if (stat /= STAT_OK .or. g%dense) return
+    ! Sparse tags: sort, then reject duplicates (reported at $EndNodes, the tag lines being gone).
+    allocate (perm(nnode))
+    perm = [(k, k = 1, nnode)]
+    call sort_by_key(g%sorted_tag, perm)
+    g%sorted_node = perm
+    do k = 2, nnode
+      if (g%sorted_tag(k) == g%sorted_tag(k - 1)) then
+        call fail(g, stat, errmsg, 'duplicate node tag ' // str(g%sorted_tag(k)) // ' in this $Nodes section')
+        return
+      end if
+    end do
+  end subroutine read_nodes
+
+  !> Whether n records of at least minbytes bytes each cannot fit in the file (garbage counts must
+  !> not trigger huge allocations).
+  pure logical function too_many(g, n, minbytes)
+    type(gmsh_t), intent(in) :: g
+    integer, intent(in) :: n, minbytes
+    too_many = g%fsize >= 0 .and. int(n, int64) > g%fsize / minbytes
+  end function too_many
+
+  !> Local node number of a Gmsh node tag, 0 if unknown.
+  pure integer function node_of(g, tag) result(node)
+    type(gmsh_t), intent(in) :: g
+    integer, intent(in) :: tag
+    integer :: lo, hi, mid
+    node = 0
+    if (tag < g%tagmin .or. tag > g%tagmax) return
+    if (g%dense) then
+      node = g%node_of_tag(tag)
+      return
+    end if
+    lo = 1
+    hi = g%nnode
+    do while (lo <= hi)
+      mid = lo + (hi - lo) / 2
+      if (g%sorted_tag(mid) == tag) then
+        node = g%sorted_node(mid)
+        return
+      else if (g%sorted_tag(mid) < tag) then
+        lo = mid + 1
+      else
+        hi = mid - 1
+      end if
+    end do
+  end function node_of
+
+  !> $Elements: "numEntityBlocks numElements minElementTag maxElementTag", then per block
+  !> "entityDim entityTag elementType numElementsInBlock" and one "elementTag nodeTag..." line per element.
+  subroutine read_elements(g, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: nblock, nelem, b, edim, etag, gtype, nb, k, j, et, nen, dim, ent, tag, node, ios, etag_dummy
+    integer :: nodes(8)
+
+    if (g%have_elements) then
+      call fail(g, stat, errmsg, 'second $Elements section')
+      return
+    end if
+    if (.not. g%have_nodes) then
+      call fail(g, stat, errmsg, '$Elements before $Nodes, expected the $Nodes section first')
+      return
+    end if
+    g%have_elements = .true.
+    call header_ints(g, 4, 'the element header "numEntityBlocks numElements minElementTag maxElementTag"', &
+      stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_int(g, 1, 0, huge(1), 'the number of entity blocks', nblock, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_int(g, 2, 0, huge(1), 'the number of elements', nelem, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_int(g, 3, 0, huge(1), 'the minimum element tag', etag_dummy, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_int(g, 4, 0, huge(1), 'the maximum element tag', etag_dummy, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (too_many(g, nelem, 4)) then
+      call fail(g, stat, errmsg, 'the file is too small to hold the ' // tok(g, 2) // ' elements announced')
+      return
+    end if
+    allocate (g%etype(nelem), g%edim(nelem), g%eent(nelem), g%conn(8, nelem), stat=ios)
+    if (ios /= 0) then
+      call fail(g, stat, errmsg, 'cannot allocate ' // tok(g, 2) // ' elements')
+      return
+    end if
+
+    do b = 1, nblock
+      call header_ints(g, 4, 'an element block header "entityDim entityTag elementType numElementsInBlock"', &
+        stat, errmsg)
+      if (stat /= STAT_OK) return
+      call get_int(g, 1, 0, 3, 'an entity dimension (0 to 3)', edim, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call get_int(g, 2, -huge(1), huge(1), 'an entity tag', etag, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call get_int(g, 3, 1, huge(1), 'an element type', gtype, stat, errmsg)
+      if (stat /= STAT_OK) return
+      select case (gtype)
+      case (15)
+        et = ET_MASS
+        dim = 0
+      case (1)
+        et = ET_BAR2
+        dim = 1
+      case (3)
+        et = ET_QUAD4
+        dim = 2
+      case (16)
+        et = ET_QUAD8
+        dim = 2
+      case default
+        call fail(g, stat, errmsg, 'unsupported Gmsh element type ' // str(gtype) // ' (' // gmsh_type_name(gtype) // &
+          '); expected 15 (point), 1 (2-node line), 3 (4-node quadrangle) or 16 (8-node quadrangle)')
+        return
+      end select
+      if (edim /= dim) then
+        call fail(g, stat, errmsg, 'element type ' // str(gtype) // ' (' // gmsh_type_name(gtype) // ') in a block ' // &
+          'of dimension ' // str(edim) // ', expected dimension ' // str(dim))
+        return
+      end if
+      call get_int(g, 4, 0, nelem - g%nelem, 'the number of elements in the block (at most the elements ' // &
+        'announced in the $Elements header not yet read)', nb, stat, errmsg)
+      if (stat /= STAT_OK) return
+      ! Entity of the block (its physical groups), 0 if not listed in $Entities.
+      ent = 0
+      do k = 1, g%nent
+        if (g%ent_dim(k) == edim .and. g%ent_tag(k) == etag) then
+          ent = k
+          exit
+        end if
+      end do
+      nen = etype_nen(et)
+      do k = 1, nb
+        call data_line(g, 'an element line "elementTag nodeTag..."', stat, errmsg)
+        if (stat /= STAT_OK) return
+        if (g%ntok /= 1 + nen) then
+          call fail(g, stat, errmsg, 'expected an element tag and ' // str(nen) // ' node tags (' // &
+            gmsh_type_name(gtype) // '), found ' // str(g%ntok) // ' fields')
+          return
+        end if
+        call get_int(g, 1, 0, huge(1), 'an element tag', tag, stat, errmsg)
+        if (stat /= STAT_OK) return
+        do j = 1, nen
+          call get_int(g, 1 + j, -huge(1), huge(1), 'a node tag', tag, stat, errmsg)
+          if (stat /= STAT_OK) return
+          node = node_of(g, tag)
+          if (node == 0) then
+            call fail(g, stat, errmsg, 'unknown node tag ' // str(tag) // ', expected a tag listed in $Nodes')
+            return
+          end if
+          nodes(j) = node
+        end do
+        if (dim == 2) then
+          call orient_quad(g%x, nodes(1:nen), stat)
+          if (stat /= STAT_OK) then
+            call fail(g, stat, errmsg, 'degenerate quadrangle (zero area), expected 4 distinct corners')
+            return
+          end if
+        end if
+        g%nelem = g%nelem + 1
+        g%etype(g%nelem) = et
+        g%edim(g%nelem) = dim
+        g%eent(g%nelem) = ent
+        g%conn(:, g%nelem) = 0
+        g%conn(1:nen, g%nelem) = nodes(1:nen)
+      end do
+    end do
+    if (g%nelem /= nelem) then
+      call next_line_or_eof(g, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call fail(g, stat, errmsg, 'expected ' // str(nelem) // ' elements as announced in the $Elements header, ' // &
+        'the blocks hold ' // str(g%nelem))
+      return
+    end if
+    call end_section(g, '$EndElements', stat, errmsg)
+  end subroutine read_elements
+
+  !> Skip an unknown section up to its $End line.
+  subroutine skip_section(g, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: endname
+    integer :: start
+    logical :: ok
+
+    stat = STAT_OK
+    if (index(tok(g, 1), '$End') == 1) then
+      call fail(g, stat, errmsg, 'unexpected ' // tok(g, 1) // ', expected a section header such as $Nodes')
+      return
+    end if
+    endname = '$End' // tok(g, 1)
+    endname = endname(1:4) // endname(6:)
+    start = g%lineno
+    do
+      call next_line(g, ok, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (.not. ok) then
+        call fail(g, stat, errmsg, 'unexpected end of file, expected ' // endname // ' closing the section opened ' // &
+          'at line ' // str(start))
+        return
+      end if
+      if (tok(g, 1) == endname) return
+    end do
+  end subroutine skip_section
+
+  ! ---------------------------------------------------------------------------------------------
+  ! Building the mesh.
+
+  !> Append the parsed nodes, elements and groups to m.
+  subroutine commit(g, m, prefix)
+    type(gmsh_t), intent(inout) :: g
+    type(mesh_t), intent(inout) :: m
+    character(len=*), intent(in) :: prefix
+    integer, allocatable :: nid(:), eid(:), gid(:), cnt(:), ptr(:), items(:), mark(:), nodes(:)
+    character(len=:), allocatable :: pre
+    type(pname_t), allocatable :: grp(:)
+    integer :: ngrp, i, j, k, e, n, nn
+
+    allocate (nid(g%nnode), eid(g%nelem))
+    do i = 1, g%nnode
+      call m%add_node(g%x(:, i), nid(i))
+    end do
+    do e = 1, g%nelem
+      call m%add_element(g%etype(e), nid(g%conn(1:etype_nen(g%etype(e)), e)), eid(e))
+    end do
+
+    pre = ''
+    if (len_trim(prefix) > 0) then
+      pre = trim(prefix) // '.'
+      call m%add_node_group(trim(prefix), nid)
+      call m%add_elem_group(trim(prefix), pack(eid, g%edim >= 1))
+    end if
+
+    ! Physical groups: one per distinct name; gid(j) is the group of the entity/physical-tag pair j,
+    ! 0 when it repeats a group already given to the same entity.
+    allocate (grp(g%nphys + g%npn), gid(g%nphys))
+    ngrp = 0
+    gid = 0
+    do i = 1, g%nent
+      do j = g%ent_ptr(i), g%ent_ptr(i + 1) - 1
+        call group_index(group_name(g, g%ent_dim(i), g%ent_phys(j)), k)
+        if (all(gid(g%ent_ptr(i):j - 1) /= k)) gid(j) = k
+      end do
+    end do
+    do i = 1, g%npn  ! named groups with no entity still exist, empty
+      call group_index(group_name(g, g%pn(i)%dim, g%pn(i)%tag), k)
+    end do
+
+    ! Elements of each group, in CSR form.
+    allocate (cnt(ngrp), ptr(ngrp + 1))
+    cnt = 0
+    do e = 1, g%nelem
+      if (g%eent(e) == 0) cycle
+      do j = g%ent_ptr(g%eent(e)), g%ent_ptr(g%eent(e) + 1) - 1
+        if (gid(j) > 0) cnt(gid(j)) = cnt(gid(j)) + 1
+      end do
+    end do
+    ptr(1) = 1
+    do k = 1, ngrp
+      ptr(k + 1) = ptr(k) + cnt(k)
+    end do
+    allocate (items(ptr(ngrp + 1) - 1))
+    cnt = 0
+    do e = 1, g%nelem
+      if (g%eent(e) == 0) cycle
+      do j = g%ent_ptr(g%eent(e)), g%ent_ptr(g%eent(e) + 1) - 1
+        k = gid(j)
+        if (k == 0) cycle
+        items(ptr(k) + cnt(k)) = e
+        cnt(k) = cnt(k) + 1
+      end do
+    end do
+
+    ! Node groups: unique nodes of the group's elements (marked with the group number), sorted.
+    allocate (mark(g%nnode), nodes(g%nnode))
+    mark = 0
+    do k = 1, ngrp
+      nn = 0
+      do i = ptr(k), ptr(k + 1) - 1
+        e = items(i)
+        do j = 1, etype_nen(g%etype(e))
+          n = g%conn(j, e)
+          if (mark(n) /= k) then
+            mark(n) = k
+            nn = nn + 1
+            nodes(nn) = n
+          end if
+        end do
+      end do
+      call heap_sort(nodes(1:nn))
+      call m%add_elem_group(pre // grp(k)%name, eid(items(ptr(k):ptr(k + 1) - 1)))
+      call m%add_node_group(pre // grp(k)%name, nid(nodes(1:nn)))
+    end do
+
+  contains
+
+    !> Index of the group called name, appended if new.
+    subroutine group_index(name, idx)
+      character(len=*), intent(in) :: name
+      integer, intent(out) :: idx
+      do idx = 1, ngrp
+        if (grp(idx)%name == name) return
+      end do
+      ngrp = ngrp + 1
+      grp(ngrp)%name = name
+      idx = ngrp
+    end subroutine group_index
+  end subroutine commit
+
+  !> Name of physical group (dim, tag): from $PhysicalNames, else physical_<tag>.
+  pure function group_name(g, dim, tag) result(name)
+    type(gmsh_t), intent(in) :: g
+    integer, intent(in) :: dim, tag
+    character(len=:), allocatable :: name
+    integer :: i
+    do i = 1, g%npn
+      if (g%pn(i)%dim == dim .and. g%pn(i)%tag == tag .and. len(g%pn(i)%name) > 0) then
+        name = g%pn(i)%name
+        return
+      end if
+    end do
+    name = 'physical_' // str(tag)
+  end function group_name
+
+  !> Make a quadrangle counter-clockwise (reversing a clockwise one); stat = 1 if its area is zero.
+  pure subroutine orient_quad(x, nodes, stat)
+    real(dp), intent(in) :: x(:, :)
+    integer, intent(inout) :: nodes(:)
+    integer, intent(out) :: stat
+    real(dp) :: a, d2
+    integer :: i, j
+    stat = 0
+    a = 0.0_dp
+    d2 = 0.0_dp
+    do i = 1, 4
+      j = mod(i, 4) + 1
+      a = a + x(1, nodes(i)) * x(2, nodes(j)) - x(1, nodes(j)) * x(2, nodes(i))
+      d2 = max(d2, sum((x(:, nodes(j)) - x(:, nodes(i)))**2))
+    end do
+    if (abs(a) <= zero_tol * d2) then
+      stat = 1
+    else if (a < 0.0_dp) then
+      ! 1 2 3 4 -> 1 4 3 2; mid-sides (12 23 34 41) -> (14 43 32 21).
+      nodes(2:4) = nodes([4, 3, 2])
+      if (size(nodes) == 8) nodes(5:8) = nodes([8, 7, 6, 5])
+    end if
+  end subroutine orient_quad
+
+  !> Gmsh's name of an element type, for messages.
+  pure function gmsh_type_name(t) result(s)
+    integer, intent(in) :: t
+    character(len=:), allocatable :: s
+    select case (t)
+    case (1); s = '2-node line'
+    case (2); s = '3-node triangle'
+    case (3); s = '4-node quadrangle'
+    case (4); s = '4-node tetrahedron'
+    case (5); s = '8-node hexahedron'
+    case (6); s = '6-node prism'
+    case (7); s = '5-node pyramid'
+    case (8); s = '3-node line'
+    case (9); s = '6-node triangle'
+    case (10); s = '9-node quadrangle'
+    case (11); s = '10-node tetrahedron'
+    case (12); s = '27-node hexahedron'
+    case (13); s = '18-node prism'
+    case (14); s = '14-node pyramid'
+    case (15); s = '1-node point'
+    case (16); s = '8-node quadrangle'
+    case (17); s = '20-node hexahedron'
+    case (18); s = '15-node prism'
+    case (19); s = '13-node pyramid'
+    case default; s = 'unknown to rebond'
+    end select
+  end function gmsh_type_name
+
+  !> In-place ascending heap sort.
+  pure subroutine heap_sort(a)
+    integer, intent(inout) :: a(:)
+    integer :: dummy(size(a))
+    dummy = 0
+    call sort_by_key(a, dummy)
+  end subroutine heap_sort
+
+  !> In-place ascending heap sort of key, applying the same permutation to val. O(n log n).
+  pure subroutine sort_by_key(key, val)
+    integer, intent(inout) :: key(:), val(:)
+    integer :: n, i
+    n = size(key)
+    do i = n / 2, 1, -1
+      call sift(key, val, i, n)
+    end do
+    do i = n, 2, -1
+      call swap(key, val, 1, i)
+      call sift(key, val, 1, i - 1)
+    end do
+  end subroutine sort_by_key
+
+  pure subroutine sift(key, val, start, n)
+    integer, intent(inout) :: key(:), val(:)
+    integer, intent(in) :: start, n
+    integer :: root, child
+    root = start
+    do while (2 * root <= n)
+      child = 2 * root
+      if (child < n) then
+        if (key(child + 1) > key(child)) child = child + 1
+      end if
+      if (key(root) >= key(child)) return
+      call swap(key, val, root, child)
+      root = child
+    end do
+  end subroutine sift
+
+  pure subroutine swap(key, val, i, j)
+    integer, intent(inout) :: key(:), val(:)
+    integer, intent(in) :: i, j
+    integer :: t
+    t = key(i)
+    key(i) = key(j)
+    key(j) = t
+    t = val(i)
+    val(i) = val(j)
+    val(j) = t
+  end subroutine swap
+
+  pure subroutine grow(a, n)
+    integer, allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: n
+    integer, allocatable :: tmp(:)
+    if (size(a) >= n) return
+    allocate (tmp(max(n, 2 * size(a))))
+    tmp(1:size(a)) = a
+    call move_alloc(tmp, a)
+  end subroutine grow
+
+  ! ---------------------------------------------------------------------------------------------
+  ! Lines and tokens.
+
+  !> Read the next non-blank line and split it into tokens; ok = .false. at end of file.
+  subroutine next_line(g, ok, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    logical, intent(out) :: ok
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=512) :: buf
+    integer :: ios, n
+
+    stat = STAT_OK
+    ok = .false.
+    do
+      g%line = ''
+      do
+        read (g%unit, '(a)', advance='no', iostat=ios, size=n) buf
+        if (ios == iostat_end) then
+          if (len(g%line) == 0) return
+          exit  ! last line without a newline
+        end if
+        if (ios /= 0 .and. ios /= iostat_eor) then
+          g%lineno = g%lineno + 1
+          call fail(g, stat, errmsg, 'read error (not a text file?)')
+          return
+        end if
+        g%line = g%line // buf(1:n)
+        if (ios == iostat_eor) exit
+      end do
+      g%lineno = g%lineno + 1
+      call tokenize(g)
+      if (g%ntok > 0) exit
+    end do
+    ok = .true.
+  end subroutine next_line
+
+  !> next_line where end of file is an error; what = what was expected.
+  subroutine data_line(g, what, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    character(len=*), intent(in) :: what
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    logical :: ok
+    call next_line(g, ok, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (.not. ok) then
+      call fail(g, stat, errmsg, 'unexpected end of file (truncated?), expected ' // what)
+      return
+    end if
+    if (g%line(g%tb(1):g%tb(1)) == '$') then
+      call fail(g, stat, errmsg, 'unexpected "' // tok(g, 1) // '" (section too short?), expected ' // what)
+    end if
+  end subroutine data_line
+
+  !> Advance to the next line so that an error is reported there, but stay on the last line at end of file.
+  subroutine next_line_or_eof(g, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    logical :: ok
+    call next_line(g, ok, stat, errmsg)
+  end subroutine next_line_or_eof
+
+  !> A data line holding exactly n integers (checked by the caller with get_int).
+  subroutine header_ints(g, n, what, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(in) :: n
+    character(len=*), intent(in) :: what
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call data_line(g, what, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (g%ntok /= n) then
+      call fail(g, stat, errmsg, 'expected ' // what // ', found "' // clip(g%line) // '"')
+    end if
+  end subroutine header_ints
+
+  !> The next line must be the closing tag endname.
+  subroutine end_section(g, endname, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    character(len=*), intent(in) :: endname
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    logical :: ok
+    call next_line(g, ok, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (.not. ok) then
+      call fail(g, stat, errmsg, 'unexpected end of file (truncated?), expected ' // endname)
+    else if (g%ntok /= 1 .or. tok(g, 1) /= endname) then
+      call fail(g, stat, errmsg, 'expected ' // endname // ', found "' // clip(g%line) // '"')
+    end if
+  end subroutine end_section
+
+  !> Token k of the current line as an integer in [lo, hi].
+  subroutine get_int(g, k, lo, hi, what, val, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(in) :: k, lo, hi
+    character(len=*), intent(in) :: what
+    integer, intent(out) :: val
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer(int64) :: v
+    logical :: ok
+    stat = STAT_OK
+    val = 0
+    call parse_int(tok(g, k), v, ok)
+    if (.not. ok) then
+      call fail(g, stat, errmsg, 'expected ' // what // ', found "' // tok(g, k) // '"')
+    else if (v < lo .or. v > hi) then
+      call fail(g, stat, errmsg, 'expected ' // what // ', found ' // tok(g, k) // ' (out of range)')
+    else
+      val = int(v)
+    end if
+  end subroutine get_int
+
+  !> Tokens 1..n of the current line as reals.
+  subroutine get_reals(g, n, what, val, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(in) :: n
+    character(len=*), intent(in) :: what
+    real(dp), intent(out) :: val(n)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k
+    logical :: ok
+    stat = STAT_OK
+    do k = 1, n
+      call parse_real(tok(g, k), val(k), ok)
+      if (.not. ok) then
+        call fail(g, stat, errmsg, 'expected ' // what // ' (a finite real number), found "' // tok(g, k) // '"')
+        return
+      end if
+    end do
+  end subroutine get_reals
+
+  !> Token k must be a real number (value unused).
+  subroutine get_real_tok(g, k, what, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(in) :: k
+    character(len=*), intent(in) :: what
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: v
+    logical :: ok
+    stat = STAT_OK
+    call parse_real(tok(g, k), v, ok)
+    if (.not. ok) call fail(g, stat, errmsg, 'expected ' // what // ' (a real number), found "' // tok(g, k) // '"')
+  end subroutine get_real_tok
+
+  !> Error at the current line.
+  subroutine fail(g, stat, errmsg, msg)
+    type(gmsh_t), intent(in) :: g
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=*), intent(in) :: msg
+    call set_error(stat, errmsg, STAT_INPUT, g%path // ':' // str(g%lineno) // ': ' // msg)
+  end subroutine fail
+
+  !> Split the current line at blanks, tabs and carriage returns.
+  pure subroutine tokenize(g)
+    type(gmsh_t), intent(inout) :: g
+    integer :: i, n, start
+    logical :: in_tok
+    character :: ch
+    n = len(g%line)
+    g%ntok = 0
+    in_tok = .false.
+    start = 1
+    do i = 1, n + 1
+      if (i <= n) then
+        ch = g%line(i:i)
+        if (ch /= ' ' .and. ch /= achar(9) .and. ch /= achar(13)) then
+          if (.not. in_tok) then
+            in_tok = .true.
+            start = i
+          end if
+          cycle
+        end if
+      end if
+      if (in_tok) then
+        in_tok = .false.
+        if (g%ntok == size(g%tb)) then
+          call grow(g%tb, 2 * g%ntok)
+          call grow(g%te, 2 * g%ntok)
+        end if
+        g%ntok = g%ntok + 1
+        g%tb(g%ntok) = start
+        g%te(g%ntok) = i - 1
+      end if
+    end do
+  end subroutine tokenize
+
+  !> Token k of the current line ('' past the last one).
+  pure function tok(g, k) result(s)
+    type(gmsh_t), intent(in) :: g
+    integer, intent(in) :: k
+    character(len=:), allocatable :: s
+    if (k >= 1 .and. k <= g%ntok) then
+      s = g%line(g%tb(k):g%te(k))
+    else
+      s = ''
+    end if
+  end function tok
+
+  !> A line shortened for messages.
+  pure function clip(s) result(c)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: c
+    if (len_trim(s) > 60) then
+      c = s(1:57) // '...'
+    else
+      c = trim(s)
+    end if
+  end function clip
+
+  !> Parse an optionally signed decimal integer of at most 18 digits.
+  pure subroutine parse_int(s, v, ok)
+    character(len=*), intent(in) :: s
+    integer(int64), intent(out) :: v
+    logical, intent(out) :: ok
+    integer :: i, i0, d
+    v = 0
+    ok = .false.
+    if (len(s) == 0) return
+    i0 = 1
+    if (s(1:1) == '-' .or. s(1:1) == '+') i0 = 2
+    if (len(s) < i0 .or. len(s) - i0 + 1 > 18) return
+    do i = i0, len(s)
+      d = iachar(s(i:i)) - iachar('0')
+      if (d < 0 .or. d > 9) return
+      v = 10 * v + d
+    end do
+    if (s(1:1) == '-') v = -v
+    ok = .true.
+  end subroutine parse_int
+
+  !> Parse a finite real number (digits, sign, point, exponent; nothing else).
+  subroutine parse_real(s, v, ok)
+    character(len=*), intent(in) :: s
+    real(dp), intent(out) :: v
+    logical, intent(out) :: ok
+    integer :: i, ios
+    logical :: digit
+    v = 0.0_dp
+    ok = .false.
+    digit = .false.
+    if (len(s) == 0 .or. len(s) > 64) return
+    if (len(s) == 1) then  ! fast path for the "0" z coordinates of plane meshes
+      ok = s >= '0' .and. s <= '9'
+      if (ok) v = real(iachar(s) - iachar('0'), dp)
+      return
+    end if
+    do i = 1, len(s)
+      select case (s(i:i))
+      case ('0':'9')
+        digit = .true.
+      case ('+', '-', '.', 'e', 'E', 'd', 'D')
+      case default
+        return
+      end select
+    end do
+    if (.not. digit) return
+    read (s, *, iostat=ios) v
+    ok = ios == 0 .and. abs(v) <= huge(v)
+  end subroutine parse_real
+end module gmsh_reader

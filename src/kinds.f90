@@ -1,0 +1,10 @@
+!> Working precision and the few tolerances shared across rebond.
+module kinds
+  use, intrinsic :: iso_fortran_env, only: dp => real64
+  implicit none
+  private
+  public :: dp, zero_tol
+
+  !> Relative threshold under which a length, a Jacobian or a pivot counts as zero.
+  real(dp), parameter :: zero_tol = 1.0e-12_dp
+end module kinds

@@ -1,0 +1,192 @@
+!> The mesh: node coordinates, element connectivity and named groups of nodes and elements.
+!> Generators (mesh_generators), the Gmsh reader (gmsh_reader) and explicit NODE/ELEMENT
+!> statements all build a mesh_t through the procedures below.
+module mesh
+  use kinds, only: dp
+  implicit none
+  private
+  public :: mesh_t, group_t
+  public :: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, NUM_ETYPES, MAX_NEN
+  public :: etype_name, etype_from_name, etype_nen
+  public :: DOF_UX, DOF_UY, DOF_RZ, DOF_NAMES
+
+  ! Element types. Connectivity conventions:
+  !   MASS 1 node; SPRING, BAR2, BEAM2 2 nodes; QUAD4 4 corners counter-clockwise;
+  !   QUAD8 4 corners counter-clockwise then 4 mid-side nodes (side 1-2, 2-3, 3-4, 4-1),
+  !   as Cast3M's QUA8 and Gmsh's 8-node quadrangle.
+  integer, parameter :: ET_MASS = 1, ET_SPRING = 2, ET_BAR2 = 3, ET_BEAM2 = 4, ET_QUAD4 = 5, ET_QUAD8 = 6
+  integer, parameter :: NUM_ETYPES = 6
+  integer, parameter :: MAX_NEN = 8
+  character(len=6), parameter :: ETYPE_NAMES(NUM_ETYPES) = &
+    [character(len=6) :: 'MASS', 'SPRING', 'BAR2', 'BEAM2', 'QUAD4', 'QUAD8']
+  integer, parameter :: NEN_OF(NUM_ETYPES) = [1, 2, 2, 2, 4, 8]
+
+  ! Degrees of freedom of a node, in this order.
+  integer, parameter :: DOF_UX = 1, DOF_UY = 2, DOF_RZ = 3
+  character(len=2), parameter :: DOF_NAMES(3) = [character(len=2) :: 'UX', 'UY', 'RZ']
+
+  !> A named list of node or element numbers (1-based, in the mesh's numbering).
+  type :: group_t
+    character(len=:), allocatable :: name
+    integer, allocatable :: items(:)
+  end type group_t
+
+  type :: mesh_t
+    integer :: nnode = 0
+    integer :: nelem = 0
+    real(dp), allocatable :: x(:, :)       !< (2, nnode) coordinates
+    integer, allocatable :: etype(:)       !< (nelem) element type ET_*
+    integer, allocatable :: conn(:, :)     !< (MAX_NEN, nelem) node numbers, 0 past nen
+    integer :: nngroup = 0
+    integer :: negroup = 0
+    type(group_t), allocatable :: ngroups(:)  !< node groups
+    type(group_t), allocatable :: egroups(:)  !< element groups
+  contains
+    procedure :: add_node
+    procedure :: add_element
+    procedure :: add_node_group
+    procedure :: add_elem_group
+    procedure :: find_node_group
+    procedure :: find_elem_group
+    procedure :: nen
+  end type mesh_t
+
+contains
+
+  !> Name of an element type (upper case).
+  pure function etype_name(et) result(name)
+    integer, intent(in) :: et
+    character(len=:), allocatable :: name
+    if (et >= 1 .and. et <= NUM_ETYPES) then
+      name = trim(ETYPE_NAMES(et))
+    else
+      name = '?'
+    end if
+  end function etype_name
+
+  !> Element type from its (upper-case) name; 0 when unknown.
+  pure function etype_from_name(name) result(et)
+    character(len=*), intent(in) :: name
+    integer :: et
+    do et = 1, NUM_ETYPES
+      if (trim(ETYPE_NAMES(et)) == name) return
+    end do
+    et = 0
+  end function etype_from_name
+
+  !> Number of nodes of an element type.
+  pure integer function etype_nen(et)
+    integer, intent(in) :: et
+    etype_nen = NEN_OF(et)
+  end function etype_nen
+
+  !> Number of nodes of element e.
+  pure integer function nen(self, e)
+    class(mesh_t), intent(in) :: self
+    integer, intent(in) :: e
+    nen = NEN_OF(self%etype(e))
+  end function nen
+
+  !> Append a node; returns its number.
+  subroutine add_node(self, xy, id)
+    class(mesh_t), intent(inout) :: self
+    real(dp), intent(in) :: xy(2)
+    integer, intent(out) :: id
+    real(dp), allocatable :: tmp(:, :)
+    if (.not. allocated(self%x)) allocate (self%x(2, 64))
+    if (self%nnode == size(self%x, 2)) then
+      allocate (tmp(2, 2 * size(self%x, 2)))
+      tmp(:, 1:self%nnode) = self%x(:, 1:self%nnode)
+      call move_alloc(tmp, self%x)
+    end if
+    self%nnode = self%nnode + 1
+    self%x(:, self%nnode) = xy
+    id = self%nnode
+  end subroutine add_node
+
+  !> Append an element of type et on the given nodes; returns its number.
+  subroutine add_element(self, et, nodes, id)
+    class(mesh_t), intent(inout) :: self
+    integer, intent(in) :: et
+    integer, intent(in) :: nodes(:)
+    integer, intent(out) :: id
+    integer, allocatable :: itmp(:), ctmp(:, :)
+    integer :: cap
+    if (.not. allocated(self%etype)) then
+      allocate (self%etype(64), self%conn(MAX_NEN, 64))
+    end if
+    cap = size(self%etype)
+    if (self%nelem == cap) then
+      allocate (itmp(2 * cap), ctmp(MAX_NEN, 2 * cap))
+      itmp(1:cap) = self%etype
+      ctmp(:, 1:cap) = self%conn
+      call move_alloc(itmp, self%etype)
+      call move_alloc(ctmp, self%conn)
+    end if
+    self%nelem = self%nelem + 1
+    self%etype(self%nelem) = et
+    self%conn(:, self%nelem) = 0
+    self%conn(1:size(nodes), self%nelem) = nodes
+    id = self%nelem
+  end subroutine add_element
+
+  !> Add (or replace) a node group.
+  subroutine add_node_group(self, name, items)
+    class(mesh_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: items(:)
+    call add_group(self%ngroups, self%nngroup, name, items)
+  end subroutine add_node_group
+
+  !> Add (or replace) an element group.
+  subroutine add_elem_group(self, name, items)
+    class(mesh_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: items(:)
+    call add_group(self%egroups, self%negroup, name, items)
+  end subroutine add_elem_group
+
+  subroutine add_group(groups, n, name, items)
+    type(group_t), allocatable, intent(inout) :: groups(:)
+    integer, intent(inout) :: n
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: items(:)
+    type(group_t), allocatable :: tmp(:)
+    integer :: i
+    if (.not. allocated(groups)) allocate (groups(16))
+    do i = 1, n
+      if (groups(i)%name == name) then
+        groups(i)%items = items
+        return
+      end if
+    end do
+    if (n == size(groups)) then
+      allocate (tmp(2 * n))
+      tmp(1:n) = groups(1:n)
+      call move_alloc(tmp, groups)
+    end if
+    n = n + 1
+    groups(n)%name = name
+    groups(n)%items = items
+  end subroutine add_group
+
+  !> Index of the node group called name (case-sensitive as stored), 0 if none.
+  pure integer function find_node_group(self, name) result(ig)
+    class(mesh_t), intent(in) :: self
+    character(len=*), intent(in) :: name
+    do ig = 1, self%nngroup
+      if (self%ngroups(ig)%name == name) return
+    end do
+    ig = 0
+  end function find_node_group
+
+  !> Index of the element group called name, 0 if none.
+  pure integer function find_elem_group(self, name) result(ig)
+    class(mesh_t), intent(in) :: self
+    character(len=*), intent(in) :: name
+    do ig = 1, self%negroup
+      if (self%egroups(ig)%name == name) return
+    end do
+    ig = 0
+  end function find_elem_group
+end module mesh

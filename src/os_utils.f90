@@ -1,0 +1,149 @@
+!> Thin wrappers over the few POSIX file-system calls Fortran 2008 lacks (rename, mkdir, access,
+!> opendir, remove), through iso_c_binding. Paths are passed to C as NUL-terminated copies.
+module os_utils
+  use, intrinsic :: iso_c_binding, only: c_char, c_int, c_ptr, c_null_char, c_associated
+  use errors, only: STAT_OK, STAT_RUN, set_error
+  implicit none
+  private
+  public :: os_rename, make_directory, path_exists, is_directory, remove_file, remove_directory
+
+  interface
+    function c_rename(from, to) bind(c, name='rename') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: from(*), to(*)
+      integer(c_int) :: rc
+    end function c_rename
+
+    function c_mkdir(path, mode) bind(c, name='mkdir') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: mode   ! mode_t is a 32-bit unsigned int on Linux
+      integer(c_int) :: rc
+    end function c_mkdir
+
+    function c_access(path, mode) bind(c, name='access') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: mode
+      integer(c_int) :: rc
+    end function c_access
+
+    function c_opendir(path) bind(c, name='opendir') result(dir)
+      import :: c_char, c_ptr
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr) :: dir
+    end function c_opendir
+
+    function c_closedir(dir) bind(c, name='closedir') result(rc)
+      import :: c_ptr, c_int
+      type(c_ptr), value :: dir
+      integer(c_int) :: rc
+    end function c_closedir
+
+    function c_rmdir(path) bind(c, name='rmdir') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: rc
+    end function c_rmdir
+
+    function c_remove(path) bind(c, name='remove') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: rc
+    end function c_remove
+  end interface
+
+  integer(c_int), parameter :: F_OK = 0_c_int
+  integer(c_int), parameter :: MODE_0755 = int(o'755', c_int)
+
+contains
+
+  !> NUL-terminated copy of a Fortran string (trailing blanks kept: they are part of the name).
+  pure function cstr(s) result(c)
+    character(len=*), intent(in) :: s
+    character(kind=c_char, len=len(s) + 1) :: c
+    c = s // c_null_char
+  end function cstr
+
+  !> Rename (atomically, on one file system) from -> to, replacing `to` if it exists.
+  subroutine os_rename(from, to, stat, errmsg)
+    character(len=*), intent(in) :: from, to
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (c_rename(cstr(from), cstr(to)) /= 0) then
+      call set_error(stat, errmsg, STAT_RUN, 'cannot rename "' // from // '" to "' // to // '"')
+    end if
+  end subroutine os_rename
+
+  !> True when something (file or directory) exists at path.
+  logical function path_exists(path)
+    character(len=*), intent(in) :: path
+    path_exists = c_access(cstr(path), F_OK) == 0
+  end function path_exists
+
+  !> True when path is a directory that can be opened.
+  logical function is_directory(path)
+    character(len=*), intent(in) :: path
+    type(c_ptr) :: dir
+    integer(c_int) :: rc
+    dir = c_opendir(cstr(path))
+    is_directory = c_associated(dir)
+    if (is_directory) rc = c_closedir(dir)
+  end function is_directory
+
+  !> Create directory path and its missing parents (like mkdir -p); an existing directory is fine.
+  subroutine make_directory(path, stat, errmsg)
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: i, n
+    integer(c_int) :: rc
+    stat = STAT_OK
+    n = len_trim(path)
+    if (n == 0) then
+      call set_error(stat, errmsg, STAT_RUN, 'cannot create a directory with an empty name')
+      return
+    end if
+    ! Each prefix ending before a '/' is a parent; the leading '/' of an absolute path is skipped.
+    do i = 2, n
+      if (path(i:i) == '/' .and. path(i - 1:i - 1) /= '/') then
+        if (.not. is_directory(path(1:i - 1))) rc = c_mkdir(cstr(path(1:i - 1)), MODE_0755)
+      end if
+    end do
+    if (.not. is_directory(path(1:n))) rc = c_mkdir(cstr(path(1:n)), MODE_0755)
+    ! Judge by the result, not by rc: another process may have created it meanwhile.
+    if (.not. is_directory(path(1:n))) then
+      if (path_exists(path(1:n))) then
+        call set_error(stat, errmsg, STAT_RUN, 'cannot create directory "' // path(1:n) // &
+                       '": a file of that name exists')
+      else
+        call set_error(stat, errmsg, STAT_RUN, 'cannot create directory "' // path(1:n) // '"')
+      end if
+    end if
+  end subroutine make_directory
+
+  !> Delete a file; a missing file is not an error.
+  subroutine remove_file(path, stat, errmsg)
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (.not. path_exists(path)) return
+    if (c_remove(cstr(path)) /= 0) then
+      call set_error(stat, errmsg, STAT_RUN, 'cannot remove "' // path // '"')
+    end if
+  end subroutine remove_file
+
+  !> Delete an empty directory; a missing one is not an error.
+  subroutine remove_directory(path, stat, errmsg)
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (.not. path_exists(path)) return
+    if (c_rmdir(cstr(path)) /= 0) then
+      call set_error(stat, errmsg, STAT_RUN, 'cannot remove directory "' // path // '" (not empty?)')
+    end if
+  end subroutine remove_directory
+end module os_utils

@@ -1,0 +1,140 @@
+!> rebond — implicit structural dynamics with impacts, energy-exact Newmark.
+!> Command line only: bin/rebond SCENE [-o OUTDIR] [--set STATEMENT.PARAM=VALUE]... [--quiet]
+!> Exit codes: 0 success, 2 bad input (scene, mesh, command line), 1 failure during the run.
+program rebond
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_INPUT, STAT_RUN, str
+  use scene, only: scene_t, load_scene
+  use assembly, only: system_t, build_system
+  use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
+  implicit none
+
+  character(len=*), parameter :: VERSION = '0.1.0'
+  character(len=:), allocatable :: scene_path, outdir, errmsg, arg
+  character(len=512), allocatable :: overrides(:)
+  type(scene_t) :: scn
+  type(system_t) :: sys
+  type(run_state_t) :: rs
+  type(run_options_t) :: opts
+  type(run_summary_t) :: summary
+  integer :: i, n, stat
+  logical :: quiet
+
+  allocate (overrides(0))
+  scene_path = ''
+  outdir = ''
+  quiet = .false.
+  n = command_argument_count()
+  i = 1
+  do while (i <= n)
+    arg = get_arg(i)
+    select case (arg)
+    case ('-h', '--help')
+      call usage()
+      stop
+    case ('--version')
+      write (*, '(a)') 'rebond ' // VERSION
+      stop
+    case ('-o', '--output')
+      if (i == n) call fail_usage('option ' // arg // ' needs a directory')
+      i = i + 1
+      outdir = get_arg(i)
+    case ('--set')
+      if (i == n) call fail_usage('option --set needs STATEMENT.PARAM=VALUE')
+      i = i + 1
+      overrides = [character(len=512) :: overrides, get_arg(i)]
+    case ('--quiet', '-q')
+      quiet = .true.
+    case default
+      if (len(arg) > 6) then
+        if (arg(1:6) == '--set=') then
+          overrides = [character(len=512) :: overrides, arg(7:)]
+          i = i + 1
+          cycle
+        end if
+      end if
+      if (len(arg) > 0) then
+        if (arg(1:1) == '-') call fail_usage('unknown option ' // arg)
+      end if
+      if (len(scene_path) > 0) call fail_usage('more than one scene given: ' // scene_path // ' and ' // arg)
+      scene_path = arg
+    end select
+    i = i + 1
+  end do
+  if (len(scene_path) == 0) call fail_usage('no scene file given')
+  if (len(outdir) == 0) outdir = 'results/' // basename(scene_path)
+
+  call load_scene(scene_path, overrides, scn, stat, errmsg)
+  if (stat /= STAT_OK) call fail(stat, errmsg)
+  call build_system(scn, sys, stat, errmsg)
+  if (stat /= STAT_OK) call fail(stat, errmsg)
+  call prepare_run(scn, sys, rs, stat, errmsg)
+  if (stat /= STAT_OK) call fail(stat, errmsg)
+
+  opts%outdir = outdir
+  opts%quiet = quiet
+  if (.not. quiet) then
+    write (*, '(a)') 'rebond ' // VERSION // ': ' // scene_path // merge(' — ' // scn%title, repeat(' ', 3 + len(scn%title)), &
+      len(scn%title) > 0)
+    write (*, '(a,i0,a,i0,a,i0,a)') '  ', scn%mesh%nnode, ' nodes, ', scn%mesh%nelem, ' elements, ', sys%neq, ' equations'
+  end if
+  call run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
+  if (stat /= STAT_OK) call fail(stat, errmsg)
+  if (.not. quiet) then
+    write (*, '(a,i0,a,f0.3,a)') '  ', summary%steps, ' steps in ', summary%wall, ' s'
+    write (*, '(a,es10.3)') '  max |balance| / max(kinetic + internal) = ', summary%max_rel_balance
+    write (*, '(a)') '  results in ' // outdir // '/'
+  end if
+
+contains
+
+  function get_arg(k) result(a)
+    integer, intent(in) :: k
+    character(len=:), allocatable :: a
+    integer :: l
+    call get_command_argument(k, length=l)
+    allocate (character(len=l) :: a)
+    call get_command_argument(k, a)
+  end function get_arg
+
+  !> File name without directory and extension.
+  pure function basename(path) result(b)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: b
+    integer :: k
+    b = path(index(path, '/', back=.true.) + 1:)
+    k = index(b, '.', back=.true.)
+    if (k > 1) b = b(1:k - 1)
+  end function basename
+
+  subroutine usage()
+    write (*, '(a)') 'usage: rebond SCENE [-o OUTDIR] [--set STATEMENT.PARAM=VALUE]... [--quiet]'
+    write (*, '(a)') ''
+    write (*, '(a)') 'Runs the keyword scene file SCENE (grammar: docs/input.md) and writes history.csv,'
+    write (*, '(a)') 'probes.csv, fields.h5 and fields.xmf into OUTDIR (default results/<scene name>/).'
+    write (*, '(a)') ''
+    write (*, '(a)') '  -o, --output DIR     output directory'
+    write (*, '(a)') '  --set KEY.PARAM=V    override a parameter of a statement that occurs once'
+    write (*, '(a)') '                       (KEY.NAME.PARAM=V for a named one), e.g. --set TIME.STEP=2e-4'
+    write (*, '(a)') '  -q, --quiet          no progress line and no summary'
+    write (*, '(a)') '  -h, --help           this text'
+    write (*, '(a)') '  --version            the version'
+    write (*, '(a)') ''
+    write (*, '(a)') 'Exit status: 0 success, 2 bad input, 1 failure during the run.'
+  end subroutine usage
+
+  subroutine fail_usage(msg)
+    character(len=*), intent(in) :: msg
+    write (0, '(a)') 'rebond: ' // msg
+    write (0, '(a)') 'usage: rebond SCENE [-o OUTDIR] [--set STATEMENT.PARAM=VALUE]... [--quiet]  (--help for more)'
+    stop 2
+  end subroutine fail_usage
+
+  subroutine fail(code, msg)
+    integer, intent(in) :: code
+    character(len=*), intent(in) :: msg
+    write (0, '(a)') 'rebond: error: ' // msg
+    if (code == STAT_INPUT) stop 2
+    stop 1
+  end subroutine fail
+end program rebond

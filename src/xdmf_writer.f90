@@ -1,0 +1,190 @@
+!> XDMF 3 light-data (XML) for the field output: a temporal collection of uniform grids whose
+!> heavy data live in fields.h5 (layout written by fields_hdf5). Building the document is pure
+!> string work; writing it goes through a temporary file and a rename, so a reader (ParaView,
+!> a crash) never sees a half-written fields.xmf.
+!>
+!> Layout referenced (HDF5 dimensions, C order):
+!>   /mesh/coordinates (nnode, 3) float64, /mesh/topology (ntopo) int32 (XDMF Mixed array),
+!>   /step_NNNNNN/{displacement, velocity, reaction} (nnode, 3) float64,
+!>   /step_NNNNNN/stress (nelem, 4) float64.
+!> The 4-component cell stress uses AttributeType="Matrix": XDMF has no 4-vector type, and
+!> VTK's Xdmf3 reader then takes the component count from the array size (nelem x 4).
+module xdmf_writer
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_RUN, set_error, str
+  use os_utils, only: os_rename
+  implicit none
+  private
+  public :: xdmf_step_t, xdmf_document, step_group_name, write_text_atomic, xml_escape, xdmf_real
+
+  !> What the XML needs to know about one written step.
+  type :: xdmf_step_t
+    integer :: step = 0
+    real(dp) :: time = 0.0_dp
+    logical :: has_reaction = .false.
+  end type xdmf_step_t
+
+  !> Growable character buffer: appending is amortised O(1), so a document of many steps is
+  !> built in linear time (plain `s = s // t` in a loop would be quadratic).
+  type :: text_buffer_t
+    character(len=:), allocatable :: buf
+    integer :: n = 0
+  end type text_buffer_t
+
+  character(len=*), parameter :: NL = new_line('a')
+  character(len=*), parameter :: I2 = '      ', I3 = '        ', I4 = '          '   ! indentation
+
+contains
+
+  !> HDF5 group name of a step: step_ then the number on at least 6 digits (step_000042, step_1234567).
+  pure function step_group_name(step) result(name)
+    integer, intent(in) :: step
+    character(len=:), allocatable :: name
+    character(len=24) :: buf
+    write (buf, '(a,i0.6)') 'step_', step
+    name = trim(buf)
+  end function step_group_name
+
+  !> A real in a form that reads back to the same double (17 significant digits).
+  pure function xdmf_real(x) result(s)
+    real(dp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=32) :: buf
+    write (buf, '(es25.16e3)') x
+    s = trim(adjustl(buf))
+  end function xdmf_real
+
+  !> Escape the five XML special characters for use in attribute values and text.
+  pure function xml_escape(s) result(e)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: e
+    integer :: i
+    e = ''
+    do i = 1, len(s)
+      select case (s(i:i))
+      case ('&')
+        e = e // '&amp;'
+      case ('<')
+        e = e // '&lt;'
+      case ('>')
+        e = e // '&gt;'
+      case ('"')
+        e = e // '&quot;'
+      case ("'")
+        e = e // '&apos;'
+      case default
+        e = e // s(i:i)
+      end select
+    end do
+  end function xml_escape
+
+  pure subroutine put(tb, s)
+    type(text_buffer_t), intent(inout) :: tb
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: tmp
+    integer :: cap
+    if (.not. allocated(tb%buf)) allocate (character(len=max(4096, 2 * len(s))) :: tb%buf)
+    cap = len(tb%buf)
+    if (tb%n + len(s) > cap) then
+      allocate (character(len=max(2 * cap, tb%n + len(s))) :: tmp)
+      tmp(1:tb%n) = tb%buf(1:tb%n)
+      call move_alloc(tmp, tb%buf)
+    end if
+    tb%buf(tb%n + 1:tb%n + len(s)) = s
+    tb%n = tb%n + len(s)
+  end subroutine put
+
+  !> One HDF DataItem line: <DataItem Dimensions=... >file:/path</DataItem>
+  pure function data_item(indent, dims, numtype, prec, h5ref) result(s)
+    character(len=*), intent(in) :: indent, dims, numtype, prec, h5ref
+    character(len=:), allocatable :: s
+    s = indent // '<DataItem Dimensions="' // dims // '" NumberType="' // numtype // '" Precision="' // &
+        prec // '" Format="HDF">' // h5ref // '</DataItem>' // NL
+  end function data_item
+
+  !> The whole fields.xmf document. h5file is the heavy-data file name as the .xmf should refer to
+  !> it (relative to the .xmf's directory, normally 'fields.h5'); ntopo is the length of the Mixed
+  !> topology array. With no steps the collection is empty (still a valid document).
+  pure function xdmf_document(h5file, nnode, nelem, ntopo, steps) result(xml)
+    character(len=*), intent(in) :: h5file
+    integer, intent(in) :: nnode, nelem, ntopo
+    type(xdmf_step_t), intent(in) :: steps(:)
+    character(len=:), allocatable :: xml
+    type(text_buffer_t) :: tb
+    character(len=:), allocatable :: h5, ndims, cdims, grp
+    integer :: k
+
+    h5 = xml_escape(h5file)
+    ndims = str(nnode) // ' 3'
+    cdims = str(nelem) // ' 4'
+    call put(tb, '<?xml version="1.0" encoding="utf-8"?>' // NL)
+    call put(tb, '<Xdmf xmlns:xi="http://www.w3.org/2001/XInclude" Version="3.0">' // NL)
+    call put(tb, '  <Domain>' // NL)
+    call put(tb, '    <Grid Name="fields" GridType="Collection" CollectionType="Temporal">' // NL)
+    do k = 1, size(steps)
+      grp = step_group_name(steps(k)%step)
+      call put(tb, I2 // '<Grid Name="' // grp // '" GridType="Uniform">' // NL)
+      call put(tb, I3 // '<Time Value="' // xdmf_real(steps(k)%time) // '"/>' // NL)
+      call put(tb, I3 // '<Topology TopologyType="Mixed" NumberOfElements="' // str(nelem) // '">' // NL)
+      call put(tb, data_item(I4, str(ntopo), 'Int', '4', h5 // ':/mesh/topology'))
+      call put(tb, I3 // '</Topology>' // NL)
+      call put(tb, I3 // '<Geometry GeometryType="XYZ">' // NL)
+      call put(tb, data_item(I4, ndims, 'Float', '8', h5 // ':/mesh/coordinates'))
+      call put(tb, I3 // '</Geometry>' // NL)
+      call node_vector(tb, 'displacement', ndims, h5, grp)
+      call node_vector(tb, 'velocity', ndims, h5, grp)
+      if (steps(k)%has_reaction) call node_vector(tb, 'reaction', ndims, h5, grp)
+      call put(tb, I3 // '<Attribute Name="stress" AttributeType="Matrix" Center="Cell">' // NL)
+      call put(tb, data_item(I4, cdims, 'Float', '8', h5 // ':/' // grp // '/stress'))
+      call put(tb, I3 // '</Attribute>' // NL)
+      call put(tb, I2 // '</Grid>' // NL)
+    end do
+    call put(tb, '    </Grid>' // NL)
+    call put(tb, '  </Domain>' // NL)
+    call put(tb, '</Xdmf>' // NL)
+    if (tb%n == 0) then
+      xml = ''
+    else
+      xml = tb%buf(1:tb%n)
+    end if
+  end function xdmf_document
+
+  !> A nodal 3-vector attribute of step group grp.
+  pure subroutine node_vector(tb, name, ndims, h5, grp)
+    type(text_buffer_t), intent(inout) :: tb
+    character(len=*), intent(in) :: name, ndims, h5, grp
+    call put(tb, I3 // '<Attribute Name="' // name // '" AttributeType="Vector" Center="Node">' // NL)
+    call put(tb, data_item(I4, ndims, 'Float', '8', h5 // ':/' // grp // '/' // name))
+    call put(tb, I3 // '</Attribute>' // NL)
+  end subroutine node_vector
+
+  !> Write text to path atomically: write path.tmp, close it, rename it over path.
+  subroutine write_text_atomic(path, text, stat, errmsg)
+    character(len=*), intent(in) :: path, text
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: tmp
+    character(len=256) :: iomsg
+    integer :: u, ios
+    stat = STAT_OK
+    tmp = path // '.tmp'
+    open (newunit=u, file=tmp, status='replace', access='stream', form='unformatted', &
+          action='write', iostat=ios, iomsg=iomsg)
+    if (ios /= 0) then
+      call set_error(stat, errmsg, STAT_RUN, 'cannot create "' // tmp // '": ' // trim(iomsg))
+      return
+    end if
+    write (u, iostat=ios, iomsg=iomsg) text
+    if (ios /= 0) then
+      close (u, status='delete')
+      call set_error(stat, errmsg, STAT_RUN, 'cannot write "' // tmp // '": ' // trim(iomsg))
+      return
+    end if
+    close (u, iostat=ios, iomsg=iomsg)
+    if (ios /= 0) then
+      call set_error(stat, errmsg, STAT_RUN, 'cannot close "' // tmp // '": ' // trim(iomsg))
+      return
+    end if
+    call os_rename(tmp, path, stat, errmsg)
+  end subroutine write_text_atomic
+end module xdmf_writer

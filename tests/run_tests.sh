@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Run every unit suite (build/tests/test_*) and every scene test (tests/scenes/*.sh), count the
+# PASS/FAIL lines they print, and end with the line `N passed, M failed`.
+# A suite that exits non-zero without printing a FAIL line counts as one failure (a crash).
+set -u
+cd "$(dirname "$0")/.."
+log=$(mktemp -d)
+pass=0; fail=0
+run_one() {  # name, command...
+  local name=$1; shift
+  local out="$log/$name.out"
+  "$@" >"$out" 2>&1
+  local rc=$?
+  local p f
+  p=$(grep -c '^PASS ' "$out"); f=$(grep -c '^FAIL ' "$out")
+  grep -E '^(FAIL|CRASH) ' "$out" | sed "s/^/[$name] /"
+  if [ $rc -ne 0 ] && [ "$f" -eq 0 ]; then
+    echo "[$name] CRASH exit code $rc; last lines:"; tail -5 "$out" | sed 's/^/    /'
+    f=1
+  fi
+  printf '%-28s %4d passed, %d failed\n' "$name" "$p" "$f"
+  pass=$((pass + p)); fail=$((fail + f))
+}
+for t in build/tests/test_*; do
+  [ -x "$t" ] || continue
+  run_one "$(basename "$t")" "$t"
+done
+for s in tests/scenes/*.sh; do
+  [ -f "$s" ] || continue
+  run_one "$(basename "$s" .sh)" bash "$s"
+done
+rm -rf "$log"
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
