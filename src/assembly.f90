@@ -2,7 +2,7 @@
 !> point (B matrices and weights, computed once), the sparse K0 and M on one pattern, and
 !> the internal forces Bσ assembled from the element stresses.
 module assembly
-  use kinds, only: dp
+  use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use mesh, only: DOF_NAMES, ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8
   use scene, only: scene_t, function_value, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
@@ -10,11 +10,12 @@ module assembly
   use sparse_matrix, only: sym_csc_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
-  use material_law, only: law_update, law_is_linear, PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS
+  use material_law, only: law_update, law_is_linear, law_nstate, law_stored, law_elastic_matrix, &
+    PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS
   implicit none
   private
   public :: system_t, build_system, internal_force, commit_state, external_force, strain_energy, &
-    element_stress, nodal_values, mass_times, initial_state, dof_label
+    element_stress, nodal_values, mass_times, initial_state, dof_label, dof_origin, stored_energy, mass_times_q
 
   !> Nodal forces of one LOAD statement on the free DOFs (sparse).
   type :: load_vector_t
@@ -39,15 +40,36 @@ module assembly
     real(dp), allocatable :: bmat(:), wt(:)
     real(dp), allocatable :: dmat(:, :, :)   !< (MAX_NSTRAIN, MAX_NSTRAIN, nmodel) elastic matrices
     integer, allocatable :: pk(:)            !< (nmodel) material-point kind
-    ! Integration-point state: committed (end of the last step) and trial.
-    real(dp), allocatable :: eps(:, :), sig(:, :), eps_t(:, :), sig_t(:, :)
-    real(dp) :: work_t = 0.0_dp              !< internal work of the trial increment
+    ! Integration-point state: committed (end of the last step) and trial; q internal variables.
+    real(dp), allocatable :: eps(:, :), sig(:, :), eps_t(:, :), sig_t(:, :), q(:, :), q_t(:, :)
+    integer :: nq = 0                        !< internal variables per point (largest over models)
+    logical, allocatable :: model_linear(:)  !< (nmodel) law linear: no sub-increments, sigma_c = 0
+    real(dp) :: work_t = 0.0_dp              !< work of the trial increment at nonlinear points (W_N)
+    real(dp) :: elastic_t = 0.0_dp           !< strain energy of the trial state at linear elastic points
+    real(dp) :: dissip_t = 0.0_dp            !< plastic work of the trial increment
+    integer :: nsub_points_t = 0             !< points that were sub-incremented in the trial
+    real(dp), allocatable :: tval(:)         !< tangent stiffness on the pattern (ITERATION TANGENT)
+    ! SCHEME PRECISION EXTENDED: linear elastic points evaluated in quadruple precision.
+    logical :: extended = .false.
+    real(qp), allocatable :: fint_q(:)       !< internal forces of the last evaluation, unrounded
+    real(qp) :: elastic_q = 0.0_qp           !< strain energy of the linear points, unrounded
     ! External forces.
     real(dp), allocatable :: fgrav(:)        !< M g on the free DOFs
     type(load_vector_t), allocatable :: loads(:)
   end type system_t
 
 contains
+
+  !> "file:line" of the statement that created the node of equation ieq.
+  function dof_origin(scn, sys, ieq) result(s)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    integer, intent(in) :: ieq
+    character(len=:), allocatable :: s
+    integer :: loc(2)
+    loc = findloc(sys%eqn, ieq)
+    s = scn%path // ':' // str(scn%node_line(loc(2)))
+  end function dof_origin
 
   !> Name of an equation: "node N (x, y) DOF".
   function dof_label(scn, sys, ieq) result(s)
@@ -80,7 +102,7 @@ contains
       return
     end if
     nmodel = size(scn%models)
-    allocate (sys%dmat(MAX_NSTRAIN, MAX_NSTRAIN, nmodel), sys%pk(nmodel))
+    allocate (sys%dmat(MAX_NSTRAIN, MAX_NSTRAIN, nmodel), sys%pk(nmodel), sys%model_linear(nmodel))
     sys%dmat = 0.0_dp
     do im = 1, nmodel
       associate (md => scn%models(im))
@@ -94,11 +116,19 @@ contains
         case default
           sys%pk(im) = 0
         end select
+        sys%model_linear(im) = .true.
         if (md%material > 0 .and. md%etype /= ET_MASS) then
           nstr = elem_nstrain(md%etype)
-          call elem_elastic_d(md%etype, scn%materials(md%material)%young, scn%materials(md%material)%poisson, &
-            md%sec, sys%dmat(1:nstr, 1:nstr, im))
-          sys%linear = sys%linear .and. law_is_linear(scn%materials(md%material))
+          if (md%etype == ET_BEAM2 .and. md%sec%layers > 0) then
+            ! Fibre section: the elastic matrix of the layers, as the fibre laws see it.
+            call law_elastic_matrix(scn%materials(md%material), md%sec, sys%pk(im), sys%dmat(1:nstr, 1:nstr, im))
+          else
+            call elem_elastic_d(md%etype, scn%materials(md%material)%young, scn%materials(md%material)%poisson, &
+              md%sec, sys%dmat(1:nstr, 1:nstr, im))
+          end if
+          sys%model_linear(im) = law_is_linear(scn%materials(md%material))
+          sys%linear = sys%linear .and. sys%model_linear(im)
+          sys%nq = max(sys%nq, law_nstate(scn%materials(md%material), sys%pk(im), md%sec))
         end if
       end associate
     end do
@@ -209,7 +239,8 @@ contains
       call sys%pat%diagonal(sys%mval, dm)
       do i = 1, sys%neq
         if (dk(i) <= 0.0_dp .and. dm(i) <= 0.0_dp) then
-          call set_error(stat, errmsg, STAT_INPUT, scn%path // ':1: singular system: ' // dof_label(scn, sys, i) // &
+          call set_error(stat, errmsg, STAT_INPUT, dof_origin(scn, sys, i) // ': singular system: ' // &
+            dof_label(scn, sys, i) // &
             ' has neither mass nor stiffness (fix it, or give it a mass or an element)')
           return
         end if
@@ -227,6 +258,18 @@ contains
     if (stat /= STAT_OK) return
     allocate (sys%eps_t, source=sys%eps)
     allocate (sys%sig_t, source=sys%sig)
+    allocate (sys%q(sys%nq, sys%ngp))
+    sys%q = 0.0_dp
+    allocate (sys%q_t, source=sys%q)
+    sys%extended = scn%extended
+    if (sys%extended) then
+      allocate (sys%fint_q(sys%neq))
+      sys%fint_q = 0.0_qp
+    end if
+    if (scn%tangent .and. .not. sys%linear) then
+      allocate (sys%tval(sys%pat%nnz))
+      sys%tval = sys%kval
+    end if
   end subroutine build_system
 
   !> True when position k of the pattern is a diagonal entry.
@@ -308,18 +351,55 @@ contains
     end if
   end subroutine mass_times
 
-  !> Trial state for the total displacement u: strains, stresses by the laws along the step's
-  !> strain path (from the committed state), the internal forces fint = sum B'sigma w, and the
-  !> work of the increment in sys%work_t.
-  subroutine internal_force(scn, sys, u, fint)
+  !> y = M x accumulated in quadruple precision (SCHEME PRECISION EXTENDED).
+  subroutine mass_times_q(sys, x, y)
+    type(system_t), intent(in) :: sys
+    real(qp), intent(in) :: x(:)
+    real(qp), intent(out) :: y(:)
+    integer :: j, k, i
+    if (sys%mass_diagonal) then
+      y = real(sys%mdiag, qp) * x
+      return
+    end if
+    y = 0.0_qp
+    do j = 1, sys%pat%n
+      do k = sys%pat%colptr(j), sys%pat%colptr(j + 1) - 1
+        i = sys%pat%rowind(k)
+        y(i) = y(i) + real(sys%mval(k), qp) * x(j)
+        if (i /= j) y(j) = y(j) + real(sys%mval(k), qp) * x(i)
+      end do
+    end do
+  end subroutine mass_times_q
+
+  !> Trial state for the total displacement u: strains, then the stresses the laws give along
+  !> the step's straight strain path from the committed state, in the model's sub-increments.
+  !> Returns fint = sum B'sigma(n+1) w and the correction force fcorr = sum B'sigma_c w of
+  !> eq (9), sigma_c = 2 sigma_bar - (sigma(n) + sigma(n+1)); with correct = .false., or at
+  !> points whose step stayed elastic, sigma_c is not formed (it is exactly zero). The work
+  !> of the increment W_N = sum w sigma_bar.deps goes to sys%work_t, the plastic work to
+  !> sys%dissip_t. With tangent = .true. the consistent tangent is assembled into sys%tval.
+  subroutine internal_force(scn, sys, u, fint, fcorr, correct, tangent, uq)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     real(dp), intent(in) :: u(:)
-    real(dp), intent(out) :: fint(:)
-    integer :: e, im, ndof, nstr, igp, k, p, j
-    real(dp) :: ue(MAX_EDOF), fe(MAX_EDOF), deps(MAX_NSTRAIN), sbar(MAX_NSTRAIN), qn(0), q(0), work, dissip, wsum
+    real(dp), intent(out) :: fint(:), fcorr(:)
+    logical, intent(in) :: correct, tangent
+    real(qp), intent(in), optional :: uq(:)   !< PRECISION EXTENDED: u unrounded
+    integer :: e, im, ndof, nstr, igp, k, p, j, nused, nsub, nq, npts
+    real(dp) :: ue(MAX_EDOF), fe(MAX_EDOF), fc(MAX_EDOF), deps(MAX_NSTRAIN), sbar(MAX_NSTRAIN), sc(MAX_NSTRAIN)
+    real(dp) :: dt(MAX_NSTRAIN, MAX_NSTRAIN), b(MAX_NSTRAIN, MAX_EDOF), ke(MAX_EDOF, MAX_EDOF)
+    real(dp) :: work, dissip, wsum, dsum, esum
+    real(qp) :: ueq(MAX_EDOF), feq(MAX_EDOF), epsq(MAX_NSTRAIN), sigq(MAX_NSTRAIN), bq(MAX_NSTRAIN, MAX_EDOF), esumq
+    logical :: any_c, lin
     fint = 0.0_dp
+    esumq = 0.0_qp
+    if (sys%extended) sys%fint_q = 0.0_qp
+    fcorr = 0.0_dp
     wsum = 0.0_dp
+    esum = 0.0_dp
+    dsum = 0.0_dp
+    npts = 0
+    if (tangent) sys%tval = 0.0_dp
     do e = 1, scn%mesh%nelem
       im = scn%elem_model(e)
       if (im == 0) cycle
@@ -331,7 +411,42 @@ contains
         if (j > 0) ue(k) = u(j)
       end do
       fe(1:ndof) = 0.0_dp
+      fc(1:ndof) = 0.0_dp
+      any_c = .false.
+      if (tangent) ke(1:ndof, 1:ndof) = 0.0_dp
       nstr = elem_nstrain(scn%mesh%etype(e))
+      nsub = scn%models(im)%substeps
+      lin = sys%model_linear(im)
+      if (lin .and. sys%extended .and. .not. tangent) then
+        ! Quadruple precision: strains of smooth fields and the nodal balance of element
+        ! forces cancel heavily; rounding them in double injects energy (docs/precision.md).
+        if (present(uq)) then
+          do k = 1, ndof
+            j = sys%edof(sys%edof_ptr(e) + k - 1)
+            ueq(k) = 0.0_qp
+            if (j > 0) ueq(k) = uq(j)
+          end do
+        else
+          ueq(1:ndof) = real(ue(1:ndof), qp)
+        end if
+        feq(1:ndof) = 0.0_qp
+        do igp = sys%gp_ptr(e), sys%gp_ptr(e + 1) - 1
+          p = sys%b_ptr(igp)
+          bq(1:nstr, 1:ndof) = real(reshape(sys%bmat(p:p + nstr * ndof - 1), [nstr, ndof]), qp)
+          epsq(1:nstr) = matmul(bq(1:nstr, 1:ndof), ueq(1:ndof))
+          sigq(1:nstr) = matmul(real(sys%dmat(1:nstr, 1:nstr, im), qp), epsq(1:nstr))
+          feq(1:ndof) = feq(1:ndof) + real(sys%wt(igp), qp) * matmul(transpose(bq(1:nstr, 1:ndof)), sigq(1:nstr))
+          esumq = esumq + 0.5_qp * real(sys%wt(igp), qp) * dot_product(sigq(1:nstr), epsq(1:nstr))
+          sys%eps_t(1:nstr, igp) = real(epsq(1:nstr), dp)
+          sys%sig_t(1:nstr, igp) = real(sigq(1:nstr), dp)
+        end do
+        do k = 1, ndof
+          j = sys%edof(sys%edof_ptr(e) + k - 1)
+          if (j > 0) sys%fint_q(j) = sys%fint_q(j) + feq(k)
+        end do
+        cycle
+      end if
+      nq = law_nstate(scn%materials(scn%models(im)%material), sys%pk(im), scn%models(im)%sec)
       do igp = sys%gp_ptr(e), sys%gp_ptr(e + 1) - 1
         p = sys%b_ptr(igp)
         ! eps = B ue (B stored column-major, nstr x ndof)
@@ -340,28 +455,91 @@ contains
           sys%eps_t(1:nstr, igp) = sys%eps_t(1:nstr, igp) + sys%bmat(p + (k - 1) * nstr:p + k * nstr - 1) * ue(k)
         end do
         deps(1:nstr) = sys%eps_t(1:nstr, igp) - sys%eps(1:nstr, igp)
-        call law_update(scn%materials(scn%models(im)%material), scn%models(im)%sec, sys%pk(im), &
-          sys%dmat(1:nstr, 1:nstr, im), 1, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), qn, &
-          sys%sig_t(1:nstr, igp), sbar(1:nstr), q, work, dissip)
-        wsum = wsum + sys%wt(igp) * work
+        if (tangent) then
+          call law_update(scn%materials(scn%models(im)%material), scn%models(im)%sec, sys%pk(im), &
+            sys%dmat(1:nstr, 1:nstr, im), nsub, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
+            sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, dissip, nused, &
+            dt(1:nstr, 1:nstr))
+          b(1:nstr, 1:ndof) = reshape(sys%bmat(p:p + nstr * ndof - 1), [nstr, ndof])
+          ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + sys%wt(igp) * &
+            matmul(transpose(b(1:nstr, 1:ndof)), matmul(dt(1:nstr, 1:nstr), b(1:nstr, 1:ndof)))
+        else
+          call law_update(scn%materials(scn%models(im)%material), scn%models(im)%sec, sys%pk(im), &
+            sys%dmat(1:nstr, 1:nstr, im), nsub, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
+            sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, dissip, nused)
+        end if
+        if (lin) then
+          esum = esum + 0.5_dp * sys%wt(igp) * dot_product(sys%sig_t(1:nstr, igp), sys%eps_t(1:nstr, igp))
+        else
+          wsum = wsum + sys%wt(igp) * work
+          dsum = dsum + sys%wt(igp) * dissip
+        end if
         do k = 1, ndof
           fe(k) = fe(k) + sys%wt(igp) * dot_product(sys%bmat(p + (k - 1) * nstr:p + k * nstr - 1), &
             sys%sig_t(1:nstr, igp))
         end do
+        ! Eq (9): the correction stress, only where the law was sub-incremented.
+        if (correct .and. nused > 0) then
+          npts = npts + 1
+          any_c = .true.
+          sc(1:nstr) = 2.0_dp * sbar(1:nstr) - (sys%sig(1:nstr, igp) + sys%sig_t(1:nstr, igp))
+          do k = 1, ndof
+            fc(k) = fc(k) + sys%wt(igp) * dot_product(sys%bmat(p + (k - 1) * nstr:p + k * nstr - 1), sc(1:nstr))
+          end do
+        else if (nused > 0) then
+          npts = npts + 1
+        end if
       end do
-      do k = 1, ndof
-        j = sys%edof(sys%edof_ptr(e) + k - 1)
-        if (j > 0) fint(j) = fint(j) + fe(k)
+      associate (dofs => sys%edof(sys%edof_ptr(e):sys%edof_ptr(e + 1) - 1))
+        do k = 1, ndof
+          j = dofs(k)
+          if (j <= 0) cycle
+          if (sys%extended) then
+            sys%fint_q(j) = sys%fint_q(j) + real(fe(k), qp)
+          else
+            fint(j) = fint(j) + fe(k)
+          end if
+          if (any_c) fcorr(j) = fcorr(j) + fc(k)
+        end do
+        if (tangent) call sys%pat%add_element(sys%tval, dofs, ke(1:ndof, 1:ndof))
+      end associate
+    end do
+    if (sys%extended) then
+      fint = real(sys%fint_q, dp)
+      sys%elastic_q = esumq + real(esum, qp)
+      esum = real(sys%elastic_q, dp)
+    end if
+    sys%work_t = wsum
+    sys%elastic_t = esum
+    sys%dissip_t = dsum
+    sys%nsub_points_t = npts
+  end subroutine internal_force
+
+  !> Recoverable elastic energy of the committed state (history column `stored`).
+  real(dp) function stored_energy(scn, sys) result(w)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    integer :: e, im, igp, nstr, nq
+    w = 0.0_dp
+    do e = 1, scn%mesh%nelem
+      im = scn%elem_model(e)
+      if (im == 0) cycle
+      if (sys%gp_ptr(e + 1) == sys%gp_ptr(e)) cycle
+      nstr = elem_nstrain(scn%mesh%etype(e))
+      nq = law_nstate(scn%materials(scn%models(im)%material), sys%pk(im), scn%models(im)%sec)
+      do igp = sys%gp_ptr(e), sys%gp_ptr(e + 1) - 1
+        w = w + sys%wt(igp) * law_stored(scn%materials(scn%models(im)%material), scn%models(im)%sec, sys%pk(im), &
+          sys%dmat(1:nstr, 1:nstr, im), sys%eps(1:nstr, igp), sys%sig(1:nstr, igp), sys%q(1:nq, igp))
       end do
     end do
-    sys%work_t = wsum
-  end subroutine internal_force
+  end function stored_energy
 
   !> Accept the trial state as the state at the end of the step.
   subroutine commit_state(sys)
     type(system_t), intent(inout) :: sys
     sys%eps = sys%eps_t
     sys%sig = sys%sig_t
+    if (sys%nq > 0) sys%q = sys%q_t
   end subroutine commit_state
 
   !> Recoverable elastic energy of the committed state, sum of ½ sigma.eps w.

@@ -12,9 +12,11 @@ module energy
 
   type :: energy_t
     real(dp) :: kinetic = 0.0_dp       !< ½ v'Mv
-    type(sum_t) :: internal_sum        !< work of the internal forces since t = 0 (plus the initial strain energy)
+    type(sum_t) :: internal_sum        !< work of the nonlinear internal forces since t = 0 (from zero strain)
+    real(dp) :: elastic = 0.0_dp       !< strain energy of the linear elastic models, a function of the state
     type(sum_t) :: external_sum        !< work of the external forces as the scheme sees it, ½ du'(F(n)+F(n+1))
     type(sum_t) :: correction_sum      !< energy restored by corrections
+    type(sum_t) :: dissipated_sum      !< plastic work since t = 0
     real(dp) :: initial = 0.0_dp       !< kinetic + internal at t = 0
     real(dp) :: max_balance = 0.0_dp   !< max |balance| so far
     real(dp) :: max_scale = 0.0_dp     !< max (kinetic + internal) so far
@@ -24,6 +26,7 @@ module energy
     procedure :: internal
     procedure :: external
     procedure :: correction
+    procedure :: dissipated
     procedure :: balance
     procedure :: relative_balance
   end type energy_t
@@ -49,34 +52,44 @@ contains
   end function value
 
   !> Initial state: kinetic energy and initial internal energy (strain energy of u0).
-  pure subroutine start(self, kinetic0, internal0)
+  !> For linear elastic models the cumulative work of the internal forces equals the strain
+  !> energy of the current state; that state function is used for them (pass elastic0 and
+  !> elastic), so that rounding does not accumulate step after step.
+  pure subroutine start(self, kinetic0, internal0, elastic0)
     class(energy_t), intent(inout) :: self
     real(dp), intent(in) :: kinetic0, internal0
+    real(dp), intent(in), optional :: elastic0
     self%kinetic = kinetic0
+    self%elastic = 0.0_dp
+    if (present(elastic0)) self%elastic = elastic0
     self%internal_sum = sum_t()
     self%external_sum = sum_t()
     self%correction_sum = sum_t()
+    self%dissipated_sum = sum_t()
     call add(self%internal_sum, internal0)
-    self%initial = kinetic0 + internal0
+    self%initial = kinetic0 + self%internal()
     self%max_balance = 0.0_dp
     self%max_scale = abs(self%initial)
   end subroutine start
 
   !> Account for one step: new kinetic energy and the works of the step.
-  pure subroutine add_step(self, kinetic, dw_internal, dw_external, dw_correction)
+  pure subroutine add_step(self, kinetic, dw_internal, dw_external, dw_correction, dw_dissipated, elastic)
     class(energy_t), intent(inout) :: self
     real(dp), intent(in) :: kinetic, dw_internal, dw_external, dw_correction
+    real(dp), intent(in), optional :: dw_dissipated, elastic
     self%kinetic = kinetic
+    if (present(elastic)) self%elastic = elastic
     call add(self%internal_sum, dw_internal)
     call add(self%external_sum, dw_external)
     call add(self%correction_sum, dw_correction)
+    if (present(dw_dissipated)) call add(self%dissipated_sum, dw_dissipated)
     self%max_balance = max(self%max_balance, abs(self%balance()))
     self%max_scale = max(self%max_scale, abs(self%kinetic + self%internal()))
   end subroutine add_step
 
   pure real(dp) function internal(self)
     class(energy_t), intent(in) :: self
-    internal = value(self%internal_sum)
+    internal = value(self%internal_sum) + self%elastic
   end function internal
 
   pure real(dp) function external(self)
@@ -84,17 +97,22 @@ contains
     external = value(self%external_sum)
   end function external
 
+  pure real(dp) function dissipated(self)
+    class(energy_t), intent(in) :: self
+    dissipated = value(self%dissipated_sum)
+  end function dissipated
+
   pure real(dp) function correction(self)
     class(energy_t), intent(in) :: self
     correction = value(self%correction_sum)
   end function correction
 
   !> Energy the scheme created: kinetic + internal - external - (kinetic + internal at t = 0).
-  !> Energy restored by corrections is work done on the system, so it counts as external.
+  !> Corrections are not subtracted: they give back what the scheme lost, and the balance is
+  !> what remains wrong after them.
   pure real(dp) function balance(self)
     class(energy_t), intent(in) :: self
-    balance = ((self%kinetic + value(self%internal_sum)) - value(self%external_sum) - value(self%correction_sum)) &
-      - self%initial
+    balance = ((self%kinetic + self%internal()) - value(self%external_sum)) - self%initial
   end function balance
 
   !> max |balance| relative to the largest kinetic + internal seen.

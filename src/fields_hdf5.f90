@@ -8,7 +8,10 @@
 !>   /mesh/element_type  int32 (nelem), ET_* codes of module mesh
 !>   /times, /steps      float64 / int32 (nsteps), one entry per written step (unlimited, chunked)
 !>   /step_NNNNNN        group, attributes time (float64) and step (int32), datasets
-!>                       displacement, velocity [, reaction] (3, nnode): UX, UY, RZ per node;
+!>                       displacement, velocity [, reaction] (3, nnode): (UX, UY, 0) per node,
+!>                         z = 0 so that ParaView's "Warp By Vector" moves nodes in the plane only;
+!>                       rotation, angular_velocity [, reaction_moment] (nnode): the RZ component
+!>                         of u, v [, reaction];
 !>                       stress (4, nelem): element mean of Gauss-point values
 !>                       (bar/spring: N or sigma,0,0,0; beam: N,M,0,0; quads: sxx,syy,szz,sxy).
 !> After each step the file is flushed and fields.xmf rewritten atomically, so a killed run
@@ -53,6 +56,8 @@ module fields_hdf5
     integer :: nnode = 0, nelem = 0, ntopo = 0
     integer :: nsteps = 0
     type(xdmf_step_t), allocatable :: steps(:)
+    ! Work arrays for splitting (UX, UY, RZ) fields, sized in open and reused by every step.
+    real(dp), allocatable :: vec(:, :), rz(:)
   contains
     procedure :: open => fw_open
     procedure :: write_step => fw_write_step
@@ -155,6 +160,58 @@ contains
     call h5sclose_f(space, hdferr)
     call check_h5(hdferr, 'close the dataspace of ' // where // '/' // name, path, stat, errmsg)
   end subroutine write_real2
+
+  !> Write a new float64 dataset holding a(:) under loc.
+  subroutine write_real1(loc, where, name, a, path, stat, errmsg)
+    integer(hid_t), intent(in) :: loc
+    character(len=*), intent(in) :: where, name, path
+    real(dp), intent(in) :: a(:)
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    integer(hid_t) :: space, dset
+    integer(hsize_t) :: dims(1)
+    integer :: hdferr
+    if (stat /= STAT_OK) return
+    dims = shape(a, kind=hsize_t)
+    call h5screate_simple_f(1, dims, space, hdferr)
+    call check_h5(hdferr, 'create the dataspace of ' // where // '/' // name, path, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call h5dcreate_f(loc, name, H5T_NATIVE_DOUBLE, space, dset, hdferr)
+    call check_h5(hdferr, 'create dataset ' // where // '/' // name, path, stat, errmsg)
+    if (stat == STAT_OK) then
+      call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, a, dims, hdferr)
+      call check_h5(hdferr, 'write dataset ' // where // '/' // name, path, stat, errmsg)
+      call h5dclose_f(dset, hdferr)
+      call check_h5(hdferr, 'close dataset ' // where // '/' // name, path, stat, errmsg)
+    end if
+    call h5sclose_f(space, hdferr)
+    call check_h5(hdferr, 'close the dataspace of ' // where // '/' // name, path, stat, errmsg)
+  end subroutine write_real1
+
+  !> Split nodal (UX, UY, RZ) columns into the in-plane 3-vector (UX, UY, 0) and the scalar RZ:
+  !> a rotation stored as a z component would lift nodes out of the plane in a viewer's warp.
+  pure subroutine split_planar(a, vec, rz)
+    real(dp), intent(in) :: a(:, :)
+    real(dp), intent(out) :: vec(:, :), rz(:)
+    vec(1:2, :) = a(1:2, :)
+    vec(3, :) = 0.0_dp
+    rz = a(3, :)
+  end subroutine split_planar
+
+  !> Write a (UX, UY, RZ) field a as the 3-vector dataset vname and the scalar dataset sname,
+  !> through the writer's work arrays.
+  subroutine write_planar(self, gid, where, a, vname, sname, stat, errmsg)
+    class(fields_writer_t), intent(inout) :: self
+    integer(hid_t), intent(in) :: gid
+    character(len=*), intent(in) :: where, vname, sname
+    real(dp), intent(in) :: a(:, :)
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    if (stat /= STAT_OK) return
+    call split_planar(a, self%vec, self%rz)
+    call write_real2(gid, where, vname, self%vec, self%h5path, stat, errmsg)
+    call write_real1(gid, where, sname, self%rz, self%h5path, stat, errmsg)
+  end subroutine write_planar
 
   !> Write a new int32 dataset holding a(:) under loc.
   subroutine write_int1(loc, where, name, a, path, stat, errmsg)
@@ -343,6 +400,9 @@ contains
     self%nsteps = 0
     if (allocated(self%steps)) deallocate (self%steps)
     allocate (self%steps(16))
+    if (allocated(self%vec)) deallocate (self%vec)
+    if (allocated(self%rz)) deallocate (self%rz)
+    allocate (self%vec(3, self%nnode), self%rz(self%nnode))
 
     if (h5_users == 0) then
       call h5open_f(hdferr)
@@ -397,7 +457,8 @@ contains
   end subroutine fw_open
 
   !> Append one output step: group /step_NNNNNN in fields.h5, the /times and /steps series, a
-  !> flush, then the rewritten fields.xmf. u, v, reaction are (3, nnode); stress is (4, nelem).
+  !> flush, then the rewritten fields.xmf. u, v, reaction are (3, nnode) holding UX, UY, RZ (each
+  !> stored as an in-plane vector plus a scalar, see the module header); stress is (4, nelem).
   subroutine fw_write_step(self, step, time, u, v, stress, stat, errmsg, reaction)
     class(fields_writer_t), intent(inout) :: self
     integer, intent(in) :: step
@@ -449,10 +510,11 @@ contains
     if (stat /= STAT_OK) return
     call write_attr(gid, '/' // grp, 'time', self%h5path, stat, errmsg, x=time)
     call write_attr(gid, '/' // grp, 'step', self%h5path, stat, errmsg, i=step)
-    call write_real2(gid, '/' // grp, 'displacement', u, self%h5path, stat, errmsg)
-    call write_real2(gid, '/' // grp, 'velocity', v, self%h5path, stat, errmsg)
+    call write_planar(self, gid, '/' // grp, u, 'displacement', 'rotation', stat, errmsg)
+    call write_planar(self, gid, '/' // grp, v, 'velocity', 'angular_velocity', stat, errmsg)
+    if (present(reaction)) &
+      call write_planar(self, gid, '/' // grp, reaction, 'reaction', 'reaction_moment', stat, errmsg)
     call write_real2(gid, '/' // grp, 'stress', stress, self%h5path, stat, errmsg)
-    if (present(reaction)) call write_real2(gid, '/' // grp, 'reaction', reaction, self%h5path, stat, errmsg)
     call h5gclose_f(gid, hdferr)
     call check_h5(hdferr, 'close group /' // grp, self%h5path, stat, errmsg)
     call append_series(self%file_id, 'times', self%nsteps + 1, self%h5path, stat, errmsg, x=time)
@@ -503,6 +565,8 @@ contains
       call release_library(st, msg, self%h5path)
     end if
     if (allocated(self%steps)) deallocate (self%steps)
+    if (allocated(self%vec)) deallocate (self%vec)
+    if (allocated(self%rz)) deallocate (self%rz)
     self%nsteps = 0
     if (present(stat)) stat = st
     if (present(errmsg) .and. st /= STAT_OK) errmsg = msg

@@ -51,12 +51,13 @@ contains
     end do
   end function count_commas
 
-  !> One line: step, then reals (17 significant digits), then integers.
-  subroutine write_row(self, step, reals, ints, stat, errmsg)
+  !> One line: step, then reals (17 significant digits), then integers, then more reals.
+  subroutine write_row(self, step, reals, ints, stat, errmsg, tail)
     class(csv_file_t), intent(inout) :: self
     integer, intent(in) :: step
     real(dp), intent(in) :: reals(:)
     integer, intent(in) :: ints(:)
+    real(dp), intent(in), optional :: tail(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: ios, pos, i
@@ -71,6 +72,12 @@ contains
       write (self%buf(pos + 1:), '(",",i0)') ints(i)
       pos = len_trim(self%buf)
     end do
+    if (present(tail)) then
+      do i = 1, size(tail)
+        write (self%buf(pos + 1:), '(",",es24.16e3)') tail(i)
+        pos = len_trim(self%buf)
+      end do
+    end if
     write (self%unit, '(a)', iostat=ios) trim(squeeze(self%buf(1:pos)))
     if (ios == 0) flush (self%unit, iostat=ios)
     if (ios /= 0) call set_error(stat, errmsg, STAT_RUN, 'cannot write ' // self%path)
@@ -94,7 +101,8 @@ contains
 
   subroutine csv_close(self)
     class(csv_file_t), intent(inout) :: self
-    if (self%unit >= 0) close (self%unit)
+    ! newunit= numbers are negative: -1 alone means closed.
+    if (self%unit /= -1) close (self%unit)
     self%unit = -1
   end subroutine csv_close
 end module history_writer

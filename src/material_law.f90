@@ -1,20 +1,34 @@
 !> Constitutive laws behind one interface. A law integrates the stress along the straight
-!> strain path eps(s) = eps_n + s*deps, s in [0,1], in nsub sub-increments, and returns the
+!> strain path eps(s) = eps_n + s*deps, s in [0,1], in N sub-increments, and returns the
 !> end stress, the path-mean stress (trapezoid over the sub-increments, method.md section 2),
 !> the new internal variables, the work per unit weight and its dissipated part.
 !> Material-point kinds: PK_1D (springs: force/elongation, bars: axial stress/strain),
 !> PK_BEAM (section resultants N, M against axial strain and curvature), PK_PSTRAIN and
 !> PK_PSTRESS (quads: xx, yy, zz, xy with engineering shear).
+!> Laws and where they apply (law_check rejects the other pairs):
+!>   ELASTIC            every kind; beams with sec%layers > 0 use the fibre-integrated D
+!>   NONLINEAR_ELASTIC  PK_1D, PK_BEAM with layers > 0   sigma = E eps (1 + nl_b eps^2)
+!>   ELASTOPLASTIC      PK_1D, PK_BEAM with layers > 0   bilinear, yield, h_iso, h_kin
+!>   VON_MISES          PK_PSTRAIN, PK_PSTRESS           J2, yield, h_iso, h_kin
+!> User documentation: docs/materials.md.
 module material_law
   use kinds, only: dp
   use section, only: section_t
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use law_elastic, only: elastic_update
+  use law_nonlinear_elastic, only: nle_path, nle_auto_nsub, nle_energy, nle_stress
+  use law_plastic_1d, only: P1D_NSTATE, plastic_1d_path, plastic_auto_nsub
+  use law_von_mises, only: VM_NSTATE, vm_path, vm_trial_ratio, vm_stored, vm_d3, vm_dps
+  use beam_fibre, only: FIB_ELASTIC, FIB_NONLINEAR, FIB_PLASTIC, fibre_update, fibre_stored, &
+                        fibre_elastic_matrix, fibre_nstate
   implicit none
   private
-  public :: material_t, law_update, law_is_linear, law_nstate, law_name
-  public :: LAW_ELASTIC, PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS, pk_nstrain
+  public :: material_t, law_update, law_is_linear, law_nstate, law_name, law_code, law_check
+  public :: law_stored, law_elastic_matrix
+  public :: LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES
+  public :: PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS, pk_nstrain
 
-  integer, parameter :: LAW_ELASTIC = 1
+  integer, parameter :: LAW_ELASTIC = 1, LAW_NONLINEAR_ELASTIC = 2, LAW_ELASTOPLASTIC = 3, LAW_VON_MISES = 4
   integer, parameter :: PK_1D = 1, PK_BEAM = 2, PK_PSTRAIN = 3, PK_PSTRESS = 4
 
   type :: material_t
@@ -23,6 +37,10 @@ module material_law
     real(dp) :: young = 0.0_dp     !< Young's modulus [Pa]; for SPRING the stiffness [N/m]
     real(dp) :: poisson = 0.0_dp
     real(dp) :: density = 0.0_dp   !< [kg/m3]
+    real(dp) :: nl_b = 0.0_dp      !< NONLINEAR_ELASTIC: sigma = E eps (1 + b eps^2)
+    real(dp) :: yield = 0.0_dp     !< ELASTOPLASTIC, VON_MISES: initial yield stress (force for springs)
+    real(dp) :: h_iso = 0.0_dp     !< linear isotropic hardening modulus (d sigma / d eps_p)
+    real(dp) :: h_kin = 0.0_dp     !< linear kinematic hardening modulus
   end type material_t
 
 contains
@@ -34,10 +52,26 @@ contains
     select case (law)
     case (LAW_ELASTIC)
       name = 'ELASTIC'
+    case (LAW_NONLINEAR_ELASTIC)
+      name = 'NONLINEAR_ELASTIC'
+    case (LAW_ELASTOPLASTIC)
+      name = 'ELASTOPLASTIC'
+    case (LAW_VON_MISES)
+      name = 'VON_MISES'
     case default
       name = '?'
     end select
   end function law_name
+
+  !> Law code of an upper-case name (law_name's inverse); 0 when unknown.
+  pure integer function law_code(name)
+    character(len=*), intent(in) :: name
+    integer :: k
+    law_code = 0
+    do k = LAW_ELASTIC, LAW_VON_MISES
+      if (trim(name) == law_name(k)) law_code = k
+    end do
+  end function law_code
 
   !> Number of generalized strain components of a material-point kind.
   pure integer function pk_nstrain(pk)
@@ -58,29 +92,201 @@ contains
     law_is_linear = mat%law == LAW_ELASTIC
   end function law_is_linear
 
-  !> Number of internal variables per material point.
+  !> Fibre kind of a beam material.
+  pure integer function fibre_kind(mat)
+    type(material_t), intent(in) :: mat
+    select case (mat%law)
+    case (LAW_NONLINEAR_ELASTIC)
+      fibre_kind = FIB_NONLINEAR
+    case (LAW_ELASTOPLASTIC)
+      fibre_kind = FIB_PLASTIC
+    case default
+      fibre_kind = FIB_ELASTIC
+    end select
+  end function fibre_kind
+
+  !> Number of internal variables per material point: ELASTOPLASTIC PK_1D 3 ([eps_p, alpha,
+  !> beta]); fibre beams 3 per layer (layer f at q(3f-2:3f)), i.e. 3 * sec%layers per Gauss point;
+  !> VON_MISES 10 (see law_von_mises); 0 otherwise.
   pure integer function law_nstate(mat, pk, sec)
     type(material_t), intent(in) :: mat
     integer, intent(in) :: pk
     type(section_t), intent(in) :: sec
     law_nstate = 0
+    select case (mat%law)
+    case (LAW_ELASTOPLASTIC)
+      if (pk == PK_1D) law_nstate = P1D_NSTATE
+      if (pk == PK_BEAM .and. sec%layers > 0) law_nstate = fibre_nstate(FIB_PLASTIC, sec)
+    case (LAW_VON_MISES)
+      if (pk == PK_PSTRAIN .or. pk == PK_PSTRESS) law_nstate = VM_NSTATE
+    end select
   end function law_nstate
 
-  !> Integrate the law over one step (see the module header). d is the elastic matrix of the
-  !> point (nstr x nstr, from elements' elem_elastic_d). work is sigbar . deps, per unit weight.
-  pure subroutine law_update(mat, sec, pk, d, nsub, eps_n, deps, sig_n, q_n, sig, sigbar, q, work, dissip)
+  !> The elastic matrix of a point (nstr x nstr, at least): the one the laws use and K0 should
+  !> use. PK_1D: young; PK_BEAM: diag(E A, E I), or for sec%layers > 0 the fibre-integrated
+  !> diag(sum E A_f, sum E y_f^2 A_f); PK_PSTRAIN / PK_PSTRESS: as elements' elem_elastic_d.
+  pure subroutine law_elastic_matrix(mat, sec, pk, d)
+    type(material_t), intent(in) :: mat
+    type(section_t), intent(in) :: sec
+    integer, intent(in) :: pk
+    real(dp), intent(out) :: d(:, :)
+    real(dp) :: d4(4, 4)
+    d = 0.0_dp
+    select case (pk)
+    case (PK_1D)
+      d(1, 1) = mat%young
+    case (PK_BEAM)
+      if (sec%layers > 0) then
+        call fibre_elastic_matrix(mat%young, sec, d)
+      else
+        d(1, 1) = mat%young * sec%area
+        d(2, 2) = mat%young * sec%inertia
+      end if
+    case (PK_PSTRAIN)
+      call vm_d3(mat%young, mat%poisson, d4)
+      d(1:4, 1:4) = d4
+    case (PK_PSTRESS)
+      call vm_dps(mat%young, mat%poisson, d4)
+      d(1:4, 1:4) = d4
+    end select
+  end subroutine law_elastic_matrix
+
+  !> Reject a material that cannot be used on a kind of point (pk, sec): non-positive YOUNG,
+  !> POISSON outside (-1, 1/2) on quads, a law not defined for the kind, YIELD <= 0 or negative
+  !> hardening for the plastic laws, a nonlinear beam without layers or height.
+  pure subroutine law_check(mat, pk, sec, stat, errmsg)
+    type(material_t), intent(in) :: mat
+    integer, intent(in) :: pk
+    type(section_t), intent(in) :: sec
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (.not. mat%young > 0.0_dp) then
+      call set_error(stat, errmsg, STAT_INPUT, 'YOUNG must be > 0 (got ' // str(mat%young) // ')')
+    else if ((pk == PK_PSTRAIN .or. pk == PK_PSTRESS) .and. &
+             .not. (mat%poisson > -1.0_dp .and. mat%poisson < 0.5_dp)) then
+      call set_error(stat, errmsg, STAT_INPUT, 'POISSON must be in (-1, 0.5) (got ' // str(mat%poisson) // ')')
+    else if (mat%law < LAW_ELASTIC .or. mat%law > LAW_VON_MISES) then
+      call set_error(stat, errmsg, STAT_INPUT, 'unknown law code ' // str(mat%law))
+    else if (mat%law == LAW_VON_MISES .neqv. (pk == PK_PSTRAIN .or. pk == PK_PSTRESS)) then
+      if (mat%law == LAW_VON_MISES) then
+        call set_error(stat, errmsg, STAT_INPUT, 'VON_MISES applies to QUAD4/QUAD8 only')
+      else if (mat%law /= LAW_ELASTIC) then
+        call set_error(stat, errmsg, STAT_INPUT, law_name(mat%law) // &
+          ' applies to SPRING, BAR2 and layered BEAM2 only (quads: VON_MISES)')
+      end if
+    end if
+    if (stat /= STAT_OK) return
+    if (mat%law == LAW_ELASTOPLASTIC .or. mat%law == LAW_VON_MISES) then
+      if (.not. mat%yield > 0.0_dp) then
+        call set_error(stat, errmsg, STAT_INPUT, 'YIELD must be > 0 (got ' // str(mat%yield) // ')')
+      else if (.not. (mat%h_iso >= 0.0_dp .and. mat%h_kin >= 0.0_dp)) then
+        call set_error(stat, errmsg, STAT_INPUT, 'hardening moduli must be >= 0')
+      end if
+    end if
+    if (stat /= STAT_OK) return
+    if (pk == PK_BEAM .and. (mat%law == LAW_ELASTOPLASTIC .or. mat%law == LAW_NONLINEAR_ELASTIC)) then
+      if (sec%layers <= 0) then
+        call set_error(stat, errmsg, STAT_INPUT, law_name(mat%law) // ' BEAM2 needs a fibre section (LAYERS > 0)')
+      end if
+    end if
+    if (pk == PK_BEAM .and. sec%layers > 0 .and. .not. sec%height > 0.0_dp) then
+      call set_error(stat, errmsg, STAT_INPUT, 'a fibre section (LAYERS > 0) needs HEIGHT > 0')
+    end if
+  end subroutine law_check
+
+  !> Integrate the law over one step (see the module header).
+  !> d: elastic matrix of the point (nstr x nstr); used by ELASTIC only, the other laws take
+  !> theirs from law_elastic_matrix (pass that one). nsub >= 1: N fixed sub-increments;
+  !> nsub <= 0: AUTO (docs/materials.md). q_n, q: law_nstate internal variables.
+  !> work = sigbar . deps and dissip (trapezoid of sigma . deps_p over the sub-increments) are per
+  !> unit weight. nused: sub-increments used, 0 when no sub-incrementation was needed (ELASTIC,
+  !> or a step of a plastic law that stayed elastic: then sig = sig_n + D deps and
+  !> sigbar = (sig_n + sig)/2 exactly, so sigma_c = 0 bit for bit). dtan: consistent tangent
+  !> d sig / d deps of the last sub-increment (exact for N = 1, and for any N when the whole step
+  !> is elastic or, 1D laws, on one branch of the curve).
+  pure subroutine law_update(mat, sec, pk, d, nsub, eps_n, deps, sig_n, q_n, sig, sigbar, q, work, dissip, &
+                             nused, dtan)
     type(material_t), intent(in) :: mat
     type(section_t), intent(in) :: sec
     integer, intent(in) :: pk, nsub
     real(dp), intent(in) :: d(:, :), eps_n(:), deps(:), sig_n(:), q_n(:)
     real(dp), intent(out) :: sig(:), sigbar(:), q(:)
     real(dp), intent(out) :: work, dissip
+    integer, intent(out), optional :: nused
+    real(dp), intent(out), optional :: dtan(:, :)
+    real(dp) :: dl(4, 4), tl(4, 4), s1, sb1, et
+    integer :: n, nu, ns, nst
+    ns = pk_nstrain(pk)
+    nst = law_nstate(mat, pk, sec)
+    if (size(q) > 0) q = 0.0_dp
+    dissip = 0.0_dp
+    nu = 0
+    tl = 0.0_dp
     select case (mat%law)
+    case (LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC)
+      if (pk == PK_BEAM .and. sec%layers > 0) then
+        call fibre_update(fibre_kind(mat), mat%young, mat%nl_b, mat%yield, mat%h_iso, mat%h_kin, sec, nsub, &
+          eps_n(1:2), deps(1:2), sig_n(1:2), q_n, sig(1:2), sigbar(1:2), q, dissip, nu, tl(1:2, 1:2))
+      else if (mat%law == LAW_NONLINEAR_ELASTIC) then
+        n = nsub
+        if (n <= 0) n = nle_auto_nsub(mat%young, mat%nl_b, eps_n(1), deps(1))
+        call nle_path(mat%young, mat%nl_b, n, eps_n(1), deps(1), sig_n(1), s1, sb1, et)
+        sig(1) = s1
+        sigbar(1) = sb1
+        tl(1, 1) = et
+        nu = n
+      else
+        n = nsub
+        if (n <= 0) n = plastic_auto_nsub(mat%young * deps(1) / mat%yield)
+        call plastic_1d_path(mat%young, mat%yield, mat%h_iso, mat%h_kin, n, sig_n(1), q_n, deps(1), &
+          s1, sb1, q, dissip, nu, et)
+        sig(1) = s1
+        sigbar(1) = sb1
+        tl(1, 1) = et
+      end if
+    case (LAW_VON_MISES)
+      call law_elastic_matrix(mat, sec, pk, dl)
+      n = nsub
+      if (n <= 0) n = plastic_auto_nsub(vm_trial_ratio(dl, deps(1:4), mat%yield))
+      call vm_path(mat%young, mat%poisson, mat%yield, mat%h_iso, mat%h_kin, pk == PK_PSTRESS, n, dl, &
+        sig_n(1:4), q_n, deps(1:4), sig(1:4), sigbar(1:4), q, dissip, nu, tl)
     case default
-      call elastic_update(d, deps, sig_n, sig, sigbar)
-      q = q_n
-      dissip = 0.0_dp
+      call elastic_update(d(1:ns, 1:ns), deps(1:ns), sig_n(1:ns), sig(1:ns), sigbar(1:ns))
+      if (nst > 0) q(1:nst) = q_n(1:nst)
+      tl(1:ns, 1:ns) = d(1:ns, 1:ns)
     end select
-    work = dot_product(sigbar, deps)
+    work = dot_product(sigbar(1:ns), deps(1:ns))
+    if (present(nused)) nused = nu
+    if (present(dtan)) then
+      dtan = 0.0_dp
+      dtan(1:ns, 1:ns) = tl(1:ns, 1:ns)
+    end if
   end subroutine law_update
+
+  !> Recoverable (elastic) energy per unit weight of a state: 1/2 sigma . eps for ELASTIC,
+  !> psi(eps) = E (eps^2/2 + b eps^4/4) for NONLINEAR_ELASTIC, 1/2 sigma . D^-1 sigma for the
+  !> plastic laws; fibre beams sum their layers.
+  pure real(dp) function law_stored(mat, sec, pk, d, eps, sig, q) result(w)
+    type(material_t), intent(in) :: mat
+    type(section_t), intent(in) :: sec
+    integer, intent(in) :: pk
+    real(dp), intent(in) :: d(:, :), eps(:), sig(:), q(:)
+    integer :: ns
+    ns = pk_nstrain(pk)
+    select case (mat%law)
+    case (LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC)
+      if (pk == PK_BEAM .and. sec%layers > 0) then
+        w = fibre_stored(fibre_kind(mat), mat%young, mat%nl_b, sec, eps(1:2), q)
+      else if (mat%law == LAW_NONLINEAR_ELASTIC) then
+        w = nle_energy(mat%young, mat%nl_b, eps(1))
+      else
+        w = 0.5_dp * sig(1)**2 / mat%young
+      end if
+    case (LAW_VON_MISES)
+      w = vm_stored(mat%young, mat%poisson, sig(1:4))
+    case default
+      w = 0.5_dp * dot_product(sig(1:ns), eps(1:ns))
+    end select
+  end function law_stored
 end module material_law

@@ -1,14 +1,15 @@
 !> The time integrator: Newmark's average-acceleration scheme (beta = 1/4, gamma = 1/2) as
-!> written in method.md section 1. Only u and v are state; each step solves eq (5)
-!>     4M/h² du + Bσ(n+1) = F(n+1) + F(n) - Bσ(n) + 4M v(n)/h
-!> by iteration with the matrix S = K0 + 4M/h² (factorized once per step size), then sets the
+!> written in method.md sections 1 and 2. Only u and v are state; each step solves eq (9)
+!>     4M/h² du + Bσ(n+1) + Bσc = F(n+1) + F(n) - Bσ(n) + 4M v(n)/h
+!> (eq (5) when the correction is off or every law is linear) by iteration with the matrix
+!> S = K0 + 4M/h² (factorized once per step size) or the consistent tangent, then sets the
 !> velocity by eq (3). With linear laws the first iterate is exact (eq 7) and the loop ends.
 module newmark
-  use kinds, only: dp
+  use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use scene, only: scene_t
   use assembly, only: system_t, internal_force, commit_state, external_force, mass_times, initial_state, &
-    element_stress, nodal_values, dof_label
+    element_stress, nodal_values, dof_label, dof_origin, stored_energy, mass_times_q
   use cholmod_binding, only: cholmod_factor_t
   use energy, only: energy_t
   use history_writer, only: csv_file_t
@@ -16,7 +17,7 @@ module newmark
   use os_utils, only: make_directory
   implicit none
   private
-  public :: run_options_t, run_summary_t, prepare_run, run_newmark, run_state_t, velocity_eq3
+  public :: run_options_t, run_summary_t, prepare_run, run_newmark, run_state_t, velocity_eq3, rhs_eq9
 
   type :: run_options_t
     character(len=:), allocatable :: outdir
@@ -35,7 +36,9 @@ module newmark
     integer :: nsteps = 0
     real(dp) :: h = 0.0_dp
     real(dp), allocatable :: u(:), v(:), du(:), ddu(:), r(:), rhs(:), fint_n(:), fint(:), f_n(:), f_np1(:)
-    real(dp), allocatable :: mv(:), mdu(:), utrial(:), sval(:)
+    real(dp), allocatable :: mv(:), mdu(:), utrial(:), sval(:), fcorr(:), res_hist(:)
+    ! SCHEME PRECISION EXTENDED: the right-hand side, M v, M du, Bσ and the residual unrounded.
+    real(qp), allocatable :: rhs_q(:), mv_q(:), mdu_q(:), fint_n_q(:), r_q(:), u_q(:), v_q(:), utrial_q(:)
     type(cholmod_factor_t) :: factor
     type(energy_t) :: en
   end type run_state_t
@@ -48,6 +51,14 @@ contains
     real(dp), intent(inout) :: v(:)
     v = 2.0_dp * du / h - v
   end subroutine velocity_eq3
+
+  !> Right-hand side of eq (9): F(n+1) + F(n) - Bσ(n) + 4M v(n)/h, with the true Bσ(n) of the
+  !> end of the last step: the previous step's Bσc is never carried over (method.md section 2).
+  pure subroutine rhs_eq9(h, f_np1, f_n, fint_n, mv, rhs)
+    real(dp), intent(in) :: h, f_np1(:), f_n(:), fint_n(:), mv(:)
+    real(dp), intent(out) :: rhs(:)
+    rhs = f_np1 + f_n - fint_n + (4.0_dp / h) * mv
+  end subroutine rhs_eq9
 
   !> Factorize S = K0 + 4M/h², set the initial state (u0, v0, internal forces, energies).
   !> Everything that can reveal bad input (a singular system) happens here, before any output.
@@ -69,7 +80,8 @@ contains
     if (abs(rs%nsteps * rs%h - span) > 1.0e-9_dp * span) rs%nsteps = ceiling(span / rs%h)
     rs%nsteps = max(rs%nsteps, 1)
     allocate (rs%u(n), rs%v(n), rs%du(n), rs%ddu(n), rs%r(n), rs%rhs(n), rs%fint_n(n), rs%fint(n), rs%f_n(n), &
-      rs%f_np1(n), rs%mv(n), rs%mdu(n), rs%utrial(n), fstatic(n), ustatic(n))
+      rs%f_np1(n), rs%mv(n), rs%mdu(n), rs%utrial(n), rs%fcorr(n), fstatic(n), ustatic(n), &
+      rs%res_hist(scn%max_iterations))
 
     call initial_state(scn, sys, rs%u, rs%v, fstatic, has_static, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -77,7 +89,8 @@ contains
       ! Static preload: K0 u = f, released at t = 0.
       call rs%factor%factorize(sys%pat, sys%kval, stat, errmsg, minor)
       if (stat /= STAT_OK) then
-        call set_error(stat, errmsg, STAT_INPUT, scn%path // ': INITIAL STATIC: the stiffness is singular at ' // &
+        call set_error(stat, errmsg, STAT_INPUT, dof_origin(scn, sys, minor) // &
+          ': INITIAL STATIC: the stiffness is singular at ' // &
           dof_label(scn, sys, minor) // ' (a rigid-body mode not held by supports?)')
         return
       end if
@@ -88,16 +101,27 @@ contains
     rs%sval = sys%kval + (4.0_dp / rs%h**2) * sys%mval
     call rs%factor%factorize(sys%pat, rs%sval, stat, errmsg, minor)
     if (stat /= STAT_OK) then
-      call set_error(stat, errmsg, STAT_INPUT, scn%path // ': singular system K0 + 4M/h2 at ' // &
+      call set_error(stat, errmsg, STAT_INPUT, dof_origin(scn, sys, minor) // ': singular system K0 + 4M/h2 at ' // &
         dof_label(scn, sys, minor) // ' (no mass and no stiffness on this mode)')
       return
     end if
     ! Initial internal forces and strain energy: the laws take the path from zero strain to u0.
-    call internal_force(scn, sys, rs%u, rs%fint_n)
+    call internal_force(scn, sys, rs%u, rs%fint_n, rs%fcorr, .false., allocated(sys%tval))
     call commit_state(sys)
     call mass_times(sys, rs%v, rs%mv)
     kin0 = 0.5_dp * dot_product(rs%v, rs%mv)
-    call rs%en%start(kin0, sys%work_t)
+    if (sys%extended) then
+      ! The state itself is kept unrounded: rounding u and v to double at every step drifts
+      ! the energy by a fraction of eps per step (docs/precision.md).
+      allocate (rs%rhs_q(n), rs%mv_q(n), rs%mdu_q(n), rs%r_q(n), rs%utrial_q(n))
+      rs%u_q = real(rs%u, qp)
+      rs%v_q = real(rs%v, qp)
+      call internal_force(scn, sys, rs%u, rs%fint_n, rs%fcorr, .false., allocated(sys%tval), uq=rs%u_q)
+      rs%fint_n_q = sys%fint_q
+      call mass_times_q(sys, rs%v_q, rs%mv_q)
+      kin0 = real(0.5_qp * sum(rs%v_q * rs%mv_q), dp)
+    end if
+    call rs%en%start(kin0, sys%work_t, sys%elastic_t)
     call external_force(scn, sys, scn%t_start, rs%f_n)
   end subroutine prepare_run
 
@@ -112,19 +136,23 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(csv_file_t) :: hist, probes
     type(fields_writer_t) :: fields
-    real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), preals(:), hreals(:)
+    real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), preals(:), hreals(:), htail(:)
     integer :: step, iter, total_iter, i
     integer(8) :: c0, c1, crate, clast
-    real(dp) :: t, h, dw_ext, kin, c4
+    real(dp) :: t, h, dw_ext, dw_corr, kin, c4
+    real(qp) :: aq
     logical :: write_fields
     character(len=:), allocatable :: header
 
     h = rs%h
     c4 = 4.0_dp / h**2
+    ! EXTENDED: 4/h and 4/h² of eq (5) and 2/h of eq (3) from one unrounded a = 2/h, so that the
+    ! energy identity (8) holds beyond double precision.
+    aq = 2.0_qp / real(h, qp)
     call make_directory(opts%outdir, stat, errmsg)
     if (stat /= STAT_OK) return
     call hist%open(opts%outdir // '/history.csv', &
-      'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts', stat, errmsg)
+      'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored', stat, errmsg)
     if (stat /= STAT_OK) return
     header = 'step,time'
     do i = 1, size(scn%probes)
@@ -134,7 +162,7 @@ contains
     if (stat /= STAT_OK) return
     write_fields = scn%fields_every /= 0
     allocate (nodal_u(3, scn%mesh%nnode), nodal_v(3, scn%mesh%nnode), estress(4, scn%mesh%nelem), &
-      preals(1 + size(scn%probes)), hreals(6))
+      preals(1 + size(scn%probes)), hreals(6), htail(2))
     if (write_fields) then
       call fields%open(opts%outdir, scn%mesh, stat, errmsg)
       if (stat /= STAT_OK) return
@@ -149,24 +177,61 @@ contains
     do step = 1, rs%nsteps
       t = scn%t_start + step * h
       call external_force(scn, sys, t, rs%f_np1)
-      ! Right-hand side of eq (5): F(n+1) + F(n) - Bσ(n) + 4M v(n)/h.
-      rs%rhs = rs%f_np1 + rs%f_n - rs%fint_n + (4.0_dp / h) * rs%mv
-      ! Iterate on du; the first residual has Bσ(n+1) = Bσ(n) at du = 0.
+      call rhs_eq9(h, rs%f_np1, rs%f_n, rs%fint_n, rs%mv, rs%rhs)
+      ! Iterate eq (9) on du from du = 0, where Bσ(n+1) = Bσ(n) and Bσc = 0.
       rs%du = 0.0_dp
       rs%r = rs%rhs - rs%fint_n
+      if (sys%extended) then
+        rs%rhs_q = real(rs%f_np1, qp) + real(rs%f_n, qp) - rs%fint_n_q + 2.0_qp * aq * rs%mv_q
+        rs%r = real(rs%rhs_q - rs%fint_n_q, dp)
+      end if
       do iter = 1, scn%max_iterations
+        if (allocated(sys%tval)) then
+          ! ITERATION TANGENT: refactorize with the tangent of the latest state.
+          rs%sval = sys%tval + c4 * sys%mval
+          call rs%factor%factorize(sys%pat, rs%sval, stat, errmsg)
+          if (stat /= STAT_OK) then
+            errmsg = 'step ' // str(step) // ' (t = ' // str(t) // '): tangent matrix: ' // errmsg
+            call finish()
+            return
+          end if
+        end if
         call rs%factor%solve(rs%r, rs%ddu, stat, errmsg)
         if (stat /= STAT_OK) return
         rs%du = rs%du + rs%ddu
-        rs%utrial = rs%u + rs%du
-        call internal_force(scn, sys, rs%utrial, rs%fint)
-        if (sys%linear) exit
-        call mass_times(sys, rs%du, rs%mdu)
-        rs%r = rs%rhs - c4 * rs%mdu - rs%fint
-        if (norm2(rs%r) <= scn%tolerance * force_scale()) exit
+        if (sys%extended) then
+          rs%utrial_q = rs%u_q + real(rs%du, qp)
+          rs%utrial = real(rs%utrial_q, dp)
+          call internal_force(scn, sys, rs%utrial, rs%fint, rs%fcorr, scn%energy_correction, allocated(sys%tval), &
+            uq=rs%utrial_q)
+        else
+          rs%utrial = rs%u + rs%du
+          call internal_force(scn, sys, rs%utrial, rs%fint, rs%fcorr, scn%energy_correction, allocated(sys%tval))
+        end if
+        if (sys%linear .and. .not. sys%extended) exit
+        ! Residual of eq (9); Bσ(n+1) and Bσc were updated together.
+        if (sys%extended) then
+          call mass_times_q(sys, real(rs%du, qp), rs%mdu_q)
+          rs%r_q = rs%rhs_q - aq**2 * rs%mdu_q - sys%fint_q - real(rs%fcorr, qp)
+          rs%r = real(rs%r_q, dp)
+        else
+          call mass_times(sys, rs%du, rs%mdu)
+          rs%r = rs%rhs - c4 * rs%mdu - rs%fint - rs%fcorr
+        end if
+        rs%res_hist(iter) = norm2(rs%r)
+        if (sys%linear) then
+          ! Refinement of a linear step: on until the residual stops falling (round-off).
+          if (iter >= 2) then
+            if (rs%res_hist(iter) >= 0.5_dp * rs%res_hist(iter - 1)) exit
+          end if
+          if (rs%res_hist(iter) == 0.0_dp .or. iter == min(scn%max_iterations, 6)) exit
+          cycle
+        end if
+        if (rs%res_hist(iter) <= scn%tolerance * force_scale()) exit
         if (iter == scn%max_iterations) then
           call set_error(stat, errmsg, STAT_RUN, 'step ' // str(step) // ' (t = ' // str(t) // &
-            ') did not converge in ' // str(iter) // ' iterations: residual ' // str(norm2(rs%r)))
+            ') did not converge in ' // str(iter) // ' iterations (tolerance ' // str(scn%tolerance) // &
+            ' x force scale ' // str(force_scale()) // '); residual norms: ' // history_text(rs%res_hist(1:iter)))
           call finish()
           return
         end if
@@ -175,13 +240,23 @@ contains
       ! End of step: eq (3), energies, new state.
       call commit_state(sys)
       dw_ext = 0.5_dp * dot_product(rs%du, rs%f_n + rs%f_np1)
+      dw_corr = 0.5_dp * dot_product(rs%du, rs%fcorr)
       call velocity_eq3(h, rs%du, rs%v)
       rs%u = rs%utrial
       rs%fint_n = rs%fint
       rs%f_n = rs%f_np1
       call mass_times(sys, rs%v, rs%mv)
       kin = 0.5_dp * dot_product(rs%v, rs%mv)
-      call rs%en%add_step(kin, sys%work_t, dw_ext, 0.0_dp)
+      if (sys%extended) then
+        rs%fint_n_q = sys%fint_q
+        rs%u_q = rs%utrial_q
+        rs%v_q = aq * real(rs%du, qp) - rs%v_q
+        rs%v = real(rs%v_q, dp)
+        call mass_times_q(sys, rs%v_q, rs%mv_q)
+        rs%mv = real(rs%mv_q, dp)
+        kin = real(0.5_qp * sum(rs%v_q * rs%mv_q), dp)
+      end if
+      call rs%en%add_step(kin, sys%work_t, dw_ext, dw_corr, sys%dissip_t, sys%elastic_t)
       call write_outputs(step, t, iter)
       if (stat /= STAT_OK) return
       if (.not. opts%quiet) call progress(step, t)
@@ -202,6 +277,20 @@ contains
         tiny(1.0_dp))
     end function force_scale
 
+    !> Residual norms as text, for the non-convergence report.
+    function history_text(res) result(txt)
+      real(dp), intent(in) :: res(:)
+      character(len=:), allocatable :: txt
+      integer :: k
+      character(len=16) :: buf
+      txt = ''
+      do k = 1, size(res)
+        write (buf, '(es10.3)') res(k)
+        txt = txt // trim(adjustl(buf)) // merge(', ', '  ', k < size(res))
+      end do
+      txt = trim(txt)
+    end function history_text
+
     subroutine write_outputs(step, t, iter)
       integer, intent(in) :: step, iter
       real(dp), intent(in) :: t
@@ -211,7 +300,12 @@ contains
       if (scn%history_every > 0) then
         if (mod(step, scn%history_every) == 0 .or. last) then
           hreals = [t, rs%en%kinetic, rs%en%internal(), rs%en%external(), rs%en%correction(), rs%en%balance()]
-          call hist%write_row(step, hreals, [iter, 0], stat, errmsg)
+          if (sys%linear) then
+            htail = [0.0_dp, rs%en%elastic]
+          else
+            htail = [rs%en%dissipated(), stored_energy(scn, sys)]
+          end if
+          call hist%write_row(step, hreals, [iter, 0], stat, errmsg, htail)
           if (stat /= STAT_OK) return
           preals(1) = t
           do k = 1, size(scn%probes)

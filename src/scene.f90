@@ -8,7 +8,7 @@ module scene
   use mesh, only: mesh_t, ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, etype_from_name, etype_name, &
     etype_nen, DOF_UX, DOF_UY, DOF_RZ
   use section, only: section_t
-  use material_law, only: material_t, LAW_ELASTIC
+  use material_law, only: material_t, LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES
   use scene_parser, only: schema_t, statement_t, token_t, parse_file, apply_override, stmt_error, find_param, &
     count_param, get_real, get_int, get_word, to_real, to_int
   use mesh_generators, only: generate_line, generate_rectangle
@@ -18,9 +18,22 @@ module scene
   private
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
   public :: load_scene, scene_schema, function_value
-  public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
+  public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t
+  public :: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST
 
   integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3
+  integer, parameter :: IMPACT_OFF = 0, IMPACT_PAPER = 1, IMPACT_PERSIST = 2
+  integer, parameter :: IMPACT_MODES(3) = [IMPACT_PAPER, IMPACT_PERSIST, IMPACT_OFF]  !< in SCHEME IMPACT's word order
+
+  !> One unilateral contact condition g = g0 + n.(u_b - u_a) >= 0 (method.md section 3): a node
+  !> against a rigid plane (node_a = 0: g = g0 + n.u_b) or a node b against a node a.
+  type :: condition_t
+    character(len=:), allocatable :: source   !< the OBSTACLE or GAP statement's name
+    integer :: node_a = 0, node_b = 0
+    real(dp) :: normal(2) = 0.0_dp
+    real(dp) :: g0 = 0.0_dp
+    integer :: line = 0
+  end type condition_t
 
   !> MODELE: an element group with its formulation, material, section and mass kind.
   type :: model_t
@@ -30,6 +43,7 @@ module scene
     integer :: material = 0       !< index in scene%materials (0 for MASS elements)
     type(section_t) :: sec        !< copy of the section, with the model's plane option
     logical :: lumped = .false.
+    integer :: substeps = 0       !< sub-increments of the laws (Cast3M SOUS_INCREMENT); 0 = AUTO
     integer :: line = 0
   end type model_t
 
@@ -77,6 +91,7 @@ module scene
     type(section_t), allocatable :: sections(:)
     type(model_t), allocatable :: models(:)
     integer, allocatable :: elem_model(:)     !< (nelem) model of each element, 0 = not modelled
+    integer, allocatable :: node_line(:)      !< (nnode) line of the statement that created each node
     type(fix_t), allocatable :: fixes(:)
     type(initial_t), allocatable :: initials(:)
     type(function_t), allocatable :: functions(:)
@@ -86,9 +101,14 @@ module scene
     real(dp) :: t_start = 0.0_dp, t_end = 0.0_dp, dt = 0.0_dp
     real(dp) :: tolerance = 1.0e-10_dp
     integer :: max_iterations = 25
+    logical :: energy_correction = .true.     !< add Bσc of eq (9)
+    logical :: tangent = .false.              !< iteration matrix: consistent tangent (else K0 + 4M/h²)
+    logical :: extended = .false.             !< SCHEME PRECISION EXTENDED
     integer :: history_every = 1
     integer :: fields_every = -1              !< -1: first and last step only; 0: never
     type(probe_t), allocatable :: probes(:)
+    type(condition_t), allocatable :: conditions(:)   !< unilateral contacts (OBSTACLE, GAP)
+    integer :: impact = IMPACT_PAPER                  !< SCHEME IMPACT
   end type scene_t
 
 contains
@@ -121,6 +141,13 @@ contains
     call sch%add_param('GMSH', 'FILE', 1, 1)
     call sch%add_keyword('MATERIAL', 1, 1)
     call sch%add_param('MATERIAL', 'ELASTIC', 0, 0)
+    call sch%add_param('MATERIAL', 'NONLINEAR_ELASTIC', 0, 0)
+    call sch%add_param('MATERIAL', 'ELASTOPLASTIC', 0, 0)
+    call sch%add_param('MATERIAL', 'VON_MISES', 0, 0)
+    call sch%add_param('MATERIAL', 'B', 1, 1)
+    call sch%add_param('MATERIAL', 'YIELD', 1, 1)
+    call sch%add_param('MATERIAL', 'H_ISO', 1, 1)
+    call sch%add_param('MATERIAL', 'H_KIN', 1, 1)
     call sch%add_param('MATERIAL', 'YOUNG', 1, 1)
     call sch%add_param('MATERIAL', 'POISSON', 1, 1)
     call sch%add_param('MATERIAL', 'DENSITY', 1, 1)
@@ -132,12 +159,14 @@ contains
     call sch%add_param('SECTION', 'MASS', 1, 1)
     call sch%add_param('SECTION', 'DIRECTION', 2, 2)
     call sch%add_param('SECTION', 'GAUSS', 1, 1)
+    call sch%add_param('SECTION', 'LAYERS', 1, 1)
     call sch%add_keyword('MODEL', 1, 1)
     call sch%add_param('MODEL', 'TYPE', 1, 1)
     call sch%add_param('MODEL', 'MATERIAL', 1, 1)
     call sch%add_param('MODEL', 'SECTION', 1, 1)
     call sch%add_param('MODEL', 'MASS', 1, 1)
     call sch%add_param('MODEL', 'PLANE', 1, 1)
+    call sch%add_param('MODEL', 'SUBSTEPS', 1, 1)
     call sch%add_keyword('FIX', 1, 1)
     call sch%add_param('FIX', 'UX', 0, 0)
     call sch%add_param('FIX', 'UY', 0, 0)
@@ -166,6 +195,19 @@ contains
     call sch%add_param('SCHEME', 'NEWMARK', 0, 0)
     call sch%add_param('SCHEME', 'TOLERANCE', 1, 1)
     call sch%add_param('SCHEME', 'MAX_ITERATIONS', 1, 1)
+    call sch%add_param('SCHEME', 'ENERGY_CORRECTION', 1, 1)
+    call sch%add_param('SCHEME', 'ITERATION', 1, 1)
+    call sch%add_param('SCHEME', 'IMPACT', 1, 1)
+    call sch%add_param('SCHEME', 'PRECISION', 1, 1)
+    call sch%add_keyword('OBSTACLE', 1, 1)
+    call sch%add_param('OBSTACLE', 'NODES', 1, 1)
+    call sch%add_param('OBSTACLE', 'POINT', 2, 2)
+    call sch%add_param('OBSTACLE', 'NORMAL', 2, 2)
+    call sch%add_keyword('GAP', 1, 1)
+    call sch%add_param('GAP', 'NODES', 1, 1)
+    call sch%add_param('GAP', 'WITH', 1, 1)
+    call sch%add_param('GAP', 'PAIRS', 2, -1)
+    call sch%add_param('GAP', 'NORMAL', 2, 2)
     call sch%add_keyword('OUTPUT', 0, 0)
     call sch%add_param('OUTPUT', 'HISTORY', 1, 2)
     call sch%add_param('OUTPUT', 'FIELDS', 1, 2)
@@ -181,7 +223,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(schema_t) :: sch
     type(statement_t), allocatable :: st(:)
-    integer :: i
+    integer :: i, nn0
 
     call scene_schema(sch)
     call parse_file(path, sch, st, stat, errmsg)
@@ -193,11 +235,13 @@ contains
     scn%path = path
     scn%title = ''
     allocate (scn%materials(0), scn%sections(0), scn%models(0), scn%fixes(0), scn%initials(0), &
-      scn%functions(0), scn%loads(0), scn%probes(0))
+      scn%functions(0), scn%loads(0), scn%probes(0), scn%conditions(0))
     call check_singletons(st, stat, errmsg)
     if (stat /= STAT_OK) return
     ! Pass 1: mesh and definitions, in file order.
+    allocate (scn%node_line(0))
     do i = 1, size(st)
+      nn0 = scn%mesh%nnode
       select case (st(i)%keyword)
       case ('DIMENSION')
         call do_dimension(st(i), stat, errmsg)
@@ -223,6 +267,7 @@ contains
         call do_function(scn, st(i), stat, errmsg)
       end select
       if (stat /= STAT_OK) return
+      if (scn%mesh%nnode > nn0) scn%node_line = [scn%node_line, spread(st(i)%line, 1, scn%mesh%nnode - nn0)]
     end do
     ! Pass 2: what refers to the mesh and the definitions.
     allocate (scn%elem_model(scn%mesh%nelem))
@@ -245,6 +290,10 @@ contains
         call do_scheme(scn, st(i), stat, errmsg)
       case ('OUTPUT')
         call do_output(scn, st(i), stat, errmsg)
+      case ('OBSTACLE')
+        call do_obstacle(scn, st(i), stat, errmsg)
+      case ('GAP')
+        call do_gap(scn, st(i), stat, errmsg)
       end select
       if (stat /= STAT_OK) return
     end do
@@ -523,7 +572,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(material_t) :: mat
-    integer :: i
+    integer :: i, nlaw
     do i = 1, size(scn%materials)
       if (scn%materials(i)%name == st%lead(1)%text) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'material defined twice', st%lead(1)))
@@ -531,11 +580,29 @@ contains
       end if
     end do
     mat%name = st%lead(1)%text
-    if (find_param(st, 'ELASTIC') == 0) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing law (expected one of: ELASTIC)'))
+    nlaw = count([find_param(st, 'ELASTIC') > 0, find_param(st, 'NONLINEAR_ELASTIC') > 0, &
+      find_param(st, 'ELASTOPLASTIC') > 0, find_param(st, 'VON_MISES') > 0])
+    if (nlaw /= 1) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give exactly one law (ELASTIC, NONLINEAR_ELASTIC, ' // &
+        'ELASTOPLASTIC or VON_MISES)', st%lead(1)))
       return
     end if
     mat%law = LAW_ELASTIC
+    if (find_param(st, 'NONLINEAR_ELASTIC') > 0) mat%law = LAW_NONLINEAR_ELASTIC
+    if (find_param(st, 'ELASTOPLASTIC') > 0) mat%law = LAW_ELASTOPLASTIC
+    if (find_param(st, 'VON_MISES') > 0) mat%law = LAW_VON_MISES
+    call check_law_params(st, mat%law, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'B', mat%nl_b, stat, errmsg, default=0.0_dp)
+    if (stat /= STAT_OK) return
+    if (mat%law == LAW_ELASTOPLASTIC .or. mat%law == LAW_VON_MISES) then
+      call get_real(st, 'YIELD', mat%yield, stat, errmsg, lower=0.0_dp, lower_inclusive=.false.)
+      if (stat /= STAT_OK) return
+    end if
+    call get_real(st, 'H_ISO', mat%h_iso, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'H_KIN', mat%h_kin, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
     call get_real(st, 'YOUNG', mat%young, stat, errmsg, lower=0.0_dp, lower_inclusive=.false.)
     if (stat /= STAT_OK) return
     call get_real(st, 'POISSON', mat%poisson, stat, errmsg, default=0.0_dp, lower=-1.0_dp, lower_inclusive=.false.)
@@ -586,6 +653,8 @@ contains
       sec%has_direction = .true.
     end if
     call get_int(st, 'GAUSS', sec%gauss, stat, errmsg, default=0, lower=1, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call get_int(st, 'LAYERS', sec%layers, stat, errmsg, default=0, lower=1, lower_inclusive=.true.)
     if (stat /= STAT_OK) return
     if (sec%gauss > 5) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'GAUSS must be between 1 and 5', &
@@ -644,9 +713,10 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(model_t) :: md
     integer :: ig, e, i, et0, isec, imodel
-    character(len=:), allocatable :: w
-    real(dp) :: x(2, 8)
+    character(len=:), allocatable :: w, msg
+    real(dp) :: x(2, 8), msize
     md%group = st%lead(1)%text
+    msize = model_size(scn%mesh)
     md%line = st%line
     ig = scn%mesh%find_elem_group(md%group)
     if (ig == 0) then
@@ -714,6 +784,10 @@ contains
     end if
     call check_section(st, md, stat, errmsg)
     if (stat /= STAT_OK) return
+    if (md%material > 0) then
+      call check_model_law(st, md, scn%materials(md%material), stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
     call get_word(st, 'MASS', w, stat, errmsg, default='CONSISTENT')
     if (stat /= STAT_OK) return
     select case (upper(w))
@@ -726,6 +800,14 @@ contains
         st%params(find_param(st, 'MASS'))%values(1)))
       return
     end select
+    call get_word(st, 'SUBSTEPS', w, stat, errmsg, default='AUTO')
+    if (stat /= STAT_OK) return
+    if (upper(w) == 'AUTO') then
+      md%substeps = 0
+    else
+      call get_int(st, 'SUBSTEPS', md%substeps, stat, errmsg, lower=1, lower_inclusive=.true.)
+      if (stat /= STAT_OK) return
+    end if
     call get_word(st, 'PLANE', w, stat, errmsg, default='STRAIN')
     if (stat /= STAT_OK) return
     select case (upper(w))
@@ -750,11 +832,11 @@ contains
         end if
         scn%mesh%etype(e) = md%etype
         x(:, 1:etype_nen(md%etype)) = scn%mesh%x(:, scn%mesh%conn(1:etype_nen(md%etype), e))
-        call elem_check_geometry(md%etype, x(:, 1:etype_nen(md%etype)), md%sec, stat, errmsg)
+        call elem_check_geometry(md%etype, x(:, 1:etype_nen(md%etype)), md%sec, stat, msg, size_ref=msize)
         if (stat /= STAT_OK) then
           call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, etype_name(md%etype) // ' element ' // str(i) // &
             ' of group ' // md%group // ' (nodes ' // node_list(scn%mesh%conn(1:etype_nen(md%etype), e)) // '): ' &
-            // errmsg, st%lead(1)))
+            // msg, st%lead(1)))
           return
         end if
         scn%elem_model(e) = imodel
@@ -795,6 +877,32 @@ contains
     if (len(need) > 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'section ' // md%sec%name // &
       ' lacks ' // trim(need) // ' needed by ' // etype_name(md%etype) // ' elements', st%lead(1)))
   end subroutine check_section
+
+  !> Which laws an element type accepts: 1D laws on springs, bars and fibre beams, J2 on quads.
+  subroutine check_model_law(st, md, mat, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(model_t), intent(in) :: md
+    type(material_t), intent(in) :: mat
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: msg
+    stat = STAT_OK
+    msg = ''
+    select case (mat%law)
+    case (LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC)
+      if (any(md%etype == [ET_QUAD4, ET_QUAD8])) then
+        msg = 'a 1D law does not apply to ' // etype_name(md%etype) // ' (use VON_MISES)'
+      else if (md%etype == ET_BEAM2 .and. (md%sec%layers < 1 .or. md%sec%height <= 0.0_dp)) then
+        msg = 'a BEAM2 with a nonlinear law needs a fibre section: SECTION ' // md%sec%name // ' with LAYERS and HEIGHT'
+      end if
+    case (LAW_VON_MISES)
+      if (.not. any(md%etype == [ET_QUAD4, ET_QUAD8])) then
+        msg = 'VON_MISES applies to QUAD4 and QUAD8 (use ELASTOPLASTIC for ' // etype_name(md%etype) // ')'
+      end if
+    end select
+    if (len(msg) > 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'material ' // mat%name // ': ' // msg, &
+      st%params(find_param(st, 'MATERIAL'))%values(1)))
+  end subroutine check_model_law
 
   !> Index of the node group named by a token, with an error naming it when unknown.
   subroutine node_group(scn, st, tok, ig, stat, errmsg)
@@ -974,10 +1082,24 @@ contains
     type(statement_t), intent(in) :: st
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k
     call get_real(st, 'TOLERANCE', scn%tolerance, stat, errmsg, default=1.0e-10_dp, lower=0.0_dp, &
       lower_inclusive=.false.)
     if (stat /= STAT_OK) return
     call get_int(st, 'MAX_ITERATIONS', scn%max_iterations, stat, errmsg, default=25, lower=1, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call get_choice(st, 'ENERGY_CORRECTION', ['ON ', 'OFF'], 'ON', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%energy_correction = k == 1
+    call get_choice(st, 'ITERATION', ['ELASTIC', 'TANGENT'], 'ELASTIC', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%tangent = k == 2
+    call get_choice(st, 'IMPACT', ['PAPER  ', 'PERSIST', 'OFF    '], 'PAPER', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%impact = IMPACT_MODES(k)
+    call get_choice(st, 'PRECISION', ['DOUBLE  ', 'EXTENDED'], 'DOUBLE', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%extended = k == 2
   end subroutine do_scheme
 
   !> "[EVERY] k" of OUTPUT HISTORY / FIELDS.
@@ -1051,6 +1173,194 @@ contains
     end do
   end subroutine do_output
 
+  !> Largest extent of the mesh, the length scale of the gap tolerance.
+  pure real(dp) function model_size(m)
+    type(mesh_t), intent(in) :: m
+    model_size = 1.0_dp
+    if (m%nnode > 0) model_size = max(maxval(m%x(1, 1:m%nnode)) - minval(m%x(1, 1:m%nnode)), &
+      maxval(m%x(2, 1:m%nnode)) - minval(m%x(2, 1:m%nnode)), tiny(1.0_dp))
+  end function model_size
+
+  !> A unit vector from parameter key.
+  subroutine get_unit(st, key, n, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: key
+    real(dp), intent(out) :: n(2)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call get_pair(st, key, n, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (norm2(n) <= 0.0_dp) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, key // ' must be a non-zero vector', &
+        st%params(find_param(st, key))%keytok))
+      return
+    end if
+    n = n / norm2(n)
+  end subroutine get_unit
+
+  !> Refuse an initial penetration beyond 1e-10 of the model size (a gap of zero is a contact
+  !> at t = 0, legitimate).
+  subroutine check_penetration(scn, st, c, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    type(condition_t), intent(in) :: c
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (c%g0 < -1.0e-10_dp * model_size(scn%mesh)) then
+      if (c%node_a == 0) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(c%node_b) // ' (x = ' // &
+          str(scn%mesh%x(1, c%node_b)) // ', y = ' // str(scn%mesh%x(2, c%node_b)) // ') starts ' // str(-c%g0) // &
+          ' inside the obstacle', st%lead(1)))
+      else
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'nodes ' // str(c%node_a) // ' and ' // &
+          str(c%node_b) // ' start interpenetrated by ' // str(-c%g0), st%lead(1)))
+      end if
+    end if
+  end subroutine check_penetration
+
+  !> OBSTACLE name NODES group POINT x y NORMAL nx ny: each node of the group stays on the side
+  !> of the rigid plane its outward normal points to.
+  subroutine do_obstacle(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: p(2), n(2)
+    integer :: ig, k, i
+    type(condition_t) :: c
+    k = find_param(st, 'NODES')
+    if (k == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter NODES', st%lead(1)))
+      return
+    end if
+    call node_group(scn, st, st%params(k)%values(1), ig, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_pair(st, 'POINT', p, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_unit(st, 'NORMAL', n, stat, errmsg)
+    if (stat /= STAT_OK) return
+    do i = 1, size(scn%mesh%ngroups(ig)%items)
+      c%source = st%lead(1)%text
+      c%node_a = 0
+      c%node_b = scn%mesh%ngroups(ig)%items(i)
+      c%normal = n
+      c%g0 = dot_product(n, scn%mesh%x(:, c%node_b) - p)
+      c%line = st%line
+      call check_penetration(scn, st, c, stat, errmsg)
+      if (stat /= STAT_OK) return
+      scn%conditions = [scn%conditions, c]
+    end do
+  end subroutine do_obstacle
+
+  !> GAP name NODES ga WITH gb [NORMAL nx ny] | GAP name PAIRS a1 b1 a2 b2 … [NORMAL nx ny]:
+  !> node-to-node unilateral conditions, b staying on the side of a the normal points to.
+  !> With NODES … WITH, each node of ga is paired with the nearest node of gb; without NORMAL
+  !> the normal of a pair is the direction from a to b.
+  subroutine do_gap(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: kn, kw, kp, ga, gb, i, j, a, b, best
+    real(dp) :: n(2), d, dbest
+    logical :: given
+    type(condition_t) :: c
+    integer, allocatable :: pa(:), pb(:)
+    kn = find_param(st, 'NODES')
+    kw = find_param(st, 'WITH')
+    kp = find_param(st, 'PAIRS')
+    given = find_param(st, 'NORMAL') > 0
+    if (given) then
+      call get_unit(st, 'NORMAL', n, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
+    if (kp > 0 .and. kn == 0 .and. kw == 0) then
+      associate (vals => st%params(kp)%values)
+        if (mod(size(vals), 2) /= 0) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'PAIRS takes pairs of one-node groups', &
+            st%params(kp)%keytok))
+          return
+        end if
+        allocate (pa(size(vals) / 2), pb(size(vals) / 2))
+        do i = 1, size(vals) / 2
+          call one_node(vals(2 * i - 1), pa(i), stat, errmsg)
+          if (stat /= STAT_OK) return
+          call one_node(vals(2 * i), pb(i), stat, errmsg)
+          if (stat /= STAT_OK) return
+        end do
+      end associate
+    else if (kn > 0 .and. kw > 0 .and. kp == 0) then
+      call node_group(scn, st, st%params(kn)%values(1), ga, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call node_group(scn, st, st%params(kw)%values(1), gb, stat, errmsg)
+      if (stat /= STAT_OK) return
+      associate (na => scn%mesh%ngroups(ga)%items, nb => scn%mesh%ngroups(gb)%items)
+        allocate (pa(size(na)), pb(size(na)))
+        do i = 1, size(na)
+          best = 0
+          dbest = huge(1.0_dp)
+          do j = 1, size(nb)
+            if (nb(j) == na(i)) cycle
+            d = norm2(scn%mesh%x(:, nb(j)) - scn%mesh%x(:, na(i)))
+            if (d < dbest) then
+              dbest = d
+              best = nb(j)
+            end if
+          end do
+          if (best == 0) then
+            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'no node to pair with node ' // str(na(i)), &
+              st%params(kw)%values(1)))
+            return
+          end if
+          pa(i) = na(i)
+          pb(i) = best
+        end do
+      end associate
+    else
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give NODES ga WITH gb, or PAIRS a1 b1 …', st%lead(1)))
+      return
+    end if
+    do i = 1, size(pa)
+      a = pa(i)
+      b = pb(i)
+      c%source = st%lead(1)%text
+      c%node_a = a
+      c%node_b = b
+      c%line = st%line
+      if (given) then
+        c%normal = n
+      else
+        d = norm2(scn%mesh%x(:, b) - scn%mesh%x(:, a))
+        if (d <= 1.0e-12_dp * model_size(scn%mesh)) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'nodes ' // str(a) // ' and ' // str(b) // &
+            ' coincide: give NORMAL', st%lead(1)))
+          return
+        end if
+        c%normal = (scn%mesh%x(:, b) - scn%mesh%x(:, a)) / d
+      end if
+      c%g0 = dot_product(c%normal, scn%mesh%x(:, b) - scn%mesh%x(:, a))
+      call check_penetration(scn, st, c, stat, errmsg)
+      if (stat /= STAT_OK) return
+      scn%conditions = [scn%conditions, c]
+    end do
+  contains
+    subroutine one_node(tok, node, stat, errmsg)
+      type(token_t), intent(in) :: tok
+      integer, intent(out) :: node
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+      integer :: g
+      call node_group(scn, st, tok, g, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (size(scn%mesh%ngroups(g)%items) /= 1) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a pair needs one-node groups', tok))
+        return
+      end if
+      node = scn%mesh%ngroups(g)%items(1)
+    end subroutine one_node
+  end subroutine do_gap
+
   !> What a run cannot do without.
   subroutine check_complete(scn, st, path, stat, errmsg)
     type(scene_t), intent(in) :: scn
@@ -1075,6 +1385,56 @@ contains
       if (st(i)%keyword == kw) st_is = .true.
     end do
   end function st_is
+
+  !> Index in choices(:) of the word given to parameter key (default when absent).
+  subroutine get_choice(st, key, choices, default, k, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: key, choices(:), default
+    integer, intent(out) :: k
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: w, names
+    integer :: i
+    call get_word(st, key, w, stat, errmsg, default=default)
+    if (stat /= STAT_OK) return
+    do k = 1, size(choices)
+      if (upper(w) == trim(choices(k))) return
+    end do
+    names = trim(choices(1))
+    do i = 2, size(choices)
+      names = names // ' or ' // trim(choices(i))
+    end do
+    call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, key // ': expected ' // names, &
+      st%params(find_param(st, key))%values(1)))
+  end subroutine get_choice
+
+  !> Parameters that the chosen law does not use are refused rather than ignored.
+  subroutine check_law_params(st, law, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    integer, intent(in) :: law
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=5), parameter :: keys(4) = [character(len=5) :: 'B', 'YIELD', 'H_ISO', 'H_KIN']
+    logical :: allowed(4)
+    integer :: i, k
+    stat = STAT_OK
+    select case (law)
+    case (LAW_NONLINEAR_ELASTIC)
+      allowed = [.true., .false., .false., .false.]
+    case (LAW_ELASTOPLASTIC, LAW_VON_MISES)
+      allowed = [.false., .true., .true., .true.]
+    case default
+      allowed = .false.
+    end select
+    do i = 1, size(keys)
+      k = find_param(st, trim(keys(i)))
+      if (k > 0 .and. .not. allowed(i)) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'parameter ' // trim(keys(i)) // &
+          ' does not belong to this law', st%params(k)%keytok))
+        return
+      end if
+    end do
+  end subroutine check_law_params
 
   !> Two numbers of a parameter.
   subroutine get_pair(st, key, p, stat, errmsg)

@@ -849,9 +849,10 @@ contains
   !> Apply "KEYWORD.PARAM=VALUE" or "KEYWORD.NAME.PARAM=VALUE" (NAME = lead(1), exact case; it
   !> may itself contain dots). VALUE follows the lexical rules of a scene line and may hold
   !> several values; it is empty for a flag. The parameter's values are replaced if it is
-  !> present, otherwise it is appended.
+  !> present, otherwise it is appended. A statement without leading words that the scene
+  !> lacks (SCHEME, OUTPUT, GRAVITY, TIME) is created.
   subroutine apply_override(stmts, sch, spec, stat, errmsg)
-    type(statement_t), intent(inout) :: stmts(:)
+    type(statement_t), allocatable, intent(inout) :: stmts(:)
     type(schema_t), intent(in) :: sch
     character(len=*), intent(in) :: spec
     integer, intent(out) :: stat
@@ -859,6 +860,7 @@ contains
     character(len=:), allocatable :: pre, lhs, rhs, kw, pname, name, what, word
     type(token_t), allocatable :: vals(:)
     type(param_t), allocatable :: tmp(:)
+    type(statement_t), allocatable :: stmp(:)
     integer :: eq, d1, d2, k, p, i, nv, nmatch, is, nocc, ip, pos
     logical :: named
 
@@ -939,7 +941,18 @@ contains
         nmatch = nmatch + 1
         if (is == 0) is = i
       end do
-      if (nmatch == 0) then
+      if (nmatch == 0 .and. .not. named .and. kd%nlead_min == 0) then
+        ! An optional statement without leading words (SCHEME, OUTPUT, GRAVITY...): create it.
+        allocate (stmp(size(stmts) + 1))
+        stmp(1:size(stmts)) = stmts
+        is = size(stmp)
+        stmp(is)%keyword = kw
+        stmp(is)%file = '--set'
+        stmp(is)%line = 0
+        stmp(is)%kwtok = token_t(kw, 0, .false.)
+        allocate (stmp(is)%lead(0), stmp(is)%params(0))
+        call move_alloc(stmp, stmts)
+      else if (nmatch == 0) then
         if (named) then
           call bad('no ' // kw // " statement named '" // shown(name) // "' in the scene")
         else

@@ -5,8 +5,10 @@
 !>
 !> Layout referenced (HDF5 dimensions, C order):
 !>   /mesh/coordinates (nnode, 3) float64, /mesh/topology (ntopo) int32 (XDMF Mixed array),
-!>   /step_NNNNNN/{displacement, velocity, reaction} (nnode, 3) float64,
+!>   /step_NNNNNN/{displacement, velocity, reaction} (nnode, 3) float64: (x, y, 0) Vector,
+!>   /step_NNNNNN/{rotation, angular_velocity, reaction_moment} (nnode) float64: Scalar (RZ),
 !>   /step_NNNNNN/stress (nelem, 4) float64.
+!> reaction and reaction_moment are listed only for steps that have them (has_reaction).
 !> The 4-component cell stress uses AttributeType="Matrix": XDMF has no 4-vector type, and
 !> VTK's Xdmf3 reader then takes the component count from the array size (nelem x 4).
 module xdmf_writer
@@ -131,9 +133,14 @@ contains
       call put(tb, I3 // '<Geometry GeometryType="XYZ">' // NL)
       call put(tb, data_item(I4, ndims, 'Float', '8', h5 // ':/mesh/coordinates'))
       call put(tb, I3 // '</Geometry>' // NL)
-      call node_vector(tb, 'displacement', ndims, h5, grp)
-      call node_vector(tb, 'velocity', ndims, h5, grp)
-      if (steps(k)%has_reaction) call node_vector(tb, 'reaction', ndims, h5, grp)
+      call node_attribute(tb, 'displacement', 'Vector', ndims, h5, grp)
+      call node_attribute(tb, 'velocity', 'Vector', ndims, h5, grp)
+      call node_attribute(tb, 'rotation', 'Scalar', str(nnode), h5, grp)
+      call node_attribute(tb, 'angular_velocity', 'Scalar', str(nnode), h5, grp)
+      if (steps(k)%has_reaction) then
+        call node_attribute(tb, 'reaction', 'Vector', ndims, h5, grp)
+        call node_attribute(tb, 'reaction_moment', 'Scalar', str(nnode), h5, grp)
+      end if
       call put(tb, I3 // '<Attribute Name="stress" AttributeType="Matrix" Center="Cell">' // NL)
       call put(tb, data_item(I4, cdims, 'Float', '8', h5 // ':/' // grp // '/stress'))
       call put(tb, I3 // '</Attribute>' // NL)
@@ -149,14 +156,14 @@ contains
     end if
   end function xdmf_document
 
-  !> A nodal 3-vector attribute of step group grp.
-  pure subroutine node_vector(tb, name, ndims, h5, grp)
+  !> A nodal attribute (atype Vector: dims "nnode 3"; Scalar: dims "nnode") of step group grp.
+  pure subroutine node_attribute(tb, name, atype, dims, h5, grp)
     type(text_buffer_t), intent(inout) :: tb
-    character(len=*), intent(in) :: name, ndims, h5, grp
-    call put(tb, I3 // '<Attribute Name="' // name // '" AttributeType="Vector" Center="Node">' // NL)
-    call put(tb, data_item(I4, ndims, 'Float', '8', h5 // ':/' // grp // '/' // name))
+    character(len=*), intent(in) :: name, atype, dims, h5, grp
+    call put(tb, I3 // '<Attribute Name="' // name // '" AttributeType="' // atype // '" Center="Node">' // NL)
+    call put(tb, data_item(I4, dims, 'Float', '8', h5 // ':/' // grp // '/' // name))
     call put(tb, I3 // '</Attribute>' // NL)
-  end subroutine node_vector
+  end subroutine node_attribute
 
   !> Write text to path atomically: write path.tmp, close it, rename it over path.
   subroutine write_text_atomic(path, text, stat, errmsg)

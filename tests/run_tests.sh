@@ -25,9 +25,10 @@ for t in build/tests/test_*; do
   [ -x "$t" ] || continue
   run_one "$(basename "$t")" "$t"
 done
-for s in tests/scenes/*.sh; do
+# Regression scenes: tests/scenes/<case>/check.py (Debian's python3 with numpy), run from the root.
+for s in tests/scenes/*/check.py; do
   [ -f "$s" ] || continue
-  run_one "$(basename "$s" .sh)" bash "$s"
+  run_one "scene_$(basename "$(dirname "$s")")" /usr/bin/python3 "$s"
 done
 rm -rf "$log"
 echo "$pass passed, $fail failed"

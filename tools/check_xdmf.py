@@ -7,8 +7,12 @@ Checks that the XML parses, that it holds a temporal collection of uniform grids
 Time, a Mixed topology and an XYZ geometry, and that every HDF DataItem points to an existing
 dataset of the declared dimensions, number type and precision. The Mixed topology array is
 walked to check its element count and node ids. Attribute sizes are checked against the grid
-(Node: nnode rows, Cell: nelem rows; Vector: 3 components). Prints one line per problem and
-exits 1 if there is any, else prints a summary and exits 0.
+(Node: nnode rows, Cell: nelem rows; Vector: 3 components, Scalar: 1). rebond is 2-D, so a
+nodal Vector must have a zero z component (ParaView's "Warp By Vector" then stays in the
+plane); the rotational part lives in a nodal Scalar named after its vector (displacement ->
+rotation, velocity -> angular_velocity, reaction -> reaction_moment), which must be present
+whenever the vector is. Prints one line per problem and exits 1 if there is any, else prints
+a summary and exits 0.
 """
 import os
 import sys
@@ -20,6 +24,10 @@ import numpy as np
 # XDMF Mixed cell codes -> node count (None: the count follows the code).
 CELL_NODES = {1: None, 2: None, 3: None, 4: 3, 5: 4, 6: 4, 7: 5, 8: 6, 9: 8,
               34: 3, 35: 9, 36: 6, 37: 8, 38: 10, 39: 13, 40: 15, 48: 20}
+
+# Nodal vector -> the nodal scalar holding its RZ component.
+ROTATIONAL_PART = {"displacement": "rotation", "velocity": "angular_velocity",
+                   "reaction": "reaction_moment"}
 
 
 def main(argv):
@@ -131,12 +139,14 @@ def main(argv):
                 count += 1
             if count != nelem:
                 err(f"{name}: topology holds {count} cells, NumberOfElements={nelem}")
+        kinds = {}
         for att in g.findall("Attribute"):
             aname = att.get("Name")
+            center, atype = att.get("Center"), att.get("AttributeType", "Scalar")
+            kinds[aname] = (center, atype)
             d = dataset(att.find("DataItem"))
             if d is None:
                 continue
-            center, atype = att.get("Center"), att.get("AttributeType", "Scalar")
             rows = {"Node": nnode, "Cell": nelem}.get(center)
             if rows is None or d.shape[0] != rows:
                 err(f"{name}/{aname}: {d.shape[0]} rows for Center={center}")
@@ -144,6 +154,14 @@ def main(argv):
             need = {"Scalar": 1, "Vector": 3, "Tensor": 9, "Tensor6": 6}.get(atype)
             if need is not None and ncomp != need:
                 err(f"{name}/{aname}: {ncomp} components for AttributeType={atype}")
+            if center == "Node" and atype == "Vector" and ncomp == 3 and len(d.shape) == 2:
+                z = np.asarray(d[:, 2])
+                if np.any(z != 0.0):
+                    err(f"{name}/{aname}: nodal Vector has a non-zero z component "
+                        f"(max |z| = {np.max(np.abs(z))}); a 2-D field must be (x, y, 0)")
+        for vec, rot in ROTATIONAL_PART.items():
+            if vec in kinds and kinds.get(rot) != ("Node", "Scalar"):
+                err(f"{name}: {vec} present but {rot} is not a nodal Scalar attribute")
     if want_grids is not None and len(grids) != want_grids:
         err(f"{len(grids)} grids, expected {want_grids}")
     if any(b < a for a, b in zip(times, times[1:])):

@@ -1,5 +1,6 @@
 !> fields_hdf5: a small mixed mesh (MASS, BEAM2, QUAD4, QUAD8) and 3 steps are written, then read
-!> back through the HDF5 Fortran API and compared bit for bit; fields.xmf is checked as XML
+!> back through the HDF5 Fortran API and compared bit for bit: each (UX, UY, RZ) field must come
+!> back as the in-plane vector (UX, UY, 0) plus the scalar RZ; fields.xmf is checked as XML
 !> (python3 ElementTree), against fields.h5 (tools/check_xdmf.py, h5py) and for its times.
 !> Run from the repository root (tests/run_tests.sh does so) to find tools/check_xdmf.py.
 program test_fields_hdf5
@@ -84,6 +85,8 @@ program test_fields_hdf5
   call check(stat == STAT_RUN, 'a displacement of the wrong shape is refused')
   call fw%write_step(99, 1.0_dp, u(:, :, 1), v(:, :, 1), s(1:3, :, 1), stat, errmsg)
   call check(stat == STAT_RUN, 'a stress of the wrong shape is refused')
+  call fw%write_step(99, 1.0_dp, u(:, :, 1), v(:, :, 1), s(:, :, 1), stat, errmsg, reaction=r(1:2, :))
+  call check(stat == STAT_RUN, 'a reaction of the wrong shape is refused')
 
   call fw%close(stat, errmsg)
   call check(stat == STAT_OK, 'close', msg(stat, errmsg))
@@ -97,7 +100,8 @@ program test_fields_hdf5
   ! Reopening truncates: the old steps disappear from both files.
   call fw%open(outdir, msh, stat, errmsg)
   call check(stat == STAT_OK, 'reopen', msg(stat, errmsg))
-  call fw%write_step(5, 0.5_dp, u(:, :, 1), v(:, :, 1), s(:, :, 1), stat, errmsg)
+  call fw%write_step(5, 0.5_dp, u(:, :, 1), v(:, :, 1), s(:, :, 1), stat, errmsg, reaction=r)
+  call check(stat == STAT_OK, 'write_step after reopen (work arrays sized again)', msg(stat, errmsg))
   call fw%close()
   call check(run(PY // ' tools/check_xdmf.py ' // xmf // ' --grids 1') == 0, 'a reopened case holds only its new step')
 
@@ -164,7 +168,7 @@ contains
     integer, allocatable :: i1(:)
     real(dp) :: xyz(3, 11)
     character(len=:), allocatable :: g
-    logical :: ex
+    logical :: ex, ex2
     call h5open_f(hdferr)
     call h5fopen_f(outdir // '/fields.h5', H5F_ACC_RDONLY_F, fid, hdferr)
     call check(hdferr == 0, 'reopen fields.h5 for reading')
@@ -183,23 +187,34 @@ contains
     call check(all(i1 == steps), '/steps holds every step number')
     do k2 = 1, NSTEP
       g = '/step_' // pad6(steps(k2))
-      call read_r2(fid, g // '/displacement', 3, 11, a)
-      call check(all(a == u(:, :, k2)), g // '/displacement bit for bit')
-      call read_r2(fid, g // '/velocity', 3, 11, a)
-      call check(all(a == v(:, :, k2)), g // '/velocity bit for bit')
+      call check_planar(fid, g, 'displacement', 'rotation', u(:, :, k2))
+      call check_planar(fid, g, 'velocity', 'angular_velocity', v(:, :, k2))
       call read_r2(fid, g // '/stress', 4, 4, a)
       call check(all(a == s(:, :, k2)), g // '/stress bit for bit')
       call h5lexists_f(fid, g // '/reaction', ex, hdferr)
       call check(ex .eqv. (k2 == 2), g // '/reaction present only where given')
-      if (ex) then
-        call read_r2(fid, g // '/reaction', 3, 11, a)
-        call check(all(a == r), g // '/reaction bit for bit')
-      end if
+      call h5lexists_f(fid, g // '/reaction_moment', ex2, hdferr)
+      call check(ex2 .eqv. (k2 == 2), g // '/reaction_moment present only where given')
+      if (ex .and. ex2) call check_planar(fid, g, 'reaction', 'reaction_moment', r)
       call check_attrs(fid, g, times(k2), steps(k2))
     end do
     call h5fclose_f(fid, hdferr)
     call h5close_f(hdferr)
   end subroutine test_read_back
+
+  !> Datasets g/vname (3, nnode) and g/sname (nnode) hold exactly (a(1), a(2), 0) and a(3) of the
+  !> (UX, UY, RZ) field a: a copy, so equality is bitwise.
+  subroutine check_planar(fid, g, vname, sname, a)
+    integer(hid_t), intent(in) :: fid
+    character(len=*), intent(in) :: g, vname, sname
+    real(dp), intent(in) :: a(:, :)
+    real(dp), allocatable :: b(:, :), c(:)
+    call read_r2(fid, g // '/' // vname, 3, 11, b)
+    call check(all(b(1:2, :) == a(1:2, :)), g // '/' // vname // '(1:2) = (UX, UY) bit for bit')
+    call check(all(b(3, :) == 0.0_dp), g // '/' // vname // '(3) = 0 (in-plane vector)')
+    call read_r1(fid, g // '/' // sname, 11, c)
+    call check(all(c == a(3, :)), g // '/' // sname // ' = RZ bit for bit')
+  end subroutine check_planar
 
   subroutine check_attrs(fid, g, t, st)
     integer(hid_t), intent(in) :: fid
@@ -253,16 +268,17 @@ contains
     real(dp), allocatable, intent(out) :: a(:)
     integer(hid_t) :: dset, space
     integer(hsize_t) :: dims(1), maxd(1)
-    integer :: hdferr
+    integer :: hdferr, rank
     allocate (a(n))
     a = -huge(1.0_dp)
     call h5dopen_f(fid, path, dset, hdferr)
     call check(hdferr == 0, 'open ' // path)
     if (hdferr /= 0) return
     call h5dget_space_f(dset, space, hdferr)
+    call h5sget_simple_extent_ndims_f(space, rank, hdferr)
     call h5sget_simple_extent_dims_f(space, dims, maxd, hdferr)
     call h5sclose_f(space, hdferr)
-    call check(dims(1) == n, path // ' length')
+    call check(rank == 1 .and. dims(1) == n, path // ' rank 1, length')
     call h5dread_f(dset, H5T_NATIVE_DOUBLE, a, int([n], hsize_t), hdferr)
     call h5dclose_f(dset, hdferr)
   end subroutine read_r1
@@ -319,6 +335,14 @@ contains
     end do
     call check(ntime == NSTEP, 'every grid has a Time')
     call check(count_of(text, 'Name="reaction"') == 1, 'reaction attribute only for the step that has it')
+    call check(count_of(text, 'Name="reaction_moment" AttributeType="Scalar"') == 1, &
+               'reaction_moment Scalar attribute only for the step that has it')
+    call check(count_of(text, 'Name="rotation" AttributeType="Scalar"') == NSTEP .and. &
+               count_of(text, 'Name="angular_velocity" AttributeType="Scalar"') == NSTEP, &
+               'rotation and angular_velocity Scalar attributes in every step')
+    call check(count_of(text, 'Name="displacement" AttributeType="Vector"') == NSTEP .and. &
+               count_of(text, 'Name="velocity" AttributeType="Vector"') == NSTEP, &
+               'displacement and velocity Vector attributes in every step')
   end subroutine test_xmf
 
   integer function run(cmd)

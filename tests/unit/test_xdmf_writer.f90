@@ -33,7 +33,21 @@ program test_xdmf_writer
   doc = xdmf_document('f&.h5', 11, 4, 21, steps)
   call check(count_of(doc, '<Grid Name="step_') == 2, 'one uniform grid per step')
   call check(count_of(doc, '<Grid') == count_of(doc, '</Grid>'), 'every Grid is closed')
-  call check(count_of(doc, '<Attribute') == 7, '3 + 4 attributes (reaction only in step 2)')
+  ! Step 1: displacement, velocity (Vector), rotation, angular_velocity (Scalar), stress;
+  ! step 2 adds reaction (Vector) and reaction_moment (Scalar).
+  call check(count_of(doc, '<Attribute') == 12, '5 + 7 attributes (reaction only in step 2)')
+  call check(count_of(doc, 'AttributeType="Vector" Center="Node"') == 5, '2 + 3 nodal Vector attributes')
+  call check(count_of(doc, 'AttributeType="Scalar" Center="Node"') == 5, '2 + 3 nodal Scalar attributes')
+  call check(count_of(doc, '<Attribute Name="rotation" AttributeType="Scalar"') == 2 .and. &
+             count_of(doc, '<Attribute Name="angular_velocity" AttributeType="Scalar"') == 2 .and. &
+             count_of(doc, '<Attribute Name="reaction_moment" AttributeType="Scalar"') == 1, &
+             'rotation, angular_velocity (each step), reaction_moment (step 2) are Scalars')
+  call check(count_of(doc, '<Attribute Name="displacement" AttributeType="Vector"') == 2 .and. &
+             count_of(doc, '<Attribute Name="velocity" AttributeType="Vector"') == 2 .and. &
+             count_of(doc, '<Attribute Name="reaction" AttributeType="Vector"') == 1, &
+             'displacement, velocity (each step), reaction (step 2) are Vectors')
+  call check(count_of(doc, 'Dimensions="11" NumberType="Float"') == 5, 'Scalar attributes have Dimensions (nnode)')
+  call check(count_of(doc, 'f&amp;.h5:/step_000002/reaction_moment<') == 1, 'reaction_moment refers to its dataset')
   call check(count_of(doc, 'f&amp;.h5:/mesh/topology') == 2, 'file name escaped, topology per grid')
   call check(index(doc, 'Dimensions="11 3"') > 0 .and. index(doc, 'Dimensions="4 4"') > 0 &
              .and. index(doc, 'Dimensions="21"') > 0, 'dimensions (nnode 3), (nelem 4), (ntopo)')

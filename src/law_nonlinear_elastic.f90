@@ -1,0 +1,65 @@
+!> Uniaxial nonlinear (cubic) elasticity: sigma = E eps (1 + b eps^2), energy density
+!> psi = E (eps^2/2 + b eps^4/4), tangent E (1 + 3 b eps^2). No internal variables: the stress
+!> depends on the end strain only, but the path-mean stress of eq (9) needs the sub-increments.
+!> Because sigma is a cubic, the composite trapezoid rule has the exact error (Euler-Maclaurin
+!> stops after its first term)
+!>   W_N - (psi(eps1) - psi(eps0)) = (deps/N)^2 / 12 * (sigma'(eps1) - sigma'(eps0)),
+!> which the AUTO rule inverts to pick N for a relative tolerance.
+module law_nonlinear_elastic
+  use kinds, only: dp
+  implicit none
+  private
+  public :: nle_stress, nle_tangent, nle_energy, nle_path, nle_auto_nsub, NLE_RTOL, NLE_NMAX
+
+  real(dp), parameter :: NLE_RTOL = 1.0e-4_dp  !< AUTO: target |W_N - W| / (|deps| max|sigma|)
+  integer, parameter :: NLE_NMAX = 100         !< AUTO: largest number of sub-increments
+
+contains
+
+  pure real(dp) function nle_stress(e, b, eps)
+    real(dp), intent(in) :: e, b, eps
+    nle_stress = e * eps * (1.0_dp + b * eps**2)
+  end function nle_stress
+
+  pure real(dp) function nle_tangent(e, b, eps)
+    real(dp), intent(in) :: e, b, eps
+    nle_tangent = e * (1.0_dp + 3.0_dp * b * eps**2)
+  end function nle_tangent
+
+  pure real(dp) function nle_energy(e, b, eps)
+    real(dp), intent(in) :: e, b, eps
+    nle_energy = e * (0.5_dp * eps**2 + 0.25_dp * b * eps**4)
+  end function nle_energy
+
+  !> AUTO number of sub-increments: smallest N whose exact trapezoid error is below
+  !> NLE_RTOL * |deps| * max(|sigma0|, |sigma1|), clamped to 1..NLE_NMAX.
+  pure integer function nle_auto_nsub(e, b, eps_n, deps)
+    real(dp), intent(in) :: e, b, eps_n, deps
+    real(dp) :: err1, scale, x
+    err1 = deps**2 / 12.0_dp * abs(nle_tangent(e, b, eps_n + deps) - nle_tangent(e, b, eps_n))
+    scale = NLE_RTOL * abs(deps) * max(abs(nle_stress(e, b, eps_n)), abs(nle_stress(e, b, eps_n + deps)))
+    nle_auto_nsub = 1
+    if (err1 > 0.0_dp .and. scale > 0.0_dp) then
+      x = min(real(NLE_NMAX, dp), sqrt(err1 / scale))
+      nle_auto_nsub = max(1, ceiling(x))
+    end if
+  end function nle_auto_nsub
+
+  !> Straight path eps_n -> eps_n + deps in nsub >= 1 equal sub-increments: end stress, trapezoid
+  !> mean stress (sigma_0 = sig_n as given) and the consistent tangent dsig/ddeps (exact).
+  pure subroutine nle_path(e, b, nsub, eps_n, deps, sig_n, sig, sigbar, et)
+    real(dp), intent(in) :: e, b, eps_n, deps, sig_n
+    integer, intent(in) :: nsub
+    real(dp), intent(out) :: sig, sigbar, et
+    real(dp) :: s
+    integer :: k, n
+    n = max(1, nsub)
+    s = 0.5_dp * sig_n
+    do k = 1, n - 1
+      s = s + nle_stress(e, b, eps_n + deps * (real(k, dp) / real(n, dp)))
+    end do
+    sig = nle_stress(e, b, eps_n + deps)
+    sigbar = (s + 0.5_dp * sig) / real(n, dp)
+    et = nle_tangent(e, b, eps_n + deps)
+  end subroutine nle_path
+end module law_nonlinear_elastic

@@ -1,0 +1,102 @@
+!> Uniaxial elastoplasticity with linear isotropic (h_iso) and kinematic (h_kin) hardening;
+!> h_iso = h_kin = 0 is perfectly plastic. Yield f = |sigma - beta| - (sy + h_iso alpha).
+!> Internal variables q = [eps_p (plastic strain), alpha (accumulated plastic strain),
+!> beta (back stress)]. The return mapping of one increment is closed-form and exact for a
+!> monotonic strain increment starting on or inside the yield surface (linear hardening:
+!> the plastic branch of the stress-strain curve is a straight line of slope E H/(E + H),
+!> H = h_iso + h_kin). For springs read force for stress and elongation for strain.
+module law_plastic_1d
+  use kinds, only: dp
+  implicit none
+  private
+  public :: P1D_NSTATE, plastic_1d_return, plastic_1d_inside, plastic_1d_path
+  public :: plastic_auto_nsub, AUTO_ALPHA, AUTO_NMAX
+
+  integer, parameter :: P1D_NSTATE = 3
+  !> AUTO rule of the plastic laws: N = clamp(ceil(r / AUTO_ALPHA), 1, AUTO_NMAX), with r the
+  !> elastic trial stress increment measured in yield stresses (see docs/materials.md).
+  real(dp), parameter :: AUTO_ALPHA = 0.25_dp
+  integer, parameter :: AUTO_NMAX = 100
+
+contains
+
+  !> AUTO number of sub-increments for a trial stress increment of r yield stresses.
+  pure integer function plastic_auto_nsub(r)
+    real(dp), intent(in) :: r
+    real(dp) :: x
+    x = abs(r) / AUTO_ALPHA
+    if (.not. x <= real(AUTO_NMAX, dp)) x = real(AUTO_NMAX, dp)   ! also catches NaN
+    plastic_auto_nsub = min(AUTO_NMAX, max(1, ceiling(x)))
+  end function plastic_auto_nsub
+
+  !> True when the elastic trial sig_n + e deps stays inside the yield surface of the frozen
+  !> state q_n: by convexity the whole straight path is then elastic.
+  pure logical function plastic_1d_inside(e, sy, hi, sig_n, q_n, deps)
+    real(dp), intent(in) :: e, sy, hi, sig_n, q_n(:), deps
+    plastic_1d_inside = abs(sig_n + e * deps - q_n(3)) - (sy + hi * q_n(2)) <= 0.0_dp
+  end function plastic_1d_inside
+
+  !> One increment: elastic predictor, closed-form return. dep is the plastic strain increment,
+  !> et the algorithmic (consistent) tangent dsig/dde.
+  pure subroutine plastic_1d_return(e, sy, hi, hk, sig_n, q_n, de, sig, q, dep, et)
+    real(dp), intent(in) :: e, sy, hi, hk, sig_n, q_n(:), de
+    real(dp), intent(out) :: sig, q(:), dep, et
+    real(dp) :: str, xi, f, dg, sg
+    str = sig_n + e * de
+    xi = str - q_n(3)
+    f = abs(xi) - (sy + hi * q_n(2))
+    q(1:P1D_NSTATE) = q_n(1:P1D_NSTATE)
+    if (f <= 0.0_dp) then
+      sig = str
+      dep = 0.0_dp
+      et = e
+    else
+      dg = f / (e + hi + hk)
+      sg = sign(1.0_dp, xi)
+      dep = dg * sg
+      sig = str - e * dep
+      q(1) = q_n(1) + dep
+      q(2) = q_n(2) + dg
+      q(3) = q_n(3) + hk * dep
+      et = e * (hi + hk) / (e + hi + hk)
+    end if
+  end subroutine plastic_1d_return
+
+  !> Straight strain path deps in nsub >= 1 sub-increments. If the whole step is elastic
+  !> (plastic_1d_inside) nothing is sub-incremented: sig = sig_n + e deps, sigbar the exact chord
+  !> midpoint, nused = 0. Otherwise sigbar is the trapezoid mean of sigma_0 = sig_n .. sigma_N and
+  !> dissip the trapezoid sum of sigma . dep over the sub-increments; nused = nsub; et is the
+  !> tangent of the last sub-increment.
+  pure subroutine plastic_1d_path(e, sy, hi, hk, nsub, sig_n, q_n, deps, sig, sigbar, q, dissip, nused, et)
+    real(dp), intent(in) :: e, sy, hi, hk, sig_n, q_n(:), deps
+    integer, intent(in) :: nsub
+    real(dp), intent(out) :: sig, sigbar, q(:), dissip, et
+    integer, intent(out) :: nused
+    real(dp) :: s0, s1, dep, acc, qk(P1D_NSTATE), de
+    integer :: k
+    if (plastic_1d_inside(e, sy, hi, sig_n, q_n, deps)) then
+      sig = sig_n + e * deps
+      sigbar = 0.5_dp * (sig_n + sig)
+      q(1:P1D_NSTATE) = q_n(1:P1D_NSTATE)
+      dissip = 0.0_dp
+      nused = 0
+      et = e
+      return
+    end if
+    nused = max(1, nsub)
+    de = deps / real(nused, dp)
+    s0 = sig_n
+    qk = q_n(1:P1D_NSTATE)
+    acc = 0.5_dp * sig_n
+    dissip = 0.0_dp
+    do k = 1, nused
+      call plastic_1d_return(e, sy, hi, hk, s0, qk, de, s1, q, dep, et)
+      dissip = dissip + 0.5_dp * (s0 + s1) * dep
+      if (k < nused) acc = acc + s1
+      s0 = s1
+      qk = q(1:P1D_NSTATE)
+    end do
+    sig = s1
+    sigbar = (acc + 0.5_dp * s1) / real(nused, dp)
+  end subroutine plastic_1d_path
+end module law_plastic_1d

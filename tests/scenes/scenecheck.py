@@ -1,0 +1,84 @@
+"""Shared helpers of the regression scenes (tests/scenes/<case>/check.py).
+
+Each check runs bin/rebond into a temporary directory, reads the CSV outputs with numpy and
+prints one line per assertion, `PASS name` or `FAIL name: measured vs expected`, which
+tests/run_tests.sh counts. A check exits non-zero only when it crashes (rebond missing,
+unreadable output, a Python error).
+"""
+import os
+import subprocess
+import tempfile
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+REBOND = os.path.join(ROOT, 'bin', 'rebond')
+
+_tmp = tempfile.TemporaryDirectory(prefix='rebond_check_')
+TMP = _tmp.name
+_count = [0]
+
+
+def new_dir(tag='run'):
+    """A fresh path inside the temporary directory (not created)."""
+    _count[0] += 1
+    return os.path.join(TMP, '%s_%d' % (tag, _count[0]))
+
+
+def run(scene, sets=(), outdir=None, timeout=120):
+    """Run rebond quietly; returns (exit code, stderr, output directory)."""
+    if not os.access(REBOND, os.X_OK):
+        raise RuntimeError('bin/rebond not built (%s)' % REBOND)
+    if outdir is None:
+        outdir = new_dir()
+    cmd = [REBOND, scene, '-o', outdir, '--quiet']
+    for s in sets:
+        cmd += ['--set', s]
+    p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=timeout)
+    return p.returncode, p.stderr, outdir
+
+
+def run_ok(scene, sets=()):
+    """Run rebond and insist on success (a failure here is a crash of the check)."""
+    rc, err, outdir = run(scene, sets)
+    if rc != 0:
+        raise RuntimeError('rebond %s %s failed (exit %d): %s' % (scene, ' '.join(sets), rc, err.strip()))
+    return outdir
+
+
+def read_csv(path):
+    """Columns of a rebond CSV file as a dict name -> float array."""
+    with open(path) as f:
+        names = f.readline().strip().split(',')
+    data = np.loadtxt(path, delimiter=',', skiprows=1, ndmin=2)
+    return {n: data[:, i] for i, n in enumerate(names)}
+
+
+def history(outdir):
+    return read_csv(os.path.join(outdir, 'history.csv'))
+
+
+def probes(outdir):
+    return read_csv(os.path.join(outdir, 'probes.csv'))
+
+
+def report(name, ok, detail=''):
+    if ok:
+        print('PASS ' + name)
+    else:
+        print('FAIL ' + name + (': ' + detail if detail else ''))
+    return ok
+
+
+def close(name, measured, expected, rtol):
+    """PASS when |measured - expected| <= rtol |expected|."""
+    err = abs(measured - expected) / abs(expected)
+    print('# %s: measured %.17g, expected %.17g, relative error %.3e' % (name, measured, expected, err))
+    return report(name, err <= rtol, 'measured %.17g vs expected %.17g (relative error %.3e > %.1e)'
+                  % (measured, expected, err, rtol))
+
+
+def relative_balance(outdir):
+    """max |balance| / max(kinetic + internal) over the history."""
+    h = history(outdir)
+    return np.max(np.abs(h['balance'])) / np.max(np.abs(h['kinetic'] + h['internal'])), len(h['step'])

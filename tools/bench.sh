@@ -1,0 +1,217 @@
+#!/usr/bin/env bash
+# QUAD4 plane-strain plate benchmark of the core solver (`make bench`).
+#
+# Builds tools/bench/bench_plate.f90 against build/librebond.a with the Makefile's compilers,
+# flags and libraries, runs it on square plates of about BENCH_SIZES degrees of freedom and
+# writes a Markdown report (factorization time, time per step, ratio to one bare CHOLMOD
+# solve on the same factor, where the step goes, the machine) to BENCH_OUT.
+#
+# Environment:
+#   BENCH_SIZES  target DOF counts, default "1e3 1e4 1e5 1e6" (the 1e6 case takes minutes)
+#   BENCH_STEPS  time steps per size (default: 200 up to 1e4 DOFs, 50 up to 1e5, 20 above)
+#   BENCH_SOLVES bare solves per size, median taken (default 50, 20 above 1e5 DOFs)
+#   BENCH_REPEATS rounds of (bare solves, run) per size, best one reported (default 3)
+#   BENCH_OUT    report file, default docs/performance.md
+#   BENCH_WORK   scratch directory (scenes, binary, logs), default a fresh mktemp -d
+#   BENCH_BUILD  directory holding librebond.a and the .mod files, default the Makefile's build/
+#   BENCH_COMMIT commit to name in the report, default the repository's HEAD (use with BENCH_BUILD
+#                when the library was built from another tree)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+SIZES=${BENCH_SIZES:-"1e3 1e4 1e5 1e6"}
+OUT=${BENCH_OUT:-docs/performance.md}
+WORK=${BENCH_WORK:-$(mktemp -d "${TMPDIR:-/tmp}/rebond-bench.XXXXXX")}
+mkdir -p "$WORK"
+
+# Compilers, flags and libraries as the Makefile has them (its own -J goes to the scratch dir).
+PV="$WORK/printvars.mk"
+printf 'print-%%:\n\t@echo $($*)\n' > "$PV"
+mkvar() { make -s --no-print-directory -f Makefile -f "$PV" "print-$1"; }
+FC=$(mkvar FC)
+CC=$(mkvar CC)
+MKBUILD=$(mkvar BUILD)
+BUILD=${BENCH_BUILD:-$MKBUILD}
+# The Makefile's -J/-I for its build dir are replaced by ours (modules from $BUILD).
+FFLAGS=$(mkvar FFLAGS | sed -E "s#(^| )-J[^ ]+##g; s#(^| )-I$MKBUILD( |\$)#\\2#g")
+CFLAGS=$(mkvar CFLAGS)
+LDLIBS=$(mkvar LDLIBS)
+if [[ ! -f $BUILD/librebond.a ]]; then
+  echo "bench: $BUILD/librebond.a is missing: run make first" >&2
+  exit 2
+fi
+
+BIN="$WORK/bench_plate"
+$CC $CFLAGS -c tools/bench/bench_cholmod.c -o "$WORK/bench_cholmod.o"
+$FC $FFLAGS -I"$BUILD" -J"$WORK" -o "$BIN" tools/bench/bench_plate.f90 "$WORK/bench_cholmod.o" "$BUILD/librebond.a" $LDLIBS
+
+# Machine.
+CPU=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
+NCPU=$(nproc)
+CORES=$(lscpu | awk -F: '/^Core\(s\) per socket/ {c=$2} /^Socket\(s\)/ {s=$2} END {printf "%d", c*s}')
+MEM=$(awk '/^MemTotal/ {printf "%.1f GiB", $2/1048576}' /proc/meminfo)
+BLAS_ALT=$(update-alternatives --query libblas.so.3-x86_64-linux-gnu 2>/dev/null | sed -n 's/^Value: *//p' || true)
+BLAS_LINK=$(ldd "$BIN" | awk '/libblas\.so/ {print $3}' | head -1)
+BLAS_REAL=$( [[ -n $BLAS_LINK ]] && readlink -f "$BLAS_LINK" || echo "?")
+case "$BLAS_REAL" in
+  *openblas*) BLAS="OpenBLAS ($BLAS_REAL)";;
+  */blas/*) BLAS="reference BLAS ($BLAS_REAL) — factorization will be much slower than with OpenBLAS";;
+  *) BLAS="$BLAS_REAL";;
+esac
+THREADS=${OPENBLAS_NUM_THREADS:-"default (one per CPU)"}
+CHOLMOD_PKG=$(dpkg-query -W -f '${Version}' 'libcholmod[0-9]*' 2>/dev/null | head -1 || true)
+COMMIT=${BENCH_COMMIT:-$(GIT_OPTIONAL_LOCKS=0 git rev-parse --short HEAD 2>/dev/null || echo "?")}
+if [[ -z ${BENCH_COMMIT:-} ]] && [[ $COMMIT != "?" ]] && [[ -n $(GIT_OPTIONAL_LOCKS=0 git status --porcelain --untracked-files=no 2>/dev/null) ]]; then
+  COMMIT="$COMMIT (with uncommitted changes)"
+fi
+DATE=$(date -u '+%Y-%m-%d %H:%M UTC')
+echo "bench: $CPU, $NCPU CPUs, $MEM, BLAS: $BLAS"
+
+# Runs.
+RESULTS="$WORK/results.txt"
+: > "$RESULTS"
+for s in $SIZES; do
+  n=$(awk -v s="$s" 'BEGIN {printf "%d", s + 0}')
+  nx=$(awk -v n="$n" 'BEGIN {x = int(sqrt(n / 2) + 0.5); if (x < 1) x = 1; print x}')
+  if (( n <= 10000 )); then steps=200; solves=50
+  elif (( n <= 100000 )); then steps=50; solves=50
+  else steps=20; solves=20; fi
+  steps=${BENCH_STEPS:-$steps}
+  solves=${BENCH_SOLVES:-$solves}
+  echo "bench: ~$n DOFs: plate $nx x $nx, $steps steps, $solves bare solves"
+  "$BIN" "$nx" "$nx" "$steps" "$solves" "$WORK" "${BENCH_REPEATS:-3}" | tee "$WORK/log_$nx.txt"
+  grep '^RESULT ' "$WORK/log_$nx.txt" >> "$RESULTS"
+done
+
+# Report.
+python3 - "$RESULTS" "$OUT" "$CPU" "$NCPU" "$CORES" "$MEM" "$BLAS" "$THREADS" "$CHOLMOD_PKG" "$COMMIT" "$DATE" <<'PY'
+import sys
+res, out, cpu, ncpu, cores, mem, blas, threads, chol, commit, date = sys.argv[1:12]
+rows = []
+for line in open(res):
+    d = dict(kv.split('=', 1) for kv in line.split()[1:])
+    rows.append(d)
+f = lambda d, k: float(d[k])
+def t(x):
+    x = float(x)
+    if x >= 1: return f"{x:.2f} s"
+    if x >= 1e-3: return f"{x*1e3:.2f} ms"
+    return f"{x*1e6:.0f} µs"
+def mib(kb): return f"{int(kb)/1024:.0f} MiB"
+def big(x):
+    x = float(x)
+    return "?" if x < 0 else (f"{x/1e6:.1f} M" if x >= 1e6 else f"{x/1e3:.0f} k")
+L = []
+L.append("# Performance\n")
+L.append("Generated by `make bench` (`tools/bench.sh`, program `tools/bench/bench_plate.f90`); rerun it to")
+L.append("refresh this page. `BENCH_SIZES=\"1e3 1e4\" make bench` runs chosen sizes only.\n")
+L.append("## Machine\n")
+L.append(f"- CPU: {cpu}, {ncpu} logical CPUs ({cores} cores)")
+L.append(f"- Memory: {mem}")
+L.append(f"- BLAS: {blas}; OpenBLAS threads: {threads}")
+L.append(f"- CHOLMOD: Debian package {chol or '?'}, supernodal LLᵀ, ordering: best of AMD and METIS")
+L.append(f"- Date: {date}; rebond commit {commit}; gfortran flags as in the Makefile (`-O2 -g`)\n")
+L.append("## Problem\n")
+L.append("A 1 m × 1 m steel plate (E = 210 GPa, ν = 0.3, ρ = 7800 kg/m³, 10 mm thick), `RECTANGLE … TYPE")
+L.append("QUAD4`, `MODEL … MASS CONSISTENT PLANE STRAIN`, left edge fixed, right edge launched with")
+L.append("`INITIAL … VELOCITY`, h = 1 µs, `OUTPUT HISTORY 0 FIELDS 0` (no I/O in the time loop). Linear")
+L.append("elastic, so each step is exactly one solve with the factor of S = K0 + 4M/h².\n")
+L.append("## Results\n")
+L.append("| DOFs | mesh | nnz(K) upper | nnz(L) | prepare_run | factorization | bare solve | time per step | ratio step/solve | peak memory |")
+L.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+for d in rows:
+    L.append(f"| {int(d['ndof']):,} | {d['nx']}×{d['ny']} | {big(d['nnzk'])} | {big(d['lnz'])} | {t(d['t_prepare'])} | "
+             f"{t(d['t_factor'])} | {t(d['t_solve'])} | {t(d['t_step'])} | **{f(d,'ratio'):.2f}** | {mib(d['hwm_kb'])} |")
+L.append("")
+L.append("- *prepare_run*: CHOLMOD analysis (AMD and METIS orderings, symbolic factorization) + numeric")
+L.append("  factorization of S + initial internal forces; paid once per run.")
+L.append("- *factorization*: a numeric refactorization of S on the same pattern (what a change of time step")
+L.append("  would cost).")
+L.append("- *bare solve*: median of repeated `factor%solve` calls (forward + backward substitution, CHOLMOD's")
+L.append("  permutations and copies included) on a random right-hand side, same factor as the run.")
+L.append("- *time per step*: wall time of `run_newmark` divided by its number of steps "
+         f"({', '.join(d['steps'] for d in rows)} steps).")
+L.append(f"- The machine may be shared (other jobs), so solves and runs are done in {rows[0]['nrep']} alternating rounds and")
+L.append("  the best round of each is reported; slowest rounds (solve / step): " +
+         "; ".join(f"{int(d['ndof']):,}: {t(d['t_solve_max'])} / {t(d['t_step_max'])}" for d in rows) + ".")
+L.append("- *ratio*: time per step / bare solve. 1 would mean the step costs nothing but its solve; the goal")
+L.append("  is ≤ 1.3, i.e. everything else the step does (element loop, mass product, vector updates) costs")
+L.append("  at most 30 % of one solve.")
+L.append("- *peak memory*: VmHWM of the benchmark process at the end (it holds one factor).\n")
+L.append("## Where the step goes\n")
+L.append("The benchmark replays the step of `run_newmark` after the run, with the same library calls in the")
+L.append("same order, timing each part (median over the steps; % of the replayed step):\n")
+keys = [("t_slv", "solve (in the loop)"), ("t_fint", "internal_force (element loop, Bσ)"),
+        ("t_mass", "mass_times (M·v)"), ("t_comm", "commit_state"), ("t_vec", "vector updates"),
+        ("t_ext", "external_force")]
+L.append("| DOFs | " + " | ".join(k[1] for k in keys) + " | replayed step | measured step | K0·u product |")
+L.append("|---:|" + "---:|" * (len(keys) + 3))
+for d in rows:
+    tot = sum(f(d, k) for k, _ in keys)
+    cells = [f"{t(d[k])} ({100*f(d,k)/tot:.0f} %)" for k, _ in keys]
+    L.append(f"| {int(d['ndof']):,} | " + " | ".join(cells) + f" | {t(tot)} | {t(d['t_step'])} | {t(d['t_kmv'])} |")
+L.append("")
+L.append("*K0·u product*: the symmetric sparse product K0 u on the shared pattern, timed alone. For a")
+L.append("linear elastic model starting from zero stress it is the same vector as `internal_force`")
+L.append("(measured relative difference " + ", ".join(f"{f(d,'kdiff'):.0e}" for d in rows) + "): the floor")
+L.append("of the internal-force cost. What the step would cost with it instead of the element loop,")
+L.append("per size (bare solve + K0·u + mass_times + commit-free vector updates + external_force):")
+L.append("" )
+L.append("| DOFs | estimated step | estimated ratio |")
+L.append("|---:|---:|---:|")
+for d in rows:
+    est = f(d,'t_solve') + f(d,'t_kmv') + f(d,'t_mass') + f(d,'t_vec') + f(d,'t_ext')
+    L.append(f"| {int(d['ndof']):,} | {t(est)} | {est/f(d,'t_solve'):.2f} |")
+L.append("")
+L.append("Beyond the solve, a linear step does:\n")
+L.append("- `internal_force`: for every element, gather u, then at every Gauss point ε = B u, a call of")
+L.append("  `law_update` (σ = σn + D Δε, mean stress, work σ̄·Δε) and fe += w Bᵀσ, then scatter fe into")
+L.append("  fint. O(number of Gauss points); 4 per QUAD4.")
+L.append("- `commit_state`: copies the trial strains and stresses (4 × Gauss points each) to the committed state.")
+L.append("- `mass_times`: M·v with the consistent mass, a symmetric sparse product over the upper triangle")
+L.append("  (twice nnz(K) multiply-adds); a diagonal product with `MASS LUMPED`.")
+L.append("- vector updates: the right-hand side F(n+1) + F(n) − Bσ(n) + 4M v(n)/h, the residual, du,")
+L.append("  u + du, eq (3) for v, the copies u, fint, F, the external-work and kinetic-energy dot products:")
+L.append("  about 15 passes over n-vectors.")
+L.append("- `external_force`: gravity scaled by its function plus the LOAD vectors.\n")
+L.append("The solve itself reads L twice (forward and backward), about 16 bytes per nonzero of L, so it is")
+L.append("memory-bandwidth bound; the element loop is compute bound (a few hundred flops per element).")
+L.append("Their ratio therefore depends on nnz(L)/DOF, which grows like log n with nested dissection: the")
+L.append("overhead is relatively largest on small problems.\n")
+L.append("## Findings and suggestions\n")
+L.append("Written after the first run (commit e59a5d7); the tables above are regenerated by every run.\n")
+L.append("1. **The element loop, not the solve, is what misses the goal.** `internal_force` costs 130–170 ns")
+L.append("   per Gauss point (about 0.6 µs per QUAD4), as much as or more than the whole CHOLMOD solve at")
+L.append("   every size: 75 % of the step at 1e3 DOFs, about half at 1e5–1e6. perf shows the time split")
+L.append("   between the loop body of `internal_force` and the call chain `law_update` → `elastic_update`")
+L.append("   (assumed-shape array descriptors for ten arguments per Gauss point, `matmul` on a 4×4")
+L.append("   assumed-shape D, `select case` on the law) plus temporary copies (memmove).")
+L.append("2. **Linear models: use K0 u.** With linear elastic laws and zero initial stress, Bσ(u) = K0 u")
+L.append("   exactly (checked above to round-off), and K0·u on the pattern already built for S costs")
+L.append("   1/20 to 1/30 of `internal_force`. In the linear path of `run_newmark` (`sys%linear`): fint =")
+L.append("   K0 utrial by `sys%pat%matvec(sys%kval, …)`; the internal work of the step is")
+L.append("   ½ du·(fint(n) + fint(n+1)) (the same number for a linear law); strains and stresses are only")
+L.append("   needed for FIELDS output, so compute them (`internal_force` + `commit_state`) at output steps")
+L.append("   only. That removes `commit_state` from the step too. The estimated ratios above follow.")
+L.append("3. **Fuse the two end-of-step products.** K0 u(n+1) and M v(n+1) run over the same pattern:")
+L.append("   one pass reading `colptr`/`rowind` once and `kval`, `mval` together saves about a third of")
+L.append("   their memory traffic; with `MASS LUMPED` M v is already a diagonal product.")
+L.append("4. **Nonlinear models: make the Gauss-point kernel cheap.** Keep `law_update` for nonlinear")
+L.append("   laws, but for QUAD4/QUAD8 pass fixed-size arrays (`real(dp) :: d(4,4)`, `deps(4)`), take the")
+L.append("   material lookups (`scn%materials(scn%models(im)%material)`, `elem_nstrain`) out of the Gauss")
+L.append("   loop, and give linear models an inline σ = σn + D Δε path inside `internal_force` (a tight")
+L.append("   fixed-size 4×8 loop measured at about 60 ns per Gauss point, half of today). Swap eps/eps_t")
+L.append("   and sig/sig_t (and q/q_t) with `move_alloc` in `commit_state` instead of copying (2 % of the")
+L.append("   step; safe because `internal_force` writes every trial point before reading it).")
+L.append("5. **Small problems** (1e3–1e4 DOFs): the solve is short (tens of µs to 1 ms) and partly CHOLMOD")
+L.append("   overhead (permutation, dense workspace copies, one BLAS call per supernode), and the element")
+L.append("   loop also evicts L from the cache between solves (the solve inside the loop is slower than")
+L.append("   the bare one). Even with K0 u the estimated ratio stays around 1.6–1.7 there; the ≤ 1.3 goal is")
+L.append("   realistic from about 1e5 DOFs.")
+L.append("6. **Once-per-run costs at 1e6 DOFs**: `build_system` takes seconds, and `prepare_run` costs about")
+L.append("   three numeric factorizations because the analysis tries both AMD and METIS")
+L.append("   (`nmethods = 2` in `cholmod_shim.c`); for large 2D meshes METIS alone would do.\n")
+open(out, 'w').write("\n".join(L))
+print("\n".join(L))
+PY
+echo "bench: report written to $OUT (scratch files in $WORK)"

@@ -1,0 +1,348 @@
+!> QUAD4 plane-strain plate benchmark of the core solver (make bench, tools/bench.sh).
+!> usage: bench_plate NX NY NSTEPS NSOLVE WORKDIR [NREP]
+!> Writes WORKDIR/plate_NXxNY.dat (a steel plate clamped on its left edge, its right edge
+!> launched with an initial velocity, no output in the loop), then times through the library:
+!> load_scene, build_system, prepare_run (analysis + factorization of S = K0 + 4M/h²), a
+!> numeric refactorization of S, then NREP times (default 3): NSOLVE bare solves on that same
+!> factor (median) and run_newmark over NSTEPS steps. The machine may be shared, so the
+!> reported solve and step times are the best of the NREP rounds. A replay of the step's parts
+!> (same library calls, same order; median over the steps of each part) then splits the step
+!> time, and the sparse product K0 u (equal to Bσ for a linear elastic model from zero stress)
+!> is timed as the floor of the internal-force evaluation. The last line, "RESULT k=v ...",
+!> is read by bench.sh.
+program bench_plate
+  use, intrinsic :: iso_c_binding, only: c_int, c_double
+  use, intrinsic :: iso_fortran_env, only: int64
+  use kinds, only: dp
+  use errors, only: STAT_OK
+  use scene, only: scene_t, load_scene
+  use assembly, only: system_t, build_system, internal_force, mass_times, external_force, commit_state
+  use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark, velocity_eq3
+  implicit none
+
+  interface
+    function bench_chol_analyze(n, nnz, colptr, rowind, lnz, xsize, fl, ordering, super) &
+        bind(c, name='bench_chol_analyze') result(rc)
+      import :: c_int, c_double
+      integer(c_int), value :: n, nnz
+      integer(c_int), intent(in) :: colptr(*), rowind(*)
+      real(c_double), intent(out) :: lnz, xsize, fl
+      integer(c_int), intent(out) :: ordering, super
+      integer(c_int) :: rc
+    end function bench_chol_analyze
+  end interface
+
+  ! Parts of a replayed step, in run_newmark's order.
+  integer, parameter :: P_EXT = 1, P_VEC = 2, P_SOLVE = 3, P_FINT = 4, P_COMMIT = 5, P_MASS = 6, NPART = 6
+  character(len=14), parameter :: PART_NAME(NPART) = [character(len=14) :: 'external_force', 'vector ops', &
+    'solve', 'internal_force', 'commit_state', 'mass_times']
+  character(len=*), parameter :: PART_KEY(NPART) = [character(len=6) :: 't_ext', 't_vec', 't_slv', 't_fint', &
+    't_comm', 't_mass']
+
+  type(scene_t) :: scn
+  type(system_t) :: sys
+  type(run_state_t) :: rs
+  type(run_options_t) :: opts
+  type(run_summary_t) :: summary
+  character(len=:), allocatable :: errmsg, workdir, path, ordname
+  character(len=512), allocatable :: overrides(:)
+  integer :: nx, ny, nsteps, nsolve, nrep, rep, stat, i, k, minor, unit
+  integer(c_int) :: rc, ordering, super
+  real(c_double) :: lnz, xsize, fl
+  real(dp) :: t0, t_load, t_build, t_analyze, t_prepare, t_factor, t_step, t_solve, h, dw, kin
+  real(dp) :: part(NPART), tp, t_kmv, kdiff
+  real(dp), allocatable :: b(:), x(:), ts(:), steps_t(:, :), solve_rep(:), step_rep(:)
+  character(len=256) :: hw_prepare
+
+  nx = int_arg(1)
+  ny = int_arg(2)
+  nsteps = int_arg(3)
+  nsolve = int_arg(4)
+  workdir = str_arg(5)
+  nrep = 3
+  if (command_argument_count() >= 6) nrep = int_arg(6)
+  h = 1.0e-6_dp
+  allocate (overrides(0))
+
+  ! Scene: 1 m x 1 m steel plate, 10 mm thick, plane strain, consistent mass.
+  path = workdir // '/plate_' // itoa(nx) // 'x' // itoa(ny) // '.dat'
+  open (newunit=unit, file=path, status='replace', action='write')
+  write (unit, '(a)') 'TITLE "QUAD4 plane-strain plate benchmark"'
+  write (unit, '(a)') 'DIMENSION 2'
+  write (unit, '(a)') 'RECTANGLE plate ORIGIN 0 0 SIZE 1 1 ELEMENTS ' // itoa(nx) // ' ' // itoa(ny) // ' TYPE QUAD4'
+  write (unit, '(a)') 'MATERIAL steel ELASTIC YOUNG 2.1e11 POISSON 0.3 DENSITY 7800'
+  write (unit, '(a)') 'SECTION plate_sec THICKNESS 0.01'
+  write (unit, '(a)') 'MODEL plate MATERIAL steel SECTION plate_sec MASS CONSISTENT PLANE STRAIN'
+  write (unit, '(a)') 'FIX plate.left UX UY'
+  write (unit, '(a)') 'INITIAL plate.right VELOCITY 0 -1'
+  write (unit, '(a,es23.16,a,es23.16)') 'TIME STEP ', h, ' END ', nsteps * h
+  write (unit, '(a)') 'SCHEME NEWMARK'
+  write (unit, '(a)') 'OUTPUT HISTORY 0 FIELDS 0'
+  close (unit)
+
+  t0 = wall()
+  call load_scene(path, overrides, scn, stat, errmsg)
+  call check('load_scene')
+  t_load = wall() - t0
+
+  t0 = wall()
+  call build_system(scn, sys, stat, errmsg)
+  call check('build_system')
+  t_build = wall() - t0
+  write (*, '(a,i0,a,i0,a,i0,a,i0,a)') 'plate ', nx, ' x ', ny, ': ', sys%neq, ' DOFs, nnz(K, upper) = ', sys%pat%nnz
+
+  ! nnz(L) from a separate symbolic analysis with the shim's settings (before prepare_run, so
+  ! it does not add to the peak memory of the factorization).
+  t0 = wall()
+  rc = bench_chol_analyze(int(sys%neq, c_int), int(sys%pat%nnz, c_int), sys%pat%colptr, sys%pat%rowind, &
+    lnz, xsize, fl, ordering, super)
+  t_analyze = wall() - t0
+  if (rc /= 0) then
+    lnz = -1.0_dp
+    xsize = -1.0_dp
+    fl = -1.0_dp
+    ordname = '?'
+  else
+    select case (ordering)
+    case (1)
+      ordname = 'AMD'
+    case (2)
+      ordname = 'METIS'
+    case default
+      ordname = 'other'
+    end select
+  end if
+
+  ! prepare_run: CHOLMOD analysis (AMD and METIS) + numeric factorization + initial state.
+  t0 = wall()
+  call prepare_run(scn, sys, rs, stat, errmsg)
+  call check('prepare_run')
+  t_prepare = wall() - t0
+  hw_prepare = vm_hwm()
+
+  ! Numeric factorization alone: same pattern, so CHOLMOD only refactorizes.
+  t0 = wall()
+  call rs%factor%factorize(sys%pat, rs%sval, stat, errmsg, minor)
+  call check('refactorize')
+  t_factor = wall() - t0
+
+  ! Rounds of bare solves on the factor the run uses (random right-hand side) and of the run
+  ! itself (no history, no fields, quiet; each round continues the motion). The first solve
+  ! allocates CHOLMOD's workspaces: warm-up, not timed.
+  allocate (b(sys%neq), x(sys%neq), ts(nsolve), solve_rep(nrep), step_rep(nrep))
+  call random_number(b)
+  b = b - 0.5_dp
+  call rs%factor%solve(b, x, stat, errmsg)
+  call check('solve')
+  opts%quiet = .true.
+  do rep = 1, nrep
+    ! One directory per round: csv_file_t%close does not close newunit (negative) units, so
+    ! the files of an earlier round stay open in this process.
+    opts%outdir = workdir // '/out_' // itoa(nx) // 'x' // itoa(ny) // '_' // itoa(rep)
+    do k = 1, nsolve
+      t0 = wall()
+      call rs%factor%solve(b, x, stat, errmsg)
+      ts(k) = wall() - t0
+      call check('solve')
+    end do
+    solve_rep(rep) = median(ts)
+    t0 = wall()
+    call run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
+    call check('run_newmark')
+    step_rep(rep) = (wall() - t0) / summary%steps
+  end do
+  t_solve = minval(solve_rep)
+  t_step = minval(step_rep)
+
+  ! Replay of the linear step of run_newmark, part by part, to see where the step goes.
+  allocate (steps_t(nsteps, NPART))
+  do i = 1, nsteps
+    part = 0.0_dp
+    tp = wall()
+    call external_force(scn, sys, scn%t_start + i * h, rs%f_np1)
+    call lap(P_EXT)
+    rs%rhs = rs%f_np1 + rs%f_n - rs%fint_n + (4.0_dp / h) * rs%mv
+    rs%du = 0.0_dp
+    rs%r = rs%rhs - rs%fint_n
+    call lap(P_VEC)
+    call rs%factor%solve(rs%r, rs%ddu, stat, errmsg)
+    call lap(P_SOLVE)
+    rs%du = rs%du + rs%ddu
+    rs%utrial = rs%u + rs%du
+    call lap(P_VEC)
+    call internal_force(scn, sys, rs%utrial, rs%fint)
+    call lap(P_FINT)
+    call commit_state(sys)
+    call lap(P_COMMIT)
+    dw = 0.5_dp * dot_product(rs%du, rs%f_n + rs%f_np1)
+    call velocity_eq3(h, rs%du, rs%v)
+    rs%u = rs%utrial
+    rs%fint_n = rs%fint
+    rs%f_n = rs%f_np1
+    call lap(P_VEC)
+    call mass_times(sys, rs%v, rs%mv)
+    call lap(P_MASS)
+    kin = 0.5_dp * dot_product(rs%v, rs%mv)
+    call lap(P_VEC)
+    steps_t(i, :) = part
+  end do
+  do k = 1, NPART
+    part(k) = median(steps_t(:, k))
+  end do
+
+  ! For a linear elastic model from zero stress, Bσ(u) = K0 u: time the sparse product that
+  ! could replace the element loop, and check the identity on the last state.
+  do i = 1, nsteps
+    t0 = wall()
+    call sys%pat%matvec(sys%kval, rs%utrial, rs%r)
+    steps_t(i, 1) = wall() - t0
+  end do
+  t_kmv = median(steps_t(:, 1))
+  call internal_force(scn, sys, rs%utrial, rs%fint)
+  kdiff = norm2(rs%r - rs%fint) / max(norm2(rs%fint), tiny(1.0_dp))
+
+  write (*, '(a,f10.3,a)') '  load_scene            ', t_load, ' s'
+  write (*, '(a,f10.3,a)') '  build_system          ', t_build, ' s'
+  write (*, '(a,f10.3,a)') '  prepare_run           ', t_prepare, ' s  (analysis + factorization + initial state)'
+  write (*, '(a,f10.3,a)') '  numeric factorization ', t_factor, ' s'
+  write (*, '(a,es10.3,a,i0,a,i0,a)') '  bare solve            ', t_solve, ' s  (best of ', nrep, &
+    ' rounds of the median of ', nsolve, ')'
+  write (*, '(a,*(es10.3))') '    rounds:             ', solve_rep
+  write (*, '(a,es10.3,a,i0,a,i0,a)') '  step (run_newmark)    ', t_step, ' s  (best of ', nrep, ' runs of ', &
+    summary%steps, ' steps)'
+  write (*, '(a,*(es10.3))') '    rounds:             ', step_rep
+  write (*, '(a,f8.3)') '  ratio step / solve    ', t_step / t_solve
+  write (*, '(a,es10.3,a,es10.3,a,es10.3,a)') '  nnz(L) = ', lnz, ' (stored ', xsize, '), factor flops ', fl, &
+    ', ordering ' // ordname
+  write (*, '(a)') '  replayed step (median over the steps of each part):'
+  do i = 1, NPART
+    write (*, '(4x,a,es10.3,a,f6.1,a)') PART_NAME(i), part(i), ' s ', 100.0_dp * part(i) / sum(part), ' %'
+  end do
+  write (*, '(4x,a,es10.3,a)') 'total         ', sum(part), ' s'
+  write (*, '(a,es10.3,a,es9.2,a)') '  K0 u (sparse product) ', t_kmv, ' s; |K0 u - internal_force(u)| / |.| = ', &
+    kdiff, ' (linear elastic: the same vector)'
+  write (*, '(a,a,a,a)') '  VmHWM after prepare_run ', trim(hw_prepare), ' kB, at end ', trim(vm_hwm()) // ' kB'
+  write (*, '(a,es10.3,a,es10.3,a)') '  (replay end: kinetic energy ', kin, ' J, last external work ', dw, ' J)'
+
+  write (*, '(a)', advance='no') 'RESULT nx=' // itoa(nx) // ' ny=' // itoa(ny) // ' ndof=' // itoa(sys%neq) // &
+    ' nnzk=' // itoa(sys%pat%nnz) // ' steps=' // itoa(summary%steps) // ' nsolve=' // itoa(nsolve) // &
+    ' lnz=' // rtoa(lnz) // ' xsize=' // rtoa(xsize) // ' flops=' // rtoa(fl) // ' ordering=' // ordname // &
+    ' t_load=' // rtoa(t_load) // ' t_build=' // rtoa(t_build) // ' t_analyze=' // rtoa(t_analyze) // &
+    ' t_prepare=' // rtoa(t_prepare) // ' t_factor=' // rtoa(t_factor) // ' t_solve=' // rtoa(t_solve) // &
+    ' t_step=' // rtoa(t_step) // ' ratio=' // rtoa(t_step / t_solve) // ' nrep=' // itoa(nrep) // &
+    ' t_solve_max=' // rtoa(maxval(solve_rep)) // ' t_step_max=' // rtoa(maxval(step_rep)) // &
+    ' t_kmv=' // rtoa(t_kmv) // ' kdiff=' // rtoa(kdiff)
+  do i = 1, NPART
+    write (*, '(a)', advance='no') ' ' // trim(PART_KEY(i)) // '=' // rtoa(part(i))
+  end do
+  write (*, '(a)') ' hwm_prepare_kb=' // trim(hw_prepare) // ' hwm_kb=' // trim(vm_hwm())
+  call rs%factor%destroy()
+
+contains
+
+  !> Wall-clock time in seconds.
+  real(dp) function wall()
+    integer(int64) :: c, r
+    call system_clock(c, r)
+    wall = real(c, dp) / real(r, dp)
+  end function wall
+
+  !> Add the time since tp to part p and restart the lap.
+  subroutine lap(p)
+    integer, intent(in) :: p
+    real(dp) :: t
+    t = wall()
+    part(p) = part(p) + (t - tp)
+    tp = t
+  end subroutine lap
+
+  subroutine check(what)
+    character(len=*), intent(in) :: what
+    if (stat == STAT_OK) return
+    write (0, '(a)') 'bench_plate: ' // what // ': ' // errmsg
+    error stop 1
+  end subroutine check
+
+  real(dp) function median(a)
+    real(dp), intent(in) :: a(:)
+    real(dp) :: s(size(a)), v
+    integer :: i, j
+    s = a
+    do i = 2, size(s)
+      v = s(i)
+      j = i - 1
+      do while (j >= 1)
+        if (s(j) <= v) exit
+        s(j + 1) = s(j)
+        j = j - 1
+      end do
+      s(j + 1) = v
+    end do
+    median = 0.5_dp * (s((size(s) + 1) / 2) + s(size(s) / 2 + 1))
+  end function median
+
+  !> Peak resident memory (VmHWM, kB) of this process, from /proc/self/status.
+  function vm_hwm() result(s)
+    character(len=256) :: s
+    character(len=256) :: line
+    integer :: u, ios
+    s = '?'
+    open (newunit=u, file='/proc/self/status', status='old', action='read', iostat=ios)
+    if (ios /= 0) return
+    do
+      read (u, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      if (line(1:6) == 'VmHWM:') then
+        line = line(7:)
+        do while (index(line, achar(9)) > 0)
+          line(index(line, achar(9)):index(line, achar(9))) = ' '
+        end do
+        s = adjustl(line)
+        s = s(1:index(s, ' ') - 1)
+        exit
+      end if
+    end do
+    close (u)
+  end function vm_hwm
+
+  function rtoa(x) result(s)
+    real(dp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=24) :: buf
+    write (buf, '(es12.5)') x
+    s = trim(adjustl(buf))
+  end function rtoa
+
+  function itoa(i) result(s)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=24) :: buf
+    write (buf, '(i0)') i
+    s = trim(buf)
+  end function itoa
+
+  function str_arg(k) result(a)
+    integer, intent(in) :: k
+    character(len=:), allocatable :: a
+    integer :: l
+    call get_command_argument(k, length=l)
+    if (l == 0) then
+      write (0, '(a)') 'usage: bench_plate NX NY NSTEPS NSOLVE WORKDIR [NREP]'
+      error stop 2
+    end if
+    allocate (character(len=l) :: a)
+    call get_command_argument(k, a)
+  end function str_arg
+
+  integer function int_arg(k)
+    integer, intent(in) :: k
+    integer :: ios
+    character(len=:), allocatable :: a
+    a = str_arg(k)
+    read (a, *, iostat=ios) int_arg
+    if (ios /= 0 .or. int_arg < 1) then
+      write (0, '(a)') 'bench_plate: argument ' // itoa(k) // ' must be a positive integer'
+      error stop 2
+    end if
+  end function int_arg
+end program bench_plate
