@@ -7,7 +7,7 @@ module dof_map
   use elements, only: elem_dof_mask
   implicit none
   private
-  public :: build_dof_map, DOF_ABSENT, DOF_FIXED
+  public :: build_dof_map, equation_bodies, DOF_ABSENT, DOF_FIXED
 
   integer, parameter :: DOF_ABSENT = 0, DOF_FIXED = -1
 
@@ -50,4 +50,47 @@ contains
       end do
     end do
   end subroutine build_dof_map
+
+  !> body(ieq): the mesh-connected component (through modelled elements) holding equation
+  !> ieq, numbered from 1; IMPACT PERSIST scales the velocity of a body as a whole.
+  subroutine equation_bodies(scn, eqn, neq, body)
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: eqn(:, :)
+    integer, intent(in) :: neq
+    integer, allocatable, intent(out) :: body(:)
+    integer, allocatable :: parent(:), label(:)
+    integer :: e, a, n, ra, rb, nb
+    allocate (parent(scn%mesh%nnode), label(scn%mesh%nnode), body(neq))
+    parent = [(n, n = 1, scn%mesh%nnode)]
+    do e = 1, scn%mesh%nelem
+      if (scn%elem_model(e) == 0) cycle
+      ra = root(scn%mesh%conn(1, e))
+      do a = 2, scn%mesh%nen(e)
+        rb = root(scn%mesh%conn(a, e))
+        if (ra /= rb) parent(rb) = ra
+      end do
+    end do
+    label = 0
+    nb = 0
+    body = 0
+    do n = 1, scn%mesh%nnode
+      ra = root(n)
+      if (label(ra) == 0) then
+        nb = nb + 1
+        label(ra) = nb
+      end if
+      do a = 1, size(eqn, 1)
+        if (eqn(a, n) > 0) body(eqn(a, n)) = label(ra)
+      end do
+    end do
+  contains
+    integer function root(i)
+      integer, intent(in) :: i
+      root = i
+      do while (parent(root) /= root)
+        parent(root) = parent(parent(root))
+        root = parent(root)
+      end do
+    end function root
+  end subroutine equation_bodies
 end module dof_map

@@ -7,7 +7,10 @@
 module newmark
   use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
-  use scene, only: scene_t
+  use scene, only: scene_t, IMPACT_OFF
+  use dof_map, only: equation_bodies
+  use contact, only: contact_set_t, contact_event_t, contact_report_t, contact_add, contact_finalize, &
+    contact_set_mass, contact_prepare, contact_solve_step, contact_end_step, contact_add_force, EVENT_ESTABLISH
   use assembly, only: system_t, internal_force, commit_state, external_force, mass_times, initial_state, &
     element_stress, nodal_values, dof_label, dof_origin, stored_energy, mass_times_q
   use cholmod_binding, only: cholmod_factor_t
@@ -40,6 +43,12 @@ module newmark
     ! SCHEME PRECISION EXTENDED: the right-hand side, M v, M du, Bσ and the residual unrounded.
     real(qp), allocatable :: rhs_q(:), mv_q(:), mdu_q(:), fint_n_q(:), r_q(:), u_q(:), v_q(:), utrial_q(:)
     type(cholmod_factor_t) :: factor
+    ! Unilateral contact (method.md section 3).
+    logical :: has_contact = .false.
+    type(contact_set_t) :: cs
+    integer, allocatable :: body(:)          !< mesh-connected component of each equation (PERSIST)
+    real(dp), allocatable :: du_free(:), lam(:)
+    real(dp), allocatable :: reaction(:, :)  !< nodal reactions R(n+1) for fields.h5
     type(energy_t) :: en
   end type run_state_t
 
@@ -105,6 +114,10 @@ contains
         dof_label(scn, sys, minor) // ' (no mass and no stiffness on this mode)')
       return
     end if
+    if (size(scn%conditions) > 0) then
+      call setup_contact(scn, sys, rs, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
     ! Initial internal forces and strain energy: the laws take the path from zero strain to u0.
     call internal_force(scn, sys, rs%u, rs%fint_n, rs%fcorr, .false., allocated(sys%tval))
     call commit_state(sys)
@@ -125,6 +138,57 @@ contains
     call external_force(scn, sys, scn%t_start, rs%f_n)
   end subroutine prepare_run
 
+  !> The contact conditions as constraint rows on the free equations: g = g0 + n.(u_b - u_a);
+  !> the mass for the impulse and the reflection, the Schur data of S for the multipliers.
+  subroutine setup_contact(scn, sys, rs, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    type(run_state_t), intent(inout) :: rs
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: j, a, b, eqs(4)
+    real(dp) :: coefs(4), lscale
+    character(len=:), allocatable :: msg
+    rs%has_contact = .true.
+    do j = 1, size(scn%conditions)
+      associate (c => scn%conditions(j))
+        a = c%node_a
+        b = c%node_b
+        eqs = 0
+        coefs(1:2) = c%normal
+        coefs(3:4) = -c%normal
+        eqs(1:2) = max(sys%eqn(1:2, b), 0)
+        if (a > 0) eqs(3:4) = max(sys%eqn(1:2, a), 0)
+        call contact_add(rs%cs, c%g0, eqs, coefs, nodes=[a, b], label=c%source)
+      end associate
+    end do
+    associate (x => scn%mesh%x(:, 1:scn%mesh%nnode))
+      lscale = max(maxval(x(1, :)) - minval(x(1, :)), maxval(x(2, :)) - minval(x(2, :)))
+    end associate
+    if (lscale <= 0.0_dp) lscale = 1.0_dp
+    call contact_finalize(rs%cs, sys%neq, lscale, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (scn%impact /= IMPACT_OFF) then
+      ! The impulse (12) and the reflection (16) need M^-1: every DOF must carry mass.
+      if (sys%mass_diagonal) then
+        call contact_set_mass(rs%cs, sys%mdiag, stat, msg)
+      else
+        call contact_set_mass(rs%cs, sys%pat, sys%mval, stat, msg)
+      end if
+      if (stat /= STAT_OK) then
+        call set_error(stat, errmsg, STAT_INPUT, scn%path // ': SCHEME IMPACT PAPER/PERSIST needs a mass on every ' // &
+          'degree of freedom (the impulse of eq (12) and the reflection of eq (16) use M^-1): ' // msg)
+        return
+      end if
+    end if
+    call contact_prepare(rs%cs, rs%factor, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call equation_bodies(scn, sys%eqn, sys%neq, rs%body)
+    allocate (rs%du_free(sys%neq), rs%lam(size(scn%conditions)), rs%reaction(3, scn%mesh%nnode))
+    rs%lam = 0.0_dp
+    rs%reaction = 0.0_dp
+  end subroutine setup_contact
+
   !> Integrate from START to END, writing history, probes and fields under opts%outdir.
   subroutine run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
     type(scene_t), intent(in) :: scn
@@ -139,8 +203,12 @@ contains
     real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), preals(:), hreals(:), htail(:)
     integer :: step, iter, total_iter, i
     integer(8) :: c0, c1, crate, clast
-    real(dp) :: t, h, dw_ext, dw_corr, kin, c4
+    real(dp) :: t, h, dw_ext, dw_corr, kin, c4, e_rest
     real(qp) :: aq
+    integer :: nactive
+    type(csv_file_t) :: ev
+    type(contact_event_t), allocatable :: events(:)
+    type(contact_report_t) :: crep
     logical :: write_fields
     character(len=:), allocatable :: header
 
@@ -168,6 +236,12 @@ contains
       if (stat /= STAT_OK) return
     end if
 
+    if (rs%has_contact) then
+      call ev%open(opts%outdir // '/events.csv', 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored', &
+        stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
+    nactive = count(rs%cs%active)
     call system_clock(c0, crate)
     clast = c0
     total_iter = 0
@@ -195,10 +269,29 @@ contains
             call finish()
             return
           end if
+          if (rs%has_contact) then
+            call contact_prepare(rs%cs, rs%factor, stat, errmsg)
+            if (stat /= STAT_OK) then
+              call finish()
+              return
+            end if
+          end if
         end if
         call rs%factor%solve(rs%r, rs%ddu, stat, errmsg)
         if (stat /= STAT_OK) return
-        rs%du = rs%du + rs%ddu
+        if (rs%has_contact) then
+          ! Multipliers: the unconstrained iterate, then du = du_free + S^-1 C' Lambda with the
+          ! active set of the LCP (gaps >= 0, Lambda >= 0, complementarity).
+          rs%du_free = rs%du + rs%ddu
+          call contact_solve_step(rs%cs, rs%factor, rs%u, rs%du_free, rs%du, rs%lam, stat, errmsg)
+          if (stat /= STAT_OK) then
+            errmsg = 'step ' // str(step) // ' (t = ' // str(t) // '): contact: ' // errmsg
+            call finish()
+            return
+          end if
+        else
+          rs%du = rs%du + rs%ddu
+        end if
         if (sys%extended) then
           rs%utrial_q = rs%u_q + real(rs%du, qp)
           rs%utrial = real(rs%utrial_q, dp)
@@ -218,6 +311,8 @@ contains
           call mass_times(sys, rs%du, rs%mdu)
           rs%r = rs%rhs - c4 * rs%mdu - rs%fint - rs%fcorr
         end if
+        ! The contact forces C' Lambda stand on the right of eq (9).
+        if (rs%has_contact) call contact_add_force(rs%cs, rs%r)
         rs%res_hist(iter) = norm2(rs%r)
         if (sys%linear) then
           ! Refinement of a linear step: on until the residual stops falling (round-off).
@@ -242,10 +337,29 @@ contains
       dw_ext = 0.5_dp * dot_product(rs%du, rs%f_n + rs%f_np1)
       dw_corr = 0.5_dp * dot_product(rs%du, rs%fcorr)
       call velocity_eq3(h, rs%du, rs%v)
+      call mass_times(sys, rs%v, rs%mv)
+      e_rest = 0.0_dp
+      nactive = 0
+      if (rs%has_contact) then
+        ! Order at the end of a step: (3), then (12)-(15), then (16) (or PERSIST).
+        call contact_end_step(rs%cs, scn%impact, rs%u, rs%du, rs%v, rs%mv, e_rest, events, stat, errmsg, &
+          body=rs%body, report=crep)
+        if (stat /= STAT_OK) then
+          errmsg = 'step ' // str(step) // ' (t = ' // str(t) // '): impact correction: ' // errmsg
+          call finish()
+          return
+        end if
+        nactive = crep%n_active
+        if (crep%fp_failures > 0) write (0, '(a)') 'rebond: warning: step ' // str(step) // ' (t = ' // str(t) // &
+          '): the coupled impulses (14) have no all-negative solution; decoupled roots of (13) scaled to restore ' // &
+          'the lost energy exactly'
+        if (sys%extended) rs%v_q = real(rs%v, qp)
+        call write_events(step, t, events)
+        if (stat /= STAT_OK) return
+      end if
       rs%u = rs%utrial
       rs%fint_n = rs%fint
       rs%f_n = rs%f_np1
-      call mass_times(sys, rs%v, rs%mv)
       kin = 0.5_dp * dot_product(rs%v, rs%mv)
       if (sys%extended) then
         rs%fint_n_q = sys%fint_q
@@ -256,7 +370,7 @@ contains
         rs%mv = real(rs%mv_q, dp)
         kin = real(0.5_qp * sum(rs%v_q * rs%mv_q), dp)
       end if
-      call rs%en%add_step(kin, sys%work_t, dw_ext, dw_corr, sys%dissip_t, sys%elastic_t)
+      call rs%en%add_step(kin, sys%work_t, dw_ext, dw_corr + e_rest, sys%dissip_t, sys%elastic_t)
       call write_outputs(step, t, iter)
       if (stat /= STAT_OK) return
       if (.not. opts%quiet) call progress(step, t)
@@ -305,7 +419,7 @@ contains
           else
             htail = [rs%en%dissipated(), stored_energy(scn, sys)]
           end if
-          call hist%write_row(step, hreals, [iter, 0], stat, errmsg, htail)
+          call hist%write_row(step, hreals, [iter, nactive], stat, errmsg, htail)
           if (stat /= STAT_OK) return
           preals(1) = t
           do k = 1, size(scn%probes)
@@ -323,7 +437,12 @@ contains
           call nodal_values(sys, rs%u, nodal_u)
           call nodal_values(sys, rs%v, nodal_v)
           call element_stress(sys, estress)
-          call fields%write_step(step, t, nodal_u, nodal_v, estress, stat, errmsg)
+          if (rs%has_contact) then
+            call contact_reactions()
+            call fields%write_step(step, t, nodal_u, nodal_v, estress, stat, errmsg, reaction=rs%reaction)
+          else
+            call fields%write_step(step, t, nodal_u, nodal_v, estress, stat, errmsg)
+          end if
         end if
       end if
     end subroutine write_outputs
@@ -341,7 +460,49 @@ contains
         '  t = ', t, '  (', 100.0_dp * step / rs%nsteps, ' %)  ETA ', eta, ' s   '
     end subroutine progress
 
+    !> Nodal reactions R(n+1) = Lambda - R(n) of the contact conditions (R on node b along n,
+    !> its opposite on node a).
+    subroutine contact_reactions()
+      integer :: j
+      rs%reaction = 0.0_dp
+      do j = 1, size(scn%conditions)
+        associate (c => scn%conditions(j))
+          rs%reaction(1:2, c%node_b) = rs%reaction(1:2, c%node_b) + rs%cs%r_prev(j) * c%normal
+          if (c%node_a > 0) rs%reaction(1:2, c%node_a) = rs%reaction(1:2, c%node_a) - rs%cs%r_prev(j) * c%normal
+        end associate
+      end do
+    end subroutine contact_reactions
+
+    !> events.csv: one line per contact established or released in the step.
+    subroutine write_events(step, t, events)
+      integer, intent(in) :: step
+      real(dp), intent(in) :: t
+      type(contact_event_t), intent(in) :: events(:)
+      integer :: k, j
+      character(len=64) :: nodes
+      character(len=:), allocatable :: line
+      character(len=32) :: b1, b2, b3, b4
+      do k = 1, size(events)
+        j = events(k)%index
+        if (scn%conditions(j)%node_a > 0) then
+          write (nodes, '(i0,1x,i0)') scn%conditions(j)%node_a, scn%conditions(j)%node_b
+        else
+          write (nodes, '(i0)') scn%conditions(j)%node_b
+        end if
+        write (b1, '(es24.16e3)') t
+        write (b2, '(es24.16e3)') events(k)%gap_start
+        write (b3, '(es24.16e3)') events(k)%multiplier
+        write (b4, '(es24.16e3)') merge(events(k)%energy, 0.0_dp, events(k)%kind == EVENT_ESTABLISH)
+        line = str(step) // ',' // trim(adjustl(b1)) // ',' // str(j) // ',' // trim(nodes) // ',' // &
+          trim(merge('establish', 'release  ', events(k)%kind == EVENT_ESTABLISH)) // ',' // trim(adjustl(b2)) // &
+          ',' // trim(adjustl(b3)) // ',' // trim(adjustl(b4))
+        write (ev%unit, '(a)') line
+      end do
+      if (size(events) > 0) flush (ev%unit)
+    end subroutine write_events
+
     subroutine finish()
+      if (rs%has_contact) call ev%close()
       call hist%close()
       call probes%close()
       if (write_fields) call fields%close()
