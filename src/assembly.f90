@@ -378,6 +378,10 @@ contains
   !> points whose step stayed elastic, sigma_c is not formed (it is exactly zero). The work
   !> of the increment W_N = sum w sigma_bar.deps goes to sys%work_t, the plastic work to
   !> sys%dissip_t. With tangent = .true. the consistent tangent is assembled into sys%tval.
+  !> Every trial point (eps_t, sig_t, q_t) is written before it is read, so commit_state may
+  !> swap the trial and committed arrays. Linear elastic points take sigma = D eps inline
+  !> (the law's sigma_n + D deps from a zero initial state, without its call and its
+  !> assumed-shape arguments); nonlinear points call law_update.
   subroutine internal_force(scn, sys, u, fint, fcorr, correct, tangent, uq)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
@@ -385,10 +389,10 @@ contains
     real(dp), intent(out) :: fint(:), fcorr(:)
     logical, intent(in) :: correct, tangent
     real(qp), intent(in), optional :: uq(:)   !< PRECISION EXTENDED: u unrounded
-    integer :: e, im, ndof, nstr, igp, k, p, j, nused, nsub, nq, npts
+    integer :: e, im, imc, ndof, nstr, ng, g0, igp, k, p, j, e0, nused, nsub, nq, npts, mat
     real(dp) :: ue(MAX_EDOF), fe(MAX_EDOF), fc(MAX_EDOF), deps(MAX_NSTRAIN), sbar(MAX_NSTRAIN), sc(MAX_NSTRAIN)
-    real(dp) :: dt(MAX_NSTRAIN, MAX_NSTRAIN), b(MAX_NSTRAIN, MAX_EDOF), ke(MAX_EDOF, MAX_EDOF)
-    real(dp) :: work, dissip, wsum, dsum, esum
+    real(dp) :: dt(MAX_NSTRAIN, MAX_NSTRAIN), ke(MAX_EDOF, MAX_EDOF)
+    real(dp) :: work, dissip, wsum, dsum, esum, w
     real(qp) :: ueq(MAX_EDOF), feq(MAX_EDOF), epsq(MAX_NSTRAIN), sigq(MAX_NSTRAIN), bq(MAX_NSTRAIN, MAX_EDOF), esumq
     logical :: any_c, lin
     fint = 0.0_dp
@@ -400,29 +404,42 @@ contains
     dsum = 0.0_dp
     npts = 0
     if (tangent) sys%tval = 0.0_dp
+    imc = 0
+    lin = .true.
+    nsub = 0
+    nq = 0
+    mat = 0
     do e = 1, scn%mesh%nelem
       im = scn%elem_model(e)
       if (im == 0) cycle
-      if (sys%gp_ptr(e + 1) == sys%gp_ptr(e)) cycle
-      ndof = sys%edof_ptr(e + 1) - sys%edof_ptr(e)
+      g0 = sys%gp_ptr(e)
+      ng = sys%gp_ptr(e + 1) - g0
+      if (ng == 0) cycle
+      e0 = sys%edof_ptr(e)
+      ndof = sys%edof_ptr(e + 1) - e0
+      nstr = (sys%b_ptr(g0 + 1) - sys%b_ptr(g0)) / ndof
+      if (im /= imc) then
+        ! Per-model data, looked up once per run of elements of the same model.
+        imc = im
+        lin = sys%model_linear(im)
+        nsub = scn%models(im)%substeps
+        mat = scn%models(im)%material
+        nq = 0
+        if (mat > 0) nq = law_nstate(scn%materials(mat), sys%pk(im), scn%models(im)%sec)
+      end if
       do k = 1, ndof
-        j = sys%edof(sys%edof_ptr(e) + k - 1)
+        j = sys%edof(e0 + k - 1)
         ue(k) = 0.0_dp
         if (j > 0) ue(k) = u(j)
       end do
       fe(1:ndof) = 0.0_dp
-      fc(1:ndof) = 0.0_dp
       any_c = .false.
-      if (tangent) ke(1:ndof, 1:ndof) = 0.0_dp
-      nstr = elem_nstrain(scn%mesh%etype(e))
-      nsub = scn%models(im)%substeps
-      lin = sys%model_linear(im)
       if (lin .and. sys%extended .and. .not. tangent) then
         ! Quadruple precision: strains of smooth fields and the nodal balance of element
         ! forces cancel heavily; rounding them in double injects energy (docs/precision.md).
         if (present(uq)) then
           do k = 1, ndof
-            j = sys%edof(sys%edof_ptr(e) + k - 1)
+            j = sys%edof(e0 + k - 1)
             ueq(k) = 0.0_qp
             if (j > 0) ueq(k) = uq(j)
           end do
@@ -430,7 +447,7 @@ contains
           ueq(1:ndof) = real(ue(1:ndof), qp)
         end if
         feq(1:ndof) = 0.0_qp
-        do igp = sys%gp_ptr(e), sys%gp_ptr(e + 1) - 1
+        do igp = g0, g0 + ng - 1
           p = sys%b_ptr(igp)
           bq(1:nstr, 1:ndof) = real(reshape(sys%bmat(p:p + nstr * ndof - 1), [nstr, ndof]), qp)
           epsq(1:nstr) = matmul(bq(1:nstr, 1:ndof), ueq(1:ndof))
@@ -441,56 +458,70 @@ contains
           sys%sig_t(1:nstr, igp) = real(sigq(1:nstr), dp)
         end do
         do k = 1, ndof
-          j = sys%edof(sys%edof_ptr(e) + k - 1)
+          j = sys%edof(e0 + k - 1)
           if (j > 0) sys%fint_q(j) = sys%fint_q(j) + feq(k)
         end do
         cycle
       end if
-      nq = law_nstate(scn%materials(scn%models(im)%material), sys%pk(im), scn%models(im)%sec)
-      do igp = sys%gp_ptr(e), sys%gp_ptr(e + 1) - 1
-        p = sys%b_ptr(igp)
-        ! eps = B ue (B stored column-major, nstr x ndof)
-        sys%eps_t(1:nstr, igp) = 0.0_dp
-        do k = 1, ndof
-          sys%eps_t(1:nstr, igp) = sys%eps_t(1:nstr, igp) + sys%bmat(p + (k - 1) * nstr:p + k * nstr - 1) * ue(k)
-        end do
-        deps(1:nstr) = sys%eps_t(1:nstr, igp) - sys%eps(1:nstr, igp)
+      if (tangent) ke(1:ndof, 1:ndof) = 0.0_dp
+      if (lin .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1)) then
+        ! Linear elastic: fixed-size kernels over the element's points (B, w, eps_t and sig_t
+        ! of consecutive points are contiguous; passed by sequence association, no copies).
+        p = sys%b_ptr(g0)
+        select case (nstr)
+        case (4)
+          call linear_points_4(ndof, ng, sys%bmat(p), sys%wt(g0), ue, sys%dmat(1, 1, im), &
+            sys%eps_t(1, g0), sys%sig_t(1, g0), fe, esum)
+        case (2)
+          call linear_points_2(ndof, ng, sys%bmat(p), sys%wt(g0), ue, sys%dmat(1, 1, im), &
+            sys%eps_t(1, g0), sys%sig_t(1, g0), fe, esum)
+        case default
+          call linear_points_1(ndof, ng, sys%bmat(p), sys%wt(g0), ue, sys%dmat(1, 1, im), &
+            sys%eps_t(1, g0), sys%sig_t(1, g0), fe, esum)
+        end select
         if (tangent) then
-          call law_update(scn%materials(scn%models(im)%material), scn%models(im)%sec, sys%pk(im), &
-            sys%dmat(1:nstr, 1:nstr, im), nsub, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
-            sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, dissip, nused, &
-            dt(1:nstr, 1:nstr))
-          b(1:nstr, 1:ndof) = reshape(sys%bmat(p:p + nstr * ndof - 1), [nstr, ndof])
-          ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + sys%wt(igp) * &
-            matmul(transpose(b(1:nstr, 1:ndof)), matmul(dt(1:nstr, 1:nstr), b(1:nstr, 1:ndof)))
-        else
-          call law_update(scn%materials(scn%models(im)%material), scn%models(im)%sec, sys%pk(im), &
-            sys%dmat(1:nstr, 1:nstr, im), nsub, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
-            sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, dissip, nused)
-        end if
-        if (lin) then
-          esum = esum + 0.5_dp * sys%wt(igp) * dot_product(sys%sig_t(1:nstr, igp), sys%eps_t(1:nstr, igp))
-        else
-          wsum = wsum + sys%wt(igp) * work
-          dsum = dsum + sys%wt(igp) * dissip
-        end if
-        do k = 1, ndof
-          fe(k) = fe(k) + sys%wt(igp) * dot_product(sys%bmat(p + (k - 1) * nstr:p + k * nstr - 1), &
-            sys%sig_t(1:nstr, igp))
-        end do
-        ! Eq (9): the correction stress, only where the law was sub-incremented.
-        if (correct .and. nused > 0) then
-          npts = npts + 1
-          any_c = .true.
-          sc(1:nstr) = 2.0_dp * sbar(1:nstr) - (sys%sig(1:nstr, igp) + sys%sig_t(1:nstr, igp))
-          do k = 1, ndof
-            fc(k) = fc(k) + sys%wt(igp) * dot_product(sys%bmat(p + (k - 1) * nstr:p + k * nstr - 1), sc(1:nstr))
+          do igp = g0, g0 + ng - 1
+            call add_btdb(nstr, ndof, sys%bmat(sys%b_ptr(igp)), sys%dmat(1, 1, im), sys%wt(igp), ke)
           end do
-        else if (nused > 0) then
-          npts = npts + 1
         end if
-      end do
-      associate (dofs => sys%edof(sys%edof_ptr(e):sys%edof_ptr(e + 1) - 1))
+      else
+        fc(1:ndof) = 0.0_dp
+        do igp = g0, g0 + ng - 1
+          p = sys%b_ptr(igp)
+          w = sys%wt(igp)
+          ! eps = B ue (B stored column-major, nstr x ndof)
+          call b_times(nstr, ndof, sys%bmat(p), ue, sys%eps_t(1, igp))
+          deps(1:nstr) = sys%eps_t(1:nstr, igp) - sys%eps(1:nstr, igp)
+          if (tangent) then
+            call law_update(scn%materials(mat), scn%models(im)%sec, sys%pk(im), &
+              sys%dmat(1:nstr, 1:nstr, im), nsub, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
+              sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, dissip, nused, &
+              dt(1:nstr, 1:nstr))
+            call add_btdb(nstr, ndof, sys%bmat(p), dt, w, ke)
+          else
+            call law_update(scn%materials(mat), scn%models(im)%sec, sys%pk(im), &
+              sys%dmat(1:nstr, 1:nstr, im), nsub, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
+              sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, dissip, nused)
+          end if
+          if (lin) then
+            esum = esum + 0.5_dp * w * dot_product(sys%sig_t(1:nstr, igp), sys%eps_t(1:nstr, igp))
+          else
+            wsum = wsum + w * work
+            dsum = dsum + w * dissip
+          end if
+          call add_btsig(nstr, ndof, sys%bmat(p), sys%sig_t(1, igp), w, fe)
+          ! Eq (9): the correction stress, only where the law was sub-incremented.
+          if (nused > 0) then
+            npts = npts + 1
+            if (correct) then
+              any_c = .true.
+              sc(1:nstr) = 2.0_dp * sbar(1:nstr) - (sys%sig(1:nstr, igp) + sys%sig_t(1:nstr, igp))
+              call add_btsig(nstr, ndof, sys%bmat(p), sc, w, fc)
+            end if
+          end if
+        end do
+      end if
+      associate (dofs => sys%edof(e0:e0 + ndof - 1))
         do k = 1, ndof
           j = dofs(k)
           if (j <= 0) cycle
@@ -515,6 +546,140 @@ contains
     sys%nsub_points_t = npts
   end subroutine internal_force
 
+  !> Linear elastic QUAD points of one element: eps = B ue, sigma = D eps, fe += w B'sigma,
+  !> esum += w sigma.eps / 2. b: the ng consecutive B (4 x ndof); eps, sig: trial state columns.
+  pure subroutine linear_points_4(ndof, ng, b, w, ue, d, eps, sig, fe, esum)
+    integer, intent(in) :: ndof, ng
+    real(dp), intent(in) :: b(4, ndof, ng), w(ng), ue(ndof), d(MAX_NSTRAIN, MAX_NSTRAIN)
+    real(dp), intent(inout) :: eps(MAX_NSTRAIN, ng), sig(MAX_NSTRAIN, ng), fe(ndof), esum
+    integer :: ig, k
+    real(dp) :: e1, e2, e3, e4, s1, s2, s3, s4
+    do ig = 1, ng
+      e1 = 0.0_dp
+      e2 = 0.0_dp
+      e3 = 0.0_dp
+      e4 = 0.0_dp
+      do k = 1, ndof
+        e1 = e1 + b(1, k, ig) * ue(k)
+        e2 = e2 + b(2, k, ig) * ue(k)
+        e3 = e3 + b(3, k, ig) * ue(k)
+        e4 = e4 + b(4, k, ig) * ue(k)
+      end do
+      s1 = d(1, 1) * e1 + d(1, 2) * e2 + d(1, 3) * e3 + d(1, 4) * e4
+      s2 = d(2, 1) * e1 + d(2, 2) * e2 + d(2, 3) * e3 + d(2, 4) * e4
+      s3 = d(3, 1) * e1 + d(3, 2) * e2 + d(3, 3) * e3 + d(3, 4) * e4
+      s4 = d(4, 1) * e1 + d(4, 2) * e2 + d(4, 3) * e3 + d(4, 4) * e4
+      eps(1, ig) = e1
+      eps(2, ig) = e2
+      eps(3, ig) = e3
+      eps(4, ig) = e4
+      sig(1, ig) = s1
+      sig(2, ig) = s2
+      sig(3, ig) = s3
+      sig(4, ig) = s4
+      esum = esum + 0.5_dp * w(ig) * (s1 * e1 + s2 * e2 + s3 * e3 + s4 * e4)
+      s1 = w(ig) * s1
+      s2 = w(ig) * s2
+      s3 = w(ig) * s3
+      s4 = w(ig) * s4
+      do k = 1, ndof
+        fe(k) = fe(k) + (b(1, k, ig) * s1 + b(2, k, ig) * s2 + b(3, k, ig) * s3 + b(4, k, ig) * s4)
+      end do
+    end do
+  end subroutine linear_points_4
+
+  !> linear_points_4 for beams (axial strain, curvature).
+  pure subroutine linear_points_2(ndof, ng, b, w, ue, d, eps, sig, fe, esum)
+    integer, intent(in) :: ndof, ng
+    real(dp), intent(in) :: b(2, ndof, ng), w(ng), ue(ndof), d(MAX_NSTRAIN, MAX_NSTRAIN)
+    real(dp), intent(inout) :: eps(MAX_NSTRAIN, ng), sig(MAX_NSTRAIN, ng), fe(ndof), esum
+    integer :: ig, k
+    real(dp) :: e1, e2, s1, s2
+    do ig = 1, ng
+      e1 = 0.0_dp
+      e2 = 0.0_dp
+      do k = 1, ndof
+        e1 = e1 + b(1, k, ig) * ue(k)
+        e2 = e2 + b(2, k, ig) * ue(k)
+      end do
+      s1 = d(1, 1) * e1 + d(1, 2) * e2
+      s2 = d(2, 1) * e1 + d(2, 2) * e2
+      eps(1, ig) = e1
+      eps(2, ig) = e2
+      sig(1, ig) = s1
+      sig(2, ig) = s2
+      esum = esum + 0.5_dp * w(ig) * (s1 * e1 + s2 * e2)
+      s1 = w(ig) * s1
+      s2 = w(ig) * s2
+      do k = 1, ndof
+        fe(k) = fe(k) + (b(1, k, ig) * s1 + b(2, k, ig) * s2)
+      end do
+    end do
+  end subroutine linear_points_2
+
+  !> linear_points_4 for springs and bars (one strain component).
+  pure subroutine linear_points_1(ndof, ng, b, w, ue, d, eps, sig, fe, esum)
+    integer, intent(in) :: ndof, ng
+    real(dp), intent(in) :: b(ndof, ng), w(ng), ue(ndof), d(MAX_NSTRAIN, MAX_NSTRAIN)
+    real(dp), intent(inout) :: eps(MAX_NSTRAIN, ng), sig(MAX_NSTRAIN, ng), fe(ndof), esum
+    integer :: ig, k
+    real(dp) :: e1, s1
+    do ig = 1, ng
+      e1 = 0.0_dp
+      do k = 1, ndof
+        e1 = e1 + b(k, ig) * ue(k)
+      end do
+      s1 = d(1, 1) * e1
+      eps(1, ig) = e1
+      sig(1, ig) = s1
+      esum = esum + 0.5_dp * w(ig) * (s1 * e1)
+      s1 = w(ig) * s1
+      do k = 1, ndof
+        fe(k) = fe(k) + b(k, ig) * s1
+      end do
+    end do
+  end subroutine linear_points_1
+
+  !> eps(1:nstr) = B ue, B nstr x ndof.
+  pure subroutine b_times(nstr, ndof, b, ue, eps)
+    integer, intent(in) :: nstr, ndof
+    real(dp), intent(in) :: b(nstr, ndof), ue(ndof)
+    real(dp), intent(out) :: eps(nstr)
+    integer :: k
+    eps = 0.0_dp
+    do k = 1, ndof
+      eps = eps + b(:, k) * ue(k)
+    end do
+  end subroutine b_times
+
+  !> fe += w B's, B nstr x ndof.
+  pure subroutine add_btsig(nstr, ndof, b, s, w, fe)
+    integer, intent(in) :: nstr, ndof
+    real(dp), intent(in) :: b(nstr, ndof), s(nstr), w
+    real(dp), intent(inout) :: fe(ndof)
+    integer :: k
+    do k = 1, ndof
+      fe(k) = fe(k) + w * dot_product(b(:, k), s)
+    end do
+  end subroutine add_btsig
+
+  !> ke(1:ndof, 1:ndof) += w B' D B, B nstr x ndof, D the leading nstr x nstr block of d.
+  pure subroutine add_btdb(nstr, ndof, b, d, w, ke)
+    integer, intent(in) :: nstr, ndof
+    real(dp), intent(in) :: b(nstr, ndof), d(MAX_NSTRAIN, MAX_NSTRAIN), w
+    real(dp), intent(inout) :: ke(MAX_EDOF, MAX_EDOF)
+    real(dp) :: db(MAX_NSTRAIN, MAX_EDOF)
+    integer :: k, m
+    do k = 1, ndof
+      db(1:nstr, k) = matmul(d(1:nstr, 1:nstr), b(:, k))
+    end do
+    do k = 1, ndof
+      do m = 1, ndof
+        ke(m, k) = ke(m, k) + w * dot_product(b(:, m), db(1:nstr, k))
+      end do
+    end do
+  end subroutine add_btdb
+
   !> Recoverable elastic energy of the committed state (history column `stored`).
   real(dp) function stored_energy(scn, sys) result(w)
     type(scene_t), intent(in) :: scn
@@ -535,11 +700,22 @@ contains
   end function stored_energy
 
   !> Accept the trial state as the state at the end of the step.
+  !> The arrays are swapped, not copied: internal_force writes every trial point before it
+  !> reads it, so the stale values left in the trial arrays are never seen.
   subroutine commit_state(sys)
     type(system_t), intent(inout) :: sys
-    sys%eps = sys%eps_t
-    sys%sig = sys%sig_t
-    if (sys%nq > 0) sys%q = sys%q_t
+    real(dp), allocatable :: tmp(:, :)
+    call move_alloc(sys%eps, tmp)
+    call move_alloc(sys%eps_t, sys%eps)
+    call move_alloc(tmp, sys%eps_t)
+    call move_alloc(sys%sig, tmp)
+    call move_alloc(sys%sig_t, sys%sig)
+    call move_alloc(tmp, sys%sig_t)
+    if (sys%nq > 0) then
+      call move_alloc(sys%q, tmp)
+      call move_alloc(sys%q_t, sys%q)
+      call move_alloc(tmp, sys%q_t)
+    end if
   end subroutine commit_state
 
   !> Recoverable elastic energy of the committed state, sum of ½ sigma.eps w.

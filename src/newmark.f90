@@ -241,7 +241,8 @@ contains
         stat, errmsg)
       if (stat /= STAT_OK) return
     end if
-    nactive = count(rs%cs%active)
+    nactive = 0
+    if (rs%has_contact) nactive = count(rs%cs%active)
     call system_clock(c0, crate)
     clast = c0
     total_iter = 0
@@ -319,7 +320,8 @@ contains
           if (iter >= 2) then
             if (rs%res_hist(iter) >= 0.5_dp * rs%res_hist(iter - 1)) exit
           end if
-          if (rs%res_hist(iter) == 0.0_dp .or. iter == min(scn%max_iterations, 6)) exit
+          if (rs%res_hist(iter) <= 16.0_dp * epsilon(1.0_dp) * force_scale()) exit
+          if (iter == min(scn%max_iterations, 6)) exit
           cycle
         end if
         if (rs%res_hist(iter) <= scn%tolerance * force_scale()) exit

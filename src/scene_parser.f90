@@ -4,7 +4,7 @@
 !> joined by a trailing `&`). The lexer only knows blanks, comments, quotes and continuations;
 !> which token is a parameter name and how many values each parameter takes comes from a
 !> schema_t built by the caller, so the scene module never splits text itself.
-!> The lexical rules are documented in docs/input-grammar.md.
+!> The lexical rules are documented in docs/input.md, section "Lexical rules".
 module scene_parser
   use, intrinsic :: iso_fortran_env, only: int64, iostat_end, iostat_eor
   use, intrinsic :: ieee_exceptions, only: ieee_get_flag, ieee_set_flag, ieee_flag_type, ieee_overflow, ieee_underflow

@@ -170,7 +170,7 @@ program bench_plate
     rs%du = rs%du + rs%ddu
     rs%utrial = rs%u + rs%du
     call lap(P_VEC)
-    call internal_force(scn, sys, rs%utrial, rs%fint)
+    call internal_force(scn, sys, rs%utrial, rs%fint, rs%fcorr, scn%energy_correction, allocated(sys%tval))
     call lap(P_FINT)
     call commit_state(sys)
     call lap(P_COMMIT)
@@ -198,7 +198,7 @@ program bench_plate
     steps_t(i, 1) = wall() - t0
   end do
   t_kmv = median(steps_t(:, 1))
-  call internal_force(scn, sys, rs%utrial, rs%fint)
+  call internal_force(scn, sys, rs%utrial, rs%fint, rs%fcorr, scn%energy_correction, allocated(sys%tval))
   kdiff = norm2(rs%r - rs%fint) / max(norm2(rs%fint), tiny(1.0_dp))
 
   write (*, '(a,f10.3,a)') '  load_scene            ', t_load, ' s'
