@@ -320,8 +320,9 @@ contains
           if (iter >= 2) then
             if (rs%res_hist(iter) >= 0.5_dp * rs%res_hist(iter - 1)) exit
           end if
-          if (rs%res_hist(iter) <= 16.0_dp * epsilon(1.0_dp) * force_scale()) exit
-          if (iter == min(scn%max_iterations, 6)) exit
+          ! (An absolute floor such as 16 eps x force scale stops too early: at small steps the
+          ! scale is 4Mv/h and the first iterate passes it unrefined.)
+          if (rs%res_hist(iter) == 0.0_dp .or. iter == min(scn%max_iterations, 6)) exit
           cycle
         end if
         if (rs%res_hist(iter) <= scn%tolerance * force_scale()) exit
