@@ -312,9 +312,16 @@ contains
           call mass_times(sys, rs%du, rs%mdu)
           rs%r = rs%rhs - c4 * rs%mdu - rs%fint - rs%fcorr
         end if
-        ! The contact forces C' Lambda stand on the right of eq (9).
-        if (rs%has_contact) call contact_add_force(rs%cs, rs%r)
-        rs%res_hist(iter) = norm2(rs%r)
+        ! rs%r is the residual without the contact forces: the next unconstrained iterate is
+        ! du + S^-1 r and contact_solve_step adds S^-1 C' Lambda with the total multiplier.
+        ! Convergence is judged on the full residual, with C' Lambda on the right of eq (9).
+        if (rs%has_contact) then
+          rs%ddu = rs%r
+          call contact_add_force(rs%cs, rs%ddu)
+          rs%res_hist(iter) = norm2(rs%ddu)
+        else
+          rs%res_hist(iter) = norm2(rs%r)
+        end if
         if (sys%linear) then
           ! Refinement of a linear step: on until the residual stops falling (round-off).
           if (iter >= 2) then
@@ -340,11 +347,16 @@ contains
       dw_ext = 0.5_dp * dot_product(rs%du, rs%f_n + rs%f_np1)
       dw_corr = 0.5_dp * dot_product(rs%du, rs%fcorr)
       call velocity_eq3(h, rs%du, rs%v)
+      if (sys%extended) then
+        rs%v_q = aq * real(rs%du, qp) - rs%v_q
+        rs%v = real(rs%v_q, dp)
+      end if
       call mass_times(sys, rs%v, rs%mv)
       e_rest = 0.0_dp
       nactive = 0
       if (rs%has_contact) then
         ! Order at the end of a step: (3), then (12)-(15), then (16) (or PERSIST).
+        rs%ddu = rs%v    ! v(n+1) by eq (3), to carry the correction into the unrounded state
         call contact_end_step(rs%cs, scn%impact, rs%u, rs%du, rs%v, rs%mv, e_rest, events, stat, errmsg, &
           body=rs%body, report=crep)
         if (stat /= STAT_OK) then
@@ -356,7 +368,7 @@ contains
         if (crep%fp_failures > 0) write (0, '(a)') 'rebond: warning: step ' // str(step) // ' (t = ' // str(t) // &
           '): the coupled impulses (14) have no all-negative solution; decoupled roots of (13) scaled to restore ' // &
           'the lost energy exactly'
-        if (sys%extended) rs%v_q = real(rs%v, qp)
+        if (sys%extended) rs%v_q = rs%v_q + real(rs%v - rs%ddu, qp)
         call write_events(step, t, events)
         if (stat /= STAT_OK) return
       end if
@@ -367,7 +379,6 @@ contains
       if (sys%extended) then
         rs%fint_n_q = sys%fint_q
         rs%u_q = rs%utrial_q
-        rs%v_q = aq * real(rs%du, qp) - rs%v_q
         rs%v = real(rs%v_q, dp)
         call mass_times_q(sys, rs%v_q, rs%mv_q)
         rs%mv = real(rs%mv_q, dp)
