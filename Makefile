@@ -6,14 +6,20 @@ ifeq ($(origin FC),default)
 FC := gfortran
 endif
 BUILD   := build
+BIN     := bin/rebond
 HDF5_INC := /usr/include/hdf5/serial
 HDF5_LIB := -lhdf5_serial_fortran -lhdf5_serial
 FFLAGS  ?= -O2 -g
-FFLAGS  += -std=f2008 -fimplicit-none -Wall -Wno-unused-dummy-argument -ffree-line-length-132 \
+FFLAGS  += -std=f2008 -fimplicit-none -Wall -Wno-unused-dummy-argument -ffree-line-length-132 -ffpe-summary=none \
            -fall-intrinsics -I$(HDF5_INC) -J$(BUILD) -I$(BUILD)
 CFLAGS  ?= -O2 -g
 CFLAGS  += -Wall -Wextra -I/usr/include/suitesparse
-LDLIBS  := $(HDF5_LIB) -lcholmod -lsuitesparseconfig -llapack -lblas
+# MPI (Open MPI, Debian's libopenmpi-dev) for `rebond sweep`: the mpifort wrapper's flags, with
+# gfortran. Recursive (=) so that they are read when a recipe runs, after `make deps` installed it.
+MPI_FFLAGS = $(shell mpifort --showme:compile 2>/dev/null)
+MPI_LIBS   = $(shell mpifort --showme:link 2>/dev/null)
+override FFLAGS += $(MPI_FFLAGS)
+LDLIBS  = $(HDF5_LIB) -lcholmod -lsuitesparseconfig -llapack -lblas $(MPI_LIBS)
 PY      := /usr/bin/python3
 
 LIB_F90 := $(filter-out src/rebond.f90,$(wildcard src/*.f90))
@@ -24,7 +30,7 @@ TEST_BIN := $(patsubst tests/unit/%.f90,$(BUILD)/tests/%,$(TEST_F90))
 DEPS_STAMP := $(BUILD)/.deps-ok
 
 .PHONY: all deps run test bench clean help
-all: bin/rebond
+all: $(BIN)
 
 help:
 	@echo "make deps    install the Debian packages rebond needs (apt-get, as root)"
@@ -32,6 +38,9 @@ help:
 	@echo "make run     install what is missing, build, run the default scene"
 	@echo "make test    build and run every test; ends with 'N passed, M failed'"
 	@echo "make bench   QUAD4 plate benchmark (writes docs/performance.md)"
+	@echo "make studies run every studies/*.sweep under mpirun (results/studies/, docs/sweep.md)"
+	@echo "make check-debug  unit tests and every scene with -fcheck=all and FPE traps (build-debug/)"
+	@echo "make valgrind     memcheck of two short scenes with bin/rebond (docs/reliability.md)"
 
 # Dependencies: installed once by `make deps`, checked by every build.
 deps:
@@ -58,8 +67,8 @@ $(BUILD)/librebond.a: $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
-bin/rebond: $(BUILD)/rebond.o $(BUILD)/librebond.a
-	@mkdir -p bin
+$(BIN): $(BUILD)/rebond.o $(BUILD)/librebond.a
+	@mkdir -p $(dir $@)
 	$(FC) $(FFLAGS) -o $@ $^ $(LDLIBS)
 
 $(BUILD)/testing.o: tests/testing.f90 $(BUILD)/kinds.o
@@ -78,6 +87,7 @@ run: bin/rebond
 
 bench: bin/rebond
 	@bash tools/bench.sh
+	@bash tools/bench_nonlinear.sh
 
 clean:
 	rm -rf $(BUILD) bin/rebond
@@ -87,3 +97,33 @@ clean:
 .PHONY: validation
 validation: bin/rebond
 	@bash tools/make_validation.sh
+
+# Reliability (docs/reliability.md). check-debug builds a separate tree (build-debug/,
+# bin/rebond-debug) with run-time checks and FPE traps, then runs every unit suite and every
+# scene on it; valgrind runs memcheck on short runs of the normal -O2 -g binary.
+DEBUG_BUILD  := build-debug
+DEBUG_BIN    := bin/rebond-debug
+DEBUG_FFLAGS := -g -O0 -fcheck=all -ffpe-trap=invalid,zero,overflow -fbacktrace
+DEBUG_CFLAGS := -g -O0
+VALGRIND_SCENES := inputs/cantilever_release.dat inputs/mass_bounce.dat
+.PHONY: check-debug valgrind
+check-debug:
+	@DEBUG_BUILD='$(DEBUG_BUILD)' DEBUG_BIN='$(DEBUG_BIN)' DEBUG_FFLAGS='$(DEBUG_FFLAGS)' \
+	  DEBUG_CFLAGS='$(DEBUG_CFLAGS)' MAKE='$(MAKE)' bash tools/check_debug.sh
+
+valgrind: bin/rebond
+	@bash tools/check_debug.sh --valgrind $(VALGRIND_SCENES)
+
+# Parameter studies: every studies/*.sweep run by `rebond sweep` under mpirun (one dispatching
+# rank + one worker per core; the OMPI_* variables let Open MPI run as root, as in CI), tables
+# in results/studies/<name>/ (sweep.csv, sweep.h5, sweep.md, pareto.png). docs/sweep.md.
+STUDY_NP ?= $(shell echo $$(( $$(nproc) + 1 )))
+.PHONY: studies
+studies: bin/rebond
+	@for f in studies/*.sweep; do [ -f "$$f" ] || continue; n=$$(basename "$$f" .sweep); \
+	  echo "== $$f"; \
+	  OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np $(STUDY_NP) \
+	    bin/rebond sweep "$$f" -o "results/studies/$$n" || echo "$$f: some cases failed (see sweep.csv)"; \
+	  $(PY) tools/sweep_table.py "results/studies/$$n/sweep.csv" --png "results/studies/$$n/pareto.png" \
+	    > "results/studies/$$n/sweep.md" && echo "   results/studies/$$n/sweep.md, pareto.png"; \
+	done

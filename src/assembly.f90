@@ -48,6 +48,7 @@ module assembly
     real(dp) :: elastic_t = 0.0_dp           !< strain energy of the trial state at linear elastic points
     real(dp) :: dissip_t = 0.0_dp            !< plastic work of the trial increment
     integer :: nsub_points_t = 0             !< points that were sub-incremented in the trial
+    integer, allocatable :: nsub_pt(:)       !< SUBSTEPS AUTO: largest count chosen so far in the step
     real(dp), allocatable :: tval(:)         !< tangent stiffness on the pattern (ITERATION TANGENT)
     ! SCHEME PRECISION EXTENDED: linear elastic points evaluated in quadruple precision.
     logical :: extended = .false.
@@ -258,6 +259,8 @@ contains
     if (stat /= STAT_OK) return
     allocate (sys%eps_t, source=sys%eps)
     allocate (sys%sig_t, source=sys%sig)
+    allocate (sys%nsub_pt(sys%ngp))
+    sys%nsub_pt = 0
     allocate (sys%q(sys%nq, sys%ngp))
     sys%q = 0.0_dp
     allocate (sys%q_t, source=sys%q)
@@ -393,7 +396,8 @@ contains
     real(dp) :: ue(MAX_EDOF), fe(MAX_EDOF), fc(MAX_EDOF), deps(MAX_NSTRAIN), sbar(MAX_NSTRAIN), sc(MAX_NSTRAIN)
     real(dp) :: dt(MAX_NSTRAIN, MAX_NSTRAIN), ke(MAX_EDOF, MAX_EDOF)
     real(dp) :: work, dissip, wsum, dsum, esum, w
-    real(qp) :: ueq(MAX_EDOF), feq(MAX_EDOF), epsq(MAX_NSTRAIN), sigq(MAX_NSTRAIN), bq(MAX_NSTRAIN, MAX_EDOF), esumq
+    real(qp) :: ueq(MAX_EDOF), feq(MAX_EDOF), epsq(MAX_NSTRAIN), sigq(MAX_NSTRAIN), dq(MAX_NSTRAIN, MAX_NSTRAIN), esumq, wq
+    integer :: a, b2
     logical :: any_c, lin
     fint = 0.0_dp
     esumq = 0.0_qp
@@ -447,13 +451,37 @@ contains
           ueq(1:ndof) = real(ue(1:ndof), qp)
         end if
         feq(1:ndof) = 0.0_qp
+        do a = 1, nstr
+          do b2 = 1, nstr
+            dq(a, b2) = real(sys%dmat(a, b2, im), qp)
+          end do
+        end do
+        ! Explicit loops (software quad arithmetic: every operation counts); the products by
+        ! B are exact in quad (double x double), only the sums round, at 1e-34.
         do igp = g0, g0 + ng - 1
-          p = sys%b_ptr(igp)
-          bq(1:nstr, 1:ndof) = real(reshape(sys%bmat(p:p + nstr * ndof - 1), [nstr, ndof]), qp)
-          epsq(1:nstr) = matmul(bq(1:nstr, 1:ndof), ueq(1:ndof))
-          sigq(1:nstr) = matmul(real(sys%dmat(1:nstr, 1:nstr, im), qp), epsq(1:nstr))
-          feq(1:ndof) = feq(1:ndof) + real(sys%wt(igp), qp) * matmul(transpose(bq(1:nstr, 1:ndof)), sigq(1:nstr))
-          esumq = esumq + 0.5_qp * real(sys%wt(igp), qp) * dot_product(sigq(1:nstr), epsq(1:nstr))
+          p = sys%b_ptr(igp) - 1
+          wq = real(sys%wt(igp), qp)
+          epsq(1:nstr) = 0.0_qp
+          do k = 1, ndof
+            if (ueq(k) == 0.0_qp) cycle
+            do a = 1, nstr
+              if (sys%bmat(p + (k - 1) * nstr + a) /= 0.0_dp) &
+                epsq(a) = epsq(a) + real(sys%bmat(p + (k - 1) * nstr + a), qp) * ueq(k)
+            end do
+          end do
+          do a = 1, nstr
+            sigq(a) = 0.0_qp
+            do b2 = 1, nstr
+              if (dq(a, b2) /= 0.0_qp) sigq(a) = sigq(a) + dq(a, b2) * epsq(b2)
+            end do
+          end do
+          do k = 1, ndof
+            do a = 1, nstr
+              if (sys%bmat(p + (k - 1) * nstr + a) /= 0.0_dp) &
+                feq(k) = feq(k) + wq * (real(sys%bmat(p + (k - 1) * nstr + a), qp) * sigq(a))
+            end do
+          end do
+          esumq = esumq + 0.5_qp * wq * sum(sigq(1:nstr) * epsq(1:nstr))
           sys%eps_t(1:nstr, igp) = real(epsq(1:nstr), dp)
           sys%sig_t(1:nstr, igp) = real(sigq(1:nstr), dp)
         end do
@@ -492,17 +520,17 @@ contains
           ! eps = B ue (B stored column-major, nstr x ndof)
           call b_times(nstr, ndof, sys%bmat(p), ue, sys%eps_t(1, igp))
           deps(1:nstr) = sys%eps_t(1:nstr, igp) - sys%eps(1:nstr, igp)
-          if (tangent) then
-            call law_update(scn%materials(mat), scn%models(im)%sec, sys%pk(im), &
-              sys%dmat(1:nstr, 1:nstr, im), nsub, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
-              sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, dissip, nused, &
-              dt(1:nstr, 1:nstr))
-            call add_btdb(nstr, ndof, sys%bmat(p), dt, w, ke)
-          else
-            call law_update(scn%materials(mat), scn%models(im)%sec, sys%pk(im), &
-              sys%dmat(1:nstr, 1:nstr, im), nsub, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
-              sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, dissip, nused)
+          call update_point(nsub)
+          if (nsub <= 0) then
+            ! SUBSTEPS AUTO: the count may only grow during the iterations of a step; a count
+            ! that changes back and forth makes the residual of eq (9) jump and cycle.
+            if (nused < sys%nsub_pt(igp)) then
+              call update_point(sys%nsub_pt(igp))
+            else
+              sys%nsub_pt(igp) = nused
+            end if
           end if
+          if (tangent) call add_btdb(nstr, ndof, sys%bmat(p), dt, w, ke)
           if (lin) then
             esum = esum + 0.5_dp * w * dot_product(sys%sig_t(1:nstr, igp), sys%eps_t(1:nstr, igp))
           else
@@ -544,6 +572,23 @@ contains
     sys%elastic_t = esum
     sys%dissip_t = dsum
     sys%nsub_points_t = npts
+
+  contains
+
+    !> The law at point igp over the step, in n sub-increments (0: AUTO).
+    subroutine update_point(n)
+      integer, intent(in) :: n
+      if (tangent) then
+        call law_update(scn%materials(mat), scn%models(im)%sec, sys%pk(im), &
+          sys%dmat(1:nstr, 1:nstr, im), n, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
+          sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, dissip, nused, &
+          dt(1:nstr, 1:nstr))
+      else
+        call law_update(scn%materials(mat), scn%models(im)%sec, sys%pk(im), &
+          sys%dmat(1:nstr, 1:nstr, im), n, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
+          sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, dissip, nused)
+      end if
+    end subroutine update_point
   end subroutine internal_force
 
   !> Linear elastic QUAD points of one element: eps = B ue, sigma = D eps, fe += w B'sigma,
@@ -705,6 +750,7 @@ contains
   subroutine commit_state(sys)
     type(system_t), intent(inout) :: sys
     real(dp), allocatable :: tmp(:, :)
+    sys%nsub_pt = 0
     call move_alloc(sys%eps, tmp)
     call move_alloc(sys%eps_t, sys%eps)
     call move_alloc(tmp, sys%eps_t)
@@ -758,8 +804,8 @@ contains
   end subroutine nodal_values
 
   !> Initial displacement and velocity from the INITIAL statements. STATIC FORCE preloads are
-  !> returned in fstatic (the caller solves K0 u = fstatic and adds it). Values on fixed DOFs
-  !> are refused.
+  !> returned in fstatic (the caller solves K0 u = fstatic and adds it). Values given to fixed
+  !> DOFs are ignored: the support wins (INITIAL on a whole body that is also clamped).
   subroutine initial_state(scn, sys, u, v, fstatic, has_static, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
@@ -780,14 +826,8 @@ contains
           do d = 1, 3
             if (.not. c%mask(d)) cycle
             j = sys%eqn(d, n)
-            if (j <= 0) then
-              if (c%values(d) /= 0.0_dp .and. j < 0 .and. c%kind /= INIT_STATIC) then
-                call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(c%line) // ': INITIAL: node ' // &
-                  str(n) // ' DOF ' // trim(DOF_NAMES(d)) // ' is fixed and cannot have a non-zero initial value')
-                return
-              end if
-              cycle
-            end if
+            ! Supports win over initial values: a fixed (or absent) DOF keeps zero.
+            if (j <= 0) cycle
             select case (c%kind)
             case (INIT_DISPLACEMENT)
               u(j) = c%values(d)

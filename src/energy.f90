@@ -29,7 +29,11 @@ module energy
     procedure :: dissipated
     procedure :: balance
     procedure :: relative_balance
+    procedure :: pack_state
+    procedure :: unpack_state
   end type energy_t
+
+  integer, parameter, public :: ENERGY_STATE_SIZE = 14
 
 contains
 
@@ -114,6 +118,29 @@ contains
     class(energy_t), intent(in) :: self
     balance = ((self%kinetic + self%internal()) - value(self%external_sum)) - self%initial
   end function balance
+
+  !> Every accumulator, compensation terms included, for a checkpoint (bit-exact restart).
+  pure function pack_state(self) result(x)
+    class(energy_t), intent(in) :: self
+    real(dp) :: x(ENERGY_STATE_SIZE)
+    x = [self%kinetic, self%internal_sum%s, self%internal_sum%c, self%elastic, self%external_sum%s, &
+      self%external_sum%c, self%correction_sum%s, self%correction_sum%c, self%dissipated_sum%s, &
+      self%dissipated_sum%c, self%initial, self%max_balance, self%max_scale, 0.0_dp]
+  end function pack_state
+
+  pure subroutine unpack_state(self, x)
+    class(energy_t), intent(inout) :: self
+    real(dp), intent(in) :: x(ENERGY_STATE_SIZE)
+    self%kinetic = x(1)
+    self%internal_sum = sum_t(x(2), x(3))
+    self%elastic = x(4)
+    self%external_sum = sum_t(x(5), x(6))
+    self%correction_sum = sum_t(x(7), x(8))
+    self%dissipated_sum = sum_t(x(9), x(10))
+    self%initial = x(11)
+    self%max_balance = x(12)
+    self%max_scale = x(13)
+  end subroutine unpack_state
 
   !> max |balance| relative to the largest kinetic + internal seen.
   pure real(dp) function relative_balance(self)

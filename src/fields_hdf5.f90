@@ -52,7 +52,7 @@ module fields_hdf5
     private
     logical :: is_open = .false.
     integer(hid_t) :: file_id = -1
-    character(len=:), allocatable :: h5path, xmfpath
+    character(len=:), allocatable :: h5path, xmfpath, h5name
     integer :: nnode = 0, nelem = 0, ntopo = 0
     integer :: nsteps = 0
     type(xdmf_step_t), allocatable :: steps(:)
@@ -367,12 +367,13 @@ contains
 
   !> Create OUTDIR (if needed), OUTDIR/fields.h5 with the mesh, and an empty OUTDIR/fields.xmf.
   !> An existing fields.h5 is overwritten.
-  subroutine fw_open(self, outdir, mesh, stat, errmsg)
+  subroutine fw_open(self, outdir, mesh, stat, errmsg, basename)
     class(fields_writer_t), intent(inout) :: self
     character(len=*), intent(in) :: outdir
     type(mesh_t), intent(in) :: mesh
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    character(len=*), intent(in), optional :: basename
     integer, allocatable :: topo(:)
     real(dp), allocatable :: xyz(:, :)
     integer(hid_t) :: fapl, gid
@@ -392,8 +393,14 @@ contains
     if (stat /= STAT_OK) return
     call make_directory(outdir, stat, errmsg)
     if (stat /= STAT_OK) return
-    self%h5path = join_path(outdir, H5_NAME)
+    self%h5name = H5_NAME
     self%xmfpath = join_path(outdir, XMF_NAME)
+    if (present(basename)) then
+      ! A restarted run writes its fields beside the first part (basename.h5 / basename.xmf).
+      self%h5name = basename // '.h5'
+      self%xmfpath = join_path(outdir, basename // '.xmf')
+    end if
+    self%h5path = join_path(outdir, self%h5name)
     self%nnode = mesh%nnode
     self%nelem = mesh%nelem
     self%ntopo = size(topo)
@@ -452,7 +459,7 @@ contains
     end if
     ! An empty collection replaces any fields.xmf left by an earlier run of the same case.
     if (stat == STAT_OK) call write_text_atomic(self%xmfpath, &
-      xdmf_document(H5_NAME, self%nnode, self%nelem, self%ntopo, self%steps(1:0)), stat, errmsg)
+      xdmf_document(self%h5name, self%nnode, self%nelem, self%ntopo, self%steps(1:0)), stat, errmsg)
     if (stat /= STAT_OK) call self%close(st2, msg2)   ! keep the first error
   end subroutine fw_open
 
@@ -533,7 +540,7 @@ contains
     self%nsteps = self%nsteps + 1
     self%steps(self%nsteps) = xdmf_step_t(step=step, time=time, has_reaction=present(reaction))
     call write_text_atomic(self%xmfpath, &
-      xdmf_document(H5_NAME, self%nnode, self%nelem, self%ntopo, self%steps(1:self%nsteps)), stat, errmsg)
+      xdmf_document(self%h5name, self%nnode, self%nelem, self%ntopo, self%steps(1:self%nsteps)), stat, errmsg)
   end subroutine fw_write_step
 
   pure logical function has_shape(a, n1, n2)

@@ -15,6 +15,7 @@ module history_writer
   contains
     procedure :: open => csv_open
     procedure :: write_row
+    procedure :: resume => csv_resume
     procedure :: close => csv_close
   end type csv_file_t
 
@@ -41,6 +42,76 @@ contains
     write (self%unit, '(a)') header
     flush (self%unit)
   end subroutine csv_open
+
+  !> Reopen a result file after a restart from step `last`: keep the header and the lines of
+  !> steps <= last (a killed run may have written lines past its checkpoint), rewritten
+  !> atomically, then append. A missing file is created with the header.
+  subroutine csv_resume(self, path, header, last, stat, errmsg)
+    use os_utils, only: os_rename, path_exists
+    class(csv_file_t), intent(inout) :: self
+    character(len=*), intent(in) :: path, header
+    integer, intent(in) :: last
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: uin, uout, ios, k, step
+    character(len=:), allocatable :: line
+    character(len=256) :: msg
+    stat = STAT_OK
+    if (.not. path_exists(path)) then
+      call self%open(path, header, stat, errmsg)
+      return
+    end if
+    open (newunit=uin, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call set_error(stat, errmsg, STAT_RUN, 'cannot read ' // path // ': ' // trim(msg))
+      return
+    end if
+    open (newunit=uout, file=path // '.tmp', status='replace', action='write', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      close (uin)
+      call set_error(stat, errmsg, STAT_RUN, 'cannot create ' // path // '.tmp: ' // trim(msg))
+      return
+    end if
+    write (uout, '(a)') header
+    call read_line(uin, line, ios)   ! the old header
+    do
+      call read_line(uin, line, ios)
+      if (ios /= 0) exit
+      k = index(line, ',')
+      if (k < 2) cycle
+      read (line(1:k - 1), *, iostat=ios) step
+      if (ios /= 0) cycle
+      if (step <= last) write (uout, '(a)') line
+    end do
+    close (uin)
+    close (uout)
+    call os_rename(path // '.tmp', path, stat, errmsg)
+    if (stat /= STAT_OK) return
+    open (newunit=self%unit, file=path, status='old', position='append', action='write', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call set_error(stat, errmsg, STAT_RUN, 'cannot append to ' // path // ': ' // trim(msg))
+      self%unit = -1
+      return
+    end if
+    self%path = path
+    allocate (character(len=32 * (count_commas(header) + 1) + 64) :: self%buf)
+  end subroutine csv_resume
+
+  !> One line of any length.
+  subroutine read_line(unit, line, ios)
+    integer, intent(in) :: unit
+    character(len=:), allocatable, intent(out) :: line
+    integer, intent(out) :: ios
+    character(len=4096) :: chunk
+    integer :: n
+    line = ''
+    do
+      read (unit, '(a)', advance='no', iostat=ios, size=n) chunk
+      line = line // chunk(1:n)
+      if (ios /= 0) exit
+    end do
+    if (is_iostat_eor(ios)) ios = 0
+  end subroutine read_line
 
   pure integer function count_commas(s)
     character(len=*), intent(in) :: s

@@ -17,13 +17,22 @@ module newmark
   use energy, only: energy_t
   use history_writer, only: csv_file_t
   use fields_hdf5, only: fields_writer_t
-  use os_utils, only: make_directory
+  use os_utils, only: make_directory, install_signal_handlers, signal_received
+  use checkpoint, only: ckpt_file_t
+  use energy, only: ENERGY_STATE_SIZE
   implicit none
   private
   public :: run_options_t, run_summary_t, prepare_run, run_newmark, run_state_t, velocity_eq3, rhs_eq9
+  public :: HISTORY_HEADER, EVENTS_HEADER
+
+  !> Column names of the result files: public contracts, extended at the end only.
+  character(len=*), parameter :: HISTORY_HEADER = &
+    'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored'
+  character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored'
 
   type :: run_options_t
     character(len=:), allocatable :: outdir
+    character(len=:), allocatable :: restart   !< checkpoint to continue from (--restart)
     logical :: quiet = .false.
   end type run_options_t
 
@@ -205,7 +214,8 @@ contains
     integer(8) :: c0, c1, crate, clast
     real(dp) :: t, h, dw_ext, dw_corr, kin, c4, e_rest
     real(qp) :: aq
-    integer :: nactive
+    integer :: nactive, step0, k
+    character(len=32) :: part
     type(csv_file_t) :: ev
     type(contact_event_t), allocatable :: events(:)
     type(contact_report_t) :: crep
@@ -219,37 +229,60 @@ contains
     aq = 2.0_qp / real(h, qp)
     call make_directory(opts%outdir, stat, errmsg)
     if (stat /= STAT_OK) return
-    call hist%open(opts%outdir // '/history.csv', &
-      'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored', stat, errmsg)
-    if (stat /= STAT_OK) return
+    step0 = 0
+    total_iter = 0
+    if (allocated(opts%restart)) then
+      call load_checkpoint(opts%restart, step0, total_iter, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
     header = 'step,time'
     do i = 1, size(scn%probes)
       header = header // ',' // scn%probes(i)%label
     end do
-    call probes%open(opts%outdir // '/probes.csv', header, stat, errmsg)
+    if (step0 > 0) then
+      ! Lines a killed run wrote after its checkpoint are dropped, then the run appends.
+      call hist%resume(opts%outdir // '/history.csv', HISTORY_HEADER, step0, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call probes%resume(opts%outdir // '/probes.csv', header, step0, stat, errmsg)
+    else
+      call hist%open(opts%outdir // '/history.csv', HISTORY_HEADER, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call probes%open(opts%outdir // '/probes.csv', header, stat, errmsg)
+    end if
     if (stat /= STAT_OK) return
     write_fields = scn%fields_every /= 0
     allocate (nodal_u(3, scn%mesh%nnode), nodal_v(3, scn%mesh%nnode), estress(4, scn%mesh%nelem), &
       preals(1 + size(scn%probes)), hreals(6), htail(2))
     if (write_fields) then
-      call fields%open(opts%outdir, scn%mesh, stat, errmsg)
+      if (step0 > 0) then
+        write (part, '(a,i6.6)') 'fields_restart_', step0
+        call fields%open(opts%outdir, scn%mesh, stat, errmsg, basename=trim(part))
+      else
+        call fields%open(opts%outdir, scn%mesh, stat, errmsg)
+      end if
       if (stat /= STAT_OK) return
     end if
 
     if (rs%has_contact) then
-      call ev%open(opts%outdir // '/events.csv', 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored', &
-        stat, errmsg)
+      if (step0 > 0) then
+        call ev%resume(opts%outdir // '/events.csv', EVENTS_HEADER, step0, stat, errmsg)
+      else
+        call ev%open(opts%outdir // '/events.csv', EVENTS_HEADER, stat, errmsg)
+      end if
       if (stat /= STAT_OK) return
     end if
     nactive = 0
     if (rs%has_contact) nactive = count(rs%cs%active)
+    call install_signal_handlers(stat, errmsg)
+    if (stat /= STAT_OK) return
     call system_clock(c0, crate)
     clast = c0
-    total_iter = 0
-    call write_outputs(0, scn%t_start, 0)
-    if (stat /= STAT_OK) return
+    if (step0 == 0) then
+      call write_outputs(0, scn%t_start, 0)
+      if (stat /= STAT_OK) return
+    end if
 
-    do step = 1, rs%nsteps
+    do step = step0 + 1, rs%nsteps
       t = scn%t_start + step * h
       call external_force(scn, sys, t, rs%f_np1)
       call rhs_eq9(h, rs%f_np1, rs%f_n, rs%fint_n, rs%mv, rs%rhs)
@@ -322,6 +355,14 @@ contains
         else
           rs%res_hist(iter) = norm2(rs%r)
         end if
+        if (.not. (rs%res_hist(iter) <= huge(1.0_dp))) then
+          call set_error(stat, errmsg, STAT_RUN, 'step ' // str(step) // ' (t = ' // str(t) // &
+            '): the iteration of eq (9) diverged (residual ' // str(rs%res_hist(iter)) // ' at iteration ' // &
+            str(iter) // '; residual norms: ' // history_text(rs%res_hist(1:iter)) // &
+            '); try a smaller TIME STEP or SCHEME ITERATION TANGENT')
+          call finish()
+          return
+        end if
         if (sys%linear) then
           ! Refinement of a linear step: on until the residual stops falling (round-off).
           if (iter >= 2) then
@@ -342,6 +383,17 @@ contains
         end if
       end do
       total_iter = total_iter + iter
+      ! A non-finite result stops the run; the state of the last good step is saved first.
+      k = first_nonfinite(rs%du)
+      if (k == 0) k = first_nonfinite(rs%fint)
+      if (k > 0) then
+        call save_checkpoint(step - 1, t - h, total_iter - iter, stat, errmsg)
+        call set_error(stat, errmsg, STAT_RUN, 'step ' // str(step) // ' (t = ' // str(t) // &
+          '): non-finite displacement or internal force at ' // dof_label(scn, sys, k) // &
+          '; the state of step ' // str(step - 1) // ' is in ' // opts%outdir // '/checkpoint.h5')
+        call finish()
+        return
+      end if
       ! End of step: eq (3), energies, new state.
       call commit_state(sys)
       dw_ext = 0.5_dp * dot_product(rs%du, rs%f_n + rs%f_np1)
@@ -387,17 +439,137 @@ contains
       call rs%en%add_step(kin, sys%work_t, dw_ext, dw_corr + e_rest, sys%dissip_t, sys%elastic_t)
       call write_outputs(step, t, iter)
       if (stat /= STAT_OK) return
+      if (scn%checkpoint_every > 0) then
+        if (mod(step, scn%checkpoint_every) == 0 .or. step == rs%nsteps) then
+          call save_checkpoint(step, t, total_iter, stat, errmsg)
+          if (stat /= STAT_OK) return
+        end if
+      end if
+      if (signal_received() /= 0) then
+        ! SIGINT or SIGTERM: a checkpoint of this complete step, the summary, a non-zero exit.
+        call save_checkpoint(step, t, total_iter, stat, errmsg)
+        if (stat /= STAT_OK) return
+        call fill_summary(step)
+        call set_error(stat, errmsg, STAT_RUN, 'interrupted by signal ' // str(signal_received()) // ' after step ' // &
+          str(step) // ' (t = ' // str(t) // '); continue with --restart ' // opts%outdir // '/checkpoint.h5')
+        call finish()
+        return
+      end if
       if (.not. opts%quiet) call progress(step, t)
     end do
     call finish()
-    summary%steps = rs%nsteps
-    summary%iterations = total_iter
-    summary%max_rel_balance = rs%en%relative_balance()
-    call system_clock(c1)
-    summary%wall = real(c1 - c0, dp) / real(crate, dp)
+    call fill_summary(rs%nsteps)
     if (.not. opts%quiet) write (0, '(a)') ''
 
   contains
+
+    subroutine fill_summary(last)
+      integer, intent(in) :: last
+      summary%steps = last
+      summary%iterations = total_iter
+      summary%max_rel_balance = rs%en%relative_balance()
+      call system_clock(c1)
+      summary%wall = real(c1 - c0, dp) / real(crate, dp)
+    end subroutine fill_summary
+
+    !> Index of the first NaN or infinite entry, 0 if none.
+    integer function first_nonfinite(x)
+      real(dp), intent(in) :: x(:)
+      integer :: i
+      first_nonfinite = 0
+      do i = 1, size(x)
+        if (.not. (abs(x(i)) <= huge(1.0_dp))) then
+          first_nonfinite = i
+          return
+        end if
+      end do
+    end function first_nonfinite
+
+    !> The whole state at the end of step `step` in OUTDIR/checkpoint.h5, atomically.
+    subroutine save_checkpoint(step, t, iters, stat, errmsg)
+      integer, intent(in) :: step, iters
+      real(dp), intent(in) :: t
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+      type(ckpt_file_t) :: ck
+      call ck%create(opts%outdir // '/checkpoint.h5', stat, errmsg)
+      if (stat /= STAT_OK) return
+      call ck%put('step', step, stat, errmsg)
+      call ck%put('time', t, stat, errmsg)
+      call ck%put('iterations', iters, stat, errmsg)
+      call ck%put('neq', sys%neq, stat, errmsg)
+      call ck%put('u', rs%u, stat, errmsg)
+      call ck%put('v', rs%v, stat, errmsg)
+      call ck%put('fint_n', rs%fint_n, stat, errmsg)
+      call ck%put('f_n', rs%f_n, stat, errmsg)
+      call ck%put('mv', rs%mv, stat, errmsg)
+      call ck%put('eps', sys%eps, stat, errmsg)
+      call ck%put('sig', sys%sig, stat, errmsg)
+      if (sys%nq > 0) call ck%put('q', sys%q, stat, errmsg)
+      call ck%put('energy', rs%en%pack_state(), stat, errmsg)
+      if (sys%extended) then
+        call ck%put('u_q', rs%u_q, stat, errmsg)
+        call ck%put('v_q', rs%v_q, stat, errmsg)
+        call ck%put('fint_n_q', rs%fint_n_q, stat, errmsg)
+        call ck%put('mv_q', rs%mv_q, stat, errmsg)
+      end if
+      if (rs%has_contact) then
+        call ck%put('contact_active', merge(1, 0, rs%cs%active), stat, errmsg)
+        call ck%put('contact_active_iter', merge(1, 0, rs%cs%active_iter), stat, errmsg)
+        call ck%put('contact_lambda', rs%cs%lambda, stat, errmsg)
+        call ck%put('contact_r_prev', rs%cs%r_prev, stat, errmsg)
+      end if
+      call ck%commit(stat, errmsg)
+    end subroutine save_checkpoint
+
+    !> The state saved by save_checkpoint, checked against this scene's sizes.
+    subroutine load_checkpoint(path, step, iters, stat, errmsg)
+      character(len=*), intent(in) :: path
+      integer, intent(out) :: step, iters
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+      type(ckpt_file_t) :: ck
+      integer :: neq
+      real(dp) :: en(ENERGY_STATE_SIZE), tck
+      integer, allocatable :: flags(:)
+      call ck%open(path, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call ck%get('step', step, stat, errmsg)
+      call ck%get('time', tck, stat, errmsg)
+      call ck%get('iterations', iters, stat, errmsg)
+      call ck%get('neq', neq, stat, errmsg)
+      if (stat == STAT_OK .and. (neq /= sys%neq .or. step < 0 .or. step > rs%nsteps)) then
+        call set_error(stat, errmsg, STAT_INPUT, 'checkpoint ' // path // ': step ' // str(step) // ' of a system of ' // &
+          str(neq) // ' equations does not fit this scene (' // str(sys%neq) // ' equations, ' // str(rs%nsteps) // &
+          ' steps)')
+      end if
+      call ck%get('u', rs%u, stat, errmsg)
+      call ck%get('v', rs%v, stat, errmsg)
+      call ck%get('fint_n', rs%fint_n, stat, errmsg)
+      call ck%get('f_n', rs%f_n, stat, errmsg)
+      call ck%get('mv', rs%mv, stat, errmsg)
+      call ck%get('eps', sys%eps, stat, errmsg)
+      call ck%get('sig', sys%sig, stat, errmsg)
+      if (sys%nq > 0) call ck%get('q', sys%q, stat, errmsg)
+      call ck%get('energy', en, stat, errmsg)
+      if (stat == STAT_OK) call rs%en%unpack_state(en)
+      if (sys%extended) then
+        call ck%get('u_q', rs%u_q, stat, errmsg)
+        call ck%get('v_q', rs%v_q, stat, errmsg)
+        call ck%get('fint_n_q', rs%fint_n_q, stat, errmsg)
+        call ck%get('mv_q', rs%mv_q, stat, errmsg)
+      end if
+      if (rs%has_contact) then
+        allocate (flags(size(rs%cs%active)))
+        call ck%get('contact_active', flags, stat, errmsg)
+        rs%cs%active = flags == 1
+        call ck%get('contact_active_iter', flags, stat, errmsg)
+        rs%cs%active_iter = flags == 1
+        call ck%get('contact_lambda', rs%cs%lambda, stat, errmsg)
+        call ck%get('contact_r_prev', rs%cs%r_prev, stat, errmsg)
+      end if
+      call ck%close()
+    end subroutine load_checkpoint
 
     !> Force scale of the step for the convergence test (docs/input.md, SCHEME TOLERANCE).
     real(dp) function force_scale()

@@ -6,6 +6,7 @@ module os_utils
   implicit none
   private
   public :: os_rename, make_directory, path_exists, is_directory, remove_file, remove_directory
+  public :: install_signal_handlers, signal_received
 
   interface
     function c_rename(from, to) bind(c, name='rename') result(rc)
@@ -45,6 +46,17 @@ module os_utils
       character(kind=c_char), intent(in) :: path(*)
       integer(c_int) :: rc
     end function c_rmdir
+
+    ! src/os_shim.c: SIGINT/SIGTERM only raise a flag, polled by the time loop.
+    function c_install_signals() bind(c, name='rebond_install_signal_handlers') result(rc)
+      import :: c_int
+      integer(c_int) :: rc
+    end function c_install_signals
+
+    function c_signal_received() bind(c, name='rebond_signal_received') result(sig)
+      import :: c_int
+      integer(c_int) :: sig
+    end function c_signal_received
 
     function c_remove(path) bind(c, name='remove') result(rc)
       import :: c_char, c_int
@@ -146,4 +158,16 @@ contains
       call set_error(stat, errmsg, STAT_RUN, 'cannot remove directory "' // path // '" (not empty?)')
     end if
   end subroutine remove_directory
+  !> SIGINT and SIGTERM raise a flag instead of killing the process (see signal_received).
+  subroutine install_signal_handlers(stat, errmsg)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (c_install_signals() /= 0) call set_error(stat, errmsg, STAT_RUN, 'cannot install the SIGINT/SIGTERM handlers')
+  end subroutine install_signal_handlers
+
+  !> The signal received since install_signal_handlers (0: none).
+  integer function signal_received()
+    signal_received = int(c_signal_received())
+  end function signal_received
 end module os_utils

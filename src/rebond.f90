@@ -1,31 +1,44 @@
 !> rebond — implicit structural dynamics with impacts, energy-exact Newmark.
-!> Command line only: bin/rebond SCENE [-o OUTDIR] [--set STATEMENT.PARAM=VALUE]... [--quiet]
-!> Exit codes: 0 success, 2 bad input (scene, mesh, command line), 1 failure during the run.
+!> Command line only: bin/rebond SCENE [-o OUTDIR] [--set STATEMENT.PARAM=VALUE]... [--quiet] [--restart FILE]
+!>                or bin/rebond sweep FILE [-o OUTDIR] [--set STATEMENT.PARAM=VALUE]... [--quiet]
+!> Exit codes: 0 success, 2 bad input (scene, mesh, sweep file, command line), 1 failure during
+!> the run (sweep: some case failed; the table is written all the same).
 program rebond
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, STAT_RUN, str
   use scene, only: scene_t, load_scene
   use assembly, only: system_t, build_system
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
+  use sweep, only: run_sweep
   implicit none
 
   character(len=*), parameter :: VERSION = '0.1.0'
-  character(len=:), allocatable :: scene_path, outdir, errmsg, arg
+  character(len=:), allocatable :: scene_path, outdir, errmsg, arg, restart
   character(len=512), allocatable :: overrides(:)
   type(scene_t) :: scn
   type(system_t) :: sys
   type(run_state_t) :: rs
   type(run_options_t) :: opts
   type(run_summary_t) :: summary
-  integer :: i, n, stat
-  logical :: quiet
+  integer :: i, n, stat, first
+  logical :: quiet, sweep_mode
 
   allocate (overrides(0))
   scene_path = ''
   outdir = ''
+  restart = ''
   quiet = .false.
   n = command_argument_count()
-  i = 1
+  ! `rebond sweep FILE …` selects the sweep mode (docs/sweep.md); the options are the same.
+  sweep_mode = .false.
+  first = 1
+  if (n >= 1) then
+    if (get_arg(1) == 'sweep') then
+      sweep_mode = .true.
+      first = 2
+    end if
+  end if
+  i = first
   do while (i <= n)
     arg = get_arg(i)
     select case (arg)
@@ -45,6 +58,10 @@ program rebond
       overrides = [character(len=512) :: overrides, get_arg(i)]
     case ('--quiet', '-q')
       quiet = .true.
+    case ('--restart')
+      if (i == n) call fail_usage('option --restart needs a checkpoint file (OUTDIR/checkpoint.h5)')
+      i = i + 1
+      restart = get_arg(i)
     case default
       if (len(arg) > 6) then
         if (arg(1:6) == '--set=') then
@@ -56,37 +73,61 @@ program rebond
       if (len(arg) > 0) then
         if (arg(1:1) == '-') call fail_usage('unknown option ' // arg)
       end if
-      if (len(scene_path) > 0) call fail_usage('more than one scene given: ' // scene_path // ' and ' // arg)
+      if (len(scene_path) > 0) call fail_usage('more than one ' // trim(merge('sweep file', 'scene     ', sweep_mode)) // &
+        ' given: ' // scene_path // ' and ' // arg)
       scene_path = arg
     end select
     i = i + 1
   end do
-  if (len(scene_path) == 0) call fail_usage('no scene file given')
-  if (len(outdir) == 0) outdir = 'results/' // basename(scene_path)
-
-  call load_scene(scene_path, overrides, scn, stat, errmsg)
-  if (stat /= STAT_OK) call fail(stat, errmsg)
-  call build_system(scn, sys, stat, errmsg)
-  if (stat /= STAT_OK) call fail(stat, errmsg)
-  call prepare_run(scn, sys, rs, stat, errmsg)
-  if (stat /= STAT_OK) call fail(stat, errmsg)
-
-  opts%outdir = outdir
-  opts%quiet = quiet
-  if (.not. quiet) then
-    write (*, '(a)') 'rebond ' // VERSION // ': ' // scene_path // merge(' — ' // scn%title, repeat(' ', 3 + len(scn%title)), &
-      len(scn%title) > 0)
-    write (*, '(a,i0,a,i0,a,i0,a)') '  ', scn%mesh%nnode, ' nodes, ', scn%mesh%nelem, ' elements, ', sys%neq, ' equations'
-  end if
-  call run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
-  if (stat /= STAT_OK) call fail(stat, errmsg)
-  if (.not. quiet) then
-    write (*, '(a,i0,a,f0.3,a)') '  ', summary%steps, ' steps in ', summary%wall, ' s'
-    write (*, '(a,es10.3)') '  max |balance| / max(kinetic + internal) = ', summary%max_rel_balance
-    write (*, '(a)') '  results in ' // outdir // '/'
+  if (sweep_mode) then
+    if (len(scene_path) == 0) call fail_usage('no sweep file given')
+    if (len(restart) > 0) call fail_usage('--restart applies to a single scene, not to a sweep')
+    call run_sweep(scene_path, overrides, outdir, quiet, stat)
+    if (stat == STAT_INPUT) stop 2
+    if (stat /= STAT_OK) stop 1
+  else
+    call run_scene()
   end if
 
 contains
+
+  !> The single-scene mode.
+  subroutine run_scene()
+    if (len(scene_path) == 0) call fail_usage('no scene file given')
+    if (len(outdir) == 0) outdir = 'results/' // basename(scene_path)
+
+    call load_scene(scene_path, overrides, scn, stat, errmsg)
+    if (stat /= STAT_OK) call fail(stat, errmsg)
+    call build_system(scn, sys, stat, errmsg)
+    if (stat /= STAT_OK) call fail(stat, errmsg)
+    call prepare_run(scn, sys, rs, stat, errmsg)
+    if (stat /= STAT_OK) call fail(stat, errmsg)
+
+    opts%outdir = outdir
+    opts%quiet = quiet
+    if (len(restart) > 0) opts%restart = restart
+    if (.not. quiet) then
+      if (len(scn%title) > 0) then
+        write (*, '(a)') 'rebond ' // VERSION // ': ' // scene_path // ' — ' // scn%title
+      else
+        write (*, '(a)') 'rebond ' // VERSION // ': ' // scene_path
+      end if
+      write (*, '(a,i0,a,i0,a,i0,a)') '  ', scn%mesh%nnode, ' nodes, ', scn%mesh%nelem, ' elements, ', sys%neq, ' equations'
+    end if
+    call run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
+    if (stat /= STAT_OK) then
+      ! Interrupted (SIGINT/SIGTERM) or failed: the summary of what was done, then the cause.
+      if (.not. quiet .and. summary%steps > 0) call print_summary()
+      call fail(stat, errmsg)
+    end if
+    if (.not. quiet) call print_summary()
+  end subroutine run_scene
+
+  subroutine print_summary()
+    write (*, '(a,i0,a,f0.3,a)') '  ', summary%steps, ' steps in ', summary%wall, ' s'
+    write (*, '(a,es10.3)') '  max |balance| / max(kinetic + internal) = ', summary%max_rel_balance
+    write (*, '(a)') '  results in ' // outdir // '/'
+  end subroutine print_summary
 
   function get_arg(k) result(a)
     integer, intent(in) :: k
@@ -109,18 +150,26 @@ contains
 
   subroutine usage()
     write (*, '(a)') 'usage: rebond SCENE [-o OUTDIR] [--set STATEMENT.PARAM=VALUE]... [--quiet]'
+    write (*, '(a)') '       rebond sweep FILE [-o OUTDIR] [--set STATEMENT.PARAM=VALUE]... [--quiet]'
     write (*, '(a)') ''
     write (*, '(a)') 'Runs the keyword scene file SCENE (grammar: docs/input.md) and writes history.csv,'
     write (*, '(a)') 'probes.csv, fields.h5 and fields.xmf into OUTDIR (default results/<scene name>/).'
+    write (*, '(a)') 'With sweep, runs every case of the sweep file FILE (docs/sweep.md), under mpirun'
+    write (*, '(a)') 'across ranks, into OUTDIR/case_NNN/ and writes the table OUTDIR/sweep.csv and sweep.h5'
+    write (*, '(a)') '(OUTDIR default: the OUTPUT of FILE, else results/<sweep name>/).'
     write (*, '(a)') ''
     write (*, '(a)') '  -o, --output DIR     output directory'
     write (*, '(a)') '  --set KEY.PARAM=V    override a parameter of a statement that occurs once'
-    write (*, '(a)') '                       (KEY.NAME.PARAM=V for a named one), e.g. --set TIME.STEP=2e-4'
+    write (*, '(a)') '                       (KEY.NAME.PARAM=V for a named one), e.g. --set TIME.STEP=2e-4;'
+    write (*, '(a)') '                       with sweep: for every case, after the sweep file''s own'
     write (*, '(a)') '  -q, --quiet          no progress line and no summary'
+    write (*, '(a)') '  --restart FILE       continue the run saved in FILE (OUTDIR/checkpoint.h5, written by'
+    write (*, '(a)') '                       OUTPUT CHECKPOINT EVERY k, on SIGINT/SIGTERM or before a blow-up);'
+    write (*, '(a)') '                       give the same scene, -o and --set as the first run'
     write (*, '(a)') '  -h, --help           this text'
     write (*, '(a)') '  --version            the version'
     write (*, '(a)') ''
-    write (*, '(a)') 'Exit status: 0 success, 2 bad input, 1 failure during the run.'
+    write (*, '(a)') 'Exit status: 0 success, 2 bad input, 1 failure during the run (sweep: a case failed).'
   end subroutine usage
 
   subroutine fail_usage(msg)

@@ -106,6 +106,7 @@ module scene
     logical :: extended = .false.             !< SCHEME PRECISION EXTENDED
     integer :: history_every = 1
     integer :: fields_every = -1              !< -1: first and last step only; 0: never
+    integer :: checkpoint_every = 0           !< OUTPUT CHECKPOINT EVERY k (0: none)
     type(probe_t), allocatable :: probes(:)
     type(condition_t), allocatable :: conditions(:)   !< unilateral contacts (OBSTACLE, GAP)
     integer :: impact = IMPACT_PAPER                  !< SCHEME IMPACT
@@ -212,6 +213,7 @@ contains
     call sch%add_param('OUTPUT', 'HISTORY', 1, 2)
     call sch%add_param('OUTPUT', 'FIELDS', 1, 2)
     call sch%add_param('OUTPUT', 'PROBE', 2, -1, repeatable=.true.)
+    call sch%add_param('OUTPUT', 'CHECKPOINT', 1, 2)
   end subroutine scene_schema
 
   !> Parse the scene file, apply the --set overrides, and build the scene.
@@ -871,8 +873,12 @@ contains
     case (ET_BAR2)
       if (md%sec%area <= 0.0_dp) need = 'AREA'
     case (ET_BEAM2)
+      ! A fibre section (LAYERS) integrates its inertia over the layers: INERTIA is not used.
       if (md%sec%area <= 0.0_dp) need = 'AREA'
-      if (md%sec%inertia <= 0.0_dp) need = need // merge(' and ', '     ', len(need) > 0) // 'INERTIA'
+      if (md%sec%inertia <= 0.0_dp .and. md%sec%layers == 0) then
+        if (len(need) > 0) need = need // ' and '
+        need = need // 'INERTIA'
+      end if
     end select
     if (len(need) > 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'section ' // md%sec%name // &
       ' lacks ' // trim(need) // ' needed by ' // etype_name(md%etype) // ' elements', st%lead(1)))
@@ -1136,6 +1142,8 @@ contains
     call get_every(st, 'HISTORY', scn%history_every, stat, errmsg)
     if (stat /= STAT_OK) return
     call get_every(st, 'FIELDS', scn%fields_every, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_every(st, 'CHECKPOINT', scn%checkpoint_every, stat, errmsg)
     if (stat /= STAT_OK) return
     do occ = 1, count_param(st, 'PROBE')
       k = find_param(st, 'PROBE', occ)

@@ -21,8 +21,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.dont_write_bytecode = True  # no __pycache__ in tools/
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from rebond_results import Run, SceneInfo, find_apexes, probe_signal  # noqa: E402
+from rebond_results import Run, SceneInfo, find_apexes, probe_signal, rebound_ylim  # noqa: E402
 
 FLOOR = 1e-17  # below double round-off of a relative energy: drawn at the floor
 
@@ -34,7 +35,7 @@ def parse_run(spec):
     return Run(spec)
 
 
-def plot_compare(runs, scene, probes, title, out, min_flight_frac):
+def plot_compare(runs, scene, probes, title, out, apex_opts=(0.02, 0.01)):
     fig = plt.figure(figsize=(13, 8.5), constrained_layout=True)
     gs = fig.add_gridspec(2, 2)
     ax_t = fig.add_subplot(gs[0, :])
@@ -46,7 +47,7 @@ def plot_compare(runs, scene, probes, title, out, min_flight_frac):
     for k, run in enumerate(runs):
         c = colors[k % len(colors)]
         t, sig, ylabel, _ = probe_signal(run, probes, scene)
-        ap = find_apexes(run, t, sig, min_flight_frac)
+        ap = find_apexes(run, t, sig, *apex_opts)
         result[run.label] = ap
         ax_t.plot(t, sig, color=c, lw=1.0, label=run.label)
         if ap:
@@ -61,12 +62,17 @@ def plot_compare(runs, scene, probes, title, out, min_flight_frac):
     ax_t.set_xlabel("time (s)")
     ax_t.set_ylabel(ylabel, fontsize=9)
     ax_t.set_title("(a) probe height against time (▼ apexes)")
-    ax_t.legend(loc="upper right", fontsize=8)
+    ax_t.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=min(len(runs), 6), fontsize=8)
     ax_t.grid(alpha=0.3)
 
     ax_b.set_xlabel("bounce number (0 = release)")
     ax_b.set_ylabel(ylabel, fontsize=9)
     ax_b.set_title("(b) rebound (apex) heights")
+    lists = [[a[1] for a in ap] for ap in result.values() if ap]
+    zoom = rebound_ylim(lists, max(hs[0] for hs in lists)) if lists else None
+    if zoom:
+        ax_b.set_ylim(*zoom)
+        ax_b.set_title("(b) rebound (apex) heights — release height off scale")
     ax_b.legend(loc="best", fontsize=8)
     ax_b.grid(alpha=0.3)
     nmax = max((len(a) for a in result.values()), default=0)
@@ -94,12 +100,15 @@ def main(argv=None):
     p.add_argument("--title")
     p.add_argument("--min-flight", type=float, default=0.02,
                    help="a flight shorter than this fraction of the longest is chatter, not a bounce")
+    p.add_argument("--min-rise", type=float, default=0.01,
+                   help="a hop raising the centre of mass by less than this fraction of its height "
+                        "range is not a bounce")
     p.add_argument("-o", "--output", default="compare.png", help="PNG file (default compare.png)")
     a = p.parse_args(argv)
     try:
         runs = [parse_run(s) for s in a.runs]
         scene = SceneInfo(a.scene) if a.scene else None
-        res = plot_compare(runs, scene, a.probe, a.title, a.output, a.min_flight)
+        res = plot_compare(runs, scene, a.probe, a.title, a.output, (a.min_flight, a.min_rise))
     except (OSError, ValueError, KeyError) as exc:
         print(f"plot_compare: {exc}", file=sys.stderr)
         return 2

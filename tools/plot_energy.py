@@ -26,14 +26,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.dont_write_bytecode = True  # no __pycache__ in tools/
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from rebond_results import Run, SceneInfo, find_apexes, probe_signal  # noqa: E402
+from rebond_results import Run, SceneInfo, find_apexes, probe_signal, rebound_ylim  # noqa: E402
 
 COLORS = {"kinetic": "tab:blue", "strain": "tab:orange", "potential": "tab:green",
           "dissipated": "tab:purple", "total": "black"}
 
 
-def plot_run(run, scene, probes, title, out, min_flight_frac):
+def plot_run(run, scene, probes, title, out, apex_opts=(0.02, 0.01)):
     e = run.energies()
     t = run.t
     scale = run.energy_scale()
@@ -57,7 +58,7 @@ def plot_run(run, scene, probes, title, out, min_flight_frac):
     ax.plot(t, e["balance"] / scale, color="tab:red", lw=0.8, ls="--", label="balance / E")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("relative energy error")
-    ax.set_title(f"(b) energy error, E = max(kinetic + strain) = {scale:.4g} J")
+    ax.set_title(f"(b) energy error, E = max(kinetic + strain) = {scale:.4g} J", pad=14)
     ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3), useOffset=False)
     ax.legend(loc="best", fontsize=8)
     ax.grid(alpha=0.3)
@@ -68,7 +69,7 @@ def plot_run(run, scene, probes, title, out, min_flight_frac):
             bbox=dict(facecolor="white", alpha=0.8, edgecolor="none"))
 
     tp, sig, ylabel, names = probe_signal(run, probes, scene)
-    ap = find_apexes(run, tp, sig, min_flight_frac)
+    ap = find_apexes(run, tp, sig, *apex_opts)
     ax = axes[1, 0]
     ax.plot(tp, sig, color="tab:blue", lw=0.9, label=names[0] if len(names) == 1 else "mean of probes")
     if ap:
@@ -80,7 +81,7 @@ def plot_run(run, scene, probes, title, out, min_flight_frac):
     ax.set_xlabel("time (s)")
     ax.set_ylabel(ylabel, fontsize=9)
     ax.set_title("(c) probe height and apexes")
-    ax.legend(loc="upper right", fontsize=8)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3, fontsize=8)
     ax.grid(alpha=0.3)
 
     ax = axes[1, 1]
@@ -91,14 +92,20 @@ def plot_run(run, scene, probes, title, out, min_flight_frac):
         ax.axhline(hts[0], color="gray", ls=":", lw=1, label=f"release height {hts[0]:.4g} m")
         ax.set_xticks(nb if nb.size <= 20 else nb[::max(1, nb.size // 20)])
         ax.legend(loc="best", fontsize=8)
-        lo, hi = float(hts.min()), float(hts.max())
-        pad = 0.1 * (hi - lo) if hi > lo else 0.05 * abs(hi) + 1e-3
-        ax.set_ylim(lo - pad, hi + pad)
+        zoom = rebound_ylim([list(hts)], hts[0])
+        if zoom:
+            ax.set_ylim(*zoom)
+            ax.set_title("(d) rebound (apex) heights — release height off scale")
+        else:
+            lo, hi = float(hts.min()), float(hts.max())
+            pad = 0.1 * (hi - lo) if hi > lo else 0.05 * abs(hi) + 1e-3
+            ax.set_ylim(lo - pad, hi + pad)
     else:
         ax.text(0.5, 0.5, "no apex found", ha="center", va="center", transform=ax.transAxes)
     ax.set_xlabel("bounce number (0 = release)")
     ax.set_ylabel(ylabel, fontsize=9)
-    ax.set_title("(d) rebound (apex) heights")
+    if not ax.get_title():
+        ax.set_title("(d) rebound (apex) heights")
     ax.grid(alpha=0.3)
 
     fig.suptitle(title or (scene.title if scene and scene.title else run.label), fontsize=12)
@@ -118,6 +125,9 @@ def main(argv=None):
     p.add_argument("--title")
     p.add_argument("--min-flight", type=float, default=0.02,
                    help="a flight shorter than this fraction of the longest is chatter, not a bounce")
+    p.add_argument("--min-rise", type=float, default=0.01,
+                   help="a hop raising the centre of mass by less than this fraction of its height "
+                        "range is not a bounce")
     p.add_argument("-o", "--output", default=None, help="PNG file (default OUTDIR/energy.png)")
     a = p.parse_args(argv)
     try:
@@ -127,7 +137,7 @@ def main(argv=None):
             scene = SceneInfo()
             scene.gravity = tuple(a.gravity)
         out = a.output or os.path.join(a.outdir, "energy.png")
-        ap = plot_run(run, scene, a.probe, a.title, out, a.min_flight)
+        ap = plot_run(run, scene, a.probe, a.title, out, (a.min_flight, a.min_rise))
     except (OSError, ValueError, KeyError) as exc:
         print(f"plot_energy: {exc}", file=sys.stderr)
         return 2

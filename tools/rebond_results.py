@@ -14,7 +14,6 @@ Energy components (docs/input.md, Output):
 import csv
 import math
 import os
-import re
 import shlex
 
 import numpy as np
@@ -78,6 +77,34 @@ class Run:
         e = self.energies()
         s = float(np.max(e["kinetic"] + e["strain"])) if e["kinetic"].size else 0.0
         return s if s > 0 else 1.0
+
+    def contact_on_probe_rows(self):
+        """For each row of probes.csv, whether some contact was active at any step since the
+        previous row (from events.csv, so contacts shorter than the output interval count), or
+        None when there is no contact data. A condition established at step s and released at
+        step r is active at the ends of steps s .. r-1."""
+        ps = self.probes["step"].astype(np.int64)
+        if ps.size == 0:
+            return None
+        if not self.events:
+            act = self.history_on_probe_rows("active_contacts")
+            return None if act is None else act > 0
+        last = int(max(ps[-1], max(ev["step"] for ev in self.events)))
+        mark = np.zeros(last + 2)
+        opened = {}
+        for ev in sorted(self.events, key=lambda e: e["step"]):
+            if ev["event"] == "establish":
+                opened.setdefault(ev["constraint"], ev["step"])
+            elif ev["event"] == "release" and ev["constraint"] in opened:
+                s0 = opened.pop(ev["constraint"])
+                mark[s0] += 1
+                mark[ev["step"]] -= 1
+        for s0 in opened.values():
+            mark[s0] += 1
+        active = np.cumsum(mark) > 0               # active[s]: some contact at the end of step s
+        csum = np.concatenate(([0], np.cumsum(active)))
+        prev = np.concatenate(([ps[0]], ps[:-1]))
+        return (csum[ps + 1] - csum[prev + 1] > 0) | active[ps]
 
     def count_events(self, kind):
         return sum(1 for ev in self.events if ev["event"] == kind)
@@ -249,11 +276,12 @@ def probe_signal(run, probes, scene=None):
     return run.probe_time(), sig, ylabel, names
 
 
-def find_apexes(run, t, sig, min_flight_frac=0.02):
+def find_apexes(run, t, sig, min_flight_frac=0.02, min_rise_frac=0.01):
     """Apexes of the body's flights, read on the probe signal.
 
-    A flight is a maximal run of rows with no active contact. It is a bounce when it lasts at
-    least min_flight_frac of the longest flight (shorter ones are chatter at a contact) and
+    A flight is a maximal run of output rows with no contact active since the previous row
+    (from events.csv: contacts shorter than the output interval count). It is a bounce when
+    it lasts at least min_flight_frac of the longest flight (shorter ones are chatter) and
     when the gravity potential -external, which under gravity alone is m g times the height
     of the centre of mass, reaches its maximum strictly inside it: a flight during which the
     centre of mass only falls (one end lifts off while the other is about to hit) or only
@@ -261,13 +289,13 @@ def find_apexes(run, t, sig, min_flight_frac=0.02):
     release position. The apex height is the probe signal at the time of the centre-of-mass
     apex. Without contact data (or no contact at all), the local maxima of the signal.
     Returns a list of (time, height, row)."""
-    act = run.history_on_probe_rows("active_contacts")
+    contact = run.contact_on_probe_rows()
     pot = run.history_on_probe_rows("external")
-    if act is None or pot is None or not np.any(act > 0):
+    if contact is None or pot is None or not np.any(contact):
         i = np.where((sig[1:-1] > sig[:-2]) & (sig[1:-1] >= sig[2:]))[0] + 1
         return [(t[k], sig[k], k) for k in i]
     pot = -pot
-    free = act == 0
+    free = ~contact
     flights, k, n = [], 0, free.size
     while k < n:
         if free[k]:
@@ -281,6 +309,7 @@ def find_apexes(run, t, sig, min_flight_frac=0.02):
     if not flights:
         return []
     longest = max(t[j] - t[i] for i, j in flights)
+    span = float(np.max(pot) - np.min(pot))
     out = []
     for i, j in flights:
         if t[j] - t[i] < min_flight_frac * longest:
@@ -288,18 +317,32 @@ def find_apexes(run, t, sig, min_flight_frac=0.02):
         m = i + int(np.argmax(pot[i:j + 1]))
         if (m == i and i > 0) or (m == j and j > i):
             continue
+        if out and pot[m] - np.min(pot[out[-1][2]:m + 1]) < min_rise_frac * span:
+            continue
         out.append((t[m], sig[m], m))
     return out
 
 
-def summary(run, probes=None, scene=None, min_flight_frac=0.02):
+def summary(run, probes=None, scene=None, min_flight_frac=0.02, min_rise_frac=0.01):
     """The measures the validation report quotes, for one run."""
     e = run.energies()
     scale = run.energy_scale()
     tot = e["total"]
     t, sig, _, names = probe_signal(run, probes, scene)
-    ap = find_apexes(run, t, sig, min_flight_frac)
+    ap = find_apexes(run, t, sig, min_flight_frac, min_rise_frac)
     strain_share = float(np.max(e["strain"]) / scale) if scale else 0.0
+    # Rise of the centre of mass at each bounce, relative to its first drop: under gravity
+    # alone the potential -external is m g times the centre-of-mass height, so ratios of
+    # potential differences are ratios of heights, whatever the probes and the mass.
+    cm_rise = []
+    pot = run.history_on_probe_rows("external")
+    if pot is not None and len(ap) > 1:
+        pot = -pot
+        rows = [a[2] for a in ap]
+        drop = pot[rows[0]] - np.min(pot[rows[0]:rows[1] + 1])
+        for k in range(1, len(rows)):
+            low = np.min(pot[rows[k - 1]:rows[k] + 1])
+            cm_rise.append(float((pot[rows[k]] - low) / drop) if drop > 0 else float("nan"))
     return {
         "label": run.label,
         "steps": int(run.hist["step"][-1]) if run.hist["step"].size else 0,
@@ -314,5 +357,19 @@ def summary(run, probes=None, scene=None, min_flight_frac=0.02):
         "restored": float(sum(ev["energy_restored"] for ev in run.events if ev["event"] == "establish")),
         "apex_times": [float(a[0]) for a in ap],
         "apex_heights": [float(a[1]) for a in ap],
+        "cm_rise": cm_rise,
         "probes": names,
     }
+
+
+def rebound_ylim(height_lists, release):
+    """y limits for a plot of apex heights: the rebounds only (apex 0 off scale) when they all
+    stay in a band less than 30 % as tall as the release height above them; None otherwise."""
+    reb = [h for hs in height_lists for h in hs[1:]]
+    if not reb:
+        return None
+    lo, hi = min(reb), max(reb)
+    if release - lo <= 0 or (hi - lo) >= 0.3 * (release - lo):
+        return None
+    pad = 0.08 * (hi - lo) if hi > lo else 0.05 * abs(hi) + 1e-6
+    return lo - pad, hi + pad

@@ -12,7 +12,7 @@ import tempfile
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-REBOND = os.path.join(ROOT, 'bin', 'rebond')
+REBOND = os.environ.get('REBOND', os.path.join(ROOT, 'bin', 'rebond'))
 
 _tmp = tempfile.TemporaryDirectory(prefix='rebond_check_')
 TMP = _tmp.name
