@@ -6,7 +6,7 @@ module os_utils
   implicit none
   private
   public :: os_rename, make_directory, path_exists, is_directory, remove_file, remove_directory
-  public :: install_signal_handlers, signal_received
+  public :: install_signal_handlers, signal_received, path_stem
 
   interface
     function c_rename(from, to) bind(c, name='rename') result(rc)
@@ -170,4 +170,13 @@ contains
   integer function signal_received()
     signal_received = int(c_signal_received())
   end function signal_received
+  !> File name without directory and extension: results/<stem>/ is the default output folder.
+  pure function path_stem(path) result(b)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: b
+    integer :: k
+    b = path(index(path, '/', back=.true.) + 1:)
+    k = index(b, '.', back=.true.)
+    if (k > 1) b = b(1:k - 1)
+  end function path_stem
 end module os_utils

@@ -10,6 +10,7 @@ program rebond
   use assembly, only: system_t, build_system
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
   use sweep, only: run_sweep
+  use os_utils, only: path_stem
   implicit none
 
   character(len=*), parameter :: VERSION = '0.1.0'
@@ -94,7 +95,7 @@ contains
   !> The single-scene mode.
   subroutine run_scene()
     if (len(scene_path) == 0) call fail_usage('no scene file given')
-    if (len(outdir) == 0) outdir = 'results/' // basename(scene_path)
+    if (len(outdir) == 0) outdir = 'results/' // path_stem(scene_path)
 
     call load_scene(scene_path, overrides, scn, stat, errmsg)
     if (stat /= STAT_OK) call fail(stat, errmsg)
@@ -138,15 +139,6 @@ contains
     call get_command_argument(k, a)
   end function get_arg
 
-  !> File name without directory and extension.
-  pure function basename(path) result(b)
-    character(len=*), intent(in) :: path
-    character(len=:), allocatable :: b
-    integer :: k
-    b = path(index(path, '/', back=.true.) + 1:)
-    k = index(b, '.', back=.true.)
-    if (k > 1) b = b(1:k - 1)
-  end function basename
 
   subroutine usage()
     write (*, '(a)') 'usage: rebond SCENE [-o OUTDIR] [--set STATEMENT.PARAM=VALUE]... [--quiet]'

@@ -7,7 +7,7 @@
 module sweep_spec
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
-  use os_utils, only: path_exists
+  use os_utils, only: path_exists, path_stem
   use scene_parser, only: schema_t, statement_t, token_t, parse_file, stmt_error, find_param, count_param, &
                           get_int, get_real, get_word, parse_real_text, NUM_OK
   implicit none
@@ -168,7 +168,7 @@ contains
     call parse_file(path, sch, st, stat, errmsg)
     if (stat /= STAT_OK) return
     sw%path = path
-    sw%name = base_name(path)
+    sw%name = path_stem(path)
     dir = path(1:index(path, '/', back=.true.))
     allocate (gsets(0), vkeys(0), named(0), nvals(0), sw%metrics(0))
     allocate (vvals(0, 0))
@@ -680,14 +680,5 @@ contains
     v = a(index(a, '=') + 1:)
   end function value_of
 
-  !> File name without directory and extension.
-  pure function base_name(path) result(b)
-    character(len=*), intent(in) :: path
-    character(len=:), allocatable :: b
-    integer :: k
-    b = path(index(path, '/', back=.true.) + 1:)
-    k = index(b, '.', back=.true.)
-    if (k > 1) b = b(1:k - 1)
-  end function base_name
 
 end module sweep_spec
