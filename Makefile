@@ -105,7 +105,7 @@ DEBUG_BUILD  := build-debug
 DEBUG_BIN    := bin/rebond-debug
 DEBUG_FFLAGS := -g -O0 -fcheck=all -ffpe-trap=invalid,zero,overflow -fbacktrace
 DEBUG_CFLAGS := -g -O0
-VALGRIND_SCENES := inputs/cantilever_release.dat inputs/mass_bounce.dat
+VALGRIND_SCENES := inputs/cantilever_release.dat inputs/mass_bounce.dat $(wildcard studies/mass_bounce.sweep)
 .PHONY: check-debug valgrind
 check-debug:
 	@DEBUG_BUILD='$(DEBUG_BUILD)' DEBUG_BIN='$(DEBUG_BIN)' DEBUG_FFLAGS='$(DEBUG_FFLAGS)' \
@@ -127,3 +127,24 @@ studies: bin/rebond
 	  $(PY) tools/sweep_table.py "results/studies/$$n/sweep.csv" --png "results/studies/$$n/pareto.png" \
 	    > "results/studies/$$n/sweep.md" && echo "   results/studies/$$n/sweep.md, pareto.png"; \
 	done
+	$(PY) tools/accuracy_speed.py --results results/studies --template studies/accuracy-speed.md.in \
+	  --doc docs/accuracy-speed.md --figures docs/figures --np $(STUDY_NP)
+
+# Stability at the extremes (issue 5, docs/extremes.md): every case of tests/extremes/matrix.py
+# (steps 1e-8 s ... 10 periods, E over 12 decades, mass ratios 1e-6 ... 1e6, tiny gaps, grazing,
+# 100 simultaneous impacts, 1e6 steps, perfect plasticity); runs in results/extremes/<case>/,
+# table of outcomes in results/extremes/matrix.md and docs/extremes.md. `make test` runs the fast subset
+# (tests/scenes/extremes/check.py). Exits 1 when a case fails.
+.PHONY: extremes
+extremes: bin/rebond
+	@$(PY) tests/extremes/matrix.py --out results/extremes --markdown results/extremes/matrix.md --jobs 2 --strict \
+	  --doc docs/extremes.md
+
+# Fuzzing of the scene and mesh readers (issue 6): 10 000 mutants of the shipped scenes and meshes
+# (tests/fuzz/fuzz.py, 2 jobs; ~8 min). Prints `PASS fuzz: N mutants, no crash` per batch of 1000,
+# `FAIL fuzz <mutant>: <reason>` per crash (saved in tests/fuzz/crashes/), then the runtime; exits
+# 1 on a crash. `make test` runs 400 of them (tests/scenes/fuzz/check.py). FUZZ_SEED=s for others.
+.PHONY: fuzz
+FUZZ_SEED ?= 1
+fuzz: bin/rebond
+	@$(PY) tests/fuzz/fuzz.py --mutants 10000 --seed $(FUZZ_SEED) --jobs 2 --batch 1000

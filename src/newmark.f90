@@ -214,7 +214,7 @@ contains
     integer(8) :: c0, c1, crate, clast
     real(dp) :: t, h, dw_ext, dw_corr, kin, c4, e_rest
     real(qp) :: aq
-    integer :: nactive, step0, k
+    integer :: nactive, step0, k, done
     character(len=32) :: part
     type(csv_file_t) :: ev
     type(contact_event_t), allocatable :: events(:)
@@ -282,6 +282,7 @@ contains
       if (stat /= STAT_OK) return
     end if
 
+    done = step0
     do step = step0 + 1, rs%nsteps
       t = scn%t_start + step * h
       call external_force(scn, sys, t, rs%f_np1)
@@ -455,6 +456,7 @@ contains
         call finish()
         return
       end if
+      done = step
       if (.not. opts%quiet) call progress(step, t)
     end do
     call finish()
@@ -687,7 +689,10 @@ contains
       if (size(events) > 0) flush (ev%unit)
     end subroutine write_events
 
+    !> Close the result files; the summary then tells what was done (also on failure: a
+    !> sweep records the steps and the balance of a case that stopped).
     subroutine finish()
+      call fill_summary(done)
       if (rs%has_contact) call ev%close()
       call hist%close()
       call probes%close()

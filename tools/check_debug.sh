@@ -2,7 +2,9 @@
 # Reliability checks (docs/reliability.md); called by `make check-debug` and `make valgrind`.
 #
 #   tools/check_debug.sh                     debug tree: build, every unit suite, every scene
-#   tools/check_debug.sh --valgrind SCENE... memcheck short runs of bin/rebond (normal -O2 -g)
+#   tools/check_debug.sh --valgrind SCENE... memcheck short runs of bin/rebond (normal -O2 -g);
+#                                            a .sweep file runs `bin/rebond sweep` (suppressions:
+#                                            tools/valgrind.supp, Open MPI only)
 #
 # Debug mode builds build-debug/ and bin/rebond-debug with -fcheck=all and FPE traps (flags
 # from the Makefile: DEBUG_BUILD, DEBUG_BIN, DEBUG_FFLAGS, DEBUG_CFLAGS), so bin/rebond and
@@ -172,23 +174,24 @@ valgrind_mode() {
   local vg=(valgrind --tool=memcheck --leak-check=full --errors-for-leak-kinds=definite
             --error-exitcode=3 --num-callers=40 --track-origins=yes)
   [ -f tools/valgrind.supp ] && vg+=(--suppressions=tools/valgrind.supp)
-  local scene end
+  local scene end cmd
   for scene in "$@"; do
-    # Short runs: through the first impact for the contact scene, 50 steps otherwise.
+    # Short runs: through the first impact for the bouncing mass, 50 steps otherwise; a sweep
+    # file (rebond sweep: MPI_Init, every case, the tables) with every case cut to 0.5 s.
     case $scene in
-      *mass_bounce.dat) end=0.5 ;;
-      *) end=$(awk -v h="$(scene_step "$scene" '')" 'BEGIN { printf "%.6g", 50 * h }') ;;
+      *.sweep) end=0.5; cmd=(bin/rebond sweep "$scene") ;;
+      *mass_bounce.dat) end=0.5; cmd=(bin/rebond "$scene") ;;
+      *) end=$(awk -v h="$(scene_step "$scene" '')" 'BEGIN { printf "%.6g", 50 * h }'); cmd=(bin/rebond "$scene") ;;
     esac
-    "${vg[@]}" bin/rebond "$scene" -o "$log/out" --quiet --set "TIME.END=$end" \
-      --set "OUTPUT.FIELDS=10" >"$log/vg.out" 2>&1
+    "${vg[@]}" "${cmd[@]}" -o "$log/out" --quiet --set "TIME.END=$end" --set "OUTPUT.FIELDS=10" >"$log/vg.out" 2>&1
     local rc=$?
     if [ $rc -eq 0 ] && grep -q 'ERROR SUMMARY: 0 errors' "$log/vg.out"; then
       pass=$((pass + 1))
-      echo "PASS valgrind $scene (TIME.END=$end): $(grep -E 'definitely lost|ERROR SUMMARY' "$log/vg.out" \
+      echo "PASS valgrind ${cmd[*]:1} (TIME.END=$end): $(grep -E 'definitely lost|ERROR SUMMARY' "$log/vg.out" \
         | sed 's/^==[0-9]*== *//' | tr '\n' ' ')"
     else
       fail=$((fail + 1))
-      echo "FAIL valgrind $scene (TIME.END=$end): exit code $rc"
+      echo "FAIL valgrind ${cmd[*]:1} (TIME.END=$end): exit code $rc"
       grep -E '^==[0-9]+==' "$log/vg.out" | sed 's/^/    /' | head -150
     fi
     rm -rf "$log/out"
