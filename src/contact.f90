@@ -805,7 +805,11 @@ contains
     lambda = 0.0_dp
     if (cs%nc == 0) return
     cs%gap_n = cs%g0 + c_times(cs, u_n)
-    q = cs%gap_n + c_times(cs, du_free)
+    ! A condition that starts the step slightly penetrated (within the input tolerance, or by
+    ! the LCP tolerance at an earlier release) is held where it is, not pushed out: its target
+    ! is g(n+1) >= g(n). Pushing it out would let the multiplier do the work ½ Λ |g(n)|, which
+    ! E_j = ½ Λ max(g(n), 0) of eq (10) cannot take back: energy created.
+    q = max(cs%gap_n, 0.0_dp) + c_times(cs, du_free)
     call lcp_solve(cs%w, q, cs%gap_rtol * cs%length_scale, cs%lambda, cs%gap, cs%active_iter, cs%lcp_iterations, &
       stat, errmsg)
     if (stat /= STAT_OK) then

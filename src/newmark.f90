@@ -215,6 +215,7 @@ contains
     real(dp) :: t, h, dw_ext, dw_corr, kin, c4, e_rest
     real(qp) :: aq
     integer :: nactive, step0, k, done
+    logical :: elastic_fallback
     character(len=32) :: part
     type(csv_file_t) :: ev
     type(contact_event_t), allocatable :: events(:)
@@ -294,8 +295,9 @@ contains
         rs%rhs_q = real(rs%f_np1, qp) + real(rs%f_n, qp) - rs%fint_n_q + 2.0_qp * aq * rs%mv_q
         rs%r = real(rs%rhs_q - rs%fint_n_q, dp)
       end if
+      elastic_fallback = .false.
       do iter = 1, scn%max_iterations
-        if (allocated(sys%tval)) then
+        if (allocated(sys%tval) .and. .not. elastic_fallback) then
           ! ITERATION TANGENT: refactorize with the tangent of the latest state.
           rs%sval = sys%tval + c4 * sys%mval
           call rs%factor%factorize(sys%pat, rs%sval, stat, errmsg)
@@ -375,6 +377,24 @@ contains
           cycle
         end if
         if (rs%res_hist(iter) <= scn%tolerance * force_scale()) exit
+        if (allocated(sys%tval) .and. .not. elastic_fallback .and. iter >= 4) then
+          ! The tangent iteration stalls when a point switches between plastic loading and
+          ! elastic unloading from one iterate to the next (perfect plasticity): after two
+          ! iterates in a row without progress, go on with K0 + 4M/h², which contracts
+          ! monotonically, for the rest of the step. (One iterate without progress is normal
+          ! for Newton near a collapse.)
+          if (rs%res_hist(iter) >= 0.99_dp * rs%res_hist(iter - 1) .and. &
+            rs%res_hist(iter - 1) >= 0.99_dp * rs%res_hist(iter - 2)) then
+            elastic_fallback = .true.
+            rs%sval = sys%kval + c4 * sys%mval
+            call rs%factor%factorize(sys%pat, rs%sval, stat, errmsg)
+            if (stat == STAT_OK .and. rs%has_contact) call contact_prepare(rs%cs, rs%factor, stat, errmsg)
+            if (stat /= STAT_OK) then
+              call finish()
+              return
+            end if
+          end if
+        end if
         if (iter == scn%max_iterations) then
           call set_error(stat, errmsg, STAT_RUN, 'step ' // str(step) // ' (t = ' // str(t) // &
             ') did not converge in ' // str(iter) // ' iterations (tolerance ' // str(scn%tolerance) // &

@@ -2,6 +2,7 @@
  * of every step, writes a checkpoint and the summary, and stops (issue 6). Bound in
  * src/os_utils.f90. */
 #include <signal.h>
+#include <stdlib.h>
 #include <string.h>
 
 static volatile sig_atomic_t rebond_signal = 0;
@@ -22,3 +23,7 @@ int rebond_install_signal_handlers(void)
 
 /* The signal received since start (0: none). */
 int rebond_signal_received(void) { return (int)rebond_signal; }
+
+/* Terminate with a status and no message (Fortran's stop prints "STOP n"); the Fortran
+ * runtime closes its units from its own exit handler. */
+void rebond_exit(int status) { exit(status); }

@@ -6,7 +6,7 @@ module os_utils
   implicit none
   private
   public :: os_rename, make_directory, path_exists, is_directory, remove_file, remove_directory
-  public :: install_signal_handlers, signal_received, path_stem
+  public :: install_signal_handlers, signal_received, path_stem, exit_with
 
   interface
     function c_rename(from, to) bind(c, name='rename') result(rc)
@@ -57,6 +57,11 @@ module os_utils
       import :: c_int
       integer(c_int) :: sig
     end function c_signal_received
+
+    subroutine c_exit(status) bind(c, name='rebond_exit')
+      import :: c_int
+      integer(c_int), value :: status
+    end subroutine c_exit
 
     function c_remove(path) bind(c, name='remove') result(rc)
       import :: c_char, c_int
@@ -179,4 +184,11 @@ contains
     k = index(b, '.', back=.true.)
     if (k > 1) b = b(1:k - 1)
   end function path_stem
+  !> End the program with a status and no "STOP n" line (top of the program only).
+  subroutine exit_with(status)
+    integer, intent(in) :: status
+    flush (6)
+    flush (0)
+    call c_exit(int(status, c_int))
+  end subroutine exit_with
 end module os_utils

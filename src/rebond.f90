@@ -10,7 +10,7 @@ program rebond
   use assembly, only: system_t, build_system
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
   use sweep, only: run_sweep
-  use os_utils, only: path_stem
+  use os_utils, only: path_stem, exit_with
   implicit none
 
   character(len=*), parameter :: VERSION = '0.1.0'
@@ -84,8 +84,8 @@ program rebond
     if (len(scene_path) == 0) call fail_usage('no sweep file given')
     if (len(restart) > 0) call fail_usage('--restart applies to a single scene, not to a sweep')
     call run_sweep(scene_path, overrides, outdir, quiet, stat)
-    if (stat == STAT_INPUT) stop 2
-    if (stat /= STAT_OK) stop 1
+    if (stat == STAT_INPUT) call exit_with(2)
+    if (stat /= STAT_OK) call exit_with(1)
   else
     call run_scene()
   end if
@@ -168,14 +168,14 @@ contains
     character(len=*), intent(in) :: msg
     write (0, '(a)') 'rebond: ' // msg
     write (0, '(a)') 'usage: rebond SCENE [-o OUTDIR] [--set STATEMENT.PARAM=VALUE]... [--quiet]  (--help for more)'
-    stop 2
+    call exit_with(2)
   end subroutine fail_usage
 
   subroutine fail(code, msg)
     integer, intent(in) :: code
     character(len=*), intent(in) :: msg
     write (0, '(a)') 'rebond: error: ' // msg
-    if (code == STAT_INPUT) stop 2
-    stop 1
+    if (code == STAT_INPUT) call exit_with(2)
+    call exit_with(1)
   end subroutine fail
 end program rebond

@@ -109,6 +109,8 @@ done
 # shellcheck disable=SC2086
 "$PY" tools/validation_report.py --results "$OUT" --figures "$FIG" --doc "$DOC" --inputs "$INPUTS" \
     --scenes "${done_scenes[*]:-}" --skipped "${skipped[*]:-}" $PROBES || exit 1
+# The section on every scene of inputs/ (exact references, tools/compare) follows.
+"$PY" tools/validation_scenes.py --doc "$DOC" || exit 1
 echo "wrote $DOC"
 if (( ${#skipped[@]} )); then
     echo "skipped (missing scene file): ${skipped[*]}"
