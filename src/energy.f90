@@ -87,7 +87,12 @@ contains
     call add(self%external_sum, dw_external)
     call add(self%correction_sum, dw_correction)
     if (present(dw_dissipated)) call add(self%dissipated_sum, dw_dissipated)
-    self%max_balance = max(self%max_balance, abs(self%balance()))
+    ! A non-finite balance must not vanish in max(): it is reported as huge.
+    if (abs(self%balance()) <= huge(1.0_dp)) then
+      self%max_balance = max(self%max_balance, abs(self%balance()))
+    else
+      self%max_balance = huge(1.0_dp)
+    end if
     self%max_scale = max(self%max_scale, abs(self%kinetic + self%internal()))
   end subroutine add_step
 

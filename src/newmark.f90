@@ -458,6 +458,14 @@ contains
         kin = real(0.5_qp * sum(rs%v_q * rs%mv_q), dp)
       end if
       call rs%en%add_step(kin, sys%work_t, dw_ext, dw_corr + e_rest, sys%dissip_t, sys%elastic_t)
+      if (.not. (abs(rs%en%balance()) <= huge(1.0_dp))) then
+        call write_outputs(step, t, iter)
+        call set_error(stat, errmsg, STAT_RUN, 'step ' // str(step) // ' (t = ' // str(t) // &
+          '): the energies overflowed (kinetic ' // str(rs%en%kinetic) // ', internal ' // str(rs%en%internal()) // &
+          '): displacements or velocities beyond what double precision can square')
+        call finish()
+        return
+      end if
       call write_outputs(step, t, iter)
       if (stat /= STAT_OK) return
       if (scn%checkpoint_every > 0) then

@@ -23,6 +23,9 @@ program rebond
   type(run_summary_t) :: summary
   integer :: i, n, stat, first
   logical :: quiet, sweep_mode
+  ! Static storage, as the standard implies for main-program variables: gfortran keeps these
+  ! on the stack of MAIN__, and the strings they hold at exit show up as leaks in valgrind.
+  save
 
   allocate (overrides(0))
   scene_path = ''

@@ -10,6 +10,8 @@
 module sweep_output
   use, intrinsic :: iso_c_binding, only: c_char, c_loc, c_null_char
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
+  use, intrinsic :: ieee_exceptions, only: ieee_overflow, ieee_get_flag, ieee_set_flag, ieee_get_halting_mode, &
+    ieee_set_halting_mode
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error, str
   use sweep_spec, only: sweep_t, case_result_t, text_t, status_name, case_dir_name, push, &
@@ -75,15 +77,23 @@ contains
     character(len=32) :: buf
     real(dp) :: y
     integer :: d, ios
+    logical :: halt, flag
     if (ieee_is_nan(x)) then
       s = 'nan'
       return
     end if
+    ! Near huge(x) a short candidate rounds above it (1.8e308) and reads back as +Inf, which
+    ! only rejects that candidate: no trap (-ffpe-trap=overflow), the overflow flag unchanged.
+    call ieee_get_halting_mode(ieee_overflow, halt)
+    call ieee_get_flag(ieee_overflow, flag)
+    call ieee_set_halting_mode(ieee_overflow, .false.)
     do d = 1, 17
       write (buf, '(es30.' // str(d) // 'e3)') x
       read (buf, *, iostat=ios) y
       if (ios == 0 .and. y == x) exit
     end do
+    call ieee_set_flag(ieee_overflow, flag)
+    call ieee_set_halting_mode(ieee_overflow, halt)
     s = trim(adjustl(buf))
   end function real_text
 
