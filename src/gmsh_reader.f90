@@ -17,6 +17,11 @@ module gmsh_reader
   private
   public :: read_gmsh
 
+  !> Longest line accepted. Gmsh 4.1 ASCII lines are short (an element line holds at most 9 numbers);
+  !> without a bound, a file with no newline that never ends (FILE /dev/zero) grew the line until
+  !> memory ran out (found by tests/fuzz/fuzz.py).
+  integer, parameter :: MAX_LINE = 1048576
+
   !> A $PhysicalNames entry.
   type :: pname_t
     integer :: dim = 0, tag = 0
@@ -914,6 +919,11 @@ contains
         end if
         g%line = g%line // buf(1:n)
         if (ios == iostat_eor) exit
+        if (len(g%line) > MAX_LINE) then
+          g%lineno = g%lineno + 1
+          call fail(g, stat, errmsg, 'line longer than ' // str(MAX_LINE) // ' characters (not a Gmsh text file?)')
+          return
+        end if
       end do
       g%lineno = g%lineno + 1
       call tokenize(g)

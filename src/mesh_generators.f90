@@ -7,7 +7,12 @@ module mesh_generators
   use mesh, only: mesh_t, ET_BAR2, ET_BEAM2, ET_SPRING, ET_QUAD4, ET_QUAD8, etype_name
   implicit none
   private
-  public :: generate_line, generate_rectangle
+  public :: generate_line, generate_rectangle, MAX_GENERATED_ELEMENTS
+
+  !> Most elements one LINE or RECTANGLE may generate. Beyond it a count is an input error: larger
+  !> meshes failed to allocate (a Fortran runtime error) or overflowed the default-integer node
+  !> counts (nx+1)(ny+1), and a count near 2**31 ran for hours (found by tests/fuzz/fuzz.py).
+  integer, parameter :: MAX_GENERATED_ELEMENTS = 10000000
 
 contains
 
@@ -39,6 +44,11 @@ contains
     if (nel < 1) then
       call set_error(stat, errmsg, STAT_INPUT, 'line mesh ' // name // ': number of elements ' // str(nel) // &
         ' must be at least 1')
+      return
+    end if
+    if (nel > MAX_GENERATED_ELEMENTS) then
+      call set_error(stat, errmsg, STAT_INPUT, 'line mesh ' // name // ': number of elements ' // str(nel) // &
+        ' exceeds the limit of ' // str(MAX_GENERATED_ELEMENTS))
       return
     end if
     if (.not. (all(abs(p0) <= huge(1.0_dp)) .and. all(abs(p1) <= huge(1.0_dp)))) then
@@ -101,6 +111,12 @@ contains
     if (nx < 1 .or. ny < 1) then
       call set_error(stat, errmsg, STAT_INPUT, 'rectangle mesh ' // name // ': numbers of elements (' // str(nx) // &
         ', ' // str(ny) // ') must be at least 1')
+      return
+    end if
+    ! nx*ny > MAX without forming the product, which may overflow a default integer.
+    if (nx > MAX_GENERATED_ELEMENTS / ny) then
+      call set_error(stat, errmsg, STAT_INPUT, 'rectangle mesh ' // name // ': numbers of elements (' // str(nx) // &
+        ', ' // str(ny) // ') give more than the limit of ' // str(MAX_GENERATED_ELEMENTS) // ' elements')
       return
     end if
     theta = 0.0_dp

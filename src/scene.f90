@@ -11,7 +11,7 @@ module scene
   use material_law, only: material_t, LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES
   use scene_parser, only: schema_t, statement_t, token_t, parse_file, apply_override, stmt_error, find_param, &
     count_param, get_real, get_int, get_word, to_real, to_int
-  use mesh_generators, only: generate_line, generate_rectangle
+  use mesh_generators, only: generate_line, generate_rectangle, MAX_GENERATED_ELEMENTS
   use gmsh_reader, only: read_gmsh
   use elements, only: elem_check_geometry
   implicit none
@@ -24,6 +24,8 @@ module scene
   integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3
   integer, parameter :: IMPACT_OFF = 0, IMPACT_PAPER = 1, IMPACT_PERSIST = 2
   integer, parameter :: IMPACT_MODES(3) = [IMPACT_PAPER, IMPACT_PERSIST, IMPACT_OFF]  !< in SCHEME IMPACT's word order
+  !> Upper bounds of SECTION LAYERS and MODEL SUBSTEPS (far above any useful value; see do_section, do_model).
+  integer, parameter, public :: MAX_LAYERS = 1000, MAX_SUBSTEPS = 10000
 
   !> One unilateral contact condition g = g0 + n.(u_b - u_a) >= 0 (method.md section 3): a node
   !> against a rigid plane (node_a = 0: g = g0 + n.u_b) or a node b against a node a.
@@ -493,7 +495,9 @@ contains
     if (stat /= STAT_OK) return
     call get_pair(st, 'TO', p1, stat, errmsg)
     if (stat /= STAT_OK) return
-    call get_int(st, 'ELEMENTS', nel, stat, errmsg, lower=1, lower_inclusive=.true.)
+    ! Upper bound: an absurd count must be an input error, not an allocation failure (fuzz).
+    call get_int(st, 'ELEMENTS', nel, stat, errmsg, lower=1, lower_inclusive=.true., upper=MAX_GENERATED_ELEMENTS, &
+      upper_inclusive=.true.)
     if (stat /= STAT_OK) return
     call get_etype(st, 'TYPE', [ET_BAR2, ET_BEAM2, ET_SPRING], et, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -526,6 +530,14 @@ contains
     if (stat /= STAT_OK) return
     call get_int(st, 'ELEMENTS', ny, stat, errmsg, index=2, lower=1, lower_inclusive=.true.)
     if (stat /= STAT_OK) return
+    ! nx*ny is bounded without forming it (it may overflow): an absurd mesh is an input error, not an
+    ! allocation failure or hours of node generation (found by tests/fuzz/fuzz.py).
+    if (nx > MAX_GENERATED_ELEMENTS / ny) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ELEMENTS ' // str(nx) // ' x ' // str(ny) // &
+        ' exceeds the limit of ' // str(MAX_GENERATED_ELEMENTS) // ' elements', &
+        st%params(find_param(st, 'ELEMENTS'))%values(1)))
+      return
+    end if
     call get_etype(st, 'TYPE', [ET_QUAD4, ET_QUAD8], et, stat, errmsg)
     if (stat /= STAT_OK) return
     call get_real(st, 'ANGLE', angle, stat, errmsg, default=0.0_dp)
@@ -656,7 +668,10 @@ contains
     end if
     call get_int(st, 'GAUSS', sec%gauss, stat, errmsg, default=0, lower=1, lower_inclusive=.true.)
     if (stat /= STAT_OK) return
-    call get_int(st, 'LAYERS', sec%layers, stat, errmsg, default=0, lower=1, lower_inclusive=.true.)
+    ! LAYERS <= MAX_LAYERS: each layer carries state at every Gauss point of every element, and a
+    ! count near 2**31 failed to allocate or ran for hours (found by tests/fuzz/fuzz.py).
+    call get_int(st, 'LAYERS', sec%layers, stat, errmsg, default=0, lower=1, lower_inclusive=.true., &
+      upper=MAX_LAYERS, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
     if (sec%gauss > 5) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'GAUSS must be between 1 and 5', &
@@ -807,7 +822,10 @@ contains
     if (upper(w) == 'AUTO') then
       md%substeps = 0
     else
-      call get_int(st, 'SUBSTEPS', md%substeps, stat, errmsg, lower=1, lower_inclusive=.true.)
+      ! SUBSTEPS <= MAX_SUBSTEPS: the laws loop over the sub-increments at every point and iteration,
+      ! so SUBSTEPS 1000000000 hung the run (found by tests/fuzz/fuzz.py); AUTO stays <= 100.
+      call get_int(st, 'SUBSTEPS', md%substeps, stat, errmsg, lower=1, lower_inclusive=.true., &
+        upper=MAX_SUBSTEPS, upper_inclusive=.true.)
       if (stat /= STAT_OK) return
     end if
     call get_word(st, 'PLANE', w, stat, errmsg, default='STRAIN')

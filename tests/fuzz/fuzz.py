@@ -495,12 +495,35 @@ def op_set_random(r, m):
     m.sets.append((spec + vals).replace('\x00', ''))
 
 
+TIME_VALUES = {  # each invalid, or giving a few steps once the pins of command() are applied
+    'STEP': ['0', '-1e-5', 'nan', 'inf', '1e-300', '5e-324', '1e-310', '1e309', '1e308', 'x', '', '1e-5 1e-5',
+             '2.5e-5', '1e-4', '-0'],
+    'END': ['0', '-1', 'nan', 'inf', '1e308', '1e309', '-1e308', 'x', '', '1e-300', '-0'],
+    'START': ['1e308', '-1e308', 'nan', 'inf', '1', '-1e-5', '1e-300', '-0', '1e300'],
+}
+
+
+def op_time_set(r, m):
+    """Edge values of TIME with --set (after the pins, so they win)."""
+    p = r.choice(sorted(TIME_VALUES))
+    m.sets.append('TIME.%s=%s' % (p, r.choice(TIME_VALUES[p])))
+
+
 def op_mesh(r, m, meshlib):
     """Break a mesh: mutate its bytes, lines or numbers; delete it; swap another in; add one."""
     if not m.meshes or r.random() < 0.2:
         name = 'mesh%d.msh' % (len(m.meshes) + 1)
         m.meshes[name] = r.choice(meshlib) if meshlib else b''
         m.lines.insert(r.randint(0, len(m.lines)), b'GMSH g%d FILE %s' % (len(m.meshes), name.encode()))
+    if r.random() < 0.1:   # FILE names something that is not a mesh file
+        bad = r.choice([b'/dev/zero', b'/dev/null', b'/dev/urandom', b'.', b'""', b'/', b'..', b'nosuch.msh',
+                        b'/proc/self/status', SCENE_NAME.encode(), b'"' + b'd/' * 2000 + b'x.msh"', b'mesh1.msh/x'])
+        for i, line in enumerate(m.lines):
+            toks = tokenize(line)
+            if toks and toks[0].upper() == b'GMSH' and b'FILE' in [t.upper() for t in toks]:
+                k = [t.upper() for t in toks].index(b'FILE')
+                m.lines[i] = b' '.join(toks[:k + 1] + [bad] + toks[k + 2:])
+                return
     name = r.choice(sorted(m.meshes))
     data = m.meshes[name]
     if not isinstance(data, bytes):
@@ -585,7 +608,7 @@ OPS = [  # (operator, weight)
     (op_unknown_name, 6), (op_param_random, 16), (op_stmt_random, 5), (op_line_delete, 5), (op_line_dup, 5),
     (op_line_swap, 4), (op_line_move, 3), (op_line_foreign, 4), (op_case, 2), (op_lexical, 5),
     (op_garbage, 4), (op_truncate, 2), (op_empty, 1), (op_long, 3), (op_set_random, 6), (op_mesh, 10),
-    (op_sizes, 2),
+    (op_sizes, 2), (op_time_set, 2),
 ]
 
 
@@ -614,7 +637,7 @@ def make_mutant(seed, i, bases, meshlib):
 ERR_LINE = re.compile(r'^rebond: error: (.+:\d+: |--set [^\n]*?: )', re.M)
 RUN_ERR = re.compile(r'^rebond: error: .*\b(step|t =|time)\b', re.M | re.I)
 CRASH_MARKS = ('Fortran runtime error', 'Program received signal', 'Error termination', 'Backtrace',
-               'Segmentation fault', 'Aborted', 'core dumped', 'Fortran runtime warning', 'malloc(',
+               'Segmentation fault', 'Aborted', 'core dumped', 'malloc(',
                'double free', 'stack smashing', 'AddressSanitizer', 'HDF5-DIAG')
 
 
@@ -624,8 +647,14 @@ def classify(rc, out, err, timed_out, outdir_exists):
         return 'timeout'
     for mark in CRASH_MARKS:
         if mark in err or mark in out:
-            line = next((l for l in err.splitlines() if mark in l or 'at src/' in l or 'In file' in l), mark)
-            return 'crash (%s): %s' % (mark, line.strip()[:200])
+            line = next((l for l in err.splitlines() if mark in l), mark)
+            # The innermost source location of the backtrace (debug builds) or of the runtime error.
+            loc = re.search(r"In file '(src/[\w.]+)', around line (\d+)", err)
+            where = '%s:%s' % loc.groups() if loc else ''
+            if not where:
+                loc = re.search(r'\bat (src/[\w.]+:\d+)', err)
+                where = loc.group(1) if loc else 'no location'
+            return 'crash at %s (%s): %s' % (where, mark, line.strip()[:200])
     if rc < 0:
         return 'killed by signal %d' % -rc
     if rc == 0:
@@ -644,10 +673,8 @@ def classify(rc, out, err, timed_out, outdir_exists):
 
 
 def signature(reason):
-    """A short key grouping failures by cause (source location when there is one)."""
-    loc = re.search(r"(src/\w+\.f90[:', ]+(around line )?\d+)", reason)
-    head = reason.split(':')[0].split(' (')[0]
-    return head + (' ' + loc.group(1) if loc else '')
+    """A short key grouping failures by cause (the source location of a crash)."""
+    return reason.split(' (')[0].split(':')[0] if not reason.startswith('crash at') else reason.split(' (')[0]
 
 
 def write_mutant(d, data, meshes):
@@ -719,10 +746,12 @@ def save_crash(seed, i, desc, d, cmd, rc, out, err, reason):
         f.write('--- stdout\n%s\n--- stderr\n%s\n' % (out[-5000:], err[-5000:]))
 
 
-def fuzz(n, seed=1, jobs=2, batch=1000, timeout=20.0, only=None, verbose=True):
+def fuzz(n, seed=1, jobs=2, batch=1000, timeout=20.0, only=None, verbose=True, show_messages=False, binary=None,
+         log=None):
     """Run n mutants of the seed; prints PASS/FAIL lines; returns (number run, failures, stats)."""
-    if not os.access(REBOND, os.X_OK):
-        raise RuntimeError('bin/rebond not built (%s)' % REBOND)
+    binary = binary or REBOND
+    if not os.access(binary, os.X_OK):
+        raise RuntimeError('%s not built' % binary)
     bases = base_scenes()
     meshlib = mesh_library()
     indices = [only] if only is not None else list(range(n))
@@ -732,7 +761,7 @@ def fuzz(n, seed=1, jobs=2, batch=1000, timeout=20.0, only=None, verbose=True):
     with tempfile.TemporaryDirectory(prefix='rebond_fuzz_') as workroot:
         # A private copy of the binary: a rebuild of bin/rebond during the run must not disturb it.
         rebond = os.path.join(workroot, 'rebond')
-        shutil.copy2(REBOND, rebond)
+        shutil.copy2(binary, rebond)
         with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
             for b0 in range(0, len(indices), batch):
                 chunk = indices[b0:b0 + batch]
@@ -740,10 +769,22 @@ def fuzz(n, seed=1, jobs=2, batch=1000, timeout=20.0, only=None, verbose=True):
                                         chunk))
                 nfail = 0
                 for i, desc, reason, rc, err in results:
+                    if log:
+                        log.write('%d %s %s\n' % (i, rc, desc))
                     key = 'timeout' if rc is None else str(rc)
                     stats['exit'][key] = stats['exit'].get(key, 0) + 1
+                    if rc == 1:
+                        line = next((l for l in err.splitlines() if l.startswith('rebond: error:')), '')
+                        shape = 'exit 1: ' + re.sub(r"'[^']*'|\b\d[\w.+-]*", '#', line[15:])[:100]
+                        stats.setdefault('shapes', {})
+                        stats['shapes'][shape] = stats['shapes'].get(shape, 0) + 1
                     if rc == 2 and ", at '" not in err and '--set' not in err:
                         stats['nomsg_word'] += 1
+                        line = next((l for l in err.splitlines() if l.startswith('rebond: error:')), '')
+                        shape = re.sub(r"^rebond: error: \S*?:\d+: ", '', line)
+                        shape = re.sub(r"'[^']*'|\b\d[\w.+-]*", '#', shape)[:110]
+                        stats.setdefault('shapes', {})
+                        stats['shapes'][shape] = stats['shapes'].get(shape, 0) + 1
                     if reason:
                         nfail += 1
                         failures.append((i, desc, reason))
@@ -756,6 +797,11 @@ def fuzz(n, seed=1, jobs=2, batch=1000, timeout=20.0, only=None, verbose=True):
         ex = ', '.join('exit %s: %d' % kv for kv in sorted(stats['exit'].items()))
         print('fuzz: %d mutants in %.1f s (%d jobs); %s; %d failure(s)'
               % (len(indices), stats['seconds'], jobs, ex, len(failures)), flush=True)
+        if show_messages and stats.get('shapes'):
+            print('exit-1 messages, and exit-2 messages without the word at fault (", at \'...\'"): %d'
+                  % stats['nomsg_word'])
+            for shape, c in sorted(stats['shapes'].items(), key=lambda kv: -kv[1])[:40]:
+                print('  %5d  %s' % (c, shape))
         if failures:
             sigs = {}
             for _, _, reason in failures:
@@ -774,6 +820,10 @@ def main():
     ap.add_argument('--batch', type=int, default=1000)
     ap.add_argument('--timeout', type=float, default=20.0)
     ap.add_argument('--only', type=int, help='run mutant ONLY of the seed alone')
+    ap.add_argument('--rebond', help='binary to fuzz (default bin/rebond; e.g. bin/rebond-debug)')
+    ap.add_argument('--log', help='write one line "index exit-code mutant" per mutant to this file')
+    ap.add_argument('--messages', action='store_true',
+                    help='list the exit-2 messages that do not quote the word at fault')
     ap.add_argument('--show', type=int, help='print mutant SHOW of the seed (scene and sets) and exit')
     a = ap.parse_args()
     if a.show is not None:
@@ -782,7 +832,8 @@ def main():
                          else '%d bytes' % len(v)) for k, v in meshes.items()}))
         sys.stdout.write(data.decode('utf-8', 'replace')[:20000])
         return 0
-    _, failures, _ = fuzz(a.mutants, a.seed, a.jobs, a.batch, a.timeout, a.only)
+    _, failures, _ = fuzz(a.mutants, a.seed, a.jobs, a.batch, a.timeout, a.only, show_messages=a.messages,
+                          binary=a.rebond, log=open(a.log, 'w') if a.log else None)
     return 1 if failures else 0
 
 

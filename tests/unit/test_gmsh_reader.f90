@@ -234,7 +234,38 @@ contains
     call check_error('bad_elements_first.msh', 4, '$Nodes')
     call check_error('bad_sparse_duplicate.msh', 15, 'duplicate node tag 5')
     call check_error('no_such_file.msh', 0, 'cannot open')
+    call check_endless()
   end subroutine test_errors
+
+  !> A file without newlines that never ends (found by tests/fuzz: GMSH ... FILE /dev/zero read until
+  !> memory ran out) is refused at its first line; so is a regular file whose first line exceeds 1 MiB.
+  subroutine check_endless()
+    type(mesh_t) :: m
+    integer :: stat, u, tlen
+    character(len=:), allocatable :: errmsg, path
+    character(len=256) :: tmpdir
+    logical :: exists
+    inquire (file='/dev/zero', exist=exists)
+    if (exists) then
+      call read_gmsh(m, '/dev/zero', 'z', stat, errmsg)
+      if (.not. allocated(errmsg)) errmsg = ''
+      call check(stat == STAT_INPUT .and. index(errmsg, '/dev/zero:1: line longer than') == 1, &
+        'error /dev/zero: refused at line 1', errmsg)
+    end if
+    call get_environment_variable('TMPDIR', tmpdir, tlen)
+    if (tlen == 0) tmpdir = '/tmp'
+    path = trim(tmpdir) // '/rebond_test_gmsh_long_line.msh'
+    open (newunit=u, file=path, status='replace', action='write', form='formatted')
+    write (u, '(a)') repeat('x', 2 * 1048576)
+    close (u)
+    call read_gmsh(m, path, 'z', stat, errmsg)
+    if (.not. allocated(errmsg)) errmsg = ''
+    call check(stat == STAT_INPUT .and. index(errmsg, path // ':1: line longer than') == 1, &
+      'error 2 MiB line: refused at line 1', errmsg)
+    call check(m%nnode == 0 .and. m%nelem == 0, 'error long lines: mesh untouched')
+    open (newunit=u, file=path, status='old')
+    close (u, status='delete')
+  end subroutine check_endless
 
   !> The file must be rejected with STAT_INPUT, a message starting "<path>:<line>: " and containing what.
   subroutine check_error(file, line, what)

@@ -5,7 +5,7 @@ program test_mesh_generators
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT
   use mesh, only: mesh_t, ET_BAR2, ET_BEAM2, ET_SPRING, ET_QUAD4, ET_QUAD8, ET_MASS
-  use mesh_generators, only: generate_line, generate_rectangle
+  use mesh_generators, only: generate_line, generate_rectangle, MAX_GENERATED_ELEMENTS
   use testing, only: check, check_close, test_summary
   implicit none
 
@@ -134,6 +134,11 @@ contains
     call check(stat == STAT_INPUT, 'line error: QUAD4 element type')
     call generate_line(m, 'l', [0.0_dp, 0.0_dp], [1.0_dp, 0.0_dp], 2, ET_MASS, stat, errmsg)
     call check(stat == STAT_INPUT, 'line error: MASS element type')
+    ! Counts found by the fuzzer (tests/fuzz): 2**31-1 elements overflowed nel+1 and failed to allocate.
+    call generate_line(m, 'l', [0.0_dp, 0.0_dp], [1.0_dp, 0.0_dp], huge(1), ET_BAR2, stat, errmsg)
+    call check(stat == STAT_INPUT .and. index(errmsg, 'limit') > 0, 'line error: huge(1) elements refused', errmsg)
+    call generate_line(m, 'l', [0.0_dp, 0.0_dp], [1.0_dp, 0.0_dp], MAX_GENERATED_ELEMENTS + 1, ET_BAR2, stat, errmsg)
+    call check(stat == STAT_INPUT, 'line error: MAX_GENERATED_ELEMENTS + 1 elements refused')
     call check(m%nnode == 0 .and. m%nelem == 0, 'line error: mesh untouched')
   end subroutine test_line_errors
 
@@ -323,6 +328,17 @@ contains
     call check(stat == STAT_INPUT, 'rectangle error: ly < 0')
     call generate_rectangle(m, 'r', [0.0_dp, 0.0_dp], 1.0_dp, 1.0_dp, 2, 2, ET_BEAM2, stat, errmsg)
     call check(stat == STAT_INPUT .and. index(errmsg, 'BEAM2') > 0, 'rectangle error: BEAM2 element type', errmsg)
+    ! Counts found by the fuzzer (tests/fuzz): 65536 x 65536 overflows a default integer (to 0),
+    ! 46341 x 46341 overflows (nx+1)(ny+1); a product of exactly the limit + 1 is refused too.
+    call generate_rectangle(m, 'r', [0.0_dp, 0.0_dp], 1.0_dp, 1.0_dp, 65536, 65536, ET_QUAD4, stat, errmsg)
+    call check(stat == STAT_INPUT .and. index(errmsg, 'limit') > 0, 'rectangle error: 65536 x 65536 refused', errmsg)
+    call generate_rectangle(m, 'r', [0.0_dp, 0.0_dp], 1.0_dp, 1.0_dp, 46341, 46341, ET_QUAD8, stat, errmsg)
+    call check(stat == STAT_INPUT, 'rectangle error: 46341 x 46341 refused')
+    call generate_rectangle(m, 'r', [0.0_dp, 0.0_dp], 1.0_dp, 1.0_dp, huge(1), 1, ET_QUAD4, stat, errmsg)
+    call check(stat == STAT_INPUT, 'rectangle error: huge(1) x 1 refused')
+    call generate_rectangle(m, 'r', [0.0_dp, 0.0_dp], 1.0_dp, 1.0_dp, MAX_GENERATED_ELEMENTS / 7 + 1, 7, ET_QUAD4, &
+      stat, errmsg)
+    call check(stat == STAT_INPUT, 'rectangle error: (limit/7 + 1) x 7 refused')
     call check(m%nnode == 0 .and. m%nelem == 0, 'rectangle error: mesh untouched')
   end subroutine test_rectangle_errors
 end program test_mesh_generators
