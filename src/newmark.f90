@@ -359,10 +359,14 @@ contains
           rs%res_hist(iter) = norm2(rs%r)
         end if
         if (.not. (rs%res_hist(iter) <= huge(1.0_dp))) then
+          ! Non-finite: the state of the last good step is saved, the first offending DOF named.
+          k = max(first_nonfinite(rs%r), 1)
+          call save_checkpoint(step - 1, t - h, total_iter, stat, errmsg)
           call set_error(stat, errmsg, STAT_RUN, 'step ' // str(step) // ' (t = ' // str(t) // &
             '): the iteration of eq (9) diverged (residual ' // str(rs%res_hist(iter)) // ' at iteration ' // &
-            str(iter) // '; residual norms: ' // history_text(rs%res_hist(1:iter)) // &
-            '); try a smaller TIME STEP or SCHEME ITERATION TANGENT')
+            str(iter) // ', first non-finite at ' // dof_label(scn, sys, k) // '; residual norms: ' // &
+            history_text(rs%res_hist(1:iter)) // '); try a smaller TIME STEP or SCHEME ITERATION TANGENT; the ' // &
+            'state of step ' // str(step - 1) // ' is in ' // opts%outdir // '/checkpoint.h5')
           call finish()
           return
         end if

@@ -84,3 +84,6 @@ sc.report('blow-up: exit 1 with a message naming the step', rc == 1 and 'step 1 
           'exit %d: %s' % (rc, err.strip()[-300:]))
 sc.report('blow-up: the history keeps its complete lines', lines_complete(os.path.join(out, 'history.csv'), 11),
           'history.csv')
+sc.report('blow-up: names the first offending DOF', 'node 2' in err and 'DOF UX' in err, err.strip()[-300:])
+sc.report('blow-up: a checkpoint of the last good step', os.path.exists(os.path.join(out, 'checkpoint.h5')) and
+          'state of step 0' in err, err.strip()[-200:])
