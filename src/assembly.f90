@@ -4,17 +4,16 @@
 module assembly
   use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use mesh, only: DOF_NAMES, ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8
-  use scene, only: scene_t, function_value, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
+  use mesh, only: DOF_NAMES, ET_MASS, ET_BEAM2
+  use scene, only: scene_t, function_value, model_point_kind, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
   use dof_map, only: build_dof_map
   use sparse_matrix, only: sym_csc_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
-  use material_law, only: law_update, law_is_linear, law_nstate, law_stored, law_elastic_matrix, &
-    PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS
+  use material_law, only: law_update, law_is_linear, law_nstate, law_stored, law_elastic_matrix
   implicit none
   private
-  public :: system_t, build_system, internal_force, commit_state, external_force, strain_energy, &
+  public :: system_t, build_system, internal_force, commit_state, external_force, &
     element_stress, nodal_values, mass_times, initial_state, dof_label, dof_origin, stored_energy, mass_times_q
 
   !> Nodal forces of one LOAD statement on the free DOFs (sparse).
@@ -47,7 +46,6 @@ module assembly
     real(dp) :: work_t = 0.0_dp              !< work of the trial increment at nonlinear points (W_N)
     real(dp) :: elastic_t = 0.0_dp           !< strain energy of the trial state at linear elastic points
     real(dp) :: dissip_t = 0.0_dp            !< plastic work of the trial increment
-    integer :: nsub_points_t = 0             !< points that were sub-incremented in the trial
     integer, allocatable :: nsub_pt(:)       !< SUBSTEPS AUTO: largest count chosen so far in the step
     real(dp), allocatable :: tval(:)         !< tangent stiffness on the pattern (ITERATION TANGENT)
     ! SCHEME PRECISION EXTENDED: linear elastic points evaluated in quadruple precision.
@@ -107,16 +105,7 @@ contains
     sys%dmat = 0.0_dp
     do im = 1, nmodel
       associate (md => scn%models(im))
-        select case (md%etype)
-        case (ET_SPRING, ET_BAR2)
-          sys%pk(im) = PK_1D
-        case (ET_BEAM2)
-          sys%pk(im) = PK_BEAM
-        case (ET_QUAD4, ET_QUAD8)
-          sys%pk(im) = merge(PK_PSTRESS, PK_PSTRAIN, md%sec%plane_stress)
-        case default
-          sys%pk(im) = 0
-        end select
+        sys%pk(im) = model_point_kind(md)
         sys%model_linear(im) = .true.
         if (md%material > 0 .and. md%etype /= ET_MASS) then
           nstr = elem_nstrain(md%etype)
@@ -392,7 +381,7 @@ contains
     real(dp), intent(out) :: fint(:), fcorr(:)
     logical, intent(in) :: correct, tangent
     real(qp), intent(in), optional :: uq(:)   !< PRECISION EXTENDED: u unrounded
-    integer :: e, im, imc, ndof, nstr, ng, g0, igp, k, p, j, e0, nused, nsub, nq, npts, mat
+    integer :: e, im, imc, ndof, nstr, ng, g0, igp, k, p, j, e0, nused, nsub, nq, mat
     real(dp) :: ue(MAX_EDOF), fe(MAX_EDOF), fc(MAX_EDOF), deps(MAX_NSTRAIN), sbar(MAX_NSTRAIN), sc(MAX_NSTRAIN)
     real(dp) :: dt(MAX_NSTRAIN, MAX_NSTRAIN), ke(MAX_EDOF, MAX_EDOF)
     real(dp) :: work, dissip, wsum, dsum, esum, w
@@ -406,7 +395,6 @@ contains
     wsum = 0.0_dp
     esum = 0.0_dp
     dsum = 0.0_dp
-    npts = 0
     if (tangent) sys%tval = 0.0_dp
     imc = 0
     lin = .true.
@@ -539,13 +527,10 @@ contains
           end if
           call add_btsig(nstr, ndof, sys%bmat(p), sys%sig_t(1, igp), w, fe)
           ! Eq (9): the correction stress, only where the law was sub-incremented.
-          if (nused > 0) then
-            npts = npts + 1
-            if (correct) then
-              any_c = .true.
-              sc(1:nstr) = 2.0_dp * sbar(1:nstr) - (sys%sig(1:nstr, igp) + sys%sig_t(1:nstr, igp))
-              call add_btsig(nstr, ndof, sys%bmat(p), sc, w, fc)
-            end if
+          if (nused > 0 .and. correct) then
+            any_c = .true.
+            sc(1:nstr) = 2.0_dp * sbar(1:nstr) - (sys%sig(1:nstr, igp) + sys%sig_t(1:nstr, igp))
+            call add_btsig(nstr, ndof, sys%bmat(p), sc, w, fc)
           end if
         end do
       end if
@@ -571,7 +556,6 @@ contains
     sys%work_t = wsum
     sys%elastic_t = esum
     sys%dissip_t = dsum
-    sys%nsub_points_t = npts
 
   contains
 
@@ -763,16 +747,6 @@ contains
       call move_alloc(tmp, sys%q_t)
     end if
   end subroutine commit_state
-
-  !> Recoverable elastic energy of the committed state, sum of ½ sigma.eps w.
-  pure real(dp) function strain_energy(sys) result(w)
-    type(system_t), intent(in) :: sys
-    integer :: igp
-    w = 0.0_dp
-    do igp = 1, sys%ngp
-      w = w + 0.5_dp * sys%wt(igp) * dot_product(sys%sig(:, igp), sys%eps(:, igp))
-    end do
-  end function strain_energy
 
   !> Element means of the integration-point stresses, (MAX_NSTRAIN, nelem).
   subroutine element_stress(sys, s)

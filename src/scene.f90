@@ -8,7 +8,8 @@ module scene
   use mesh, only: mesh_t, ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, etype_from_name, etype_name, &
     etype_nen, DOF_UX, DOF_UY, DOF_RZ
   use section, only: section_t
-  use material_law, only: material_t, LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES
+  use material_law, only: material_t, law_check, LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES, &
+    PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS
   use scene_parser, only: schema_t, statement_t, token_t, parse_file, apply_override, stmt_error, find_param, &
     count_param, get_real, get_int, get_word, to_real, to_int
   use mesh_generators, only: generate_line, generate_rectangle, MAX_GENERATED_ELEMENTS
@@ -17,7 +18,7 @@ module scene
   implicit none
   private
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
-  public :: load_scene, scene_schema, function_value
+  public :: load_scene, scene_schema, function_value, model_point_kind
   public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t
   public :: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST
 
@@ -801,10 +802,6 @@ contains
     end if
     call check_section(st, md, stat, errmsg)
     if (stat /= STAT_OK) return
-    if (md%material > 0) then
-      call check_model_law(st, md, scn%materials(md%material), stat, errmsg)
-      if (stat /= STAT_OK) return
-    end if
     call get_word(st, 'MASS', w, stat, errmsg, default='CONSISTENT')
     if (stat /= STAT_OK) return
     select case (upper(w))
@@ -840,6 +837,10 @@ contains
         st%params(find_param(st, 'PLANE'))%values(1)))
       return
     end select
+    if (md%material > 0) then
+      call check_model_law(st, md, scn%materials(md%material), stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
     imodel = size(scn%models) + 1
     associate (items => scn%mesh%egroups(ig)%items)
       do i = 1, size(items)
@@ -902,7 +903,8 @@ contains
       ' lacks ' // trim(need) // ' needed by ' // etype_name(md%etype) // ' elements', st%lead(1)))
   end subroutine check_section
 
-  !> Which laws an element type accepts: 1D laws on springs, bars and fibre beams, J2 on quads.
+  !> Which laws an element type accepts (1D laws on springs, bars and fibre beams, J2 on
+  !> quads) and what they need: material_law's law_check, with the statement's file:line.
   subroutine check_model_law(st, md, mat, stat, errmsg)
     type(statement_t), intent(in) :: st
     type(model_t), intent(in) :: md
@@ -910,23 +912,26 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     character(len=:), allocatable :: msg
-    stat = STAT_OK
-    msg = ''
-    select case (mat%law)
-    case (LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC)
-      if (any(md%etype == [ET_QUAD4, ET_QUAD8])) then
-        msg = 'a 1D law does not apply to ' // etype_name(md%etype) // ' (use VON_MISES)'
-      else if (md%etype == ET_BEAM2 .and. (md%sec%layers < 1 .or. md%sec%height <= 0.0_dp)) then
-        msg = 'a BEAM2 with a nonlinear law needs a fibre section: SECTION ' // md%sec%name // ' with LAYERS and HEIGHT'
-      end if
-    case (LAW_VON_MISES)
-      if (.not. any(md%etype == [ET_QUAD4, ET_QUAD8])) then
-        msg = 'VON_MISES applies to QUAD4 and QUAD8 (use ELASTOPLASTIC for ' // etype_name(md%etype) // ')'
-      end if
-    end select
-    if (len(msg) > 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'material ' // mat%name // ': ' // msg, &
-      st%params(find_param(st, 'MATERIAL'))%values(1)))
+    call law_check(mat, model_point_kind(md), md%sec, stat, msg)
+    if (stat /= STAT_OK) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'material ' // mat%name // ' on ' // &
+      etype_name(md%etype) // ' elements: ' // msg, st%params(find_param(st, 'MATERIAL'))%values(1)))
   end subroutine check_model_law
+
+  !> Material-point kind of a model's integration points (material_law PK_*; 0 for masses).
+  pure integer function model_point_kind(md) result(pk)
+    type(model_t), intent(in) :: md
+    select case (md%etype)
+    case (ET_SPRING, ET_BAR2)
+      pk = PK_1D
+    case (ET_BEAM2)
+      pk = PK_BEAM
+    case (ET_QUAD4, ET_QUAD8)
+      pk = merge(PK_PSTRESS, PK_PSTRAIN, md%sec%plane_stress)
+    case default
+      pk = 0
+    end select
+  end function model_point_kind
+
 
   !> Index of the node group named by a token, with an error naming it when unknown.
   subroutine node_group(scn, st, tok, ig, stat, errmsg)
