@@ -200,7 +200,7 @@ contains
     logical, intent(out) :: converged
     real(dp), intent(in), optional :: tol
     integer, intent(in), optional :: max_iter
-    real(dp), allocatable :: ynew(:), gy(:)
+    real(dp), allocatable :: ynew(:)
     real(dp) :: rtol, omega, prev, qa, qb, qe, t
     integer :: n, it, maxit, j
 
@@ -223,32 +223,16 @@ contains
     allocate (ynew(n))
     do it = 1, maxit
       iterations = it
-      gy = matmul(g, y)
-      do j = 1, n
-        ynew(j) = lambda_root(g(j, j), b(j) + 0.5_dp * (gy(j) - g(j, j) * y(j)), e(j))
-      end do
-      change = maxval(abs(ynew - y)) / max(maxval(abs(ynew)), tiny(1.0_dp))
-      if (change <= rtol) then
-        y = ynew
-        converged = .true.
-        exit
-      end if
+      call sweep(y, ynew, change, converged)
+      if (converged) exit
       if (change > prev) omega = max(0.5_dp * omega, 1.0_dp / 64.0_dp)
       prev = change
       y = y + omega * (ynew - y)
       ! Slow (strong coupling): Newton on (14) from here, judged by the same fixed-point change.
       if (it >= NEWTON_AFTER .and. mod(it, NEWTON_AFTER) == 0) then
         call newton_14(g, b, e, y)
-        gy = matmul(g, y)
-        do j = 1, n
-          ynew(j) = lambda_root(g(j, j), b(j) + 0.5_dp * (gy(j) - g(j, j) * y(j)), e(j))
-        end do
-        change = maxval(abs(ynew - y)) / max(maxval(abs(ynew)), tiny(1.0_dp))
-        if (change <= rtol) then
-          y = ynew
-          converged = .true.
-          exit
-        end if
+        call sweep(y, ynew, change, converged)
+        if (converged) exit
       end if
     end do
     ! (14) may have no solution with every y_j < 0 (strongly coupled points, some already
@@ -266,6 +250,25 @@ contains
       t = nearest_root(qa, qb, qe)
       y = t * y
     end if
+
+  contains
+
+    !> One Jacobi sweep of (14): each point's quadratic (13) with the others' impulses frozen
+    !> at y; change = largest relative update; converged (y takes the sweep) below rtol.
+    pure subroutine sweep(y, ynew, change, converged)
+      real(dp), intent(inout) :: y(:)
+      real(dp), intent(out) :: ynew(:), change
+      logical, intent(out) :: converged
+      real(dp) :: gy(size(y))
+      integer :: k
+      gy = matmul(g, y)
+      do k = 1, size(y)
+        ynew(k) = lambda_root(g(k, k), b(k) + 0.5_dp * (gy(k) - g(k, k) * y(k)), e(k))
+      end do
+      change = maxval(abs(ynew - y)) / max(maxval(abs(ynew)), tiny(1.0_dp))
+      converged = change <= rtol
+      if (converged) y = ynew
+    end subroutine sweep
   end subroutine impulse_fixed_point
 
   !> A few damped Newton steps on F_j(y) = ½ y_j (G y)_j + b_j y_j - e_j = 0, Jacobian
