@@ -19,7 +19,7 @@ CFLAGS  += -Wall -Wextra -I/usr/include/suitesparse
 MPI_FFLAGS = $(shell mpifort --showme:compile 2>/dev/null)
 MPI_LIBS   = $(shell mpifort --showme:link 2>/dev/null)
 override FFLAGS += $(MPI_FFLAGS)
-LDLIBS  = $(HDF5_LIB) -lcholmod -lsuitesparseconfig -llapack -lblas $(MPI_LIBS)
+LDLIBS  = $(HDF5_LIB) -lumfpack -lcholmod -lamd -lsuitesparseconfig -llapack -lblas $(MPI_LIBS)
 PY      := /usr/bin/python3
 
 LIB_F90 := $(filter-out src/rebond.f90,$(wildcard src/*.f90))

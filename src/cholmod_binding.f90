@@ -1,12 +1,22 @@
-!> Sparse Cholesky factorization of a symmetric positive definite sym_csc_t matrix through
-!> CHOLMOD (src/cholmod_shim.c, the project's only C interop).
+!> SuiteSparse binding: the project's single Fortran module for its C interop with SuiteSparse
+!> (src/cholmod_shim.c, src/umfpack_shim.c). C handles stay opaque (type(c_ptr)); 1-based
+!> Fortran indices are copied to 0-based ones at the boundary; every library status is checked.
 !>
+!> cholmod_factor_t: sparse Cholesky of a symmetric positive definite sym_csc_t matrix (CHOLMOD).
 !> Usage: call f%factorize(pat, values, stat, errmsg) once (copies the pattern, analyzes,
 !> factorizes); later factorize calls with the same pattern and new values only refactorize;
 !> call f%solve(b, x, stat, errmsg) as often as needed (allocation-free after the first);
-!> call f%destroy() when done. Do not copy a cholmod_factor_t (the copy would share the C
-!> handle): pass it by reference. gfortran 12 does not finalize non-allocatable locals at
-!> scope exit, so call destroy explicitly.
+!> call f%destroy() when done.
+!>
+!> umfpack_factor_t: sparse LU of a general square matrix in full CSC storage (UMFPACK), e.g. the
+!> indefinite contact system [S C'; C D]. Usage: call u%analyze(n, colptr, rowind, stat, errmsg)
+!> once per pattern; call u%factorize(values, stat, errmsg, singular) for each set of values
+!> (singular = .true. on a zero pivot: no factor, the caller falls back); call u%solve(b, x, stat,
+!> errmsg) as often as needed (allocation-free); call u%destroy() when done.
+!>
+!> Do not copy a cholmod_factor_t or an umfpack_factor_t (the copy would share the C handle):
+!> pass them by reference. gfortran 12 does not finalize non-allocatable locals at scope exit,
+!> so call destroy explicitly.
 module cholmod_binding
   use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_int, c_double, c_char, c_null_char, &
     c_associated
@@ -15,7 +25,7 @@ module cholmod_binding
   use sparse_matrix, only: sym_csc_t
   implicit none
   private
-  public :: cholmod_factor_t, cholmod_version
+  public :: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version
 
   type :: cholmod_factor_t
     private
@@ -28,8 +38,21 @@ module cholmod_binding
     final :: cholmod_factor_final
   end type cholmod_factor_t
 
+  type :: umfpack_factor_t
+    private
+    type(c_ptr) :: handle = c_null_ptr
+  contains
+    procedure :: analyze => umf_analyze
+    procedure :: factorize => umf_factorize
+    procedure :: solve => umf_solve
+    procedure :: is_factored => umf_is_factored
+    procedure :: destroy => umf_destroy
+    final :: umfpack_factor_final
+  end type umfpack_factor_t
+
   ! Return codes of the shim.
   integer(c_int), parameter :: RB_OK = 0, RB_NOT_POSDEF = 1, RB_FAIL = 2, RB_BADARG = 3
+  integer(c_int), parameter :: RB_UMF_OK = 0, RB_UMF_SINGULAR = 1, RB_UMF_FAIL = 2, RB_UMF_BADARG = 3
   integer, parameter :: MSGLEN = 320
 
   interface
@@ -77,6 +100,58 @@ module cholmod_binding
       integer(c_int), value :: msglen
       integer(c_int) :: rc
     end function rb_chol_solve
+
+    function rb_umf_new() bind(c, name='rb_umf_new') result(h)
+      import :: c_ptr
+      type(c_ptr) :: h
+    end function rb_umf_new
+
+    subroutine rb_umf_free(h) bind(c, name='rb_umf_free')
+      import :: c_ptr
+      type(c_ptr), value :: h
+    end subroutine rb_umf_free
+
+    function rb_umf_is_factored(h) bind(c, name='rb_umf_is_factored') result(r)
+      import :: c_ptr, c_int
+      type(c_ptr), value :: h
+      integer(c_int) :: r
+    end function rb_umf_is_factored
+
+    subroutine rb_umf_version(v) bind(c, name='rb_umf_version')
+      import :: c_int
+      integer(c_int), intent(out) :: v(3)
+    end subroutine rb_umf_version
+
+    function rb_umf_analyze(h, n, nnz, colptr0, rowind0, msg, msglen) bind(c, name='rb_umf_analyze') result(rc)
+      import :: c_ptr, c_int, c_char
+      type(c_ptr), value :: h
+      integer(c_int), value :: n, nnz
+      integer(c_int), intent(in) :: colptr0(*), rowind0(*)
+      character(kind=c_char), intent(inout) :: msg(*)
+      integer(c_int), value :: msglen
+      integer(c_int) :: rc
+    end function rb_umf_analyze
+
+    function rb_umf_factorize(h, nnz, values, msg, msglen) bind(c, name='rb_umf_factorize') result(rc)
+      import :: c_ptr, c_int, c_double, c_char
+      type(c_ptr), value :: h
+      integer(c_int), value :: nnz
+      real(c_double), intent(in) :: values(*)
+      character(kind=c_char), intent(inout) :: msg(*)
+      integer(c_int), value :: msglen
+      integer(c_int) :: rc
+    end function rb_umf_factorize
+
+    function rb_umf_solve(h, n, b, x, msg, msglen) bind(c, name='rb_umf_solve') result(rc)
+      import :: c_ptr, c_int, c_double, c_char
+      type(c_ptr), value :: h
+      integer(c_int), value :: n
+      real(c_double), intent(in) :: b(*)
+      real(c_double), intent(inout) :: x(*)
+      character(kind=c_char), intent(inout) :: msg(*)
+      integer(c_int), value :: msglen
+      integer(c_int) :: rc
+    end function rb_umf_solve
   end interface
 
 contains
@@ -182,6 +257,141 @@ contains
     call rb_chol_version(v)
     s = str(int(v(1))) // '.' // str(int(v(2))) // '.' // str(int(v(3)))
   end function cholmod_version
+
+  !> Symbolic analysis of the n x n pattern in full CSC storage (both triangles): colptr(n+1),
+  !> rowind(nnz), 1-based, rows sorted and distinct within each column. Depends on the pattern
+  !> only; replaces any previous pattern and factor. Bad pattern: stat = STAT_INPUT.
+  subroutine umf_analyze(self, n, colptr, rowind, stat, errmsg)
+    class(umfpack_factor_t), intent(inout) :: self
+    integer, intent(in) :: n
+    integer, intent(in) :: colptr(:), rowind(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer(c_int), allocatable :: colptr0(:), rowind0(:)
+    character(kind=c_char) :: cmsg(MSGLEN)
+    integer(c_int) :: rc
+
+    stat = STAT_OK
+    if (n < 1 .or. size(colptr) /= n + 1) then
+      call set_error(stat, errmsg, STAT_INPUT, 'UMFPACK analyze: order n = ' // str(n) // ' with ' // &
+                     str(size(colptr)) // ' column pointers (expected n + 1)')
+      return
+    end if
+    if (colptr(1) /= 1 .or. colptr(n + 1) - 1 /= size(rowind)) then
+      call set_error(stat, errmsg, STAT_INPUT, 'UMFPACK analyze: colptr(1) = ' // str(colptr(1)) // &
+                     ', colptr(n+1) = ' // str(colptr(n + 1)) // ' for ' // str(size(rowind)) // &
+                     ' row indices (expected 1 and nnz + 1)')
+      return
+    end if
+    if (.not. c_associated(self%handle)) then
+      self%handle = rb_umf_new()
+      if (.not. c_associated(self%handle)) then
+        call set_error(stat, errmsg, STAT_RUN, 'UMFPACK: cannot allocate the handle (out of memory?)')
+        return
+      end if
+    end if
+    ! 0-based copies for C (once per pattern; the C side keeps its own copy).
+    colptr0 = int(colptr - 1, c_int)
+    rowind0 = int(rowind - 1, c_int)
+    cmsg(1) = c_null_char
+    rc = rb_umf_analyze(self%handle, int(n, c_int), int(size(rowind), c_int), colptr0, rowind0, cmsg, &
+                        int(MSGLEN, c_int))
+    if (rc == RB_UMF_OK) return
+    if (rc == RB_UMF_BADARG) then
+      call set_error(stat, errmsg, STAT_INPUT, c_to_f(cmsg))
+    else
+      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
+    end if
+  end subroutine umf_analyze
+
+  !> Numeric LU of values(nnz), in the analyzed pattern's order; frees the previous factor.
+  !> Singular matrix (zero pivot): singular = .true., stat = STAT_RUN and no usable factor
+  !> (solve refuses) until a later factorize succeeds.
+  subroutine umf_factorize(self, values, stat, errmsg, singular)
+    class(umfpack_factor_t), intent(inout) :: self
+    real(dp), intent(in), contiguous :: values(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    logical, intent(out) :: singular
+    character(kind=c_char) :: cmsg(MSGLEN)
+    integer(c_int) :: rc
+
+    stat = STAT_OK
+    singular = .false.
+    if (.not. c_associated(self%handle)) then
+      call set_error(stat, errmsg, STAT_INPUT, 'UMFPACK factorize: pattern not analyzed')
+      return
+    end if
+    cmsg(1) = c_null_char
+    rc = rb_umf_factorize(self%handle, int(size(values), c_int), values, cmsg, int(MSGLEN, c_int))
+    if (rc == RB_UMF_OK) return
+    if (rc == RB_UMF_SINGULAR) then
+      singular = .true.
+      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
+    else if (rc == RB_UMF_BADARG) then
+      call set_error(stat, errmsg, STAT_INPUT, c_to_f(cmsg))
+    else
+      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
+    end if
+  end subroutine umf_factorize
+
+  !> x = A^{-1} b with the current LU factor (UMFPACK's iterative refinement included).
+  !> Allocation-free: the workspace lives in the C handle.
+  subroutine umf_solve(self, b, x, stat, errmsg)
+    class(umfpack_factor_t), intent(inout) :: self
+    real(dp), intent(in), contiguous :: b(:)
+    real(dp), intent(out), contiguous :: x(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(kind=c_char) :: cmsg(MSGLEN)
+    integer(c_int) :: rc
+
+    stat = STAT_OK
+    if (.not. c_associated(self%handle)) then
+      call set_error(stat, errmsg, STAT_INPUT, 'UMFPACK solve: matrix not factorized')
+      return
+    end if
+    if (size(x) /= size(b)) then
+      call set_error(stat, errmsg, STAT_INPUT, 'UMFPACK solve: size(x) = ' // str(size(x)) // &
+                     ' differs from size(b) = ' // str(size(b)))
+      return
+    end if
+    cmsg(1) = c_null_char
+    rc = rb_umf_solve(self%handle, int(size(b), c_int), b, x, cmsg, int(MSGLEN, c_int))
+    if (rc == RB_UMF_OK) return
+    if (rc == RB_UMF_BADARG) then
+      call set_error(stat, errmsg, STAT_INPUT, c_to_f(cmsg))
+    else
+      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
+    end if
+  end subroutine umf_solve
+
+  !> True when the last factorize succeeded (nonsingular) and destroy has not been called since.
+  logical function umf_is_factored(self)
+    class(umfpack_factor_t), intent(in) :: self
+    umf_is_factored = .false.
+    if (c_associated(self%handle)) umf_is_factored = rb_umf_is_factored(self%handle) /= 0
+  end function umf_is_factored
+
+  !> Free the factor, the analysis, the pattern and value copies and the workspaces. Idempotent.
+  subroutine umf_destroy(self)
+    class(umfpack_factor_t), intent(inout) :: self
+    if (c_associated(self%handle)) call rb_umf_free(self%handle)
+    self%handle = c_null_ptr
+  end subroutine umf_destroy
+
+  subroutine umfpack_factor_final(self)
+    type(umfpack_factor_t), intent(inout) :: self
+    call self%destroy()
+  end subroutine umfpack_factor_final
+
+  !> UMFPACK version compiled against, e.g. '5.7.9'.
+  function umfpack_version() result(s)
+    character(len=:), allocatable :: s
+    integer(c_int) :: v(3)
+    call rb_umf_version(v)
+    s = str(int(v(1))) // '.' // str(int(v(2))) // '.' // str(int(v(3)))
+  end function umfpack_version
 
   !> NUL-terminated C string -> Fortran string.
   pure function c_to_f(c) result(s)

@@ -1,4 +1,4 @@
-/* cholmod_shim.c -- the only C in rebond: a thin wrapper around CHOLMOD (int interface)
+/* cholmod_shim.c -- a thin wrapper around CHOLMOD (int interface)
  * for one symmetric positive definite matrix stored as its upper triangle (stype = 1).
  *
  * Fortran sees an opaque handle (type(c_ptr)) to rb_chol, which owns the cholmod_common,

@@ -1,17 +1,25 @@
 !> cholmod_binding: sparse Cholesky solves of a shifted 2D Laplacian (SPD), refactorization
 !> with new values, detection of the failing column of an indefinite matrix, determinism.
+!> umfpack_factor_t: LU solves of the indefinite contact system [S C'; C D] (manufactured
+!> solution and the Schur complement by dense LAPACK), refactorization on the same pattern
+!> (constraint deactivated then activated), a singular system, bad patterns and misuse.
 program test_cholmod_binding
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT
   use testing, only: check, check_close, test_summary
   use sparse_matrix, only: sym_csc_t
-  use cholmod_binding, only: cholmod_factor_t, cholmod_version
+  use cholmod_binding, only: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version
+  use dense_solve, only: spd_solve
   implicit none
 
   write (*, '(a)') '# CHOLMOD ' // cholmod_version()
   call test_laplacian(50)       ! 2500 equations
   call test_laplacian(200)      ! 40000 equations: larger supernodes
   call test_misuse()
+  write (*, '(a)') '# UMFPACK ' // umfpack_version()
+  call test_kkt()
+  call test_umf_singular()
+  call test_umf_misuse()
   call test_summary('cholmod_binding')
 
 contains
@@ -186,6 +194,280 @@ contains
     call check(stat == STAT_INPUT, 'changing the pattern on refactorization is an input error')
     call f%destroy()
   end subroutine test_misuse
+
+  !> S = K + 0.1 M: K = tridiag(-1, 2, -1) (bar fixed at both ends, unit element stiffness),
+  !> M = tridiag(1, 4, 1) / 6 (consistent mass). Eigenvalues in (0.1, 4.04): cond(S) < 41.
+  pure function stiffness_mass(n) result(s)
+    integer, intent(in) :: n
+    real(dp) :: s(n, n)
+    integer :: i
+    s = 0.0_dp
+    do i = 1, n
+      s(i, i) = 2.0_dp + 0.1_dp * 4.0_dp / 6.0_dp
+      if (i > 1) s(i, i - 1) = -1.0_dp + 0.1_dp / 6.0_dp
+      if (i < n) s(i, i + 1) = -1.0_dp + 0.1_dp / 6.0_dp
+    end do
+  end function stiffness_mass
+
+  !> Dense [S C'; C diag(d)].
+  pure function kkt(s, c, d) result(a)
+    real(dp), intent(in) :: s(:, :), c(:, :), d(:)
+    real(dp) :: a(size(s, 1) + size(c, 1), size(s, 1) + size(c, 1))
+    integer :: n, i
+    n = size(s, 1)
+    a = 0.0_dp
+    a(1:n, 1:n) = s
+    a(n + 1:, 1:n) = c
+    a(1:n, n + 1:) = transpose(c)
+    do i = 1, size(d)
+      a(n + i, n + i) = d(i)
+    end do
+  end function kkt
+
+  !> 1-based full CSC pattern of the mask (rows ascending in each column).
+  subroutine csc_pattern(mask, colptr, rowind)
+    logical, intent(in) :: mask(:, :)
+    integer, allocatable, intent(out) :: colptr(:), rowind(:)
+    integer :: i, j, k
+    allocate (colptr(size(mask, 2) + 1), rowind(count(mask)))
+    k = 0
+    colptr(1) = 1
+    do j = 1, size(mask, 2)
+      do i = 1, size(mask, 1)
+        if (mask(i, j)) then
+          k = k + 1
+          rowind(k) = i
+        end if
+      end do
+      colptr(j + 1) = k + 1
+    end do
+  end subroutine csc_pattern
+
+  !> Values of the dense a in the pattern's order (stored zeros included).
+  pure function csc_values(a, colptr, rowind) result(v)
+    real(dp), intent(in) :: a(:, :)
+    integer, intent(in) :: colptr(:), rowind(:)
+    real(dp) :: v(size(rowind))
+    integer :: j, k
+    do j = 1, size(colptr) - 1
+      do k = colptr(j), colptr(j + 1) - 1
+        v(k) = a(rowind(k), j)
+      end do
+    end do
+  end function csc_values
+
+  !> ||b - A x|| / ||b|| with A in full CSC storage.
+  pure real(dp) function csc_residual(colptr, rowind, v, x, b)
+    integer, intent(in) :: colptr(:), rowind(:)
+    real(dp), intent(in) :: v(:), x(:), b(:)
+    real(dp) :: r(size(b))
+    integer :: j, k
+    r = b
+    do j = 1, size(colptr) - 1
+      do k = colptr(j), colptr(j + 1) - 1
+        r(rowind(k)) = r(rowind(k)) - v(k) * x(j)
+      end do
+    end do
+    csc_residual = norm2(r) / norm2(b)
+  end function csc_residual
+
+  !> Sparse LU of the contact system [S C'; C D], S = stiffness_mass(50), three constraints.
+  !> Pattern: S's tridiagonal, C's entries and D's diagonal (stored even when zero), so that
+  !> one analysis serves active (D_ii = 0) and inactive (C row i = 0, D_ii = 1) constraints.
+  !> Tolerances: LU with partial pivoting and UMFPACK's iterative refinement is backward stable,
+  !> residual ~ (small growth) * eps ~ 1e-15, so 1e-12 leaves a wide margin; the forward error
+  !> is at most cond(A) * residual, cond(A) ~ cond(S) * (C S^-1 C' spread) < 1e3, hence 1e-10.
+  subroutine test_kkt()
+    integer, parameter :: n = 50, m = 3, nt = n + m
+    type(umfpack_factor_t) :: u
+    real(dp) :: s(n, n), c(m, n), a(nt, nt), zs(nt), b(nt), z(nt), z2(nt), d(m)
+    real(dp) :: y(n, m + 1), sigma(m, m), lam(m), xs(n)
+    real(dp), allocatable :: v(:)
+    integer, allocatable :: colptr(:), rowind(:)
+    logical :: mask(nt, nt), singular
+    integer :: i, stat
+    character(len=:), allocatable :: errmsg
+
+    s = stiffness_mass(n)
+    c = 0.0_dp
+    c(1, 10) = 1.0_dp                          ! gap at node 10
+    c(2, 25) = 1.0_dp; c(2, 30) = -1.0_dp      ! relative gap between nodes 25 and 30
+    c(3, 40) = 0.5_dp; c(3, 41) = 1.0_dp       ! weighted gap over nodes 40, 41
+    mask = kkt(s, c, [1.0_dp, 1.0_dp, 1.0_dp]) /= 0.0_dp
+    call csc_pattern(mask, colptr, rowind)
+    do i = 1, nt
+      zs(i) = sin(0.3_dp * i) + 0.2_dp
+    end do
+    zs(n + 1:) = [1.5_dp, -0.7_dp, 2.0_dp]
+
+    call check(.not. u%is_factored(), 'UMFPACK: fresh factor is not factored')
+    call u%analyze(nt, colptr, rowind, stat, errmsg)
+    call check(stat == STAT_OK, 'UMFPACK: KKT pattern analyzed', msg_of(errmsg))
+
+    ! (a) all three constraints active, D = 0 (stored zeros): manufactured solution zs.
+    d = 0.0_dp
+    a = kkt(s, c, d)
+    v = csc_values(a, colptr, rowind)
+    b = matmul(a, zs)
+    call u%factorize(v, stat, errmsg, singular)
+    call check(stat == STAT_OK .and. .not. singular, 'UMFPACK: KKT (D = 0) factorizes', msg_of(errmsg))
+    call check(u%is_factored(), 'UMFPACK: is_factored after factorize')
+    call u%solve(b, z, stat, errmsg)
+    call check(stat == STAT_OK, 'UMFPACK: KKT solve succeeds', msg_of(errmsg))
+    call check(csc_residual(colptr, rowind, v, z, b) <= 1.0e-12_dp, 'UMFPACK: KKT relative residual <= 1e-12')
+    call check(norm2(z - zs) <= 1.0e-10_dp * norm2(zs), 'UMFPACK: KKT recovers the manufactured solution')
+    call u%solve(b, z2, stat, errmsg)
+    call check(stat == STAT_OK .and. all(z2 == z), 'UMFPACK: second solve is bit-identical')
+
+    ! Independent path: Schur complement by dense Cholesky (LAPACK). S Y = [C' f],
+    ! (C S^-1 C') lam = C S^-1 f - g, x = S^-1 f - S^-1 C' lam. C has full row rank: SPD Schur.
+    y(:, 1:m) = transpose(c)
+    y(:, m + 1) = b(1:n)
+    a(1:n, 1:n) = s
+    call spd_solve(a(1:n, 1:n), y, stat, errmsg)
+    call check(stat == STAT_OK, 'LAPACK: S Y = [C'' f]', msg_of(errmsg))
+    sigma = matmul(c, y(:, 1:m))
+    lam = matmul(c, y(:, m + 1)) - b(n + 1:)
+    call spd_solve(sigma, lam, stat, errmsg)
+    call check(stat == STAT_OK, 'LAPACK: Schur complement C S^-1 C'' is SPD', msg_of(errmsg))
+    xs = y(:, m + 1) - matmul(y(:, 1:m), lam)
+    call check(norm2(z(1:n) - xs) <= 1.0e-10_dp * norm2(xs), 'UMFPACK x matches the Schur complement solution')
+    call check(norm2(z(n + 1:) - lam) <= 1.0e-10_dp * norm2(lam), &
+               'UMFPACK multipliers match the Schur complement solution')
+    call check(maxval(abs(matmul(c, z(1:n)) - b(n + 1:))) <= 1.0e-12_dp * maxval(abs(b)), &
+               'UMFPACK: the constraints C x = g hold')
+
+    ! (b) same pattern, new values: constraint 2 inactive (C row/column 2 zeroed, D_22 = 1,
+    ! so lam_2 = g_2 exactly decouples), S doubled.
+    c(2, :) = 0.0_dp
+    d = [0.0_dp, 1.0_dp, 0.0_dp]
+    a = kkt(2.0_dp * s, c, d)
+    v = csc_values(a, colptr, rowind)
+    b = matmul(a, zs)
+    call u%factorize(v, stat, errmsg, singular)
+    call check(stat == STAT_OK .and. .not. singular, 'UMFPACK: refactorization, constraint 2 inactive', &
+               msg_of(errmsg))
+    call u%solve(b, z, stat, errmsg)
+    call check(stat == STAT_OK .and. csc_residual(colptr, rowind, v, z, b) <= 1.0e-12_dp, &
+               'UMFPACK: residual <= 1e-12, constraint 2 inactive')
+    call check(norm2(z - zs) <= 1.0e-10_dp * norm2(zs), 'UMFPACK: solution with constraint 2 inactive')
+    call check_close(z(n + 2), b(n + 2), 1.0e-12_dp, 'UMFPACK: inactive multiplier lam_2 = g_2')
+
+    ! Constraint 2 active again (D = 0), S doubled: still the first analysis.
+    c(2, 25) = 1.0_dp; c(2, 30) = -1.0_dp
+    d = 0.0_dp
+    a = kkt(2.0_dp * s, c, d)
+    v = csc_values(a, colptr, rowind)
+    b = matmul(a, zs)
+    call u%factorize(v, stat, errmsg, singular)
+    call check(stat == STAT_OK .and. .not. singular, 'UMFPACK: refactorization, constraint 2 active', msg_of(errmsg))
+    call u%solve(b, z, stat, errmsg)
+    call check(stat == STAT_OK .and. csc_residual(colptr, rowind, v, z, b) <= 1.0e-12_dp, &
+               'UMFPACK: residual <= 1e-12, constraint 2 reactivated')
+    call check(norm2(z - zs) <= 1.0e-10_dp * norm2(zs), 'UMFPACK: solution with constraint 2 reactivated')
+
+    call u%destroy()
+    call check(.not. u%is_factored(), 'UMFPACK: destroyed factor is not factored')
+    call u%destroy()
+    call check(.true., 'UMFPACK: destroy twice is safe')
+  end subroutine test_kkt
+
+  !> (c) Two identical active constraint rows (D = 0): the KKT matrix has two equal rows, hence
+  !> is singular; elimination makes the second one exactly zero, so UMFPACK must report it.
+  subroutine test_umf_singular()
+    integer, parameter :: n = 50, m = 2, nt = n + m
+    type(umfpack_factor_t) :: u
+    real(dp) :: s(n, n), c(m, n), a(nt, nt), b(nt), z(nt), zs(nt)
+    real(dp), allocatable :: v(:)
+    integer, allocatable :: colptr(:), rowind(:)
+    logical :: singular
+    integer :: i, stat
+    character(len=:), allocatable :: errmsg
+
+    s = stiffness_mass(n)
+    c = 0.0_dp
+    c(1, 20) = 1.0_dp; c(1, 21) = -1.0_dp
+    c(2, :) = c(1, :)
+    a = kkt(s, c, [1.0_dp, 1.0_dp])
+    call csc_pattern(a /= 0.0_dp, colptr, rowind)
+    call u%analyze(nt, colptr, rowind, stat, errmsg)
+    call check(stat == STAT_OK, 'UMFPACK: pattern with repeated constraint analyzed', msg_of(errmsg))
+    a = kkt(s, c, [0.0_dp, 0.0_dp])
+    v = csc_values(a, colptr, rowind)
+    call u%factorize(v, stat, errmsg, singular)
+    call check(singular, 'UMFPACK: two identical active constraints report singular')
+    call check(stat == STAT_RUN, 'UMFPACK: singular KKT gives STAT_RUN')
+    call check(index(msg_of(errmsg), 'singular') > 0 .and. index(msg_of(errmsg), 'status 1') > 0, &
+               'UMFPACK: errmsg names the status', msg_of(errmsg))
+    call check(.not. u%is_factored(), 'UMFPACK: singular factor is not factored')
+    b = 1.0_dp
+    call u%solve(b, z, stat, errmsg)
+    call check(stat == STAT_INPUT, 'UMFPACK: solve refused after a singular factorization')
+
+    ! Fallback as the caller would do it: the second constraint inactive (D_22 = 1).
+    a = kkt(s, c, [0.0_dp, 1.0_dp])
+    a(n + 2, 1:n) = 0.0_dp
+    a(1:n, n + 2) = 0.0_dp
+    v = csc_values(a, colptr, rowind)
+    do i = 1, nt
+      zs(i) = cos(0.2_dp * i)
+    end do
+    b = matmul(a, zs)
+    call u%factorize(v, stat, errmsg, singular)
+    call check(stat == STAT_OK .and. .not. singular, 'UMFPACK: refactorization after a singular one', &
+               msg_of(errmsg))
+    call u%solve(b, z, stat, errmsg)
+    call check(stat == STAT_OK .and. norm2(z - zs) <= 1.0e-10_dp * norm2(zs), 'UMFPACK: solve after recovery')
+    call u%destroy()
+  end subroutine test_umf_singular
+
+  !> (d) Bad patterns and calls out of order give STAT_INPUT and a message, never a crash.
+  subroutine test_umf_misuse()
+    type(umfpack_factor_t) :: u
+    real(dp) :: b(3), x(3)
+    logical :: singular
+    integer :: stat
+    character(len=:), allocatable :: errmsg
+
+    b = 1.0_dp
+    call u%solve(b, x, stat, errmsg)
+    call check(stat == STAT_INPUT, 'UMFPACK: solve before analyze is an input error')
+    call u%factorize([1.0_dp], stat, errmsg, singular)
+    call check(stat == STAT_INPUT .and. .not. singular, 'UMFPACK: factorize before analyze is an input error')
+    call u%analyze(3, [1, 3, 2, 4], [1, 2, 3], stat, errmsg)
+    call check(stat == STAT_INPUT .and. index(msg_of(errmsg), 'monotone') > 0, &
+               'UMFPACK: colptr not monotone is an input error', msg_of(errmsg))
+    call u%factorize([1.0_dp, 1.0_dp, 1.0_dp], stat, errmsg, singular)
+    call check(stat == STAT_INPUT, 'UMFPACK: factorize after a failed analyze is an input error')
+    call u%analyze(3, [1, 3, 4, 5], [2, 1, 2, 3], stat, errmsg)
+    call check(stat == STAT_INPUT, 'UMFPACK: unsorted rows are an input error', msg_of(errmsg))
+    call u%analyze(3, [1, 2, 3, 4], [1, 4, 3], stat, errmsg)
+    call check(stat == STAT_INPUT, 'UMFPACK: row out of range is an input error', msg_of(errmsg))
+    call u%analyze(3, [1, 2, 3], [1, 2], stat, errmsg)
+    call check(stat == STAT_INPUT, 'UMFPACK: size(colptr) /= n + 1 is an input error', msg_of(errmsg))
+    call u%analyze(3, [1, 2, 3, 5], [1, 2, 3], stat, errmsg)
+    call check(stat == STAT_INPUT, 'UMFPACK: colptr(n+1) /= nnz + 1 is an input error', msg_of(errmsg))
+
+    ! Diagonal 3 x 3 after the failures: the handle is reusable.
+    call u%analyze(3, [1, 2, 3, 4], [1, 2, 3], stat, errmsg)
+    call check(stat == STAT_OK, 'UMFPACK: analyze after failures', msg_of(errmsg))
+    call u%factorize([1.0_dp, 2.0_dp], stat, errmsg, singular)
+    call check(stat == STAT_INPUT, 'UMFPACK: values of the wrong size are an input error')
+    call u%factorize([2.0_dp, 4.0_dp, 8.0_dp], stat, errmsg, singular)
+    call u%solve(b, x, stat, errmsg)
+    call check(stat == STAT_OK .and. all(x == [0.5_dp, 0.25_dp, 0.125_dp]), 'UMFPACK: diagonal solve is exact')
+    call u%solve(b(1:2), x(1:2), stat, errmsg)
+    call check(stat == STAT_INPUT, 'UMFPACK: wrong rhs size is an input error')
+    call u%destroy()
+  end subroutine test_umf_misuse
+
+  !> errmsg or '' when unallocated (a successful call leaves it unallocated).
+  function msg_of(errmsg) result(s)
+    character(len=:), allocatable, intent(in) :: errmsg
+    character(len=:), allocatable :: s
+    s = ''
+    if (allocated(errmsg)) s = errmsg
+  end function msg_of
 
   function itoa(i) result(s)
     integer, intent(in) :: i
