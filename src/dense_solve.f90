@@ -1,11 +1,14 @@
-!> Dense symmetric linear algebra through LAPACK: generalized eigenproblem (modal analysis of
-!> small systems), SPD and symmetric indefinite linear solves. Every LAPACK `info` is checked.
+!> Dense linear algebra through LAPACK (interfaces in lapack_pure): generalized eigenproblem
+!> (modal analysis of small systems), SPD and symmetric indefinite linear solves, and the pure
+!> kernels of the contact algebra: spsd_solve (semidefinite, rank-revealing pivoted Cholesky)
+!> and gen_solve (small general square systems). Every LAPACK `info` is checked.
 module dense_solve
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
+  use lapack_pure, only: dsygvd, dposv, dsysv, dpstrf, dpotrs, dgesv
   implicit none
   private
-  public :: generalized_eigen, spd_solve, sym_solve
+  public :: generalized_eigen, spd_solve, sym_solve, spsd_solve, gen_solve, PIVOT_RTOL
 
   !> spd_solve(a, b, stat, errmsg): b(n) or b(n,nrhs).
   interface spd_solve
@@ -17,34 +20,10 @@ module dense_solve
     module procedure sym_solve_1, sym_solve_2
   end interface sym_solve
 
-  ! LAPACK (reference interfaces, LP64 default integers).
-  interface
-    subroutine dsygvd(itype, jobz, uplo, n, a, lda, b, ldb, w, work, lwork, iwork, liwork, info)
-      import :: dp
-      integer, intent(in) :: itype, n, lda, ldb, lwork, liwork
-      character(len=1), intent(in) :: jobz, uplo
-      real(dp), intent(inout) :: a(lda, *), b(ldb, *)
-      real(dp), intent(out) :: w(*), work(*)
-      integer, intent(out) :: iwork(*), info
-    end subroutine dsygvd
-
-    subroutine dposv(uplo, n, nrhs, a, lda, b, ldb, info)
-      import :: dp
-      character(len=1), intent(in) :: uplo
-      integer, intent(in) :: n, nrhs, lda, ldb
-      real(dp), intent(inout) :: a(lda, *), b(ldb, *)
-      integer, intent(out) :: info
-    end subroutine dposv
-
-    subroutine dsysv(uplo, n, nrhs, a, lda, ipiv, b, ldb, work, lwork, info)
-      import :: dp
-      character(len=1), intent(in) :: uplo
-      integer, intent(in) :: n, nrhs, lda, ldb, lwork
-      real(dp), intent(inout) :: a(lda, *), b(ldb, *)
-      integer, intent(out) :: ipiv(*), info
-      real(dp), intent(out) :: work(*)
-    end subroutine dsysv
-  end interface
+  !> Default relative pivot tolerance of spsd_solve: a pivot <= PIVOT_RTOL * max(diag) marks a
+  !> row dependent on the kept ones. Exactly dependent rows give pivots of a few ulps (relative);
+  !> 1e-12 leaves three decades of margin.
+  real(dp), parameter :: PIVOT_RTOL = 1.0e-12_dp
 
 contains
 
@@ -197,4 +176,97 @@ contains
                      str(info) // '))')
     end if
   end subroutine sym_solve_core
+
+  !> Solve a x = b, a(n,n) symmetric positive semidefinite (full storage, lower triangle used),
+  !> by Cholesky with diagonal pivoting (dpstrf): P' a P = L L' on the leading rank rows.
+  !> Pivoting stops at the first pivot <= rtol * max(diag(a)) (dpstrf's TOL test): the remaining
+  !> rows are dependent (to that tolerance) on the kept ones, their unknowns are set to zero and
+  !> the kept block is solved exactly (dpotrs). rank = number of kept rows; dropped(j) marks the
+  !> others. For a consistent right-hand side this is a solution of the full system.
+  !> rtol defaults to PIVOT_RTOL; a negative rtol is taken as 0 (stop only at pivots <= 0).
+  !> rank = 0, x = 0 and every row dropped when: n = 0; a has a NaN or Inf entry; max(diag(a))
+  !> is not positive; or a size mismatch / LAPACK argument error (info < 0), which can only
+  !> be a programming error and, the routine being pure without stat, is reported this way.
+  pure subroutine spsd_solve(a, b, x, rank, dropped, rtol)
+    real(dp), intent(in) :: a(:, :), b(:)
+    real(dp), intent(out) :: x(:)
+    integer, intent(out) :: rank
+    logical, intent(out), optional :: dropped(:)
+    real(dp), intent(in), optional :: rtol
+    real(dp), allocatable :: l(:, :), y(:), work(:)
+    integer, allocatable :: piv(:)
+    integer :: n, i, r, info
+    real(dp) :: rt, dmax
+
+    n = size(b)
+    rt = PIVOT_RTOL
+    if (present(rtol)) rt = max(rtol, 0.0_dp)
+    x = 0.0_dp
+    rank = 0
+    if (present(dropped)) dropped = .true.
+    if (n == 0 .or. size(a, 1) /= n .or. size(a, 2) /= n .or. size(x) /= n) return
+    if (present(dropped)) then
+      if (size(dropped) /= n) return
+    end if
+    if (.not. finite_matrix(a)) return                 ! NaN/Inf: no meaningful rank
+    dmax = 0.0_dp
+    do i = 1, n
+      dmax = max(dmax, a(i, i))
+    end do
+    if (.not. (dmax > 0.0_dp)) return
+    allocate (l, source=a)
+    allocate (piv(n), work(2 * n))
+    ! TOL >= 0 here, so dpstrf uses it as given (a negative TOL would select n eps max(diag)).
+    call dpstrf('L', n, l, n, piv, r, rt * dmax, work, info)
+    if (info < 0 .or. r < 0 .or. r > n) return         ! info = 1 only says rank < n
+    if (r == 0) return
+    allocate (y, source=b(piv(1:r)))
+    call dpotrs('L', r, 1, l, n, y, r, info)           ! leading r x r block of L, lda = n
+    if (info /= 0) return
+    x(piv(1:r)) = y
+    rank = r
+    if (present(dropped)) dropped(piv(1:r)) = .false.
+  end subroutine spsd_solve
+
+  !> x = a^-1 b for a small general square a(n,n) (LU with partial pivoting, dgesv). ok = .false.
+  !> (and x = 0) when a is singular: an exactly zero pivot (info > 0) or, as the hand-written LU
+  !> it replaces, a pivot |U(k,k)| <= eps * max|a| (numerically singular); a NaN or Inf entry;
+  !> or a size mismatch. n = 0 is ok.
+  pure subroutine gen_solve(a, b, x, ok)
+    real(dp), intent(in) :: a(:, :), b(:)
+    real(dp), intent(out) :: x(:)
+    logical, intent(out) :: ok
+    real(dp), allocatable :: lu(:, :), y(:)
+    integer, allocatable :: ipiv(:)
+    real(dp) :: amax
+    integer :: n, k, info
+
+    n = size(b)
+    x = 0.0_dp
+    ok = .false.
+    if (size(a, 1) /= n .or. size(a, 2) /= n .or. size(x) /= n) return
+    ok = .true.
+    if (n == 0) return
+    ok = .false.
+    if (.not. finite_matrix(a)) return
+    amax = maxval(abs(a))
+    allocate (lu, source=a)
+    allocate (y, source=b)
+    allocate (ipiv(n))
+    call dgesv(n, 1, lu, n, ipiv, y, n, info)
+    if (info /= 0) return
+    do k = 1, n
+      if (.not. (abs(lu(k, k)) > epsilon(1.0_dp) * amax)) return
+    end do
+    x = y
+    ok = .true.
+  end subroutine gen_solve
+
+  !> All entries finite. NaN is tested first with the quiet /= so that the ordered comparison
+  !> never sees one (no invalid-operation flag under FPE traps); LAPACK never gets NaN or Inf.
+  pure logical function finite_matrix(a)
+    real(dp), intent(in) :: a(:, :)
+    finite_matrix = .not. any(a /= a)
+    if (finite_matrix) finite_matrix = .not. any(abs(a) > huge(1.0_dp))
+  end function finite_matrix
 end module dense_solve
