@@ -14,21 +14,28 @@
 !> bookkeeping around them and the linear solves.
 !>
 !> Linear solves go through inverse_op_t (x = A⁻¹ b): CHOLMOD factors, a diagonal, or any test
-!> double. Do not copy a contact_set_t (it may own a CHOLMOD factor of M): pass it by reference
-!> and call contact_destroy when done.
+!> double; the multipliers of the LCP come from contact_multipliers (Schur columns of the active
+!> conditions, or the augmented sparse system for large active sets). Do not copy a
+!> contact_set_t (it may own a CHOLMOD factor of M and an UMFPACK factor): pass it by reference
+!> and call contact_destroy when done. Nothing is allocated per step once the workspaces have
+!> reached the largest active set of the run.
 module contact
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use sparse_matrix, only: sym_csc_t
   use cholmod_binding, only: cholmod_factor_t
-  use lcp, only: spsd_solve, lcp_solve
+  use inverse_ops, only: inverse_op_t, diag_inverse_t, chol_inverse_t, chol_ref_t
+  use lcp, only: lcp_pivot
+  use dense_solve, only: spsd_solve, gen_solve
+  use contact_multipliers, only: multiplier_system_t, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   implicit none
   private
   public :: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, EVENT_ESTABLISH, EVENT_RELEASE, LABEL_LEN
   public :: inverse_op_t, diag_inverse_t, chol_inverse_t
+  public :: SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   public :: contact_set_t, contact_event_t, contact_report_t
   public :: contact_add, contact_finalize, contact_set_mass, contact_prepare, contact_solve_step, &
-    contact_end_step, contact_add_force, contact_gaps, contact_destroy
+    contact_end_step, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, contact_am_block
   public :: impact_energy_error, lambda_root, impulse_fixed_point, normal_multiplier, hzero_reflection, &
     persist_projection, persist_scale
 
@@ -39,44 +46,17 @@ module contact
   !> The fixed point (14) tries Newton every NEWTON_AFTER iterations once it is slow.
   integer, parameter :: NEWTON_AFTER = 30
 
-  !> x = A⁻¹ b for a fixed SPD matrix A.
-  type, abstract :: inverse_op_t
-  contains
-    procedure(inverse_apply), deferred :: apply
-  end type inverse_op_t
-
-  abstract interface
-    subroutine inverse_apply(self, b, x, stat, errmsg)
-      import :: inverse_op_t, dp
-      class(inverse_op_t), intent(inout) :: self
-      real(dp), intent(in), contiguous :: b(:)
-      real(dp), intent(out), contiguous :: x(:)
-      integer, intent(out) :: stat
-      character(len=:), allocatable, intent(out) :: errmsg
-    end subroutine inverse_apply
-  end interface
-
-  !> Diagonal (lumped) matrix: x = b / d. A zero d_i is allowed where b_i = 0 (massless DOFs
-  !> that no contact touches).
-  type, extends(inverse_op_t) :: diag_inverse_t
-    real(dp), allocatable :: d(:)
-  contains
-    procedure :: apply => diag_apply
-  end type diag_inverse_t
-
-  !> Owns a CHOLMOD factor (used for a consistent mass matrix).
-  type, extends(inverse_op_t) :: chol_inverse_t
-    type(cholmod_factor_t) :: f
-  contains
-    procedure :: apply => chol_apply
-  end type chol_inverse_t
-
-  !> Borrows the caller's CHOLMOD factor for the duration of one call.
-  type, extends(inverse_op_t) :: chol_ref_t
-    type(cholmod_factor_t), pointer :: f => null()
-  contains
-    procedure :: apply => chol_ref_apply
-  end type chol_ref_t
+  !> One line of events.csv.
+  type :: contact_event_t
+    integer :: index = 0                     !< condition
+    integer :: kind = 0                      !< EVENT_ESTABLISH or EVENT_RELEASE
+    real(dp) :: gap_start = 0.0_dp           !< g_j(n)
+    real(dp) :: gap_end = 0.0_dp             !< g_j(n+1)
+    real(dp) :: multiplier = 0.0_dp          !< Λ_j
+    real(dp) :: reaction = 0.0_dp            !< R_j(n+1)
+    real(dp) :: energy = 0.0_dp              !< E_j (10), restored by the correction
+    real(dp) :: y = 0.0_dp                   !< impulse factor y_j = λ_j h of (13)-(14) (PAPER)
+  end type contact_event_t
 
   !> The candidate conditions, their state and the cached operators.
   type :: contact_set_t
@@ -95,33 +75,29 @@ module contact
     real(dp), allocatable :: gap_n(:)        !< g(n) = g0 + C u_n of the last solve
     real(dp), allocatable :: gap(:)          !< g(n+1) of the last LCP
     integer :: lcp_iterations = 0            !< pivots of the last LCP
-    ! Caches.
+    ! Multipliers and operators.
     logical :: finalized = .false., prepared = .false., mass_set = .false.
-    logical :: z_stored = .false.            !< Z = S⁻¹C' kept (neq*nc <= z_max_entries)
-    real(dp), allocatable :: z(:, :)         !< (neq, nc) when z_stored
-    real(dp), allocatable :: w(:, :)         !< (nc, nc) C S⁻¹ C'
-    real(dp), allocatable :: am(:, :)        !< (nc, nc) C M⁻¹ C'
+    type(multiplier_system_t) :: ms          !< W = C S⁻¹C' for the LCP (Schur columns or augmented)
     class(inverse_op_t), allocatable :: minv !< M⁻¹
+    ! Events of the last contact_end_step: events(1:n_events).
+    type(contact_event_t), allocatable :: events(:)
+    integer :: n_events = 0
+    ! Workspaces (sized at contact_finalize; the dense ones grow with the largest active set).
+    real(dp), allocatable :: wq(:), wdiag(:), gn(:), gend(:), e(:), y(:), r(:), mu(:)
+    logical, allocatable :: viol(:), now(:), est(:), rel(:), fallback(:), rows(:)
+    integer, allocatable :: idx(:), cgroup(:), parent(:)
+    real(dp), allocatable :: f(:), xw(:), vp(:), mvp(:), ct(:)
+    real(dp), allocatable :: amat(:, :), gmat(:, :), sv(:)
     ! Settings (set before contact_finalize / contact_prepare to change them).
     real(dp) :: length_scale = 1.0_dp        !< model size; gap tolerance = gap_rtol * length_scale
     real(dp) :: gap_rtol = 1.0e-12_dp
     real(dp) :: fp_tol = 1.0e-14_dp          !< relative change ending the impulse fixed point
     integer :: fp_max_iter = 500
     real(dp) :: persist_min_fraction = 1.0e-6_dp  !< PERSIST falls back to PAPER below this T_body/T*
-    integer(8) :: z_max_entries = 8388608_8  !< 64 MB of Z at most; beyond, one extra solve per iteration
+    integer :: solver = SOLVER_AUTO          !< multipliers: SOLVER_AUTO, SOLVER_SCHUR or SOLVER_AUGMENTED
+    integer :: switch_size = SWITCH_DEFAULT  !< AUTO: augmented above this many active conditions
+    integer(8) :: z_max_entries = 8388608_8  !< 64 MB: initial size of the Schur column cache
   end type contact_set_t
-
-  !> One line of events.csv.
-  type :: contact_event_t
-    integer :: index = 0                     !< condition
-    integer :: kind = 0                      !< EVENT_ESTABLISH or EVENT_RELEASE
-    real(dp) :: gap_start = 0.0_dp           !< g_j(n)
-    real(dp) :: gap_end = 0.0_dp             !< g_j(n+1)
-    real(dp) :: multiplier = 0.0_dp          !< Λ_j
-    real(dp) :: reaction = 0.0_dp            !< R_j(n+1)
-    real(dp) :: energy = 0.0_dp              !< E_j (10), restored by the correction
-    real(dp) :: y = 0.0_dp                   !< impulse factor y_j = λ_j h of (13)-(14) (PAPER)
-  end type contact_event_t
 
   !> Summary of one contact_end_step.
   type :: contact_report_t
@@ -294,7 +270,7 @@ contains
         jac(j, j) = jac(j, j) + 0.5_dp * f(j) + b(j)
       end do
       f = residual_14(g, b, e, y)
-      call lu_solve(jac, -f, d, ok)
+      call gen_solve(jac, -f, d, ok)
       if (.not. ok) return
       t = 1.0_dp
       do
@@ -314,39 +290,6 @@ contains
     real(dp) :: f(size(y))
     f = 0.5_dp * y * matmul(g, y) + b * y - e
   end function residual_14
-
-  !> x = a⁻¹ r by Gaussian elimination with partial pivoting (small dense, nonsymmetric).
-  pure subroutine lu_solve(a, r, x, ok)
-    real(dp), intent(in) :: a(:, :), r(:)
-    real(dp), intent(out) :: x(:)
-    logical, intent(out) :: ok
-    real(dp), allocatable :: w(:, :), row(:)
-    real(dp) :: piv, tmp
-    integer :: n, k, i, p
-    n = size(r)
-    allocate (w, source=a)
-    x = r
-    allocate (row(n))
-    ok = .false.
-    do k = 1, n
-      p = k - 1 + maxloc(abs(w(k:n, k)), 1)
-      piv = w(p, k)
-      if (.not. (abs(piv) > epsilon(1.0_dp) * maxval(abs(a)))) return
-      if (p /= k) then
-        row = w(k, :); w(k, :) = w(p, :); w(p, :) = row
-        tmp = x(k); x(k) = x(p); x(p) = tmp
-      end if
-      do i = k + 1, n
-        w(i, k) = w(i, k) / piv
-        w(i, k + 1:n) = w(i, k + 1:n) - w(i, k) * w(k, k + 1:n)
-        x(i) = x(i) - w(i, k) * x(k)
-      end do
-    end do
-    do k = n, 1, -1
-      x(k) = (x(k) - dot_product(w(k, k + 1:n), x(k + 1:n))) / w(k, k)
-    end do
-    ok = .true.
-  end subroutine lu_solve
 
   !> Root of ½ a t² + b t - e = 0 (a > 0) closest to 1, computed without cancellation.
   pure real(dp) function nearest_root(a, b, e) result(t)
@@ -415,59 +358,13 @@ contains
   end function persist_scale
 
   ! ---------------------------------------------------------------------------------------
-  ! Linear operators
-  ! ---------------------------------------------------------------------------------------
-
-  subroutine diag_apply(self, b, x, stat, errmsg)
-    class(diag_inverse_t), intent(inout) :: self
-    real(dp), intent(in), contiguous :: b(:)
-    real(dp), intent(out), contiguous :: x(:)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: i
-    stat = STAT_OK
-    if (size(b) /= size(self%d) .or. size(x) /= size(b)) then
-      call set_error(stat, errmsg, STAT_INPUT, 'diagonal inverse: size mismatch')
-      return
-    end if
-    do i = 1, size(b)
-      if (b(i) == 0.0_dp) then
-        x(i) = 0.0_dp
-      else if (self%d(i) > 0.0_dp) then
-        x(i) = b(i) / self%d(i)
-      else
-        call set_error(stat, errmsg, STAT_INPUT, 'contact: equation ' // str(i) // &
-          ' carries a contact condition but has no mass (lumped mass diagonal ' // str(self%d(i)) // ')')
-        return
-      end if
-    end do
-  end subroutine diag_apply
-
-  subroutine chol_apply(self, b, x, stat, errmsg)
-    class(chol_inverse_t), intent(inout) :: self
-    real(dp), intent(in), contiguous :: b(:)
-    real(dp), intent(out), contiguous :: x(:)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    call self%f%solve(b, x, stat, errmsg)
-  end subroutine chol_apply
-
-  subroutine chol_ref_apply(self, b, x, stat, errmsg)
-    class(chol_ref_t), intent(inout) :: self
-    real(dp), intent(in), contiguous :: b(:)
-    real(dp), intent(out), contiguous :: x(:)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    call self%f%solve(b, x, stat, errmsg)
-  end subroutine chol_ref_apply
-
-  ! ---------------------------------------------------------------------------------------
   ! Building the set
   ! ---------------------------------------------------------------------------------------
 
   !> Append the condition g0 + Σ coefs(k) u(eqs(k)) >= 0. Entries with eqs(k) <= 0 (supported
   !> or absent DOFs) are skipped. nodes = [node_a, node_b] (0 for a rigid obstacle) and label
-  !> name it in messages and events.
+  !> name it in messages and events. Storage grows geometrically (tens of thousands of
+  !> candidates are added in linear time).
   pure subroutine contact_add(cs, g0, eqs, coefs, nodes, label)
     type(contact_set_t), intent(inout) :: cs
     real(dp), intent(in) :: g0
@@ -475,53 +372,85 @@ contains
     real(dp), intent(in) :: coefs(:)
     integer, intent(in), optional :: nodes(2)
     character(len=*), intent(in), optional :: label
-    integer :: k, nz
-    integer, allocatable :: itmp(:, :)
-    character(len=LABEL_LEN), allocatable :: ltmp(:)
+    integer :: k, nz, nc
 
-    if (.not. allocated(cs%ptr)) then
-      cs%ptr = [1]
-      allocate (cs%eq(0), cs%coef(0), cs%g0(0), cs%nodes(2, 0), cs%label(0))
-    end if
+    if (.not. allocated(cs%ptr)) call reserve(cs, 16, 64)
+    nc = cs%nc + 1
     nz = cs%ptr(cs%nc + 1)
+    call reserve(cs, nc, nz - 1 + size(eqs))
     do k = 1, min(size(eqs), size(coefs))
       if (eqs(k) > 0 .and. coefs(k) /= 0.0_dp) then
-        cs%eq = [cs%eq, eqs(k)]
-        cs%coef = [cs%coef, coefs(k)]
+        cs%eq(nz) = eqs(k)
+        cs%coef(nz) = coefs(k)
         nz = nz + 1
       end if
     end do
-    cs%nc = cs%nc + 1
-    cs%ptr = [cs%ptr, nz]
-    cs%g0 = [cs%g0, g0]
-    allocate (itmp(2, cs%nc))
-    itmp(:, 1:cs%nc - 1) = cs%nodes
-    itmp(:, cs%nc) = 0
-    if (present(nodes)) itmp(:, cs%nc) = nodes
-    call move_alloc(itmp, cs%nodes)
-    allocate (ltmp(cs%nc))
-    ltmp(1:cs%nc - 1) = cs%label
-    ltmp(cs%nc) = 'condition ' // str(cs%nc)
-    if (present(label)) ltmp(cs%nc) = label
-    call move_alloc(ltmp, cs%label)
+    cs%nc = nc
+    cs%ptr(nc + 1) = nz
+    cs%g0(nc) = g0
+    cs%nodes(:, nc) = 0
+    if (present(nodes)) cs%nodes(:, nc) = nodes
+    cs%label(nc) = 'condition ' // str(nc)
+    if (present(label)) cs%label(nc) = label
   end subroutine contact_add
 
+  !> Room for nc conditions and nz entries of C (doubling).
+  pure subroutine reserve(cs, nc, nz)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: nc, nz
+    integer, allocatable :: i1(:), i2(:, :)
+    real(dp), allocatable :: r1(:)
+    character(len=LABEL_LEN), allocatable :: l1(:)
+    integer :: m
+    if (.not. allocated(cs%ptr)) then
+      allocate (cs%ptr(nc + 1), cs%g0(nc), cs%nodes(2, nc), cs%label(nc), cs%eq(nz), cs%coef(nz))
+      cs%ptr(1) = 1
+      return
+    end if
+    if (size(cs%g0) < nc) then
+      m = max(nc, 2 * size(cs%g0))
+      allocate (i1(m + 1), r1(m), i2(2, m), l1(m))
+      i1(1:cs%nc + 1) = cs%ptr(1:cs%nc + 1)
+      r1(1:cs%nc) = cs%g0(1:cs%nc)
+      i2(:, 1:cs%nc) = cs%nodes(:, 1:cs%nc)
+      l1(1:cs%nc) = cs%label(1:cs%nc)
+      call move_alloc(i1, cs%ptr)
+      call move_alloc(r1, cs%g0)
+      call move_alloc(i2, cs%nodes)
+      call move_alloc(l1, cs%label)
+    end if
+    if (size(cs%eq) < nz) then
+      m = max(nz, 2 * size(cs%eq))
+      allocate (i1(m), r1(m))
+      i1(1:size(cs%eq)) = cs%eq
+      r1(1:size(cs%coef)) = cs%coef
+      call move_alloc(i1, cs%eq)
+      call move_alloc(r1, cs%coef)
+    end if
+  end subroutine reserve
+
   !> Check the conditions against neq free equations, set the model size (length_scale > 0,
-  !> e.g. the bounding-box diagonal; tolerances are relative to it) and allocate the state:
-  !> nothing active, no reaction. The initial gaps are the driver's (scene) business.
-  pure subroutine contact_finalize(cs, neq, length_scale, stat, errmsg)
+  !> e.g. the bounding-box diagonal; tolerances are relative to it) and allocate the state and
+  !> the workspaces: nothing active, no reaction. The initial gaps are the driver's (scene)
+  !> business. cs%solver and cs%switch_size are read here.
+  subroutine contact_finalize(cs, neq, length_scale, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(in) :: neq
     real(dp), intent(in) :: length_scale
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, nc
+    integer :: j, nc, nz
     stat = STAT_OK
-    if (.not. allocated(cs%ptr)) then
-      cs%ptr = [1]
-      allocate (cs%eq(0), cs%coef(0), cs%g0(0), cs%nodes(2, 0), cs%label(0))
-    end if
+    if (.not. allocated(cs%ptr)) call reserve(cs, 0, 0)
     nc = cs%nc
+    nz = cs%ptr(nc + 1) - 1
+    ! Trim the growth reserve.
+    cs%ptr = cs%ptr(1:nc + 1)
+    cs%g0 = cs%g0(1:nc)
+    cs%nodes = cs%nodes(:, 1:nc)
+    cs%label = cs%label(1:nc)
+    cs%eq = cs%eq(1:nz)
+    cs%coef = cs%coef(1:nz)
     if (.not. (length_scale > 0.0_dp)) then
       call set_error(stat, errmsg, STAT_INPUT, 'contact: the model size must be positive, got ' // str(length_scale))
       return
@@ -543,23 +472,29 @@ contains
     cs%r_prev = 0.0_dp
     cs%gap_n = cs%g0
     cs%gap = cs%g0
+    if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%mu, cs%viol, cs%now, &
+      cs%est, cs%rel, cs%fallback, cs%idx, cs%cgroup, cs%f, cs%xw, cs%vp, cs%mvp, cs%rows, cs%events, cs%sv, cs%ct)
+    allocate (cs%wq(nc), cs%wdiag(nc), cs%gn(nc), cs%gend(nc), cs%e(nc), cs%y(nc), cs%r(nc), cs%mu(nc), cs%viol(nc), &
+      cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%idx(nc), cs%cgroup(nc), cs%events(nc), cs%sv(nc), &
+      cs%ct(nc))
+    allocate (cs%f(neq), cs%xw(neq), cs%vp(neq), cs%mvp(neq), cs%rows(neq))
+    if (allocated(cs%amat)) deallocate (cs%amat, cs%gmat)
+    allocate (cs%amat(0, 0), cs%gmat(0, 0))
+    cs%wdiag = 1.0_dp
+    cs%n_events = 0
+    cs%ms%mode = cs%solver
+    cs%ms%switch_size = cs%switch_size
+    call cs%ms%init(nc, neq, cs%ptr, cs%eq, cs%coef, &
+      int(min(int(max(nc, 1), 8), max(8_8, min(int(cs%switch_size, 8), cs%z_max_entries / max(neq, 1))))))
     cs%finalized = .true.
     cs%prepared = .false.
   end subroutine contact_finalize
 
-  !> Free the caches and the mass factor.
+  !> Free the caches and the factors.
   subroutine contact_destroy(cs)
     type(contact_set_t), intent(inout) :: cs
-    if (allocated(cs%minv)) then
-      select type (op => cs%minv)
-      type is (chol_inverse_t)
-        call op%f%destroy()
-      end select
-      deallocate (cs%minv)
-    end if
-    if (allocated(cs%z)) deallocate (cs%z)
-    if (allocated(cs%w)) deallocate (cs%w)
-    if (allocated(cs%am)) deallocate (cs%am)
+    if (allocated(cs%minv)) call contact_destroy_mass(cs)
+    call cs%ms%destroy()
     cs%prepared = .false.
     cs%mass_set = .false.
   end subroutine contact_destroy
@@ -573,7 +508,10 @@ contains
     type(contact_set_t), intent(in) :: cs
     real(dp), intent(in) :: u(:)
     real(dp), intent(out) :: g(:)
-    g = cs%g0 + c_times(cs, u)
+    integer :: j
+    do j = 1, cs%nc
+      g(j) = cs%g0(j) + row_dot(cs, j, u)
+    end do
   end subroutine contact_gaps
 
   !> f <- f + C'Λ with the multiplier of the last contact_solve_step: the contact force on the
@@ -585,16 +523,16 @@ contains
     call ct_add(cs, cs%lambda, f)
   end subroutine contact_add_force
 
-  !> C x (all rows).
-  pure function c_times(cs, x) result(cx)
+  !> cx = C x (all rows).
+  pure subroutine c_times(cs, x, cx)
     type(contact_set_t), intent(in) :: cs
     real(dp), intent(in) :: x(:)
-    real(dp) :: cx(cs%nc)
+    real(dp), intent(out) :: cx(:)
     integer :: j
     do j = 1, cs%nc
       cx(j) = row_dot(cs, j, x)
     end do
-  end function c_times
+  end subroutine c_times
 
   pure real(dp) function row_dot(cs, j, x)
     type(contact_set_t), intent(in) :: cs
@@ -621,40 +559,81 @@ contains
     end do
   end subroutine ct_add
 
-  !> Y = C X⁻¹ C' column by column with the operator op (nc solves); symmetrized.
-  subroutine schur_columns(cs, op, y, z, stat, errmsg)
-    type(contact_set_t), intent(in) :: cs
-    class(inverse_op_t), intent(inout) :: op
-    real(dp), intent(out) :: y(:, :)
-    real(dp), intent(inout), optional :: z(:, :)
+  !> a(1:n, 1:n) = C_idx M⁻¹ C_idx' for the conditions idx(1:n): the blocks of A M⁻¹A' that the
+  !> impulse (14) and the reflection (16) need. Lumped mass: from the sparse rows directly;
+  !> otherwise one solve with M per condition. Symmetrized.
+  subroutine contact_am_block(cs, idx, n, a, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: idx(:), n
+    real(dp), intent(out) :: a(:, :)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    real(dp), allocatable :: b(:), x(:), e(:)
+    integer :: k, l, p, q
+    stat = STAT_OK
+    select type (op => cs%minv)
+    type is (diag_inverse_t)
+      do l = 1, n
+        do k = 1, l
+          a(k, l) = 0.0_dp
+          do p = cs%ptr(idx(k)), cs%ptr(idx(k) + 1) - 1
+            do q = cs%ptr(idx(l)), cs%ptr(idx(l) + 1) - 1
+              if (cs%eq(p) /= cs%eq(q)) cycle
+              if (.not. (op%d(cs%eq(p)) > 0.0_dp)) then
+                call set_error(stat, errmsg, STAT_INPUT, 'contact: equation ' // str(cs%eq(p)) // &
+                  ' carries a contact condition but has no mass (lumped mass diagonal ' // str(op%d(cs%eq(p))) // ')')
+                return
+              end if
+              a(k, l) = a(k, l) + cs%coef(p) * cs%coef(q) / op%d(cs%eq(p))
+            end do
+          end do
+          a(l, k) = a(k, l)
+        end do
+      end do
+    class default
+      do l = 1, n
+        cs%f = 0.0_dp
+        do p = cs%ptr(idx(l)), cs%ptr(idx(l) + 1) - 1
+          cs%f(cs%eq(p)) = cs%f(cs%eq(p)) + cs%coef(p)
+        end do
+        call cs%minv%apply(cs%f, cs%xw, stat, errmsg)
+        if (stat /= STAT_OK) return
+        do k = 1, n
+          a(k, l) = row_dot(cs, idx(k), cs%xw)
+        end do
+      end do
+      do l = 1, n
+        do k = 1, l - 1
+          a(k, l) = 0.5_dp * (a(k, l) + a(l, k))
+          a(l, k) = a(k, l)
+        end do
+      end do
+    end select
+  end subroutine contact_am_block
+
+  !> W = C S⁻¹ C' over every candidate (nc solves; diagnostics and tests, not the run).
+  subroutine contact_w_matrix(cs, s, w, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    class(inverse_op_t), intent(inout), target :: s
+    real(dp), intent(out) :: w(:, :)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     integer :: j
     stat = STAT_OK
-    allocate (b(cs%neq), x(cs%neq), e(cs%nc))
-    b = 0.0_dp
+    cs%ms%s => s
     do j = 1, cs%nc
-      e = 0.0_dp
-      e(j) = 1.0_dp
-      b = 0.0_dp
-      call ct_add(cs, e, b)
-      call op%apply(b, x, stat, errmsg)
-      if (stat /= STAT_OK) then
-        errmsg = 'contact: solve for ' // trim(cs%label(j)) // ': ' // errmsg
-        return
-      end if
-      y(:, j) = c_times(cs, x)
-      if (present(z)) z(:, j) = x
+      call cs%ms%column(j, cs%xw, stat, errmsg)
+      if (stat /= STAT_OK) exit
+      call c_times(cs, cs%xw, w(:, j))
     end do
-    y = 0.5_dp * (y + transpose(y))
-  end subroutine schur_columns
+    nullify (cs%ms%s)
+    w = 0.5_dp * (w + transpose(w))
+  end subroutine contact_w_matrix
 
   ! ---------------------------------------------------------------------------------------
   ! Mass and iteration-matrix operators
   ! ---------------------------------------------------------------------------------------
 
-  !> Lumped mass: M = diag(mdiag). Computes A_M = C M⁻¹ C' (once per run).
+  !> Lumped mass: M = diag(mdiag).
   subroutine set_mass_diag(cs, mdiag, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
     real(dp), intent(in) :: mdiag(:)
@@ -709,57 +688,62 @@ contains
     cs%mass_set = .false.
   end subroutine contact_destroy_mass
 
+  !> Every condition must see a mass: check the diagonal of A M⁻¹A' (n solves with a
+  !> consistent mass, once per run).
   subroutine finish_mass(cs, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: a(1, 1)
+    integer :: j
     stat = STAT_OK
     if (.not. cs%finalized) then
       call set_error(stat, errmsg, STAT_INPUT, 'contact_set_mass: call contact_finalize first')
       return
     end if
-    if (allocated(cs%am)) deallocate (cs%am)
-    allocate (cs%am(cs%nc, cs%nc))
-    call schur_columns(cs, cs%minv, cs%am, stat=stat, errmsg=errmsg)
-    if (stat /= STAT_OK) return
+    select type (op => cs%minv)
+    type is (diag_inverse_t)
+      do j = 1, cs%nc
+        call contact_am_block(cs, [j], 1, a, stat, errmsg)
+        if (stat /= STAT_OK) return
+      end do
+    end select
     cs%mass_set = .true.
   end subroutine finish_mass
 
-  !> Per step size: W = C S⁻¹ C' and, if neq*nc <= z_max_entries, Z = S⁻¹C', with the driver's
-  !> CHOLMOD factor of S = K0 + 4M/h².
-  subroutine prepare_chol(cs, s, stat, errmsg)
+  !> A new iteration matrix S = K0 + 4M/h² (per step size, or per iteration with TANGENT), the
+  !> driver's CHOLMOD factor: the cached Schur columns are dropped. pat and sval (the pattern
+  !> and values of S) enable the augmented system; without them only SOLVER_SCHUR works.
+  subroutine prepare_chol(cs, s, stat, errmsg, pat, sval)
     type(contact_set_t), intent(inout) :: cs
     type(cholmod_factor_t), intent(inout), target :: s
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    type(sym_csc_t), intent(in), optional :: pat
+    real(dp), intent(in), optional :: sval(:)
     type(chol_ref_t) :: op
     op%f => s
-    call prepare_op(cs, op, stat, errmsg)
+    call prepare_op(cs, op, stat, errmsg, pat, sval)
   end subroutine prepare_chol
 
   !> Same with any S⁻¹ operator.
-  subroutine prepare_op(cs, s, stat, errmsg)
+  subroutine prepare_op(cs, s, stat, errmsg, pat, sval)
     type(contact_set_t), intent(inout) :: cs
     class(inverse_op_t), intent(inout) :: s
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    type(sym_csc_t), intent(in), optional :: pat
+    real(dp), intent(in), optional :: sval(:)
     stat = STAT_OK
     if (.not. cs%finalized) then
       call set_error(stat, errmsg, STAT_INPUT, 'contact_prepare: call contact_finalize first')
       return
     end if
     cs%prepared = .false.
-    if (allocated(cs%w)) deallocate (cs%w)
-    if (allocated(cs%z)) deallocate (cs%z)
-    allocate (cs%w(cs%nc, cs%nc))
-    cs%z_stored = int(cs%neq, 8) * int(cs%nc, 8) <= cs%z_max_entries
-    if (cs%z_stored) then
-      allocate (cs%z(cs%neq, cs%nc))
-      call schur_columns(cs, s, cs%w, cs%z, stat, errmsg)
-    else
-      call schur_columns(cs, s, cs%w, stat=stat, errmsg=errmsg)
+    if (cs%nc > 0) then
+      call cs%ms%prepare(stat, errmsg, pat, sval)
+      if (stat /= STAT_OK) return
     end if
-    if (stat /= STAT_OK) return
     cs%prepared = .true.
   end subroutine prepare_op
 
@@ -769,7 +753,7 @@ contains
 
   !> One iteration of the step: with u_n the displacement at the start of the step and du_free
   !> the update without contact forces, find the step multiplier lambda (LCP) and the constrained
-  !> update du = du_free + S⁻¹C'Λ. The solve with s is only used when Z is not stored.
+  !> update du = du_free + S⁻¹C'Λ; s is the factor of the S given to contact_prepare.
   subroutine solve_step_chol(cs, s, u_n, du_free, du, lambda, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
     type(cholmod_factor_t), intent(inout), target :: s
@@ -778,20 +762,19 @@ contains
     real(dp), intent(out) :: lambda(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    type(chol_ref_t) :: op
+    type(chol_ref_t), target :: op
     op%f => s
     call solve_step_op(cs, op, u_n, du_free, du, lambda, stat, errmsg)
   end subroutine solve_step_chol
 
   subroutine solve_step_op(cs, s, u_n, du_free, du, lambda, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
-    class(inverse_op_t), intent(inout) :: s
+    class(inverse_op_t), intent(inout), target :: s
     real(dp), intent(in) :: u_n(:), du_free(:)
     real(dp), intent(out) :: du(:)
     real(dp), intent(out) :: lambda(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    real(dp), allocatable :: q(:), b(:), x(:)
     integer :: j
 
     stat = STAT_OK
@@ -807,32 +790,28 @@ contains
     end if
     lambda = 0.0_dp
     if (cs%nc == 0) return
-    cs%gap_n = cs%g0 + c_times(cs, u_n)
+    call contact_gaps(cs, u_n, cs%gap_n)
     ! A condition that starts the step slightly penetrated (within the input tolerance, or by
     ! the LCP tolerance at an earlier release) is held where it is, not pushed out: its target
     ! is g(n+1) >= g(n). Pushing it out would let the multiplier do the work ½ Λ |g(n)|, which
     ! E_j = ½ Λ max(g(n), 0) of eq (10) cannot take back: energy created.
-    q = max(cs%gap_n, 0.0_dp) + c_times(cs, du_free)
-    call lcp_solve(cs%w, q, cs%gap_rtol * cs%length_scale, cs%lambda, cs%gap, cs%active_iter, cs%lcp_iterations, &
-      stat, errmsg)
+    do j = 1, cs%nc
+      cs%wq(j) = max(cs%gap_n(j), 0.0_dp) + row_dot(cs, j, du_free)
+    end do
+    cs%ms%s => s
+    call lcp_pivot(cs%ms, cs%wq, cs%gap_rtol * cs%length_scale, cs%lambda, cs%gap, cs%active_iter, cs%wdiag, &
+      cs%viol, cs%lcp_iterations, stat, errmsg)
     if (stat /= STAT_OK) then
+      nullify (cs%ms%s)
       errmsg = errmsg // ' (' // str(count(cs%active_iter)) // ' conditions in the last active set)'
       return
     end if
     lambda = cs%lambda
-    if (.not. any(cs%lambda > 0.0_dp)) return
-    if (cs%z_stored) then
-      do j = 1, cs%nc
-        if (cs%lambda(j) > 0.0_dp) du = du + cs%lambda(j) * cs%z(:, j)
-      end do
-    else
-      allocate (b(cs%neq), x(cs%neq))
-      b = 0.0_dp
-      call ct_add(cs, cs%lambda, b)
-      call s%apply(b, x, stat, errmsg)
-      if (stat /= STAT_OK) return
-      du = du + x
+    if (any(cs%lambda > 0.0_dp)) then
+      call cs%ms%correction(cs%lambda, cs%xw, stat, errmsg)
+      if (stat == STAT_OK) du = du + cs%xw
     end if
+    nullify (cs%ms%s)
   end subroutine solve_step_op
 
   !> End of a converged step, after eq (3) gave v = v(n+1) and mv = M v(n+1):
@@ -842,27 +821,25 @@ contains
   !>   falling back to PAPER for bodies left without kinetic energy), reactions R(n+1) = Λ - R(n)
   !>   (0 for inactive conditions), new state. v and mv are updated together (mv stays M v).
   !>   body(i) is the mesh-connected component of equation i (0: none), required by PERSIST.
-  !>   energy_restored = kinetic energy added, measured (= Σ E_j to round-off).
-  subroutine contact_end_step(cs, mode, u_n, du, v, mv, energy_restored, events, stat, errmsg, body, report)
+  !>   energy_restored = kinetic energy added, measured (= Σ E_j to round-off). The events of
+  !>   the step are cs%events(1:cs%n_events).
+  subroutine contact_end_step(cs, mode, u_n, du, v, mv, energy_restored, stat, errmsg, body, report)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(in) :: mode
     real(dp), intent(in) :: u_n(:), du(:)
     real(dp), intent(inout) :: v(:), mv(:)
     real(dp), intent(out) :: energy_restored
-    type(contact_event_t), allocatable, intent(out) :: events(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer, intent(in), optional :: body(:)
     type(contact_report_t), intent(out), optional :: report
     type(contact_report_t) :: rep
-    logical, allocatable :: now(:), est(:), rel(:), fallback(:)
-    real(dp), allocatable :: gn(:), gend(:), e(:), y(:), r(:)
     real(dp) :: t_before
-    integer :: j, k, nev
+    integer :: j, k
 
     stat = STAT_OK
     energy_restored = 0.0_dp
-    allocate (events(0))
+    cs%n_events = 0
     if (.not. cs%finalized) then
       call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: call contact_finalize first')
       return
@@ -875,195 +852,240 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: call contact_set_mass first')
       return
     end if
-    gn = cs%g0 + c_times(cs, u_n)
-    gend = gn + c_times(cs, du)
-    now = cs%active_iter .and. .true.
-    est = now .and. .not. cs%active
-    rel = cs%active .and. .not. now
-    allocate (e(cs%nc), y(cs%nc))
-    y = 0.0_dp
-    e = 0.0_dp
-    where (est) e = impact_energy_error(cs%lambda, max(gn, 0.0_dp))
-    rep%n_active = count(now)
-    rep%n_establish = count(est)
-    rep%n_release = count(rel)
-    rep%energy_error = sum(e)
-    rep%scheme_work = 0.5_dp * dot_product(cs%lambda, c_times(cs, du))
-    t_before = 0.5_dp * dot_product(v, mv)
+    associate (gn => cs%gn, gend => cs%gend, now => cs%now, est => cs%est, rel => cs%rel, e => cs%e, y => cs%y)
+      call contact_gaps(cs, u_n, gn)
+      do j = 1, cs%nc
+        gend(j) = gn(j) + row_dot(cs, j, du)
+      end do
+      now = cs%active_iter
+      est = now .and. .not. cs%active
+      rel = cs%active .and. .not. now
+      y = 0.0_dp
+      e = 0.0_dp
+      where (est) e = impact_energy_error(cs%lambda, max(gn, 0.0_dp))
+      rep%n_active = count(now)
+      rep%n_establish = count(est)
+      rep%n_release = count(rel)
+      rep%energy_error = sum(e)
+      rep%scheme_work = 0.5_dp * dot_product(cs%lambda, gend - gn)
+      t_before = 0.5_dp * dot_product(v, mv)
 
-    if (rep%n_establish > 0) then
-      select case (mode)
-      case (IMPACT_PAPER)
-        call paper_correction(cs, est, e, v, mv, y, rep, stat, errmsg)
-      case (IMPACT_PERSIST)
-        if (.not. present(body)) then
-          call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: IMPACT PERSIST needs body(:)')
-          return
-        end if
-        call persist_correction(cs, now, est, e, body, v, mv, fallback, rep, stat, errmsg)
-        if (stat == STAT_OK .and. any(fallback)) call paper_correction(cs, fallback, e, v, mv, y, rep, stat, errmsg)
-      case (IMPACT_OFF)
-      case default
-        call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: unknown impact mode ' // str(mode))
-      end select
-      if (stat /= STAT_OK) return
-      if (mode /= IMPACT_OFF) energy_restored = 0.5_dp * dot_product(v, mv) - t_before
-    end if
-    rep%energy_restored = energy_restored
+      if (rep%n_establish > 0) then
+        select case (mode)
+        case (IMPACT_PAPER)
+          call paper_correction(cs, est, v, mv, rep, stat, errmsg)
+        case (IMPACT_PERSIST)
+          if (.not. present(body)) then
+            call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: IMPACT PERSIST needs body(:)')
+            return
+          end if
+          call persist_correction(cs, body, v, mv, rep, stat, errmsg)
+          if (stat == STAT_OK .and. any(cs%fallback)) then
+            cs%est = cs%fallback
+            call paper_correction(cs, cs%est, v, mv, rep, stat, errmsg)
+            cs%est = now .and. .not. cs%active
+          end if
+        case (IMPACT_OFF)
+        case default
+          call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: unknown impact mode ' // str(mode))
+        end select
+        if (stat /= STAT_OK) return
+        if (mode /= IMPACT_OFF) energy_restored = 0.5_dp * dot_product(v, mv) - t_before
+      end if
+      rep%energy_restored = energy_restored
 
-    ! Reactions (reported only) and the new state.
-    r = merge(cs%lambda - cs%r_prev, 0.0_dp, now)
-    nev = count(est) + count(rel)
-    deallocate (events)
-    allocate (events(nev))
-    k = 0
-    do j = 1, cs%nc
-      if (.not. (est(j) .or. rel(j))) cycle
-      k = k + 1
-      events(k) = contact_event_t(j, merge(EVENT_ESTABLISH, EVENT_RELEASE, est(j)), gn(j), gend(j), cs%lambda(j), &
-        r(j), e(j), y(j))
-    end do
-    cs%r_prev = r
-    cs%active = now
-    cs%gap_n = gend
+      ! Reactions (reported only) and the new state.
+      cs%r = merge(cs%lambda - cs%r_prev, 0.0_dp, now)
+      k = 0
+      do j = 1, cs%nc
+        if (.not. (est(j) .or. rel(j))) cycle
+        k = k + 1
+        cs%events(k) = contact_event_t(j, merge(EVENT_ESTABLISH, EVENT_RELEASE, est(j)), gn(j), gend(j), &
+          cs%lambda(j), cs%r(j), e(j), y(j))
+      end do
+      cs%n_events = k
+      cs%r_prev = cs%r
+      cs%active = now
+      cs%gap_n = gend
+    end associate
     if (present(report)) report = rep
   end subroutine contact_end_step
 
+  !> Dense workspaces amat and gmat at least n x n (they only grow).
+  subroutine reserve_dense(cs, n)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: n
+    integer :: m
+    if (size(cs%amat, 1) >= n) return
+    m = max(n, 2 * size(cs%amat, 1))
+    deallocate (cs%amat, cs%gmat)
+    allocate (cs%amat(m, m), cs%gmat(m, m))
+  end subroutine reserve_dense
+
   !> (12)-(16) for the conditions sel (all established in the step): impulses by the fixed
   !> point (14)-(15) for those with Λ_j > 0, Δv = M⁻¹ Σ y_j Λ_j c_j, then the hzero reflection
-  !> about all of them.
-  subroutine paper_correction(cs, sel, e, v, mv, y, rep, stat, errmsg)
+  !> about all of them. Uses cs%e (E_j) and sets cs%y (y_j).
+  subroutine paper_correction(cs, sel, v, mv, rep, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
     logical, intent(in) :: sel(:)
-    real(dp), intent(in) :: e(:)
-    real(dp), intent(inout) :: v(:), mv(:), y(:)
+    real(dp), intent(inout) :: v(:), mv(:)
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer, allocatable :: ip(:), ia(:)
-    real(dp), allocatable :: g(:, :), b(:), yp(:), mu(:), av(:), nu(:)
     real(dp) :: change
-    integer :: i, k, iters, rank
+    integer :: j, k, n, iters, rank
     logical :: conv
 
     stat = STAT_OK
-    ip = pack([(i, i = 1, cs%nc)], sel .and. cs%lambda > 0.0_dp)
-    if (size(ip) > 0) then
-      g = cs%am(ip, ip)
-      do k = 1, size(ip)
-        g(:, k) = g(:, k) * cs%lambda(ip) * cs%lambda(ip(k))
-      end do
-      b = cs%lambda(ip) * c_rows(cs, ip, v)
-      allocate (yp(size(ip)))
-      call impulse_fixed_point(g, b, e(ip), yp, iters, change, conv, cs%fp_tol, cs%fp_max_iter)
-      rep%fp_iterations = rep%fp_iterations + iters
-      rep%fp_change = max(rep%fp_change, change)
-      if (.not. conv) rep%fp_failures = rep%fp_failures + 1     ! reported, energy still exact
-      y(ip) = yp
-      allocate (mu(cs%nc))
-      mu = 0.0_dp
-      mu(ip) = yp * cs%lambda(ip)
-      call add_minv_ct(cs, mu, 1.0_dp, v, mv, stat, errmsg)          ! (12)
+    n = 0
+    do j = 1, cs%nc
+      if (.not. (sel(j) .and. cs%lambda(j) > 0.0_dp)) cycle
+      n = n + 1
+      cs%idx(n) = j
+    end do
+    call reserve_dense(cs, n)
+    if (n > 0) then
+      associate (ip => cs%idx(1:n), g => cs%gmat(1:n, 1:n))
+        call contact_am_block(cs, ip, n, g, stat, errmsg)
+        if (stat /= STAT_OK) return
+        do k = 1, n
+          g(:, k) = g(:, k) * cs%lambda(ip) * cs%lambda(ip(k))
+          cs%sv(k) = cs%lambda(ip(k)) * row_dot(cs, ip(k), v)
+          cs%ct(k) = cs%e(ip(k))
+        end do
+        call impulse_fixed_point(g, cs%sv(1:n), cs%ct(1:n), cs%wq(1:n), iters, change, conv, cs%fp_tol, &
+          cs%fp_max_iter)
+        rep%fp_iterations = rep%fp_iterations + iters
+        rep%fp_change = max(rep%fp_change, change)
+        if (.not. conv) rep%fp_failures = rep%fp_failures + 1     ! reported, energy still exact
+        cs%mu = 0.0_dp
+        do k = 1, n
+          cs%y(ip(k)) = cs%wq(k)
+          cs%mu(ip(k)) = cs%wq(k) * cs%lambda(ip(k))
+        end do
+      end associate
+      call add_minv_ct(cs, cs%mu, 1.0_dp, v, mv, stat, errmsg)          ! (12)
       if (stat /= STAT_OK) return
     end if
     ! (16) hzero reflection about every condition established in the step.
-    ia = pack([(i, i = 1, cs%nc)], sel)
-    av = c_rows(cs, ia, v)
-    allocate (nu(size(ia)))
-    call normal_multiplier(cs%am(ia, ia), av, nu, rank)
-    rep%reflection_rank = rank
-    if (.not. allocated(mu)) allocate (mu(cs%nc))
-    mu = 0.0_dp
-    mu(ia) = nu
-    call add_minv_ct(cs, mu, -2.0_dp, v, mv, stat, errmsg)
+    n = 0
+    do j = 1, cs%nc
+      if (.not. sel(j)) cycle
+      n = n + 1
+      cs%idx(n) = j
+    end do
+    call reserve_dense(cs, n)
+    associate (ia => cs%idx(1:n), a => cs%amat(1:n, 1:n))
+      call contact_am_block(cs, ia, n, a, stat, errmsg)
+      if (stat /= STAT_OK) return
+      do k = 1, n
+        cs%sv(k) = row_dot(cs, ia(k), v)
+      end do
+      call normal_multiplier(a, cs%sv(1:n), cs%wq(1:n), rank)
+      rep%reflection_rank = rank
+      cs%mu = 0.0_dp
+      cs%mu(ia) = cs%wq(1:n)
+    end associate
+    call add_minv_ct(cs, cs%mu, -2.0_dp, v, mv, stat, errmsg)
   end subroutine paper_correction
 
   !> Section 6. Groups: bodies linked by active conditions. For each group holding an
   !> established condition: project on zero normal velocity of all its active conditions, then
   !> scale its velocity so that its kinetic energy is T1_group + Σ E_j. Groups whose projected
   !> kinetic energy is below persist_min_fraction of that target, or conditions on equations
-  !> without body, are left untouched and returned in fallback (their established conditions).
-  subroutine persist_correction(cs, now, est, e, body, v, mv, fallback, rep, stat, errmsg)
+  !> without body, are left untouched and returned in cs%fallback (their established conditions).
+  subroutine persist_correction(cs, body, v, mv, rep, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
-    logical, intent(in) :: now(:), est(:)
-    real(dp), intent(in) :: e(:)
     integer, intent(in) :: body(:)
     real(dp), intent(inout) :: v(:), mv(:)
-    logical, allocatable, intent(out) :: fallback(:)
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer, allocatable :: parent(:), cgroup(:), ia(:)
-    logical, allocatable :: rows(:)
-    real(dp), allocatable :: vp(:), mvp(:), mu(:), nu(:)
-    integer :: nb, j, p, bj, i, grp, rank
+    integer :: nb, j, p, bj, i, grp, rank, n, k
     real(dp) :: t1, tp, tstar, s
 
     stat = STAT_OK
-    allocate (fallback(cs%nc))
-    fallback = .false.
+    cs%fallback = .false.
     if (size(body) /= cs%neq) then
       call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: body(:) must have one entry per equation')
       return
     end if
     nb = 0
     if (cs%neq > 0) nb = max(maxval(body), 0)
-    parent = [(i, i = 1, nb)]
-    ! Union of the bodies touched by each active condition; cgroup = representative body (0: none).
-    allocate (cgroup(cs%nc))
-    cgroup = 0
-    do j = 1, cs%nc
-      if (.not. now(j)) cycle
-      do p = cs%ptr(j), cs%ptr(j + 1) - 1
-        bj = body(cs%eq(p))
-        if (bj <= 0) then
-          cgroup(j) = -1
-          exit
-        end if
-        if (cgroup(j) == 0) then
-          cgroup(j) = bj
-        else
-          call union(parent, cgroup(j), bj)
-        end if
+    if (.not. allocated(cs%parent)) allocate (cs%parent(nb))
+    if (size(cs%parent) < nb) then
+      deallocate (cs%parent)
+      allocate (cs%parent(nb))
+    end if
+    associate (parent => cs%parent, cgroup => cs%cgroup, now => cs%now, est => cs%est, rows => cs%rows)
+      do i = 1, nb
+        parent(i) = i
       end do
-    end do
-    do j = 1, cs%nc
-      if (cgroup(j) > 0) cgroup(j) = find(parent, cgroup(j))
-    end do
-    where (est .and. cgroup <= 0) fallback = .true.
-    allocate (rows(cs%neq), mu(cs%nc))
-    do grp = 1, nb
-      if (find(parent, grp) /= grp) cycle
-      if (.not. any(est .and. cgroup == grp)) cycle
-      rep%persist_groups = rep%persist_groups + 1
-      do i = 1, cs%neq
-        rows(i) = body(i) > 0
-        if (rows(i)) rows(i) = find(parent, body(i)) == grp
+      ! Union of the bodies touched by each active condition; cgroup = representative body (0: none).
+      cgroup = 0
+      do j = 1, cs%nc
+        if (.not. now(j)) cycle
+        do p = cs%ptr(j), cs%ptr(j + 1) - 1
+          bj = body(cs%eq(p))
+          if (bj <= 0) then
+            cgroup(j) = -1
+            exit
+          end if
+          if (cgroup(j) == 0) then
+            cgroup(j) = bj
+          else
+            call union(parent, cgroup(j), bj)
+          end if
+        end do
       end do
-      ia = pack([(i, i = 1, cs%nc)], now .and. cgroup == grp)
-      allocate (nu(size(ia)))
-      call normal_multiplier(cs%am(ia, ia), c_rows(cs, ia, v), nu, rank)
-      mu = 0.0_dp
-      mu(ia) = nu
-      vp = v
-      mvp = mv
-      call add_minv_ct(cs, mu, -1.0_dp, vp, mvp, stat, errmsg)
-      if (stat /= STAT_OK) return
-      deallocate (nu)
-      t1 = 0.5_dp * sum(v * mv, mask=rows)
-      tp = 0.5_dp * sum(vp * mvp, mask=rows)
-      tstar = t1 + sum(e, mask=est .and. cgroup == grp)
-      if (.not. (tp > cs%persist_min_fraction * tstar)) then
-        where (est .and. cgroup == grp) fallback = .true.
-        rep%persist_fallbacks = rep%persist_fallbacks + 1
-        cycle
-      end if
-      s = persist_scale(tstar, 0.0_dp, tp)
-      where (rows)
-        v = s * vp
-        mv = s * mvp
-      end where
-    end do
+      do j = 1, cs%nc
+        if (cgroup(j) > 0) cgroup(j) = find(parent, cgroup(j))
+      end do
+      where (est .and. cgroup <= 0) cs%fallback = .true.
+      do grp = 1, nb
+        if (find(parent, grp) /= grp) cycle
+        if (.not. any(est .and. cgroup == grp)) cycle
+        rep%persist_groups = rep%persist_groups + 1
+        do i = 1, cs%neq
+          rows(i) = body(i) > 0
+          if (rows(i)) rows(i) = find(parent, body(i)) == grp
+        end do
+        n = 0
+        do j = 1, cs%nc
+          if (.not. (now(j) .and. cgroup(j) == grp)) cycle
+          n = n + 1
+          cs%idx(n) = j
+        end do
+        call reserve_dense(cs, n)
+        associate (ia => cs%idx(1:n), a => cs%amat(1:n, 1:n))
+          call contact_am_block(cs, ia, n, a, stat, errmsg)
+          if (stat /= STAT_OK) return
+          do k = 1, n
+            cs%sv(k) = row_dot(cs, ia(k), v)
+          end do
+          call normal_multiplier(a, cs%sv(1:n), cs%wq(1:n), rank)
+          cs%mu = 0.0_dp
+          cs%mu(ia) = cs%wq(1:n)
+        end associate
+        cs%vp = v
+        cs%mvp = mv
+        call add_minv_ct(cs, cs%mu, -1.0_dp, cs%vp, cs%mvp, stat, errmsg)
+        if (stat /= STAT_OK) return
+        t1 = 0.5_dp * sum(v * mv, mask=rows)
+        tp = 0.5_dp * sum(cs%vp * cs%mvp, mask=rows)
+        tstar = t1 + sum(cs%e, mask=est .and. cgroup == grp)
+        if (.not. (tp > cs%persist_min_fraction * tstar)) then
+          where (est .and. cgroup == grp) cs%fallback = .true.
+          rep%persist_fallbacks = rep%persist_fallbacks + 1
+          cycle
+        end if
+        s = persist_scale(tstar, 0.0_dp, tp)
+        where (rows)
+          v = s * cs%vp
+          mv = s * cs%mvp
+        end where
+      end do
+    end associate
   end subroutine persist_correction
 
   pure recursive integer function find(parent, i) result(r)
@@ -1081,18 +1103,6 @@ contains
     if (ra /= rb) parent(max(ra, rb)) = min(ra, rb)
   end subroutine union
 
-  !> c_j'x for the conditions idx.
-  pure function c_rows(cs, idx, x) result(cx)
-    type(contact_set_t), intent(in) :: cs
-    integer, intent(in) :: idx(:)
-    real(dp), intent(in) :: x(:)
-    real(dp) :: cx(size(idx))
-    integer :: k
-    do k = 1, size(idx)
-      cx(k) = row_dot(cs, idx(k), x)
-    end do
-  end function c_rows
-
   !> v <- v + alpha M⁻¹C'mu and mv <- mv + alpha C'mu (mv stays M v without a product by M).
   subroutine add_minv_ct(cs, mu, alpha, v, mv, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
@@ -1100,14 +1110,12 @@ contains
     real(dp), intent(inout) :: v(:), mv(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    real(dp), allocatable :: f(:), x(:)
     stat = STAT_OK
-    allocate (f(cs%neq), x(cs%neq))
-    f = 0.0_dp
-    call ct_add(cs, mu, f)
-    call cs%minv%apply(f, x, stat, errmsg)
+    cs%f = 0.0_dp
+    call ct_add(cs, mu, cs%f)
+    call cs%minv%apply(cs%f, cs%xw, stat, errmsg)
     if (stat /= STAT_OK) return
-    v = v + alpha * x
-    mv = mv + alpha * f
+    v = v + alpha * cs%xw
+    mv = mv + alpha * cs%f
   end subroutine add_minv_ct
 end module contact

@@ -175,6 +175,8 @@ contains
       lscale = max(maxval(x(1, :)) - minval(x(1, :)), maxval(x(2, :)) - minval(x(2, :)))
     end associate
     if (lscale <= 0.0_dp) lscale = 1.0_dp
+    rs%cs%solver = scn%multipliers
+    rs%cs%switch_size = scn%augmented_above
     call contact_finalize(rs%cs, sys%neq, lscale, stat, errmsg)
     if (stat /= STAT_OK) return
     if (scn%impact /= IMPACT_OFF) then
@@ -190,7 +192,7 @@ contains
         return
       end if
     end if
-    call contact_prepare(rs%cs, rs%factor, stat, errmsg)
+    call contact_prepare(rs%cs, rs%factor, stat, errmsg, sys%pat, rs%sval)
     if (stat /= STAT_OK) return
     call equation_bodies(scn, sys%eqn, sys%neq, rs%body)
     allocate (rs%du_free(sys%neq), rs%lam(size(scn%conditions)), rs%reaction(3, scn%mesh%nnode))
@@ -218,7 +220,6 @@ contains
     logical :: elastic_fallback
     character(len=32) :: part
     type(csv_file_t) :: ev
-    type(contact_event_t), allocatable :: events(:)
     type(contact_report_t) :: crep
     logical :: write_fields
     character(len=:), allocatable :: header
@@ -307,7 +308,7 @@ contains
             return
           end if
           if (rs%has_contact) then
-            call contact_prepare(rs%cs, rs%factor, stat, errmsg)
+            call contact_prepare(rs%cs, rs%factor, stat, errmsg, sys%pat, rs%sval)
             if (stat /= STAT_OK) then
               call finish()
               return
@@ -392,7 +393,8 @@ contains
             elastic_fallback = .true.
             rs%sval = sys%kval + c4 * sys%mval
             call rs%factor%factorize(sys%pat, rs%sval, stat, errmsg)
-            if (stat == STAT_OK .and. rs%has_contact) call contact_prepare(rs%cs, rs%factor, stat, errmsg)
+            if (stat == STAT_OK .and. rs%has_contact) call contact_prepare(rs%cs, rs%factor, stat, errmsg, sys%pat, &
+              rs%sval)
             if (stat /= STAT_OK) then
               call finish()
               return
@@ -434,7 +436,7 @@ contains
       if (rs%has_contact) then
         ! Order at the end of a step: (3), then (12)-(15), then (16) (or PERSIST).
         rs%ddu = rs%v    ! v(n+1) by eq (3), to carry the correction into the unrounded state
-        call contact_end_step(rs%cs, scn%impact, rs%u, rs%du, rs%v, rs%mv, e_rest, events, stat, errmsg, &
+        call contact_end_step(rs%cs, scn%impact, rs%u, rs%du, rs%v, rs%mv, e_rest, stat, errmsg, &
           body=rs%body, report=crep)
         if (stat /= STAT_OK) then
           errmsg = 'step ' // str(step) // ' (t = ' // str(t) // '): impact correction: ' // errmsg
@@ -446,7 +448,7 @@ contains
           '): the coupled impulses (14) have no all-negative solution; decoupled roots of (13) scaled to restore ' // &
           'the lost energy exactly'
         if (sys%extended) rs%v_q = rs%v_q + real(rs%v - rs%ddu, qp)
-        call write_events(step, t, events)
+        call write_events(step, t, rs%cs%events(1:rs%cs%n_events))
         if (stat /= STAT_OK) return
       end if
       rs%u = rs%utrial

@@ -113,6 +113,8 @@ module scene
     type(probe_t), allocatable :: probes(:)
     type(condition_t), allocatable :: conditions(:)   !< unilateral contacts (OBSTACLE, GAP)
     integer :: impact = IMPACT_PAPER                  !< SCHEME IMPACT
+    integer :: multipliers = 0                        !< SCHEME MULTIPLIERS: 0 AUTO, 1 SCHUR, 2 AUGMENTED
+    integer :: augmented_above = 64                   !< SCHEME AUGMENTED_ABOVE (AUTO's switch)
   end type scene_t
 
 contains
@@ -203,6 +205,8 @@ contains
     call sch%add_param('SCHEME', 'ITERATION', 1, 1)
     call sch%add_param('SCHEME', 'IMPACT', 1, 1)
     call sch%add_param('SCHEME', 'PRECISION', 1, 1)
+    call sch%add_param('SCHEME', 'MULTIPLIERS', 1, 1)
+    call sch%add_param('SCHEME', 'AUGMENTED_ABOVE', 1, 1)
     call sch%add_keyword('OBSTACLE', 1, 1)
     call sch%add_param('OBSTACLE', 'NODES', 1, 1)
     call sch%add_param('OBSTACLE', 'POINT', 2, 2)
@@ -1129,6 +1133,11 @@ contains
     call get_choice(st, 'PRECISION', ['DOUBLE  ', 'EXTENDED'], 'DOUBLE', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%extended = k == 2
+    call get_choice(st, 'MULTIPLIERS', ['AUTO     ', 'SCHUR    ', 'AUGMENTED'], 'AUTO', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%multipliers = k - 1
+    call get_int(st, 'AUGMENTED_ABOVE', scn%augmented_above, stat, errmsg, default=64, lower=0, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
   end subroutine do_scheme
 
   !> "[EVERY] k" of OUTPUT HISTORY / FIELDS.

@@ -40,9 +40,11 @@ program test_contact
   use dense_solve, only: spd_solve
   use sparse_matrix, only: sym_csc_t, to_dense
   use cholmod_binding, only: cholmod_factor_t
+  use inverse_ops, only: chol_ref_t
   use contact, only: contact_set_t, contact_event_t, contact_report_t, IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, &
     EVENT_ESTABLISH, EVENT_RELEASE, contact_add, contact_finalize, contact_set_mass, contact_prepare, &
-    contact_solve_step, contact_end_step, contact_add_force, contact_gaps, contact_destroy, &
+    contact_solve_step, contact_end_step, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, &
+    contact_am_block, SOLVER_AUTO, SOLVER_AUGMENTED, &
     impact_energy_error, lambda_root, impulse_fixed_point, normal_multiplier, hzero_reflection, &
     persist_projection, persist_scale
   use test_contact_ops, only: dense_inverse_t
@@ -333,7 +335,8 @@ contains
     v = 2.0_dp * du / h - v                                ! eq (3)
     call check(abs(v(1)) <= 1.0e-14_dp, 'hand check: v(n+1) = 0 by (3)' // tag)
     mv = v
-    call contact_end_step(cs, mode, u, du, v, mv, er, ev, stat, errmsg, body=[1], report=rep)
+    call contact_end_step(cs, mode, u, du, v, mv, er, stat, errmsg, body=[1], report=rep)
+    ev = cs%events(1:cs%n_events)
     call check(stat == STAT_OK, 'hand check: end of step' // tag)
     call check(size(ev) == 1, 'hand check: one event' // tag)
     if (size(ev) == 1) then
@@ -354,7 +357,8 @@ contains
     call check(lam(1) == 0.0_dp .and. abs(du(1) - 0.2_dp) <= 1.0e-15_dp, 'hand check: next step free flight' // tag)
     v = 2.0_dp * du / h - v
     mv = v
-    call contact_end_step(cs, mode, u, du, v, mv, er, ev, stat, errmsg, body=[1])
+    call contact_end_step(cs, mode, u, du, v, mv, er, stat, errmsg, body=[1])
+    ev = cs%events(1:cs%n_events)
     call check(size(ev) == 1 .and. er == 0.0_dp .and. abs(v(1) - 2.0_dp) <= 1.0e-14_dp, &
       'hand check: release, nothing restored' // tag)
     if (size(ev) == 1) call check(ev(1)%kind == EVENT_RELEASE .and. ev(1)%reaction == 0.0_dp, &
@@ -419,7 +423,8 @@ contains
         v = 2.0_dp * du / h - v
         mv = matmul(m, v)
         t1 = 0.5_dp * dot_product(v, mv)
-        call contact_end_step(cs, mode, u, du, v, mv, er, ev, stat, errmsg, body=[1, 1, 1], report=rep)
+        call contact_end_step(cs, mode, u, du, v, mv, er, stat, errmsg, body=[1, 1, 1], report=rep)
+        ev = cs%events(1:cs%n_events)
         u = u + du
         if (rep%n_establish > 0) exit
       end do
@@ -488,8 +493,9 @@ contains
         ok = ok .and. stat == STAT_OK
         v = 2.0_dp * du / h - v
         mv = matmul(m, v)
-        call contact_end_step(cs, merge(mode, IMPACT_OFF, pass == 1), u, du, v, mv, er, ev, stat, errmsg, &
+        call contact_end_step(cs, merge(mode, IMPACT_OFF, pass == 1), u, du, v, mv, er, stat, errmsg, &
           body=[1, 1, 1], report=rep)
+        ev = cs%events(1:cs%n_events)
         ok = ok .and. stat == STAT_OK
         u = u + du
         nest = nest + rep%n_establish
@@ -551,7 +557,8 @@ contains
       call contact_solve_step(cs, sop, u, dufree, du, lam, stat, errmsg)
       v = 2.0_dp * du / h - v
       mv = m * v
-      call contact_end_step(cs, IMPACT_PAPER, u, du, v, mv, er, ev, stat, errmsg, report=rep)
+      call contact_end_step(cs, IMPACT_PAPER, u, du, v, mv, er, stat, errmsg, report=rep)
+      ev = cs%events(1:cs%n_events)
       nest = nest + rep%n_establish
       u = u + du
     end do
@@ -596,8 +603,9 @@ contains
       mv = matmul(mm, v)
       v2 = v(4:6)
       t1 = 0.5_dp * dot_product(v(1:3), mv(1:3))
-      call contact_end_step(cs, IMPACT_PERSIST, u, du, v, mv, er, ev, stat, errmsg, body=[1, 1, 1, 2, 2, 2], &
+      call contact_end_step(cs, IMPACT_PERSIST, u, du, v, mv, er, stat, errmsg, body=[1, 1, 1, 2, 2, 2], &
         report=rep)
+      ev = cs%events(1:cs%n_events)
       u = u + du
       if (rep%n_establish > 0) exit
     end do
@@ -616,13 +624,14 @@ contains
   subroutine test_cholmod()
     integer, parameter :: n = 40
     type(sym_csc_t) :: pat
-    type(cholmod_factor_t) :: f
+    type(cholmod_factor_t), target :: f
     type(contact_set_t) :: cs
     type(contact_event_t), allocatable :: ev(:)
     integer, allocatable :: eptr(:), edofs(:)
     real(dp), allocatable :: kval(:), mval(:), sval(:), sd(:, :), zd(:, :), cd(:, :), wd(:, :), md(:, :), amd(:, :)
     real(dp) :: r(n), dufree(n), du(n), du2(n), u(n), lam(4), lam2(4), g(4), res(n), mdiag(n), h, er, v(n), mv(n)
-    real(dp) :: am_diag(4, 4)
+    real(dp) :: am_diag(4, 4), wfull(4, 4)
+    type(chol_ref_t) :: fop
     integer :: i, ne, p, stat
     character(len=:), allocatable :: errmsg
     h = 1.0e-3_dp
@@ -656,9 +665,11 @@ contains
     call contact_finalize(cs, n, 1.0_dp, stat, errmsg)
     call contact_set_mass(cs, pat, mval, stat, errmsg)
     call check(stat == STAT_OK, 'CHOLMOD: consistent-mass path factorizes M')
-    am_diag = cs%am
-    call contact_prepare(cs, f, stat, errmsg)
-    call check(stat == STAT_OK .and. cs%z_stored, 'CHOLMOD: W prepared, Z stored')
+    call contact_am_block(cs, [1, 2, 3, 4], 4, am_diag, stat, errmsg)
+    call contact_prepare(cs, f, stat, errmsg, pat, sval)
+    call check(stat == STAT_OK, 'CHOLMOD: S prepared (Schur columns and augmented system)')
+    fop%f => f
+    call contact_w_matrix(cs, fop, wfull, stat, errmsg)
 
     ! Dense reference W = C S⁻¹ C' and C M⁻¹ C' by LAPACK.
     allocate (sd(n, n), md(n, n), cd(4, n))
@@ -669,13 +680,14 @@ contains
     zd = transpose(cd)
     call spd_solve(sd, zd, stat, errmsg)
     wd = matmul(cd, zd)
-    call check(maxval(abs(cs%w - wd)) <= 1.0e-12_dp * maxval(abs(wd)), 'CHOLMOD: W = C S-1 C'' matches LAPACK to 1e-12')
+    call check(maxval(abs(wfull - wd)) <= 1.0e-12_dp * maxval(abs(wd)), 'CHOLMOD: W = C S-1 C'' matches LAPACK to 1e-12')
     amd = transpose(cd)
     call spd_solve(md, amd, stat, errmsg)
     amd = matmul(cd, amd)
     call check(maxval(abs(am_diag - amd)) <= 1.0e-14_dp * maxval(abs(amd)), 'CHOLMOD: C M-1 C'' matches LAPACK')
     call contact_set_mass(cs, mdiag, stat, errmsg)
-    call check(stat == STAT_OK .and. maxval(abs(cs%am - amd)) <= 1.0e-15_dp * maxval(abs(amd)), &
+    call contact_am_block(cs, [1, 2, 3, 4], 4, am_diag, stat, errmsg)
+    call check(stat == STAT_OK .and. maxval(abs(am_diag - amd)) <= 1.0e-15_dp * maxval(abs(amd)), &
       'lumped-mass path gives the same C M-1 C''')
 
     ! A step: the chain pushed towards the first wall, squeezed at 20/21, pulled off the last.
@@ -699,17 +711,28 @@ contains
     call contact_add_force(cs, r)
     call check(maxval(abs(res - r)) <= 1.0e-10_dp * maxval(abs(r)), 'CHOLMOD step: S du = r + C''Λ')
     r = r - matmul(transpose(cd), lam)
-    ! Without the Z cache: one more solve, the same du.
-    cs%z_max_entries = 0
-    call contact_prepare(cs, f, stat, errmsg)
-    call check(stat == STAT_OK .and. .not. cs%z_stored, 'CHOLMOD: prepared without Z')
+    ! The augmented sparse system (UMFPACK) from a cold start: the same du and Λ. Both copies of
+    ! the duplicated condition in one active set make it singular: that solve falls back to Schur.
+    cs%ms%mode = SOLVER_AUGMENTED
+    cs%active_iter = .true.
     call contact_solve_step(cs, f, u, dufree, du2, lam2, stat, errmsg)
-    call check(maxval(abs(du2 - du)) <= 1.0e-13_dp * maxval(abs(du)) .and. maxval(abs(lam2 - lam)) <= &
-      1.0e-13_dp * maxval(lam), 'CHOLMOD: same du and Λ without the Z cache')
+    ! Both are backward stable solves of the same system, cond(W) ~ 1e3: 1e-12 relative.
+    call check(stat == STAT_OK .and. maxval(abs(du2 - du)) <= 1.0e-12_dp * maxval(abs(du)) .and. &
+      maxval(abs(lam2 - lam)) <= 1.0e-12_dp * maxval(lam), 'CHOLMOD: augmented system gives the same du and Λ', &
+      'lam2 = ' // rtoa(lam2(1)) // rtoa(lam2(2)) // rtoa(lam2(3)) // rtoa(lam2(4)))
+    call check(cs%ms%n_lu >= 1 .and. cs%ms%n_singular >= 1, 'CHOLMOD: dependent conditions: singular KKT detected, ' // &
+      'Schur fallback (' // itoa(int(cs%ms%n_lu)) // ' LU, ' // itoa(int(cs%ms%n_singular)) // ' singular)')
+    cs%active_iter = .false.
+    cs%active_iter(1) = .true.
+    call contact_solve_step(cs, f, u, dufree, du2, lam2, stat, errmsg)
+    call check(stat == STAT_OK .and. maxval(abs(du2 - du)) <= 1.0e-12_dp * maxval(abs(du)) .and. &
+      cs%ms%n_kkt >= 1, 'CHOLMOD: augmented system from the warm start, no fallback needed')
+    cs%ms%mode = SOLVER_AUTO
     ! End of step (PAPER, lumped mass): energy restored = Σ E_j, events for the 3 closed ones.
     v = 2.0_dp * du / h
     mv = mdiag * v
-    call contact_end_step(cs, IMPACT_PAPER, u, du, v, mv, er, ev, stat, errmsg)
+    call contact_end_step(cs, IMPACT_PAPER, u, du, v, mv, er, stat, errmsg)
+    ev = cs%events(1:cs%n_events)
     call check(stat == STAT_OK .and. size(ev) == count(cs%active), 'CHOLMOD end of step: one event per established')
     call check_close(er, sum(ev%energy), 1.0e-13_dp, 'CHOLMOD end of step: energy restored = sum E_j', &
       atol=1.0e-13_dp * 0.5_dp * dot_product(v, mv))

@@ -5,8 +5,8 @@ program test_lcp
   use kinds, only: dp
   use errors, only: STAT_OK
   use testing, only: check, check_close, test_summary
-  use dense_solve, only: spd_solve
-  use lcp, only: spsd_solve, lcp_solve
+  use dense_solve, only: spd_solve, spsd_solve
+  use lcp, only: lcp_solve
   implicit none
   integer, allocatable :: seed(:)
   integer :: ns

@@ -1,0 +1,641 @@
+!> The step multipliers of the contact conditions (docs/contact.md, "Multipliers"). For a trial
+!> active set A the pivoting of lcp_pivot asks for Λ_A with g_A = 0 and the gaps
+!> g = q + W Λ, W = C S⁻¹C' (S = K0 + 4M/h², the driver's iteration matrix), two ways:
+!>   SCHUR      W_AA Λ_A = -q_A, dense (LAPACK pivoted Cholesky), from the columns
+!>              z_j = S⁻¹c_j of the conditions of A. A column is computed (one solve with the
+!>              driver's factor) when its condition first enters an active set and kept until S
+!>              changes: the cost follows the contact zone, not the candidate set.
+!>   AUGMENTED  [S  C_A'; C_A  0] [x; -Λ_A] = [0; -q_A] with a sparse LU (UMFPACK) of the KKT
+!>              matrix. Its pattern holds every candidate (an inactive row has a zero coupling
+!>              and a unit diagonal, so Λ_j = 0) and is analysed once; the numeric factorization
+!>              is redone when the active set or S changes. No dense block, no column per
+!>              condition: the choice for large active sets.
+!>   AUTO       SCHUR while |A| <= switch_size, AUGMENTED above (switch measured in
+!>              docs/performance.md).
+!> Both give x = S⁻¹C'Λ, the correction of the step update. Dependent conditions make the KKT
+!> matrix singular: that solve falls back to SCHUR, whose pivoted Cholesky drops them.
+module contact_multipliers
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
+  use sparse_matrix, only: sym_csc_t
+  use cholmod_binding, only: umfpack_factor_t
+  use inverse_ops, only: inverse_op_t
+  use lcp, only: active_system_t
+  use dense_solve, only: spsd_solve
+  implicit none
+  private
+  public :: multiplier_system_t, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
+
+  integer, parameter :: SOLVER_AUTO = 0, SOLVER_SCHUR = 1, SOLVER_AUGMENTED = 2
+  !> AUTO: active sets larger than this go to the augmented system (docs/performance.md).
+  integer, parameter :: SWITCH_DEFAULT = 64
+
+  type, extends(active_system_t) :: multiplier_system_t
+    integer :: nc = 0, neq = 0
+    integer, allocatable :: ptr(:), eq(:)           !< C by rows (CSR), rows sorted by equation
+    real(dp), allocatable :: coef(:)
+    integer :: mode = SOLVER_AUTO
+    integer :: switch_size = SWITCH_DEFAULT
+    class(inverse_op_t), pointer :: s => null()     !< S⁻¹, set by the caller around each LCP
+    ! Schur columns: slot(j) holds z_j = zcol(:, slot(j)) and W(:, j) = wcol(:, slot(j)).
+    integer :: cap = 0, nslot = 0, clock = 0
+    real(dp), allocatable :: zcol(:, :), wcol(:, :)
+    integer, allocatable :: slot(:), owner(:), used(:)
+    ! Augmented system (order neq + nc): full CSC pattern and value positions.
+    logical :: kkt_built = .false., kkt_factored = .false.
+    type(umfpack_factor_t) :: lu
+    integer, allocatable :: kptr(:), krow(:)
+    real(dp), allocatable :: kval(:)
+    integer, allocatable :: pos_s(:, :)             !< (2, nnz(S)): the upper and lower copies
+    integer, allocatable :: pos_cr(:), pos_cc(:)    !< C entry p in row neq+j / in column neq+j
+    integer, allocatable :: pos_d(:)                !< diagonal of row neq+j
+    real(dp), allocatable :: dscale(:)              !< inactive diagonal: c'Sc / c'c (a stiffness)
+    real(dp), allocatable :: wlow(:)                !< (c'c)²/(c'Sc) <= W_jj (tolerance scale)
+    logical, allocatable :: kkt_set(:)              !< active set of the current factorization
+    ! The last solution.
+    logical :: x_ok = .false.                       !< x = S⁻¹C'Λ of the last Λ
+    real(dp), allocatable :: x(:)
+    ! Workspaces.
+    integer, allocatable :: ia(:)
+    real(dp), allocatable :: b(:), kb(:), kx(:), waa(:, :), ra(:), xa(:)
+    logical, allocatable :: dropped(:)
+    ! Counters (docs/performance.md).
+    integer(8) :: n_columns = 0, n_lu = 0, n_kkt = 0, n_schur = 0, n_singular = 0
+  contains
+    procedure :: init => ms_init
+    procedure :: prepare => ms_prepare
+    procedure :: solve_active => ms_solve_active
+    procedure :: gaps => ms_gaps
+    procedure :: correction => ms_correction
+    procedure :: column => ms_column
+    procedure :: destroy => ms_destroy
+  end type multiplier_system_t
+
+contains
+
+  !> C (nc rows over neq equations, CSR; duplicate equations in a row are summed) and the
+  !> workspaces. cap0 = initial number of cached Schur columns (grows when an active set needs more).
+  subroutine ms_init(self, nc, neq, ptr, eq, coef, cap0)
+    class(multiplier_system_t), intent(inout) :: self
+    integer, intent(in) :: nc, neq, ptr(:), eq(:)
+    real(dp), intent(in) :: coef(:)
+    integer, intent(in) :: cap0
+    integer :: j, p, q, n, k
+    integer, allocatable :: e(:)
+    real(dp), allocatable :: c(:)
+    call self%destroy()
+    self%nc = nc
+    self%neq = neq
+    allocate (self%ptr(nc + 1), self%eq(ptr(nc + 1) - 1), self%coef(ptr(nc + 1) - 1))
+    self%ptr(1) = 1
+    do j = 1, nc
+      e = eq(ptr(j):ptr(j + 1) - 1)
+      c = coef(ptr(j):ptr(j + 1) - 1)
+      n = 0
+      do p = 1, size(e)                    ! insertion sort, merging repeated equations
+        k = 0
+        do q = 1, n
+          if (self%eq(self%ptr(j) + q - 1) == e(p)) k = q
+        end do
+        if (k > 0) then
+          self%coef(self%ptr(j) + k - 1) = self%coef(self%ptr(j) + k - 1) + c(p)
+          cycle
+        end if
+        q = n
+        do while (q > 0)
+          if (self%eq(self%ptr(j) + q - 1) < e(p)) exit
+          self%eq(self%ptr(j) + q) = self%eq(self%ptr(j) + q - 1)
+          self%coef(self%ptr(j) + q) = self%coef(self%ptr(j) + q - 1)
+          q = q - 1
+        end do
+        self%eq(self%ptr(j) + q) = e(p)
+        self%coef(self%ptr(j) + q) = c(p)
+        n = n + 1
+      end do
+      self%ptr(j + 1) = self%ptr(j) + n
+    end do
+    self%cap = max(1, min(nc, cap0))
+    allocate (self%zcol(neq, self%cap), self%wcol(nc, self%cap), self%owner(self%cap), self%used(self%cap))
+    allocate (self%slot(nc), self%ia(nc), self%ra(nc), self%xa(nc), self%dropped(nc), self%x(neq), self%b(neq))
+    allocate (self%wlow(nc), self%kkt_set(nc))
+    self%slot = 0
+    self%nslot = 0
+    self%b = 0.0_dp
+    self%x = 0.0_dp
+    self%wlow = 1.0_dp
+    allocate (self%waa(0, 0))
+  end subroutine ms_init
+
+  !> A new S: the Schur columns are dropped. With the pattern and values of S (upper CSC) the
+  !> augmented system is built (once) and loaded, and the tolerance scales wlow are computed;
+  !> without them only SCHUR is available.
+  subroutine ms_prepare(self, stat, errmsg, pat, sval)
+    class(multiplier_system_t), intent(inout) :: self
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(sym_csc_t), intent(in), optional :: pat
+    real(dp), intent(in), optional :: sval(:)
+    integer :: j, q
+    real(dp) :: csc, cc
+    stat = STAT_OK
+    self%slot = 0
+    self%nslot = 0
+    self%x_ok = .false.
+    self%kkt_factored = .false.
+    if (.not. (present(pat) .and. present(sval))) then
+      if (self%mode == SOLVER_AUGMENTED) call set_error(stat, errmsg, STAT_INPUT, &
+        'contact: the augmented multiplier system needs the matrix S (pattern and values)')
+      return
+    end if
+    if (.not. self%kkt_built) then
+      call build_kkt(self, pat, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
+    do q = 1, pat%nnz
+      self%kval(self%pos_s(1, q)) = sval(q)
+      self%kval(self%pos_s(2, q)) = sval(q)
+    end do
+    do j = 1, self%nc
+      csc = c_s_c(self, pat, sval, j)
+      cc = sum(self%coef(self%ptr(j):self%ptr(j + 1) - 1)**2)
+      self%dscale(j) = 1.0_dp
+      self%wlow(j) = 1.0_dp
+      if (cc > 0.0_dp .and. csc > 0.0_dp) then
+        self%dscale(j) = csc / cc
+        self%wlow(j) = cc**2 / csc
+      end if
+    end do
+  end subroutine ms_prepare
+
+  !> c_j' S c_j from the upper triangle of S (binary search in each column).
+  pure real(dp) function c_s_c(self, pat, sval, j) result(r)
+    type(multiplier_system_t), intent(in) :: self
+    type(sym_csc_t), intent(in) :: pat
+    real(dp), intent(in) :: sval(:)
+    integer, intent(in) :: j
+    integer :: p, q, a, b, k
+    r = 0.0_dp
+    do p = self%ptr(j), self%ptr(j + 1) - 1
+      do q = self%ptr(j), self%ptr(j + 1) - 1
+        a = min(self%eq(p), self%eq(q))
+        b = max(self%eq(p), self%eq(q))
+        k = find_row(pat%rowind, pat%colptr(b), pat%colptr(b + 1) - 1, a)
+        if (k > 0) r = r + self%coef(p) * self%coef(q) * sval(k)
+      end do
+    end do
+  end function c_s_c
+
+  !> Position of row r in rowind(lo:hi) (sorted), 0 if absent.
+  pure integer function find_row(rowind, lo, hi, r) result(k)
+    integer, intent(in) :: rowind(:), lo, hi, r
+    integer :: a, b, m
+    k = 0
+    a = lo
+    b = hi
+    do while (a <= b)
+      m = (a + b) / 2
+      if (rowind(m) == r) then
+        k = m
+        return
+      else if (rowind(m) < r) then
+        a = m + 1
+      else
+        b = m - 1
+      end if
+    end do
+  end function find_row
+
+  !> Full CSC pattern of [S C'; C D] (S from its upper triangle, every candidate row), the value
+  !> positions, and the symbolic analysis.
+  subroutine build_kkt(self, pat, stat, errmsg)
+    class(multiplier_system_t), intent(inout) :: self
+    type(sym_csc_t), intent(in) :: pat
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer, allocatable :: cnt(:), fill(:), cptr(:), crow(:)
+    integer :: n, neq, nc, i, k, q, r, j, p, nnz
+    neq = self%neq
+    nc = self%nc
+    n = neq + nc
+    if (pat%n /= neq) then
+      call set_error(stat, errmsg, STAT_INPUT, 'contact: S has ' // str(pat%n) // ' equations, C ' // str(neq))
+      return
+    end if
+    ! C' by columns of the equations: the conditions touching each equation, in order.
+    allocate (cnt(neq + 1))
+    cnt = 0
+    do p = 1, size(self%eq)
+      cnt(self%eq(p) + 1) = cnt(self%eq(p) + 1) + 1
+    end do
+    allocate (cptr(neq + 1), crow(size(self%eq)))
+    cptr(1) = 1
+    do i = 1, neq
+      cptr(i + 1) = cptr(i) + cnt(i + 1)
+    end do
+    fill = cptr(1:neq)
+    do j = 1, nc
+      do p = self%ptr(j), self%ptr(j + 1) - 1
+        crow(fill(self%eq(p))) = p
+        fill(self%eq(p)) = fill(self%eq(p)) + 1
+      end do
+    end do
+    ! Column counts: upper part + lower part (transposed) + C' entries; then C rows + diagonal.
+    allocate (self%kptr(n + 1))
+    self%kptr = 0
+    do k = 1, neq
+      do q = pat%colptr(k), pat%colptr(k + 1) - 1
+        r = pat%rowind(q)
+        self%kptr(k + 1) = self%kptr(k + 1) + 1
+        if (r /= k) self%kptr(r + 1) = self%kptr(r + 1) + 1
+      end do
+      self%kptr(k + 1) = self%kptr(k + 1) + (cptr(k + 1) - cptr(k))
+    end do
+    do j = 1, nc
+      self%kptr(neq + j + 1) = self%ptr(j + 1) - self%ptr(j) + 1
+    end do
+    self%kptr(1) = 1
+    do i = 1, n
+      self%kptr(i + 1) = self%kptr(i) + self%kptr(i + 1)
+    end do
+    nnz = self%kptr(n + 1) - 1
+    allocate (self%krow(nnz), self%kval(nnz), self%pos_s(2, pat%nnz), self%pos_cr(size(self%eq)), &
+      self%pos_cc(size(self%eq)), self%pos_d(nc), self%dscale(nc))
+    self%kval = 0.0_dp
+    fill = self%kptr(1:neq)
+    ! Column r: its upper rows (<= r, ascending in sym_csc_t) are placed when k = r, its lower
+    ! rows k > r later in ascending k, then the conditions (rows > neq): sorted, as UMFPACK needs.
+    do k = 1, neq
+      do q = pat%colptr(k), pat%colptr(k + 1) - 1
+        r = pat%rowind(q)
+        self%krow(fill(k)) = r
+        self%pos_s(1, q) = fill(k)
+        fill(k) = fill(k) + 1
+        if (r /= k) then
+          self%krow(fill(r)) = k
+          self%pos_s(2, q) = fill(r)
+          fill(r) = fill(r) + 1
+        else
+          self%pos_s(2, q) = self%pos_s(1, q)
+        end if
+      end do
+    end do
+    do i = 1, neq
+      do k = cptr(i), cptr(i + 1) - 1
+        p = crow(k)
+        self%krow(fill(i)) = neq + row_of(self, p)
+        self%pos_cr(p) = fill(i)
+        fill(i) = fill(i) + 1
+      end do
+    end do
+    do j = 1, nc
+      k = self%kptr(neq + j)
+      do p = self%ptr(j), self%ptr(j + 1) - 1
+        self%krow(k) = self%eq(p)
+        self%pos_cc(p) = k
+        k = k + 1
+      end do
+      self%krow(k) = neq + j
+      self%pos_d(j) = k
+    end do
+    call self%lu%analyze(n, self%kptr, self%krow, stat, errmsg)
+    if (stat /= STAT_OK) then
+      errmsg = 'contact: augmented system: ' // errmsg
+      return
+    end if
+    allocate (self%kb(n), self%kx(n))
+    self%kkt_built = .true.
+  end subroutine build_kkt
+
+  !> The condition owning entry p of C.
+  pure integer function row_of(self, p) result(j)
+    type(multiplier_system_t), intent(in) :: self
+    integer, intent(in) :: p
+    integer :: a, b, m
+    a = 1
+    b = self%nc
+    do while (a < b)                       ! largest j with ptr(j) <= p
+      m = (a + b + 1) / 2
+      if (self%ptr(m) <= p) then
+        a = m
+      else
+        b = m - 1
+      end if
+    end do
+    j = a
+  end function row_of
+
+  !> lcp_pivot's trial solve (see active_system_t).
+  subroutine ms_solve_active(self, q, active, lam, g, wdiag, stat, errmsg)
+    class(multiplier_system_t), intent(inout) :: self
+    real(dp), intent(in) :: q(:)
+    logical, intent(inout) :: active(:)
+    real(dp), intent(out) :: lam(:), g(:)
+    real(dp), intent(inout) :: wdiag(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    logical :: singular
+    integer :: na
+    stat = STAT_OK
+    na = count(active)
+    if (na == 0) then
+      lam = 0.0_dp
+      g = q
+      self%x = 0.0_dp
+      self%x_ok = .true.
+      return
+    end if
+    if (self%kkt_built .and. (self%mode == SOLVER_AUGMENTED .or. &
+      (self%mode == SOLVER_AUTO .and. na > self%switch_size))) then
+      call kkt_solve(self, q, active, lam, g, wdiag, singular, stat, errmsg)
+      if (stat /= STAT_OK .or. .not. singular) return
+      self%n_singular = self%n_singular + 1           ! dependent conditions: SCHUR drops them
+    end if
+    call schur_solve(self, q, active, lam, g, wdiag, stat, errmsg)
+  end subroutine ms_solve_active
+
+  !> SCHUR: W_AA Λ_A = -q_A from the cached columns; dependent rows leave A.
+  subroutine schur_solve(self, q, active, lam, g, wdiag, stat, errmsg)
+    class(multiplier_system_t), intent(inout) :: self
+    real(dp), intent(in) :: q(:)
+    logical, intent(inout) :: active(:)
+    real(dp), intent(out) :: lam(:), g(:)
+    real(dp), intent(inout) :: wdiag(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: na, j, k, l, rank
+    na = 0
+    do j = 1, self%nc
+      if (.not. active(j)) cycle
+      na = na + 1
+      self%ia(na) = j
+    end do
+    call ensure_columns(self, active, na, stat, errmsg)
+    if (stat /= STAT_OK) return
+    self%n_schur = self%n_schur + 1
+    if (size(self%waa, 1) < na) then
+      deallocate (self%waa)
+      allocate (self%waa(max(na, 2 * size(self%waa, 1)), max(na, 2 * size(self%waa, 1))))
+    end if
+    do l = 1, na
+      do k = 1, na
+        self%waa(k, l) = 0.5_dp * (self%wcol(self%ia(k), self%slot(self%ia(l))) + &
+          self%wcol(self%ia(l), self%slot(self%ia(k))))
+      end do
+      self%ra(l) = -q(self%ia(l))
+    end do
+    call spsd_solve(self%waa(1:na, 1:na), self%ra(1:na), self%xa(1:na), rank, self%dropped(1:na))
+    lam = 0.0_dp
+    g = q
+    do k = 1, na
+      j = self%ia(k)
+      wdiag(j) = self%wcol(j, self%slot(j))
+      if (self%dropped(k)) then
+        active(j) = .false.
+        cycle
+      end if
+      lam(j) = self%xa(k)
+      g = g + lam(j) * self%wcol(:, self%slot(j))
+    end do
+    self%x_ok = .false.
+  end subroutine schur_solve
+
+  !> Columns z_j = S⁻¹c_j and W(:, j) = C z_j for the conditions ia(1:na). A free slot, or the
+  !> least recently used one of an inactive condition; the cache grows when A needs more.
+  subroutine ensure_columns(self, active, na, stat, errmsg)
+    class(multiplier_system_t), intent(inout) :: self
+    logical, intent(in) :: active(:)
+    integer, intent(in) :: na
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, j, sl, m
+    stat = STAT_OK
+    self%clock = self%clock + 1
+    do k = 1, na
+      j = self%ia(k)
+      if (self%slot(j) > 0) then
+        self%used(self%slot(j)) = self%clock
+        cycle
+      end if
+      if (self%nslot < self%cap) then
+        self%nslot = self%nslot + 1
+        sl = self%nslot
+      else
+        sl = 0
+        do m = 1, self%cap
+          if (active(self%owner(m))) cycle
+          if (sl == 0) then
+            sl = m
+          else if (self%used(m) < self%used(sl)) then
+            sl = m
+          end if
+        end do
+        if (sl == 0) then
+          call grow_cache(self)
+          self%nslot = self%nslot + 1
+          sl = self%nslot
+        else
+          self%slot(self%owner(sl)) = 0
+        end if
+      end if
+      call self%column(j, self%zcol(:, sl), stat, errmsg)
+      if (stat /= STAT_OK) return
+      call c_times(self, self%zcol(:, sl), self%wcol(:, sl))
+      self%slot(j) = sl
+      self%owner(sl) = j
+      self%used(sl) = self%clock
+    end do
+  end subroutine ensure_columns
+
+  !> z = S⁻¹c_j (one solve with the driver's factor).
+  subroutine ms_column(self, j, z, stat, errmsg)
+    class(multiplier_system_t), intent(inout) :: self
+    integer, intent(in) :: j
+    real(dp), intent(out), contiguous :: z(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: p
+    if (.not. associated(self%s)) then
+      call set_error(stat, errmsg, STAT_INPUT, 'contact: no S operator for the multipliers')
+      return
+    end if
+    do p = self%ptr(j), self%ptr(j + 1) - 1
+      self%b(self%eq(p)) = self%coef(p)
+    end do
+    call self%s%apply(self%b, z, stat, errmsg)
+    do p = self%ptr(j), self%ptr(j + 1) - 1
+      self%b(self%eq(p)) = 0.0_dp
+    end do
+    self%n_columns = self%n_columns + 1
+  end subroutine ms_column
+
+  subroutine grow_cache(self)
+    class(multiplier_system_t), intent(inout) :: self
+    real(dp), allocatable :: z(:, :), w(:, :)
+    integer, allocatable :: o(:), u(:)
+    integer :: c
+    c = min(self%nc, 2 * self%cap)
+    allocate (z(self%neq, c), w(self%nc, c), o(c), u(c))
+    z(:, 1:self%cap) = self%zcol
+    w(:, 1:self%cap) = self%wcol
+    o(1:self%cap) = self%owner
+    u(1:self%cap) = self%used
+    call move_alloc(z, self%zcol)
+    call move_alloc(w, self%wcol)
+    call move_alloc(o, self%owner)
+    call move_alloc(u, self%used)
+    self%cap = c
+  end subroutine grow_cache
+
+  !> AUGMENTED: refactorize if A or S changed, then one solve. singular: the factorization
+  !> found dependent conditions (nothing computed; the caller falls back).
+  subroutine kkt_solve(self, q, active, lam, g, wdiag, singular, stat, errmsg)
+    class(multiplier_system_t), intent(inout) :: self
+    real(dp), intent(in) :: q(:)
+    logical, intent(inout) :: active(:)
+    real(dp), intent(out) :: lam(:), g(:)
+    real(dp), intent(inout) :: wdiag(:)
+    logical, intent(out) :: singular
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: j, p, neq
+    logical :: same
+    neq = self%neq
+    singular = .false.
+    stat = STAT_OK
+    same = self%kkt_factored
+    if (same) same = all(active .eqv. self%kkt_set)
+    if (.not. same) then
+      do j = 1, self%nc
+        do p = self%ptr(j), self%ptr(j + 1) - 1
+          self%kval(self%pos_cr(p)) = merge(self%coef(p), 0.0_dp, active(j))
+          self%kval(self%pos_cc(p)) = merge(self%coef(p), 0.0_dp, active(j))
+        end do
+        self%kval(self%pos_d(j)) = merge(0.0_dp, self%dscale(j), active(j))
+      end do
+      self%kkt_factored = .false.
+      call self%lu%factorize(self%kval, stat, errmsg, singular)
+      self%n_lu = self%n_lu + 1
+      if (singular) then
+        stat = STAT_OK
+        return
+      end if
+      if (stat /= STAT_OK) then
+        errmsg = 'contact: augmented system: ' // errmsg
+        return
+      end if
+      self%kkt_set = active
+      self%kkt_factored = .true.
+    end if
+    self%kb(1:neq) = 0.0_dp
+    do j = 1, self%nc
+      self%kb(neq + j) = merge(-q(j), 0.0_dp, active(j))
+    end do
+    call self%lu%solve(self%kb, self%kx, stat, errmsg)
+    if (stat /= STAT_OK) return
+    self%n_kkt = self%n_kkt + 1
+    self%x = self%kx(1:neq)
+    self%x_ok = .true.
+    do j = 1, self%nc
+      lam(j) = merge(-self%kx(neq + j), 0.0_dp, active(j))
+    end do
+    call c_times(self, self%x, g)
+    g = q + g
+    wdiag = self%wlow
+  end subroutine kkt_solve
+
+  !> g = q + W lam, with x = S⁻¹C'lam kept for ms_correction.
+  subroutine ms_gaps(self, q, lam, g, stat, errmsg)
+    class(multiplier_system_t), intent(inout) :: self
+    real(dp), intent(in) :: q(:), lam(:)
+    real(dp), intent(out) :: g(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call apply_minv_ct(self, lam, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call c_times(self, self%x, g)
+    g = q + g
+  end subroutine ms_gaps
+
+  !> x = S⁻¹C'lam for the multiplier lcp_pivot accepted last.
+  subroutine ms_correction(self, lam, x, stat, errmsg)
+    class(multiplier_system_t), intent(inout) :: self
+    real(dp), intent(in) :: lam(:)
+    real(dp), intent(out) :: x(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (.not. self%x_ok) call apply_minv_ct(self, lam, stat, errmsg)
+    if (stat /= STAT_OK) return
+    x = self%x
+  end subroutine ms_correction
+
+  !> self%x = S⁻¹C'lam: from the cached columns when they cover lam, else one solve.
+  subroutine apply_minv_ct(self, lam, stat, errmsg)
+    class(multiplier_system_t), intent(inout) :: self
+    real(dp), intent(in) :: lam(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: j, p
+    logical :: cached
+    stat = STAT_OK
+    cached = .true.
+    do j = 1, self%nc
+      if (lam(j) /= 0.0_dp .and. self%slot(j) == 0) cached = .false.
+    end do
+    self%x = 0.0_dp
+    if (cached) then
+      do j = 1, self%nc
+        if (lam(j) /= 0.0_dp) self%x = self%x + lam(j) * self%zcol(:, self%slot(j))
+      end do
+    else
+      if (.not. associated(self%s)) then
+        call set_error(stat, errmsg, STAT_INPUT, 'contact: no S operator for the multipliers')
+        return
+      end if
+      self%b = 0.0_dp
+      do j = 1, self%nc
+        do p = self%ptr(j), self%ptr(j + 1) - 1
+          self%b(self%eq(p)) = self%b(self%eq(p)) + self%coef(p) * lam(j)
+        end do
+      end do
+      call self%s%apply(self%b, self%x, stat, errmsg)
+      self%b = 0.0_dp
+      if (stat /= STAT_OK) return
+    end if
+    self%x_ok = .true.
+  end subroutine apply_minv_ct
+
+  !> cx = C x.
+  pure subroutine c_times(self, x, cx)
+    type(multiplier_system_t), intent(in) :: self
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: cx(:)
+    integer :: j, p
+    do j = 1, self%nc
+      cx(j) = 0.0_dp
+      do p = self%ptr(j), self%ptr(j + 1) - 1
+        cx(j) = cx(j) + self%coef(p) * x(self%eq(p))
+      end do
+    end do
+  end subroutine c_times
+
+  subroutine ms_destroy(self)
+    class(multiplier_system_t), intent(inout) :: self
+    call self%lu%destroy()
+    if (allocated(self%ptr)) deallocate (self%ptr, self%eq, self%coef)
+    if (allocated(self%zcol)) deallocate (self%zcol, self%wcol, self%owner, self%used)
+    if (allocated(self%slot)) deallocate (self%slot, self%ia, self%ra, self%xa, self%dropped, self%x, self%b, &
+      self%wlow, self%kkt_set)
+    if (allocated(self%waa)) deallocate (self%waa)
+    if (allocated(self%kptr)) deallocate (self%kptr)
+    if (allocated(self%krow)) deallocate (self%krow, self%kval, self%pos_s, self%pos_cr, self%pos_cc, self%pos_d, &
+      self%dscale)
+    if (allocated(self%kb)) deallocate (self%kb, self%kx)
+    self%kkt_built = .false.
+    self%kkt_factored = .false.
+    self%nc = 0
+    self%cap = 0
+    self%nslot = 0
+    nullify (self%s)
+  end subroutine ms_destroy
+end module contact_multipliers
