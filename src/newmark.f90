@@ -41,6 +41,9 @@ module newmark
     real(dp) :: wall = 0.0_dp
     real(dp) :: max_rel_balance = 0.0_dp
     integer :: iterations = 0
+    ! Contact multipliers (contact_multipliers): Schur columns computed (solves with S), trial
+    ! active sets solved by Schur / by the augmented system, its LU factorizations.
+    integer(8) :: schur_columns = 0, schur_solves = 0, augmented_solves = 0, augmented_factorizations = 0
   end type run_summary_t
 
   !> Everything the time loop works on, allocated before it starts.
@@ -504,6 +507,12 @@ contains
       summary%steps = last
       summary%iterations = total_iter
       summary%max_rel_balance = rs%en%relative_balance()
+      if (rs%has_contact) then
+        summary%schur_columns = rs%cs%ms%n_columns
+        summary%schur_solves = rs%cs%ms%n_schur
+        summary%augmented_solves = rs%cs%ms%n_kkt
+        summary%augmented_factorizations = rs%cs%ms%n_lu
+      end if
       call system_clock(c1)
       summary%wall = real(c1 - c0, dp) / real(crate, dp)
     end subroutine fill_summary

@@ -4,7 +4,7 @@
 # A steel slab (QUAD4, plane strain) lands flat on a rigid ground: every node of its bottom
 # edge (nx + 1 conditions) closes within a few steps and stays closed. The same run with
 # SCHEME MULTIPLIERS SCHUR and AUGMENTED, for growing nx (active-set size) at two mesh
-# depths (ny), gives the wall time of the run and the multiplier counters; the run without
+# depths (ny), in IMPACT PERSIST (the contact holds), gives the wall time of the run and the multiplier counters; the run without
 # contact (no OBSTACLE) is the baseline. The table goes to BENCH_CONTACT_OUT.
 #
 # Environment:
@@ -35,20 +35,19 @@ SECTION   strip THICKNESS 1
 MODEL     slab MATERIAL steel SECTION strip MASS LUMPED PLANE STRAIN
 INITIAL   slab VELOCITY 0 -1
 TIME      STEP 1e-6 END $(awk "BEGIN{print 1e-6*$STEPS}")
-SCHEME    IMPACT OFF MULTIPLIERS $solver
+SCHEME    IMPACT PERSIST MULTIPLIERS $solver
 OUTPUT    HISTORY EVERY 1 FIELDS EVERY 0
 SCN
   [[ $contact == 1 ]] && echo "OBSTACLE  ground NODES slab.bottom POINT 0 0 NORMAL 0 1"
   return 0
 }
 
-run() {   # file -> "seconds"
-  local f=$1 d=$WORK/out.$RANDOM t0 t1
+run() {   # file outdir -> "seconds"
+  local f=$1 d=$2 t0 t1
   t0=$(date +%s.%N)
   bin/rebond "$f" -o "$d" > "$d.log" 2>&1 || { echo "bench_contact: $f failed:" >&2; cat "$d.log" >&2; exit 1; }
   t1=$(date +%s.%N)
   awk "BEGIN{printf \"%.3f\", $t1 - $t0}"
-  LAST_OUT=$d
 }
 
 report() {
@@ -59,10 +58,11 @@ report() {
       scene "$nx" "$ny" 0 AUTO > "$WORK/free.dat"
       scene "$nx" "$ny" 1 SCHUR > "$WORK/schur.dat"
       scene "$nx" "$ny" 1 AUGMENTED > "$WORK/aug.dat"
-      tf=$(run "$WORK/free.dat")
-      ts=$(run "$WORK/schur.dat")
-      act=$(awk -F, 'NR==1{for(i=1;i<=NF;i++) if($i=="active_contacts") c=i} NR>1{a=$c} END{print a}' "$LAST_OUT/history.csv")
-      ta=$(run "$WORK/aug.dat")
+      tf=$(run "$WORK/free.dat" "$WORK/o.free")
+      ts=$(run "$WORK/schur.dat" "$WORK/o.schur")
+      act=$(awk -F, 'NR==1{for(i=1;i<=NF;i++) if($i=="active_contacts") c=i} NR>1{a=$c} END{print a}' \
+        "$WORK/o.schur/history.csv")
+      ta=$(run "$WORK/aug.dat" "$WORK/o.aug")
       dofs=$(( 2 * (nx + 1) * (ny + 1) ))
       best=$(awk "BEGIN{print ($ts <= $ta) ? \"SCHUR\" : \"AUGMENTED\"}")
       echo "| $ny | $dofs | $act | $tf | $ts | $ta | $best |"
