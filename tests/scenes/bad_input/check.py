@@ -107,6 +107,8 @@ CASES = [
      'broken.msh'),
     ('repeated TIME statement', BASE + ['TIME STEP 0.02 END 0.2'], None, [], 15, 'TIME', 'TIME'),
     ('unterminated quote', edit(BASE, 1, 'TITLE "spring and mass'), None, [], 1, 'TITLE', '"spring and mass'),
+    ('unknown MULTIPLIERS choice', BASE + ['SCHEME MULTIPLIERS DENSE'], None, [], 15, 'SCHEME', 'DENSE'),
+    ('negative AUGMENTED_ABOVE', BASE + ['SCHEME AUGMENTED_ABOVE -3'], None, [], 15, 'SCHEME', '-3'),
     ('continuation at end of file', edit(BASE, 14, 'OUTPUT PROBE b UX &'), None, [], 14, 'OUTPUT', '&'),
     ('bad --set value', BASE, None, ['TIME.STEP=abc'], 13, 'TIME', 'abc'),
     ('non-positive --set TIME.STEP', BASE, None, ['TIME.STEP=-1'], 13, 'TIME', '-1'),
