@@ -88,6 +88,7 @@ run: bin/rebond
 bench: bin/rebond
 	@bash tools/bench.sh
 	@bash tools/bench_nonlinear.sh
+	@BENCH_CONTACT_OUT=docs/performance-contact.md bash tools/bench_contact.sh
 
 clean:
 	rm -rf $(BUILD) bin/rebond

@@ -322,12 +322,15 @@ contains
     type(system_t), intent(in) :: sys
     real(dp), intent(in) :: t
     real(dp), intent(out) :: f(:)
-    integer :: il
+    integer :: il, k
     real(dp) :: s
     f = function_value(scn%functions, scn%gravity_func, t) * sys%fgrav
     do il = 1, size(sys%loads)
       s = function_value(scn%functions, sys%loads(il)%func, t)
-      f(sys%loads(il)%eq) = f(sys%loads(il)%eq) + s * sys%loads(il)%f
+      ! An explicit loop: the vector-subscript form allocated temporaries at every step.
+      do k = 1, size(sys%loads(il)%eq)
+        f(sys%loads(il)%eq(k)) = f(sys%loads(il)%eq(k)) + s * sys%loads(il)%f(k)
+      end do
     end do
   end subroutine external_force
 

@@ -211,6 +211,15 @@ int rb_chol_solve(void *vh, int n, const double *b, double *x, char *msg, int ms
     h->B.z = NULL;
     h->B.xtype = CHOLMOD_REAL;
     h->B.dtype = CHOLMOD_DOUBLE;
+    if (h->Y != NULL && !h->L->is_super && h->Y->nzmax >= 4 * (size_t)n) {
+        /* The simplicial solve asks for a 4-by-n Y (cholmod_ensure_dense), then transposes the
+         * right-hand side into its first row and leaves Y->nrow = Y->d = 1: the next call would
+         * see other dimensions and reallocate Y (two mallocs per solve). Give Y back the shape
+         * it is asked for; the memory is the same (nzmax checked). */
+        h->Y->nrow = 4;
+        h->Y->ncol = (size_t)n;
+        h->Y->d = 4;
+    }
     ok = cholmod_solve2(CHOLMOD_A, h->L, &h->B, NULL, &h->X, NULL, &h->Y, &h->E, &h->c);
     h->B.x = NULL;
     if (!ok || h->X == NULL || h->c.status < CHOLMOD_OK) return fail(h, msg, msglen, "solve2");

@@ -26,7 +26,7 @@ module contact
   use cholmod_binding, only: cholmod_factor_t
   use inverse_ops, only: inverse_op_t, diag_inverse_t, chol_inverse_t, chol_ref_t
   use lcp, only: lcp_pivot
-  use dense_solve, only: spsd_solve, gen_solve
+  use dense_solve, only: spsd_solve, spsd_solve_ws, gen_solve
   use contact_multipliers, only: multiplier_system_t, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   implicit none
   private
@@ -87,7 +87,8 @@ module contact
     logical, allocatable :: viol(:), now(:), est(:), rel(:), fallback(:), rows(:)
     integer, allocatable :: idx(:), cgroup(:), parent(:)
     real(dp), allocatable :: f(:), xw(:), vp(:), mvp(:), ct(:)
-    real(dp), allocatable :: amat(:, :), gmat(:, :), sv(:)
+    real(dp), allocatable :: amat(:, :), gmat(:, :), sv(:), work2(:)
+    integer, allocatable :: ipiv(:)
     ! Settings (set before contact_finalize / contact_prepare to change them).
     real(dp) :: length_scale = 1.0_dp        !< model size; gap tolerance = gap_rtol * length_scale
     real(dp) :: gap_rtol = 1.0e-12_dp
@@ -168,7 +169,7 @@ contains
   !> Strongly coupled data may have no solution with all y_j <= 0: then converged = .false.
   !> and y is the decoupled roots (13) scaled by t (total energy still exact, the split
   !> between the points is not): the caller reports it.
-  pure subroutine impulse_fixed_point(g, b, e, y, iterations, change, converged, tol, max_iter)
+  pure subroutine impulse_fixed_point(g, b, e, y, iterations, change, converged, tol, max_iter, work)
     real(dp), intent(in) :: g(:, :), b(:), e(:)
     real(dp), intent(out) :: y(:)
     integer, intent(out) :: iterations
@@ -176,9 +177,10 @@ contains
     logical, intent(out) :: converged
     real(dp), intent(in), optional :: tol
     integer, intent(in), optional :: max_iter
-    real(dp), allocatable :: ynew(:)
-    real(dp) :: rtol, omega, prev, qa, qb, qe, t
-    integer :: n, it, maxit, j
+    real(dp), intent(inout), optional :: work(:)   !< 2 n reals; without it they are allocated
+    real(dp), allocatable :: w(:)
+    real(dp) :: rtol
+    integer :: n, maxit
 
     n = size(b)
     rtol = 1.0e-14_dp
@@ -190,55 +192,69 @@ contains
     converged = .true.
     y = 0.0_dp
     if (n == 0) return
-    do j = 1, n                                  ! decoupled start: (13) for each point
-      y(j) = lambda_root(g(j, j), b(j), e(j))
-    end do
-    omega = 1.0_dp
-    prev = huge(1.0_dp)
-    converged = .false.
-    allocate (ynew(n))
-    do it = 1, maxit
-      iterations = it
-      call sweep(y, ynew, change, converged)
-      if (converged) exit
-      if (change > prev) omega = max(0.5_dp * omega, 1.0_dp / 64.0_dp)
-      prev = change
-      y = y + omega * (ynew - y)
-      ! Slow (strong coupling): Newton on (14) from here, judged by the same fixed-point change.
-      if (it >= NEWTON_AFTER .and. mod(it, NEWTON_AFTER) == 0) then
-        call newton_14(g, b, e, y)
-        call sweep(y, ynew, change, converged)
-        if (converged) exit
-      end if
-    end do
-    ! (14) may have no solution with every y_j < 0 (strongly coupled points, some already
-    ! separating): keep an all-negative direction, the last iterate or the decoupled roots (13).
-    if (.not. converged .and. any(y > 0.0_dp)) then
-      do j = 1, n
-        y(j) = lambda_root(g(j, j), b(j), e(j))
-      end do
-    end if
-    ! Exact total energy: root of ½ qa t² + qb t - qe = 0 nearest to 1 (the positive one).
-    qa = dot_product(y, matmul(g, y))
-    qb = dot_product(b, y)
-    qe = sum(e)
-    if (qa > 0.0_dp) then
-      t = nearest_root(qa, qb, qe)
-      y = t * y
+    if (present(work)) then
+      call iterate(y, work(1:n), work(n + 1:2 * n), iterations, change, converged)
+    else
+      allocate (w(2 * n))
+      call iterate(y, w(1:n), w(n + 1:2 * n), iterations, change, converged)
     end if
 
   contains
 
+    pure subroutine iterate(y, ynew, gy, iterations, change, converged)
+      real(dp), intent(inout) :: y(:)
+      real(dp), intent(out) :: ynew(:), gy(:), change
+      integer, intent(out) :: iterations
+      logical, intent(out) :: converged
+      real(dp) :: omega, prev, qa, qb, qe, t
+      integer :: it, j
+      do j = 1, n                                  ! decoupled start: (13) for each point
+        y(j) = lambda_root(g(j, j), b(j), e(j))
+      end do
+      omega = 1.0_dp
+      prev = huge(1.0_dp)
+      converged = .false.
+      do it = 1, maxit
+        iterations = it
+        call sweep(y, ynew, gy, change, converged)
+        if (converged) exit
+        if (change > prev) omega = max(0.5_dp * omega, 1.0_dp / 64.0_dp)
+        prev = change
+        y = y + omega * (ynew - y)
+        ! Slow (strong coupling): Newton on (14) from here, judged by the same fixed-point change.
+        if (it >= NEWTON_AFTER .and. mod(it, NEWTON_AFTER) == 0) then
+          call newton_14(g, b, e, y)
+          call sweep(y, ynew, gy, change, converged)
+          if (converged) exit
+        end if
+      end do
+      ! (14) may have no solution with every y_j < 0 (strongly coupled points, some already
+      ! separating): keep an all-negative direction, the last iterate or the decoupled roots (13).
+      if (.not. converged .and. any(y > 0.0_dp)) then
+        do j = 1, n
+          y(j) = lambda_root(g(j, j), b(j), e(j))
+        end do
+      end if
+      ! Exact total energy: root of ½ qa t² + qb t - qe = 0 nearest to 1 (the positive one).
+      gy = matmul(g, y)
+      qa = dot_product(y, gy)
+      qb = dot_product(b, y)
+      qe = sum(e)
+      if (qa > 0.0_dp) then
+        t = nearest_root(qa, qb, qe)
+        y = t * y
+      end if
+    end subroutine iterate
+
     !> One Jacobi sweep of (14): each point's quadratic (13) with the others' impulses frozen
     !> at y; change = largest relative update; converged (y takes the sweep) below rtol.
-    pure subroutine sweep(y, ynew, change, converged)
+    pure subroutine sweep(y, ynew, gy, change, converged)
       real(dp), intent(inout) :: y(:)
-      real(dp), intent(out) :: ynew(:), change
+      real(dp), intent(out) :: ynew(:), gy(:), change
       logical, intent(out) :: converged
-      real(dp) :: gy(size(y))
       integer :: k
       gy = matmul(g, y)
-      do k = 1, size(y)
+      do k = 1, n
         ynew(k) = lambda_root(g(k, k), b(k) + 0.5_dp * (gy(k) - g(k, k) * y(k)), e(k))
       end do
       change = maxval(abs(ynew - y)) / max(maxval(abs(ynew)), tiny(1.0_dp))
@@ -473,13 +489,16 @@ contains
     cs%gap_n = cs%g0
     cs%gap = cs%g0
     if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%mu, cs%viol, cs%now, &
-      cs%est, cs%rel, cs%fallback, cs%idx, cs%cgroup, cs%f, cs%xw, cs%vp, cs%mvp, cs%rows, cs%events, cs%sv, cs%ct)
+      cs%est, cs%rel, cs%fallback, cs%idx, cs%cgroup, cs%f, cs%xw, cs%vp, cs%mvp, cs%rows, cs%events, cs%sv, cs%ct, &
+      cs%work2, cs%ipiv)
     allocate (cs%wq(nc), cs%wdiag(nc), cs%gn(nc), cs%gend(nc), cs%e(nc), cs%y(nc), cs%r(nc), cs%mu(nc), cs%viol(nc), &
       cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%idx(nc), cs%cgroup(nc), cs%events(nc), cs%sv(nc), &
-      cs%ct(nc))
-    allocate (cs%f(neq), cs%xw(neq), cs%vp(neq), cs%mvp(neq), cs%rows(neq))
+      cs%ct(nc), cs%work2(2 * nc), cs%ipiv(nc))
+    if (allocated(cs%parent)) deallocate (cs%parent)
+    allocate (cs%f(neq), cs%xw(neq), cs%vp(neq), cs%mvp(neq), cs%rows(neq), cs%parent(neq))  ! bodies <= neq
     if (allocated(cs%amat)) deallocate (cs%amat, cs%gmat)
-    allocate (cs%amat(0, 0), cs%gmat(0, 0))
+    ! Dense blocks for up to 64 conditions established together; they grow beyond (rarely).
+    allocate (cs%amat(min(nc, 64), min(nc, 64)), cs%gmat(min(nc, 64), min(nc, 64)))
     cs%wdiag = 1.0_dp
     cs%n_events = 0
     cs%ms%mode = cs%solver
@@ -954,7 +973,7 @@ contains
           cs%ct(k) = cs%e(ip(k))
         end do
         call impulse_fixed_point(g, cs%sv(1:n), cs%ct(1:n), cs%wq(1:n), iters, change, conv, cs%fp_tol, &
-          cs%fp_max_iter)
+          cs%fp_max_iter, cs%work2)
         rep%fp_iterations = rep%fp_iterations + iters
         rep%fp_change = max(rep%fp_change, change)
         if (.not. conv) rep%fp_failures = rep%fp_failures + 1     ! reported, energy still exact
@@ -981,10 +1000,11 @@ contains
       do k = 1, n
         cs%sv(k) = row_dot(cs, ia(k), v)
       end do
-      call normal_multiplier(a, cs%sv(1:n), cs%wq(1:n), rank)
+      ! ν of (16): (A M⁻¹A') ν = A v, in place (normal_multiplier without its allocations).
+      call spsd_solve_ws(n, cs%amat, cs%sv, rank, cs%ipiv, cs%work2)
       rep%reflection_rank = rank
       cs%mu = 0.0_dp
-      cs%mu(ia) = cs%wq(1:n)
+      cs%mu(ia) = cs%sv(1:n)
     end associate
     call add_minv_ct(cs, cs%mu, -2.0_dp, v, mv, stat, errmsg)
   end subroutine paper_correction
@@ -1012,8 +1032,7 @@ contains
     end if
     nb = 0
     if (cs%neq > 0) nb = max(maxval(body), 0)
-    if (.not. allocated(cs%parent)) allocate (cs%parent(nb))
-    if (size(cs%parent) < nb) then
+    if (size(cs%parent) < nb) then                 ! sized neq at contact_finalize: never
       deallocate (cs%parent)
       allocate (cs%parent(nb))
     end if
@@ -1063,9 +1082,9 @@ contains
           do k = 1, n
             cs%sv(k) = row_dot(cs, ia(k), v)
           end do
-          call normal_multiplier(a, cs%sv(1:n), cs%wq(1:n), rank)
+          call spsd_solve_ws(n, cs%amat, cs%sv, rank, cs%ipiv, cs%work2)   ! projection's ν
           cs%mu = 0.0_dp
-          cs%mu(ia) = cs%wq(1:n)
+          cs%mu(ia) = cs%sv(1:n)
         end associate
         cs%vp = v
         cs%mvp = mv
@@ -1080,10 +1099,11 @@ contains
           cycle
         end if
         s = persist_scale(tstar, 0.0_dp, tp)
-        where (rows)
-          v = s * cs%vp
-          mv = s * cs%mvp
-        end where
+        do i = 1, cs%neq                           ! (a loop: a WHERE block allocates its mask)
+          if (.not. rows(i)) cycle
+          v(i) = s * cs%vp(i)
+          mv(i) = s * cs%mvp(i)
+        end do
       end do
     end associate
   end subroutine persist_correction

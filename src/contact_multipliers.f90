@@ -21,14 +21,14 @@ module contact_multipliers
   use cholmod_binding, only: umfpack_factor_t
   use inverse_ops, only: inverse_op_t
   use lcp, only: active_system_t
-  use dense_solve, only: spsd_solve
+  use dense_solve, only: spsd_solve_ws
   implicit none
   private
   public :: multiplier_system_t, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
 
   integer, parameter :: SOLVER_AUTO = 0, SOLVER_SCHUR = 1, SOLVER_AUGMENTED = 2
   !> AUTO: active sets larger than this go to the augmented system (docs/performance.md).
-  integer, parameter :: SWITCH_DEFAULT = 64
+  integer, parameter :: SWITCH_DEFAULT = 128
 
   type, extends(active_system_t) :: multiplier_system_t
     integer :: nc = 0, neq = 0
@@ -56,8 +56,8 @@ module contact_multipliers
     logical :: x_ok = .false.                       !< x = S⁻¹C'Λ of the last Λ
     real(dp), allocatable :: x(:)
     ! Workspaces.
-    integer, allocatable :: ia(:)
-    real(dp), allocatable :: b(:), kb(:), kx(:), waa(:, :), ra(:), xa(:)
+    integer, allocatable :: ia(:), piv(:)
+    real(dp), allocatable :: b(:), kb(:), kx(:), waa(:, :), ra(:), work(:)
     logical, allocatable :: dropped(:)
     ! Counters (docs/performance.md).
     integer(8) :: n_columns = 0, n_lu = 0, n_kkt = 0, n_schur = 0, n_singular = 0
@@ -116,14 +116,14 @@ contains
     end do
     self%cap = max(1, min(nc, cap0))
     allocate (self%zcol(neq, self%cap), self%wcol(nc, self%cap), self%owner(self%cap), self%used(self%cap))
-    allocate (self%slot(nc), self%ia(nc), self%ra(nc), self%xa(nc), self%dropped(nc), self%x(neq), self%b(neq))
-    allocate (self%wlow(nc), self%kkt_set(nc))
+    allocate (self%slot(nc), self%ia(nc), self%ra(nc), self%dropped(nc), self%x(neq), self%b(neq))
+    allocate (self%wlow(nc), self%kkt_set(nc), self%piv(nc), self%work(2 * nc))
     self%slot = 0
     self%nslot = 0
     self%b = 0.0_dp
     self%x = 0.0_dp
     self%wlow = 1.0_dp
-    allocate (self%waa(0, 0))
+    allocate (self%waa(min(nc, 64), min(nc, 64)))   ! grows with the largest Schur active set
   end subroutine ms_init
 
   !> A new S: the Schur columns are dropped. With the pattern and values of S (upper CSC) the
@@ -383,7 +383,7 @@ contains
       end do
       self%ra(l) = -q(self%ia(l))
     end do
-    call spsd_solve(self%waa(1:na, 1:na), self%ra(1:na), self%xa(1:na), rank, self%dropped(1:na))
+    call spsd_solve_ws(na, self%waa, self%ra, rank, self%piv, self%work, self%dropped)
     lam = 0.0_dp
     g = q
     do k = 1, na
@@ -393,7 +393,7 @@ contains
         active(j) = .false.
         cycle
       end if
-      lam(j) = self%xa(k)
+      lam(j) = self%ra(k)
       g = g + lam(j) * self%wcol(:, self%slot(j))
     end do
     self%x_ok = .false.
@@ -624,8 +624,8 @@ contains
     call self%lu%destroy()
     if (allocated(self%ptr)) deallocate (self%ptr, self%eq, self%coef)
     if (allocated(self%zcol)) deallocate (self%zcol, self%wcol, self%owner, self%used)
-    if (allocated(self%slot)) deallocate (self%slot, self%ia, self%ra, self%xa, self%dropped, self%x, self%b, &
-      self%wlow, self%kkt_set)
+    if (allocated(self%slot)) deallocate (self%slot, self%ia, self%ra, self%dropped, self%x, self%b, &
+      self%wlow, self%kkt_set, self%piv, self%work)
     if (allocated(self%waa)) deallocate (self%waa)
     if (allocated(self%kptr)) deallocate (self%kptr)
     if (allocated(self%krow)) deallocate (self%krow, self%kval, self%pos_s, self%pos_cr, self%pos_cc, self%pos_d, &

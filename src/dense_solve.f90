@@ -8,7 +8,7 @@ module dense_solve
   use lapack_pure, only: dsygvd, dposv, dsysv, dpstrf, dpotrs, dgesv
   implicit none
   private
-  public :: generalized_eigen, spd_solve, sym_solve, spsd_solve, gen_solve, PIVOT_RTOL
+  public :: generalized_eigen, spd_solve, sym_solve, spsd_solve, spsd_solve_ws, gen_solve, PIVOT_RTOL
 
   !> spd_solve(a, b, stat, errmsg): b(n) or b(n,nrhs).
   interface spd_solve
@@ -193,14 +193,11 @@ contains
     integer, intent(out) :: rank
     logical, intent(out), optional :: dropped(:)
     real(dp), intent(in), optional :: rtol
-    real(dp), allocatable :: l(:, :), y(:), work(:)
+    real(dp), allocatable :: l(:, :), work(:)
     integer, allocatable :: piv(:)
-    integer :: n, i, r, info
-    real(dp) :: rt, dmax
+    integer :: n
 
     n = size(b)
-    rt = PIVOT_RTOL
-    if (present(rtol)) rt = max(rtol, 0.0_dp)
     x = 0.0_dp
     rank = 0
     if (present(dropped)) dropped = .true.
@@ -208,25 +205,66 @@ contains
     if (present(dropped)) then
       if (size(dropped) /= n) return
     end if
-    if (.not. finite_matrix(a)) return                 ! NaN/Inf: no meaningful rank
+    allocate (l, source=a)
+    allocate (piv(n), work(2 * n))
+    x = b
+    call spsd_solve_ws(n, l, x, rank, piv, work, dropped, rtol)
+  end subroutine spsd_solve
+
+  !> spsd_solve in place, for callers that must not allocate (the contact multipliers, every
+  !> iteration): a(1:n, 1:n) (leading dimension size(a, 1) >= n) is overwritten by the factor,
+  !> b(1:n) by the solution x; piv(n) and work(2n) are workspaces. Same results as spsd_solve.
+  pure subroutine spsd_solve_ws(n, a, b, rank, piv, work, dropped, rtol)
+    integer, intent(in) :: n
+    real(dp), intent(inout), contiguous :: a(:, :)
+    real(dp), intent(inout) :: b(:)
+    integer, intent(out) :: rank
+    integer, intent(inout), contiguous :: piv(:)
+    real(dp), intent(inout), contiguous :: work(:)
+    logical, intent(out), optional :: dropped(:)
+    real(dp), intent(in), optional :: rtol
+    integer :: i, r, info, lda
+    real(dp) :: rt, dmax
+
+    rt = PIVOT_RTOL
+    if (present(rtol)) rt = max(rtol, 0.0_dp)
+    rank = 0
+    if (present(dropped)) dropped(1:n) = .true.
+    lda = size(a, 1)
+    if (n == 0 .or. lda < n .or. size(a, 2) < n .or. size(b) < n .or. size(piv) < n .or. size(work) < 2 * n) then
+      b(1:min(n, size(b))) = 0.0_dp
+      return
+    end if
     dmax = 0.0_dp
     do i = 1, n
       dmax = max(dmax, a(i, i))
     end do
-    if (.not. (dmax > 0.0_dp)) return
-    allocate (l, source=a)
-    allocate (piv(n), work(2 * n))
+    if (.not. (finite_matrix(a(1:n, 1:n)) .and. dmax > 0.0_dp)) then   ! NaN/Inf: no meaningful rank
+      b(1:n) = 0.0_dp
+      return
+    end if
     ! TOL >= 0 here, so dpstrf uses it as given (a negative TOL would select n eps max(diag)).
-    call dpstrf('L', n, l, n, piv, r, rt * dmax, work, info)
-    if (info < 0 .or. r < 0 .or. r > n) return         ! info = 1 only says rank < n
-    if (r == 0) return
-    allocate (y, source=b(piv(1:r)))
-    call dpotrs('L', r, 1, l, n, y, r, info)           ! leading r x r block of L, lda = n
+    call dpstrf('L', n, a, lda, piv, r, rt * dmax, work, info)
+    if (info < 0 .or. r <= 0 .or. r > n) then          ! info = 1 only says rank < n
+      b(1:n) = 0.0_dp
+      return
+    end if
+    do i = 1, r                                        ! the kept unknowns, in pivot order
+      work(i) = b(piv(i))
+    end do
+    call dpotrs('L', r, 1, a, lda, work, r, info)      ! leading r x r block of L
+    b(1:n) = 0.0_dp
     if (info /= 0) return
-    x(piv(1:r)) = y
+    do i = 1, r
+      b(piv(i)) = work(i)
+    end do
     rank = r
-    if (present(dropped)) dropped(piv(1:r)) = .false.
-  end subroutine spsd_solve
+    if (present(dropped)) then
+      do i = 1, r
+        dropped(piv(i)) = .false.
+      end do
+    end if
+  end subroutine spsd_solve_ws
 
   !> x = a^-1 b for a small general square a(n,n) (LU with partial pivoting, dgesv). ok = .false.
   !> (and x = 0) when a is singular: an exactly zero pivot (info > 0) or, as the hand-written LU

@@ -22,7 +22,7 @@ module fields_hdf5
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error, str
   use mesh, only: mesh_t, ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8
-  use xdmf_writer, only: xdmf_step_t, xdmf_document, step_group_name, write_text_atomic
+  use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic
   use os_utils, only: make_directory
   use hdf5, only: hid_t, hsize_t, h5open_f, h5close_f, &
                   h5fcreate_f, h5fclose_f, h5fflush_f, H5F_ACC_TRUNC_F, H5F_SCOPE_GLOBAL_F, &
@@ -56,6 +56,9 @@ module fields_hdf5
     integer :: nnode = 0, nelem = 0, ntopo = 0
     integer :: nsteps = 0
     type(xdmf_step_t), allocatable :: steps(:)
+    ! fields.xmf: head, the grids of the written steps (rendered once each, grids(1:ngrids)), tail.
+    character(len=:), allocatable :: xhead, xtail, grids
+    integer :: ngrids = 0
     ! Work arrays for splitting (UX, UY, RZ) fields, sized in open and reused by every step.
     real(dp), allocatable :: vec(:, :), rz(:)
   contains
@@ -458,8 +461,12 @@ contains
       call check_h5(hdferr, 'flush the file', self%h5path, stat, errmsg)
     end if
     ! An empty collection replaces any fields.xmf left by an earlier run of the same case.
-    if (stat == STAT_OK) call write_text_atomic(self%xmfpath, &
-      xdmf_document(self%h5name, self%nnode, self%nelem, self%ntopo, self%steps(1:0)), stat, errmsg)
+    self%xhead = xdmf_head()
+    self%xtail = xdmf_tail()
+    if (allocated(self%grids)) deallocate (self%grids)
+    allocate (character(len=16384) :: self%grids)
+    self%ngrids = 0
+    if (stat == STAT_OK) call write_text_atomic(self%xmfpath, self%xhead // self%xtail, stat, errmsg)
     if (stat /= STAT_OK) call self%close(st2, msg2)   ! keep the first error
   end subroutine fw_open
 
@@ -539,9 +546,24 @@ contains
     end if
     self%nsteps = self%nsteps + 1
     self%steps(self%nsteps) = xdmf_step_t(step=step, time=time, has_reaction=present(reaction))
-    call write_text_atomic(self%xmfpath, &
-      xdmf_document(self%h5name, self%nnode, self%nelem, self%ntopo, self%steps(1:self%nsteps)), stat, errmsg)
+    ! Only the new step's grid is rendered (re-rendering every step made the output quadratic).
+    call append_grid(self, xdmf_step_grid(self%h5name, self%nnode, self%nelem, self%ntopo, self%steps(self%nsteps)))
+    call write_text_atomic(self%xmfpath, self%xhead // self%grids(1:self%ngrids) // self%xtail, stat, errmsg)
   end subroutine fw_write_step
+
+  !> grids(1:ngrids) // text, the buffer doubled when full.
+  pure subroutine append_grid(self, text)
+    class(fields_writer_t), intent(inout) :: self
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: tmp
+    if (self%ngrids + len(text) > len(self%grids)) then
+      allocate (character(len=max(2 * len(self%grids), self%ngrids + len(text))) :: tmp)
+      tmp(1:self%ngrids) = self%grids(1:self%ngrids)
+      call move_alloc(tmp, self%grids)
+    end if
+    self%grids(self%ngrids + 1:self%ngrids + len(text)) = text
+    self%ngrids = self%ngrids + len(text)
+  end subroutine append_grid
 
   pure logical function has_shape(a, n1, n2)
     real(dp), intent(in) :: a(:, :)
@@ -572,6 +594,8 @@ contains
       call release_library(st, msg, self%h5path)
     end if
     if (allocated(self%steps)) deallocate (self%steps)
+    if (allocated(self%grids)) deallocate (self%grids)
+    self%ngrids = 0
     if (allocated(self%vec)) deallocate (self%vec)
     if (allocated(self%rz)) deallocate (self%rz)
     self%nsteps = 0

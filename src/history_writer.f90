@@ -1,9 +1,10 @@
 !> CSV result files (history.csv, probes.csv): a header row, then one line per output, each
 !> flushed as soon as it is written so that a run stopped at any moment leaves complete lines.
-!> Rows are formatted into a buffer sized at open: nothing is allocated per row.
+!> Rows are formatted into a buffer sized at open: nothing is allocated per row (text_format).
 module history_writer
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error
+  use text_format, only: put_es, put_int, put_text, ES_MAX_LEN
   implicit none
   private
   public :: csv_file_t
@@ -123,6 +124,8 @@ contains
   end function count_commas
 
   !> One line: step, then reals (17 significant digits), then integers, then more reals.
+  !> Built in the buffer by text_format (the characters of I0 and ES24.16E3 without blanks),
+  !> not by internal WRITEs, which allocate in the Fortran runtime at every statement.
   subroutine write_row(self, step, reals, ints, stat, errmsg, tail)
     class(csv_file_t), intent(inout) :: self
     integer, intent(in) :: step
@@ -131,44 +134,35 @@ contains
     real(dp), intent(in), optional :: tail(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: ios, pos, i
+    integer :: ios, pos, i, need
     stat = STAT_OK
-    write (self%buf, '(i0)') step
-    pos = len_trim(self%buf)
+    need = 12 * (1 + size(ints)) + (ES_MAX_LEN + 1) * size(reals)
+    if (present(tail)) need = need + (ES_MAX_LEN + 1) * size(tail)
+    if (len(self%buf) < need) then
+      ! More values than the header has columns: grow once.
+      deallocate (self%buf)
+      allocate (character(len=need) :: self%buf)
+    end if
+    pos = 0
+    call put_int(self%buf, pos, step)
     do i = 1, size(reals)
-      write (self%buf(pos + 1:), '(",",es24.16e3)') reals(i)
-      pos = len_trim(self%buf)
+      call put_text(self%buf, pos, ',')
+      call put_es(self%buf, pos, reals(i))
     end do
     do i = 1, size(ints)
-      write (self%buf(pos + 1:), '(",",i0)') ints(i)
-      pos = len_trim(self%buf)
+      call put_text(self%buf, pos, ',')
+      call put_int(self%buf, pos, ints(i))
     end do
     if (present(tail)) then
       do i = 1, size(tail)
-        write (self%buf(pos + 1:), '(",",es24.16e3)') tail(i)
-        pos = len_trim(self%buf)
+        call put_text(self%buf, pos, ',')
+        call put_es(self%buf, pos, tail(i))
       end do
     end if
-    write (self%unit, '(a)', iostat=ios) trim(squeeze(self%buf(1:pos)))
+    write (self%unit, '(a)', iostat=ios) self%buf(1:pos)
     if (ios == 0) flush (self%unit, iostat=ios)
     if (ios /= 0) call set_error(stat, errmsg, STAT_RUN, 'cannot write ' // self%path)
   end subroutine write_row
-
-  !> The row without the blanks the E format pads with.
-  pure function squeeze(s) result(r)
-    character(len=*), intent(in) :: s
-    character(len=len(s)) :: r
-    integer :: i, k
-    r = ' '
-    k = 0
-    do i = 1, len(s)
-      if (s(i:i) /= ' ') then
-        k = k + 1
-        r(k:k) = s(i:i)
-      end if
-    end do
-    r = r(1:k)
-  end function squeeze
 
   subroutine csv_close(self)
     class(csv_file_t), intent(inout) :: self

@@ -20,6 +20,7 @@ module newmark
   use os_utils, only: make_directory, install_signal_handlers, signal_received
   use checkpoint, only: ckpt_file_t
   use energy, only: ENERGY_STATE_SIZE
+  use text_format, only: put_es, put_int, put_text
   implicit none
   private
   public :: run_options_t, run_summary_t, prepare_run, run_newmark, run_state_t, velocity_eq3, rhs_eq9
@@ -704,30 +705,39 @@ contains
       end do
     end subroutine contact_reactions
 
-    !> events.csv: one line per contact established or released in the step.
+    !> events.csv: one line per contact established or released in the step, built with
+    !> text_format in a fixed buffer (no internal WRITE, no allocation: these are in the loop).
     subroutine write_events(step, t, events)
       integer, intent(in) :: step
       real(dp), intent(in) :: t
       type(contact_event_t), intent(in) :: events(:)
-      integer :: k, j
-      character(len=64) :: nodes
-      character(len=:), allocatable :: line
-      character(len=32) :: b1, b2, b3, b4
+      integer :: k, j, pos
+      character(len=256) :: line
       do k = 1, size(events)
         j = events(k)%index
+        pos = 0
+        call put_int(line, pos, step)
+        call put_text(line, pos, ',')
+        call put_es(line, pos, t)
+        call put_text(line, pos, ',')
+        call put_int(line, pos, j)
+        call put_text(line, pos, ',')
         if (scn%conditions(j)%node_a > 0) then
-          write (nodes, '(i0,1x,i0)') scn%conditions(j)%node_a, scn%conditions(j)%node_b
-        else
-          write (nodes, '(i0)') scn%conditions(j)%node_b
+          call put_int(line, pos, scn%conditions(j)%node_a)
+          call put_text(line, pos, ' ')
         end if
-        write (b1, '(es24.16e3)') t
-        write (b2, '(es24.16e3)') events(k)%gap_start
-        write (b3, '(es24.16e3)') events(k)%multiplier
-        write (b4, '(es24.16e3)') merge(events(k)%energy, 0.0_dp, events(k)%kind == EVENT_ESTABLISH)
-        line = str(step) // ',' // trim(adjustl(b1)) // ',' // str(j) // ',' // trim(nodes) // ',' // &
-          trim(merge('establish', 'release  ', events(k)%kind == EVENT_ESTABLISH)) // ',' // trim(adjustl(b2)) // &
-          ',' // trim(adjustl(b3)) // ',' // trim(adjustl(b4))
-        write (ev%unit, '(a)') line
+        call put_int(line, pos, scn%conditions(j)%node_b)
+        if (events(k)%kind == EVENT_ESTABLISH) then
+          call put_text(line, pos, ',establish,')
+        else
+          call put_text(line, pos, ',release,')
+        end if
+        call put_es(line, pos, events(k)%gap_start)
+        call put_text(line, pos, ',')
+        call put_es(line, pos, events(k)%multiplier)
+        call put_text(line, pos, ',')
+        call put_es(line, pos, merge(events(k)%energy, 0.0_dp, events(k)%kind == EVENT_ESTABLISH))
+        write (ev%unit, '(a)') line(1:pos)
       end do
       if (size(events) > 0) flush (ev%unit)
     end subroutine write_events

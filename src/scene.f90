@@ -114,7 +114,7 @@ module scene
     type(condition_t), allocatable :: conditions(:)   !< unilateral contacts (OBSTACLE, GAP)
     integer :: impact = IMPACT_PAPER                  !< SCHEME IMPACT
     integer :: multipliers = 0                        !< SCHEME MULTIPLIERS: 0 AUTO, 1 SCHUR, 2 AUGMENTED
-    integer :: augmented_above = 64                   !< SCHEME AUGMENTED_ABOVE (AUTO's switch)
+    integer :: augmented_above = 128                  !< SCHEME AUGMENTED_ABOVE (AUTO's switch)
   end type scene_t
 
 contains
@@ -1136,7 +1136,7 @@ contains
     call get_choice(st, 'MULTIPLIERS', ['AUTO     ', 'SCHUR    ', 'AUGMENTED'], 'AUTO', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%multipliers = k - 1
-    call get_int(st, 'AUGMENTED_ABOVE', scn%augmented_above, stat, errmsg, default=64, lower=0, lower_inclusive=.true.)
+    call get_int(st, 'AUGMENTED_ABOVE', scn%augmented_above, stat, errmsg, default=128, lower=0, lower_inclusive=.true.)
     if (stat /= STAT_OK) return
   end subroutine do_scheme
 

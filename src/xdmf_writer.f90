@@ -18,6 +18,7 @@ module xdmf_writer
   implicit none
   private
   public :: xdmf_step_t, xdmf_document, step_group_name, write_text_atomic, xml_escape, xdmf_real
+  public :: xdmf_head, xdmf_tail, xdmf_step_grid
 
   !> What the XML needs to know about one written step.
   type :: xdmf_step_t
@@ -107,54 +108,74 @@ contains
   !> The whole fields.xmf document. h5file is the heavy-data file name as the .xmf should refer to
   !> it (relative to the .xmf's directory, normally 'fields.h5'); ntopo is the length of the Mixed
   !> topology array. With no steps the collection is empty (still a valid document).
+  !> It is xdmf_head // xdmf_step_grid of every step // xdmf_tail: a writer that appends steps
+  !> keeps the rendered grids and renders only the new one (fields_hdf5).
   pure function xdmf_document(h5file, nnode, nelem, ntopo, steps) result(xml)
     character(len=*), intent(in) :: h5file
     integer, intent(in) :: nnode, nelem, ntopo
     type(xdmf_step_t), intent(in) :: steps(:)
     character(len=:), allocatable :: xml
     type(text_buffer_t) :: tb
-    character(len=:), allocatable :: h5, ndims, cdims, grp
     integer :: k
+
+    call put(tb, xdmf_head())
+    do k = 1, size(steps)
+      call put(tb, xdmf_step_grid(h5file, nnode, nelem, ntopo, steps(k)))
+    end do
+    call put(tb, xdmf_tail())
+    xml = tb%buf(1:tb%n)
+  end function xdmf_document
+
+  !> The document up to the first step's grid.
+  pure function xdmf_head() result(xml)
+    character(len=:), allocatable :: xml
+    xml = '<?xml version="1.0" encoding="utf-8"?>' // NL // &
+      '<Xdmf xmlns:xi="http://www.w3.org/2001/XInclude" Version="3.0">' // NL // &
+      '  <Domain>' // NL // &
+      '    <Grid Name="fields" GridType="Collection" CollectionType="Temporal">' // NL
+  end function xdmf_head
+
+  !> The document after the last step's grid.
+  pure function xdmf_tail() result(xml)
+    character(len=:), allocatable :: xml
+    xml = '    </Grid>' // NL // '  </Domain>' // NL // '</Xdmf>' // NL
+  end function xdmf_tail
+
+  !> The uniform grid of one step (arguments as xdmf_document's).
+  pure function xdmf_step_grid(h5file, nnode, nelem, ntopo, st) result(xml)
+    character(len=*), intent(in) :: h5file
+    integer, intent(in) :: nnode, nelem, ntopo
+    type(xdmf_step_t), intent(in) :: st
+    character(len=:), allocatable :: xml
+    type(text_buffer_t) :: tb
+    character(len=:), allocatable :: h5, ndims, cdims, grp
 
     h5 = xml_escape(h5file)
     ndims = str(nnode) // ' 3'
     cdims = str(nelem) // ' 4'
-    call put(tb, '<?xml version="1.0" encoding="utf-8"?>' // NL)
-    call put(tb, '<Xdmf xmlns:xi="http://www.w3.org/2001/XInclude" Version="3.0">' // NL)
-    call put(tb, '  <Domain>' // NL)
-    call put(tb, '    <Grid Name="fields" GridType="Collection" CollectionType="Temporal">' // NL)
-    do k = 1, size(steps)
-      grp = step_group_name(steps(k)%step)
-      call put(tb, I2 // '<Grid Name="' // grp // '" GridType="Uniform">' // NL)
-      call put(tb, I3 // '<Time Value="' // xdmf_real(steps(k)%time) // '"/>' // NL)
-      call put(tb, I3 // '<Topology TopologyType="Mixed" NumberOfElements="' // str(nelem) // '">' // NL)
-      call put(tb, data_item(I4, str(ntopo), 'Int', '4', h5 // ':/mesh/topology'))
-      call put(tb, I3 // '</Topology>' // NL)
-      call put(tb, I3 // '<Geometry GeometryType="XYZ">' // NL)
-      call put(tb, data_item(I4, ndims, 'Float', '8', h5 // ':/mesh/coordinates'))
-      call put(tb, I3 // '</Geometry>' // NL)
-      call node_attribute(tb, 'displacement', 'Vector', ndims, h5, grp)
-      call node_attribute(tb, 'velocity', 'Vector', ndims, h5, grp)
-      call node_attribute(tb, 'rotation', 'Scalar', str(nnode), h5, grp)
-      call node_attribute(tb, 'angular_velocity', 'Scalar', str(nnode), h5, grp)
-      if (steps(k)%has_reaction) then
-        call node_attribute(tb, 'reaction', 'Vector', ndims, h5, grp)
-        call node_attribute(tb, 'reaction_moment', 'Scalar', str(nnode), h5, grp)
-      end if
-      call put(tb, I3 // '<Attribute Name="stress" AttributeType="Matrix" Center="Cell">' // NL)
-      call put(tb, data_item(I4, cdims, 'Float', '8', h5 // ':/' // grp // '/stress'))
-      call put(tb, I3 // '</Attribute>' // NL)
-      call put(tb, I2 // '</Grid>' // NL)
-    end do
-    call put(tb, '    </Grid>' // NL)
-    call put(tb, '  </Domain>' // NL)
-    call put(tb, '</Xdmf>' // NL)
-    if (tb%n == 0) then
-      xml = ''
-    else
-      xml = tb%buf(1:tb%n)
+    grp = step_group_name(st%step)
+    call put(tb, I2 // '<Grid Name="' // grp // '" GridType="Uniform">' // NL)
+    call put(tb, I3 // '<Time Value="' // xdmf_real(st%time) // '"/>' // NL)
+    call put(tb, I3 // '<Topology TopologyType="Mixed" NumberOfElements="' // str(nelem) // '">' // NL)
+    call put(tb, data_item(I4, str(ntopo), 'Int', '4', h5 // ':/mesh/topology'))
+    call put(tb, I3 // '</Topology>' // NL)
+    call put(tb, I3 // '<Geometry GeometryType="XYZ">' // NL)
+    call put(tb, data_item(I4, ndims, 'Float', '8', h5 // ':/mesh/coordinates'))
+    call put(tb, I3 // '</Geometry>' // NL)
+    call node_attribute(tb, 'displacement', 'Vector', ndims, h5, grp)
+    call node_attribute(tb, 'velocity', 'Vector', ndims, h5, grp)
+    call node_attribute(tb, 'rotation', 'Scalar', str(nnode), h5, grp)
+    call node_attribute(tb, 'angular_velocity', 'Scalar', str(nnode), h5, grp)
+    if (st%has_reaction) then
+      call node_attribute(tb, 'reaction', 'Vector', ndims, h5, grp)
+      call node_attribute(tb, 'reaction_moment', 'Scalar', str(nnode), h5, grp)
     end if
-  end function xdmf_document
+    call put(tb, I3 // '<Attribute Name="stress" AttributeType="Matrix" Center="Cell">' // NL)
+    call put(tb, data_item(I4, cdims, 'Float', '8', h5 // ':/' // grp // '/stress'))
+    call put(tb, I3 // '</Attribute>' // NL)
+    call put(tb, I2 // '</Grid>' // NL)
+    xml = tb%buf(1:tb%n)
+  end function xdmf_step_grid
 
   !> A nodal attribute (atype Vector: dims "nnode 3"; Scalar: dims "nnode") of step group grp.
   pure subroutine node_attribute(tb, name, atype, dims, h5, grp)

@@ -233,7 +233,14 @@ L.append("   the bare one); the ≤ 1.3 goal is realistic from about 1e5 DOFs.")
 L.append("5. **Once-per-run costs at 1e6 DOFs**: `build_system` takes seconds, and `prepare_run` costs about")
 L.append("   three numeric factorizations because the analysis tries both AMD and METIS")
 L.append("   (`nmethods = 2` in `cholmod_shim.c`); for large 2D meshes METIS alone would do.\n")
-open(out, 'w').write("\n".join(L))
+# Sections written by other tools (tools/alloc_per_step.sh: "Allocations in the time loop") are kept.
+import os, re
+kept = ""
+if os.path.exists(out):
+    m = re.search(r"^## Allocations in the time loop\n.*?(?=^## |\Z)", open(out).read(), re.M | re.S)
+    if m:
+        kept = "\n" + m.group(0)
+open(out, 'w').write("\n".join(L) + kept)
 print("\n".join(L))
 PY
 echo "bench: report written to $OUT (scratch files in $WORK)"

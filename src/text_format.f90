@@ -1,0 +1,73 @@
+!> Numbers appended to a character buffer without the Fortran I/O runtime: a formatted
+!> internal WRITE allocates in libgfortran at every statement, and the history rows are built
+!> at every step. put_es gives exactly the characters of the ES24.16E3 edit descriptor without
+!> its leading blanks (the C library's digits, as libgfortran's), put_int those of I0.
+module text_format
+  use, intrinsic :: iso_c_binding, only: c_double, c_char, c_int
+  use kinds, only: dp
+  implicit none
+  private
+  public :: put_es, put_int, put_text, ES_MAX_LEN
+
+  !> Longest text put_es writes: sign, 17 digits, the point, E, sign, 3 exponent digits.
+  integer, parameter :: ES_MAX_LEN = 24
+
+  interface
+    function rb_format_es(x, out) bind(c, name='rb_format_es') result(n)
+      import :: c_double, c_char, c_int
+      real(c_double), value :: x
+      character(kind=c_char), intent(out) :: out(*)
+      integer(c_int) :: n
+    end function rb_format_es
+  end interface
+
+contains
+
+  !> buf(pos+1:) = x as ES24.16E3 without blanks; pos advances. The caller keeps ES_MAX_LEN
+  !> characters free after pos.
+  subroutine put_es(buf, pos, x)
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: pos
+    real(dp), intent(in) :: x
+    character(kind=c_char) :: tmp(ES_MAX_LEN + 8)
+    integer :: n, i
+    n = rb_format_es(real(x, c_double), tmp)
+    do i = 1, n
+      buf(pos + i:pos + i) = tmp(i)
+    end do
+    pos = pos + n
+  end subroutine put_es
+
+  !> buf(pos+1:) = i as I0 (minus sign, digits); pos advances.
+  pure subroutine put_int(buf, pos, i)
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: pos
+    integer, intent(in) :: i
+    character(len=20) :: d
+    integer(8) :: v
+    integer :: k
+    v = abs(int(i, 8))   ! in 64 bits: -huge(1) - 1 has no 32-bit absolute value
+    k = len(d)
+    do
+      d(k:k) = achar(iachar('0') + int(mod(v, 10_8)))
+      v = v / 10_8
+      if (v == 0_8) exit
+      k = k - 1
+    end do
+    if (i < 0) then
+      k = k - 1
+      d(k:k) = '-'
+    end if
+    buf(pos + 1:pos + len(d) - k + 1) = d(k:)
+    pos = pos + len(d) - k + 1
+  end subroutine put_int
+
+  !> buf(pos+1:) = s; pos advances.
+  pure subroutine put_text(buf, pos, s)
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: pos
+    character(len=*), intent(in) :: s
+    buf(pos + 1:pos + len(s)) = s
+    pos = pos + len(s)
+  end subroutine put_text
+end module text_format

@@ -1,0 +1,90 @@
+"""No heap allocation in the time loop (docs/performance.md, "Allocations in the time loop").
+
+tools/alloc_per_step.sh runs a scene under valgrind for N and 2N steps with the output of the
+loop switched off (OUTPUT HISTORY 0, FIELDS 0) and reports (A(2N) - A(N)) / N, the mallocs per
+step once everything allocated before the loop (parsing, assembly, factorization, file
+opening) cancels. The standard is exactly zero, on:
+- cantilever_release: linear, one solve per step;
+- cantilever_plastic: fibre beam, elastic iteration, the window N..2N = 60..120 steps holds
+  the formation of the plastic hinge (first plastic step 85, ~10 iterations per step);
+- spring_plastic: SUBSTEPS 100, plastic flow during the window;
+- mass_bounce: contact, the window 200..400 holds the first impact (step ~347), in IMPACT
+  PAPER and PERSIST;
+- bar_impact: a free bar on a wall, PERSIST (projection and body scaling), window 100..200.
+
+Contact: the multipliers (Schur columns, LCP pivoting), the impulse (14), the reflection (16)
+and the PERSIST projection work in workspaces sized at contact_finalize (the dense blocks grow
+only past 64 simultaneous conditions). The augmented system is not exercised here: UMFPACK
+allocates its numeric object at each refactorization, i.e. when the active set changes
+(docs/performance.md).
+
+Each window is also checked to contain what it is meant to exercise (plastic work growing,
+an impact), from a normal run of 2N steps, so that a shorter scene cannot make the test vacuous.
+"""
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import scenecheck as sc  # noqa: E402
+
+TOOL = os.path.join(sc.ROOT, 'tools', 'alloc_per_step.sh')
+CASES = [  # scene, N, what the window must contain, --set arguments
+    ('inputs/cantilever_release.dat', 20, None, []),
+    ('inputs/cantilever_plastic.dat', 60, 'plastic', []),
+    ('inputs/spring_plastic.dat', 10, 'plastic', []),
+    ('inputs/mass_bounce.dat', 200, 'impact', []),
+    ('inputs/mass_bounce.dat', 200, 'impact', ['SCHEME.IMPACT=PERSIST']),
+    ('inputs/bar_impact.dat', 100, 'impact', ['SCHEME.IMPACT=PERSIST']),
+]
+
+
+def step_of(scene):
+    with open(os.path.join(sc.ROOT, scene)) as f:
+        for line in f:
+            w = line.split('#')[0].split()
+            if w and w[0].upper() == 'TIME':
+                up = [x.upper() for x in w]
+                return float(w[up.index('STEP') + 1])
+    raise RuntimeError('%s: no TIME STEP' % scene)
+
+
+def window_ok(scene, n, what, sets):
+    """True when steps n+1..2n of a normal run contain `what`."""
+    if what is None:
+        return True, ''
+    out = sc.run_ok(scene, ['TIME.END=%r' % (2 * n * step_of(scene)), 'OUTPUT.HISTORY=1'] + sets)
+    h = sc.history(out)
+    steps = h['step']
+    if what == 'plastic':
+        d = h['dissipated']
+        grow = d[steps == 2 * n][0] - d[steps == n][0]
+        return grow > 0.0, 'plastic work over the window %.3e J' % grow
+    hits = int(np.count_nonzero((h['active_contacts'] > 0) & (steps > n)))
+    return hits > 0, '%d steps with an active contact in the window' % hits
+
+
+if subprocess.run(['bash', '-c', 'command -v valgrind'], capture_output=True).returncode != 0:
+    sc.report('valgrind installed (tools/install_deps.sh)', False, 'valgrind not found')
+    sys.exit(0)
+
+for scene, n, what, sets in CASES:
+    name = os.path.basename(scene) + ''.join(' ' + x for x in sets)
+    ok, detail = window_ok(scene, n, what, sets)
+    if what is not None:
+        print('# %s: %s' % (name, detail))
+        sc.report('%s: steps %d..%d exercise the %s path' % (name, n, 2 * n, what), ok, detail)
+    args = ['bash', TOOL, '--mode', 'none', scene, str(n)]
+    for x in sets:
+        args += ['--set', x]
+    p = subprocess.run(args, cwd=sc.ROOT, capture_output=True, text=True, timeout=300)
+    if p.returncode != 0:
+        raise RuntimeError('%s failed on %s: %s' % (TOOL, scene, p.stderr.strip()))
+    fields = p.stdout.split()
+    a1, a2, per_step = int(fields[2]), int(fields[3]), float(fields[4])
+    print('# %s: %d allocations for %d steps, %d for %d steps: %.2f per step (output off)'
+          % (name, a1, n, a2, 2 * n, per_step))
+    sc.report('%s: zero heap allocations per time step, output off' % name, a2 == a1,
+              '%.2f allocations per step (%d extra over steps %d..%d)' % (per_step, a2 - a1, n + 1, 2 * n))
