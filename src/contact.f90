@@ -35,7 +35,8 @@ module contact
   public :: SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   public :: contact_set_t, contact_event_t, contact_report_t
   public :: contact_add, contact_finalize, contact_set_mass, contact_prepare, contact_solve_step, &
-    contact_end_step, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, contact_am_block
+    contact_end_step, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, contact_am_block, &
+    contact_set_rigid_modes
   public :: impact_energy_error, lambda_root, impulse_fixed_point, normal_multiplier, hzero_reflection, &
     persist_projection, persist_scale
 
@@ -88,6 +89,10 @@ module contact
     integer, allocatable :: idx(:), cgroup(:), parent(:)
     real(dp), allocatable :: f(:), xw(:), vp(:), mvp(:), ct(:)
     real(dp), allocatable :: amat(:, :), gmat(:, :), sv(:), work2(:)
+    ! Rigid translations t_k (neq, 2) on the free equations and M t_k (contact_set_rigid_modes):
+    ! PERSIST scales node-to-node groups about their centre-of-mass velocity.
+    logical :: has_rigid = .false.
+    real(dp), allocatable :: rig(:, :), mrig(:, :)
     integer, allocatable :: ipiv(:)
     ! Settings (set before contact_finalize / contact_prepare to change them).
     real(dp) :: length_scale = 1.0_dp        !< model size; gap tolerance = gap_rtol * length_scale
@@ -495,6 +500,7 @@ contains
       cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%idx(nc), cs%cgroup(nc), cs%events(nc), cs%sv(nc), &
       cs%ct(nc), cs%work2(2 * nc), cs%ipiv(nc))
     if (allocated(cs%parent)) deallocate (cs%parent)
+    cs%has_rigid = .false.
     allocate (cs%f(neq), cs%xw(neq), cs%vp(neq), cs%mvp(neq), cs%rows(neq), cs%parent(neq))  ! bodies <= neq
     if (allocated(cs%amat)) deallocate (cs%amat, cs%gmat)
     ! Dense blocks for up to 64 conditions established together; they grow beyond (rarely).
@@ -726,6 +732,11 @@ contains
         call contact_am_block(cs, [j], 1, a, stat, errmsg)
         if (stat /= STAT_OK) return
       end do
+    class default
+      ! One solve now, so that the factor's solve workspace exists before the time loop.
+      cs%f = 0.0_dp
+      call cs%minv%apply(cs%f, cs%xw, stat, errmsg)
+      if (stat /= STAT_OK) return
     end select
     cs%mass_set = .true.
   end subroutine finish_mass
@@ -765,6 +776,26 @@ contains
     end if
     cs%prepared = .true.
   end subroutine prepare_op
+
+  !> The rigid translations of the model on the free equations, t (neq, 2) (1 on the UX, resp.
+  !> UY, equation of every node, 0 elsewhere) and mt = M t. With them PERSIST scales a group
+  !> linked only by node-to-node conditions about its centre-of-mass velocity, which keeps its
+  !> momentum (docs/contact.md).
+  subroutine contact_set_rigid_modes(cs, t, mt, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    real(dp), intent(in) :: t(:, :), mt(:, :)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (.not. cs%finalized .or. size(t, 1) /= cs%neq .or. any(shape(mt) /= shape(t)) .or. size(t, 2) /= 2) then
+      call set_error(stat, errmsg, STAT_INPUT, 'contact_set_rigid_modes: call contact_finalize first; t and M t ' // &
+        'must be (neq, 2)')
+      return
+    end if
+    cs%rig = t
+    cs%mrig = mt
+    cs%has_rigid = .true.
+  end subroutine contact_set_rigid_modes
 
   ! ---------------------------------------------------------------------------------------
   ! The step
@@ -1022,7 +1053,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: nb, j, p, bj, i, grp, rank, n, k
-    real(dp) :: t1, tp, tstar, s
+    real(dp) :: t1, tp, tstar, s, acm(2), tcm, vcm, mvcm
 
     stat = STAT_OK
     cs%fallback = .false.
@@ -1093,20 +1124,65 @@ contains
         t1 = 0.5_dp * sum(v * mv, mask=rows)
         tp = 0.5_dp * sum(cs%vp * cs%mvp, mask=rows)
         tstar = t1 + sum(cs%e, mask=est .and. cgroup == grp)
-        if (.not. (tp > cs%persist_min_fraction * tstar)) then
+        ! Scale about the centre-of-mass velocity a_k t_k when the group's conditions are all
+        ! invariant under its translations (node-to-node, no obstacle, no support): momentum and
+        ! the zero normal velocities are kept; otherwise about zero.
+        call group_translation(cs, rows, n, acm, tcm)
+        if (.not. (tp - tcm > cs%persist_min_fraction * tstar)) then
           where (est .and. cgroup == grp) cs%fallback = .true.
           rep%persist_fallbacks = rep%persist_fallbacks + 1
           cycle
         end if
-        s = persist_scale(tstar, 0.0_dp, tp)
+        s = persist_scale(tstar, tcm, tp - tcm)
         do i = 1, cs%neq                           ! (a loop: a WHERE block allocates its mask)
           if (.not. rows(i)) cycle
-          v(i) = s * cs%vp(i)
-          mv(i) = s * cs%mvp(i)
+          if (cs%has_rigid) then
+            vcm = acm(1) * cs%rig(i, 1) + acm(2) * cs%rig(i, 2)
+            mvcm = acm(1) * cs%mrig(i, 1) + acm(2) * cs%mrig(i, 2)
+          else
+            vcm = 0.0_dp
+            mvcm = 0.0_dp
+          end if
+          v(i) = vcm + s * (cs%vp(i) - vcm)
+          mv(i) = mvcm + s * (cs%mvp(i) - mvcm)
         end do
       end do
     end associate
   end subroutine persist_correction
+
+  !> The centre-of-mass velocity v_cm = a_1 t_1 + a_2 t_2 of the group (rows) after the
+  !> projection (cs%vp, cs%mvp): the M-orthogonal projection on its translations, G a = P with
+  !> G_kl = t_k'M t_l and P_k = t_k'M v over the group, and its kinetic energy tcm = ½ a'P.
+  !> a = 0, tcm = 0 (scale about zero) without rigid modes, when an active condition of the
+  !> group, cs%idx(1:n), is not invariant under the translations (c_j't_k /= 0: an obstacle
+  !> or a supported node), or when G is singular.
+  subroutine group_translation(cs, rows, n, a, tcm)
+    type(contact_set_t), intent(in) :: cs
+    logical, intent(in) :: rows(:)
+    integer, intent(in) :: n
+    real(dp), intent(out) :: a(2), tcm
+    real(dp) :: g(2, 2), pk(2), det
+    integer :: k, l, j
+    a = 0.0_dp
+    tcm = 0.0_dp
+    if (.not. cs%has_rigid) return
+    do j = 1, n
+      do k = 1, 2
+        if (row_dot(cs, cs%idx(j), cs%rig(:, k)) /= 0.0_dp) return
+      end do
+    end do
+    do k = 1, 2
+      pk(k) = sum(cs%rig(:, k) * cs%mvp, mask=rows)
+      do l = 1, 2
+        g(k, l) = sum(cs%rig(:, k) * cs%mrig(:, l), mask=rows)
+      end do
+    end do
+    det = g(1, 1) * g(2, 2) - g(1, 2) * g(2, 1)
+    if (.not. (det > 0.0_dp)) return
+    a(1) = (g(2, 2) * pk(1) - g(1, 2) * pk(2)) / det     ! 2 x 2 by Cramer's rule
+    a(2) = (g(1, 1) * pk(2) - g(2, 1) * pk(1)) / det
+    tcm = 0.5_dp * (a(1) * pk(1) + a(2) * pk(2))
+  end subroutine group_translation
 
   pure recursive integer function find(parent, i) result(r)
     integer, intent(in) :: parent(:), i

@@ -10,7 +10,8 @@ module newmark
   use scene, only: scene_t, IMPACT_OFF
   use dof_map, only: equation_bodies
   use contact, only: contact_set_t, contact_event_t, contact_report_t, contact_add, contact_finalize, &
-    contact_set_mass, contact_prepare, contact_solve_step, contact_end_step, contact_add_force, EVENT_ESTABLISH
+    contact_set_mass, contact_prepare, contact_solve_step, contact_end_step, contact_add_force, EVENT_ESTABLISH, &
+    contact_set_rigid_modes
   use assembly, only: system_t, internal_force, commit_state, external_force, mass_times, initial_state, &
     element_stress, nodal_values, dof_label, dof_origin, stored_energy, mass_times_q
   use cholmod_binding, only: cholmod_factor_t
@@ -159,8 +160,9 @@ contains
     type(run_state_t), intent(inout) :: rs
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, a, b, eqs(4)
+    integer :: j, k, a, b, eqs(4)
     real(dp) :: coefs(4), lscale
+    real(dp), allocatable :: trig(:, :), mtrig(:, :)
     character(len=:), allocatable :: msg
     rs%has_contact = .true.
     do j = 1, size(scn%conditions)
@@ -197,6 +199,19 @@ contains
       end if
     end if
     call contact_prepare(rs%cs, rs%factor, stat, errmsg, sys%pat, rs%sval)
+    if (stat /= STAT_OK) return
+    ! Rigid translations on the free equations, for PERSIST's momentum-keeping scaling.
+    allocate (trig(sys%neq, 2), mtrig(sys%neq, 2))
+    trig = 0.0_dp
+    do j = 1, scn%mesh%nnode
+      do k = 1, 2
+        if (sys%eqn(k, j) > 0) trig(sys%eqn(k, j), k) = 1.0_dp
+      end do
+    end do
+    do k = 1, 2
+      call mass_times(sys, trig(:, k), mtrig(:, k))
+    end do
+    call contact_set_rigid_modes(rs%cs, trig, mtrig, stat, errmsg)
     if (stat /= STAT_OK) return
     call equation_bodies(scn, sys%eqn, sys%neq, rs%body)
     allocate (rs%du_free(sys%neq), rs%lam(size(scn%conditions)), rs%reaction(3, scn%mesh%nnode))

@@ -10,7 +10,8 @@ opening) cancels. The standard is exactly zero, on:
 - spring_plastic: SUBSTEPS 100, plastic flow during the window;
 - mass_bounce: contact, the window 200..400 holds the first impact (step ~347), in IMPACT
   PAPER and PERSIST;
-- bar_impact: a free bar on a wall, PERSIST (projection and body scaling), window 100..200.
+- bar_impact: a free bar on a wall, PERSIST (projection and body scaling), window 100..200;
+- beams_collide: two beams, consistent mass (solves with M), PERSIST about the centre of mass.
 
 Contact: the multipliers (Schur columns, LCP pivoting), the impulse (14), the reflection (16)
 and the PERSIST projection work in workspaces sized at contact_finalize (the dense blocks grow
@@ -38,6 +39,7 @@ CASES = [  # scene, N, what the window must contain, --set arguments
     ('inputs/mass_bounce.dat', 200, 'impact', []),
     ('inputs/mass_bounce.dat', 200, 'impact', ['SCHEME.IMPACT=PERSIST']),
     ('inputs/bar_impact.dat', 100, 'impact', ['SCHEME.IMPACT=PERSIST']),
+    ('inputs/beams_collide.dat', 400, 'impact', ['SCHEME.IMPACT=PERSIST']),
 ]
 
 
