@@ -362,7 +362,7 @@ contains
     real(dp), intent(inout) :: wdiag(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: na, j, k, l, rank
+    integer :: na, j, k, l, rank, m
     na = 0
     do j = 1, self%nc
       if (.not. active(j)) cycle
@@ -372,9 +372,10 @@ contains
     call ensure_columns(self, active, na, stat, errmsg)
     if (stat /= STAT_OK) return
     self%n_schur = self%n_schur + 1
-    if (size(self%waa, 1) < na) then
+    if (size(self%waa, 1) < na) then                   ! grow past the high-water mark
+      m = max(na, 2 * size(self%waa, 1))
       deallocate (self%waa)
-      allocate (self%waa(max(na, 2 * size(self%waa, 1)), max(na, 2 * size(self%waa, 1))))
+      allocate (self%waa(m, m))
     end if
     do l = 1, na
       do k = 1, na

@@ -235,11 +235,15 @@ contains
       b(1:min(n, size(b))) = 0.0_dp
       return
     end if
+    if (.not. finite_matrix(a(1:n, 1:n))) then         ! NaN/Inf: no meaningful rank (tested quietly first)
+      b(1:n) = 0.0_dp
+      return
+    end if
     dmax = 0.0_dp
     do i = 1, n
       dmax = max(dmax, a(i, i))
     end do
-    if (.not. (finite_matrix(a(1:n, 1:n)) .and. dmax > 0.0_dp)) then   ! NaN/Inf: no meaningful rank
+    if (.not. (dmax > 0.0_dp)) then
       b(1:n) = 0.0_dp
       return
     end if
