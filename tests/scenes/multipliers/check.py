@@ -8,8 +8,9 @@ its NX + 1 bottom nodes close in one step and stay closed. Asserted:
 - SCHUR computes one column per condition that was ever active (NX + 1, once: the cost follows
   the contact zone), AUGMENTED factorizes once per distinct active set (here: the closed set
   persists, so one LU serves every step after the landing);
-- inputs/beam_land_flat.dat in IMPACT PAPER (21 coupled impacts, bounces): the same events and
-  energies with AUGMENTED as with SCHUR.
+- inputs/beam_land_flat.dat in IMPACT PAPER (21 coupled impacts, bounces, consistent mass) and
+  inputs/beams_collide.dat in PERSIST (node-to-node GAP conditions between two bodies): the same
+  events and energies with AUGMENTED as with SCHUR.
 """
 import os
 import re
@@ -86,12 +87,16 @@ a_schur = runs['AUTO'][1]
 sc.report('slab AUTO: the large set goes to the augmented system', a_schur[2] > 0 and a_schur[3] > 0,
           'counts %s' % (a_schur,))
 
-flat = {}
-for mode in ['SCHUR', 'AUGMENTED']:
-    flat[mode] = run_counted('inputs/beam_land_flat.dat', ['SCHEME.MULTIPLIERS=' + mode, 'TIME.END=0.12',
-                                                           'OUTPUT.FIELDS=0'])
-    cc.check_balance('beam_land_flat PAPER %s' % mode, flat[mode][0])
-same_energies('beam_land_flat AUGMENTED vs SCHUR', flat['SCHUR'][0], flat['AUGMENTED'][0])
-ea, eb = cc.events(flat['SCHUR'][0]), cc.events(flat['AUGMENTED'][0])
-sc.report('beam_land_flat: identical event lists (%d events)' % len(ea),
-          [(e[0], e[2], e[3]) for e in ea] == [(e[0], e[2], e[3]) for e in eb], '%d vs %d events' % (len(ea), len(eb)))
+for tag, scene, sets in [('beam_land_flat PAPER', 'inputs/beam_land_flat.dat', ['TIME.END=0.12']),
+                         ('beams_collide PERSIST', 'inputs/beams_collide.dat', ['SCHEME.IMPACT=PERSIST'])]:
+    outs = {}
+    for mode in ['SCHUR', 'AUGMENTED']:
+        outs[mode] = run_counted(scene, ['SCHEME.MULTIPLIERS=' + mode, 'OUTPUT.FIELDS=0'] + sets)
+        cc.check_balance('%s %s' % (tag, mode), outs[mode][0])
+    sc.report('%s: AUGMENTED used the augmented system (%d solves)' % (tag, outs['AUGMENTED'][1][2]),
+              outs['AUGMENTED'][1][2] > 0, 'counts %s' % (outs['AUGMENTED'][1],))
+    same_energies('%s AUGMENTED vs SCHUR' % tag, outs['SCHUR'][0], outs['AUGMENTED'][0])
+    ea, eb = cc.events(outs['SCHUR'][0]), cc.events(outs['AUGMENTED'][0])
+    sc.report('%s: identical event lists (%d events)' % (tag, len(ea)),
+              [(e[0], e[2], e[3]) for e in ea] == [(e[0], e[2], e[3]) for e in eb],
+              '%d vs %d events' % (len(ea), len(eb)))
