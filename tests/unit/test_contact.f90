@@ -44,10 +44,11 @@ program test_contact
   use contact, only: contact_set_t, contact_event_t, contact_report_t, IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, &
     EVENT_ESTABLISH, EVENT_RELEASE, contact_add, contact_finalize, contact_set_mass, contact_prepare, &
     contact_solve_step, contact_end_step, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, &
-    contact_am_block, SOLVER_AUTO, SOLVER_AUGMENTED, &
+    contact_am_block, SOLVER_AUTO, SOLVER_AUGMENTED, SOLVER_SCHUR, &
     impact_energy_error, lambda_root, impulse_fixed_point, normal_multiplier, hzero_reflection, &
     persist_projection, persist_scale
   use test_contact_ops, only: dense_inverse_t
+  use lcp, only: lcp_solve
   implicit none
   integer, allocatable :: seed(:)
   integer :: ns
@@ -71,6 +72,7 @@ program test_contact
   call test_collision()
   call test_two_bodies_persist()
   call test_cholmod()
+  call test_column_cache()
   call test_summary('contact')
 
 contains
@@ -745,4 +747,87 @@ contains
     call contact_destroy(cs)
     call f%destroy()
   end subroutine test_cholmod
+  !> The Schur column cache at its limits: 20 wall conditions on a 40-equation chain, a cache of
+  !> 8 columns (z_max_entries = 0), SCHUR only. Steps that close 12 conditions (the cache must
+  !> grow), then 5 others, then the first ones again (least recently used columns reused):
+  !> every Λ matches the dense LCP on the full W = C S⁻¹C' (contact_w_matrix, then lcp_solve
+  !> from a cold start), every update solves S du = r + C'Λ, and columns kept in the cache are
+  !> not computed again.
+  subroutine test_column_cache()
+    integer, parameter :: n = 40, nw = 20
+    type(sym_csc_t) :: pat
+    type(cholmod_factor_t), target :: f
+    type(contact_set_t) :: cs
+    type(chol_ref_t) :: fop
+    integer, allocatable :: eptr(:), edofs(:)
+    real(dp), allocatable :: kval(:), mval(:), sval(:)
+    real(dp) :: r(n), dufree(n), du(n), u(n), lam(nw), res(n), w(nw, nw), q(nw), lamd(nw), gd(nw), push(n)
+    logical :: actd(nw)
+    integer :: i, ne, p, stat, it, k, cols_before
+    integer :: sets(3, 2)
+    character(len=:), allocatable :: errmsg
+    allocate (eptr(2 * n), edofs(3 * n))
+    ne = 0
+    p = 1
+    do i = 1, n
+      ne = ne + 1; eptr(ne) = p; edofs(p) = i; p = p + 1
+      if (i < n) then
+        ne = ne + 1; eptr(ne) = p; edofs(p:p + 1) = [i, i + 1]; p = p + 2
+      end if
+    end do
+    eptr(ne + 1) = p
+    call pat%build(n, eptr(1:ne + 1), edofs(1:p - 1), stat, errmsg)
+    allocate (kval(pat%nnz), mval(pat%nnz))
+    kval = 0.0_dp
+    mval = 0.0_dp
+    do i = 1, n
+      call pat%add_element(mval, [i], reshape([1.0_dp], [1, 1]))
+      if (i < n) call pat%add_element(kval, [i, i + 1], 1.0e4_dp * reshape([1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp], [2, 2]))
+    end do
+    sval = kval + 4.0e6_dp * mval
+    call f%factorize(pat, sval, stat, errmsg)
+    do i = 1, nw
+      call contact_add(cs, 1.0e-6_dp * i, [i], [-1.0_dp], [0, i])     ! u_i <= 1e-6 i
+    end do
+    cs%z_max_entries = 0
+    cs%switch_size = 0
+    cs%solver = SOLVER_SCHUR
+    call contact_finalize(cs, n, 1.0_dp, stat, errmsg)
+    call contact_prepare(cs, f, stat, errmsg, pat, sval)
+    call check(stat == STAT_OK .and. cs%ms%cap == 8, 'cache: starts with 8 columns (z_max_entries = 0)', &
+      'cap = ' // itoa(cs%ms%cap))
+    fop%f => f
+    call contact_w_matrix(cs, fop, w, stat, errmsg)
+    cols_before = int(cs%ms%n_columns)
+    u = 0.0_dp
+    sets(1, :) = [1, 12]       ! push nodes 1..12 past their walls, then 13..17, then 1..12 again
+    sets(2, :) = [13, 17]
+    sets(3, :) = [1, 12]
+    do it = 1, 3
+      push = 0.0_dp
+      push(sets(it, 1):sets(it, 2)) = 1.0_dp
+      r = 1.0e3_dp * push
+      call f%solve(r, dufree, stat, errmsg)
+      call contact_solve_step(cs, f, u, dufree, du, lam, stat, errmsg)
+      ! Reference: the dense LCP on the full W, from a cold start.
+      do k = 1, nw
+        q(k) = 1.0e-6_dp * k - dufree(k)
+      end do
+      actd = .false.
+      call lcp_solve(w, q, 1.0e-14_dp, lamd, gd, actd, k, stat, errmsg)
+      call check(stat == STAT_OK .and. maxval(abs(lam - lamd)) <= 1.0e-12_dp * maxval(abs(lamd)), &
+        'cache step ' // itoa(it) // ': Λ = dense LCP on C S-1 C'' to 1e-12 (' // itoa(count(lam > 0.0_dp)) // &
+        ' active, cache ' // itoa(cs%ms%cap) // ' columns)')
+      call pat%matvec(sval, du, res)
+      call contact_add_force(cs, r)
+      call check(maxval(abs(res - r)) <= 1.0e-10_dp * maxval(abs(r)), 'cache step ' // itoa(it) // ': S du = r + C''Λ')
+      if (it == 1) call check(cs%ms%cap >= 12, 'cache: grew to hold the 12-condition active set')
+    end do
+    ! Columns: 20 for the reference W, 12 + 5 for the first two steps; the third step finds
+    ! the 12 first columns evicted only as far as room was needed for the 5 others.
+    call check(int(cs%ms%n_columns) - cols_before <= 12 + 5 + 5, 'cache: no more columns than evictions require (' // &
+      itoa(int(cs%ms%n_columns) - cols_before) // ' computed for 29 activations)')
+    call contact_destroy(cs)
+    call f%destroy()
+  end subroutine test_column_cache
 end program test_contact
