@@ -14,6 +14,8 @@
 #include <string.h>
 #include "cholmod.h"
 
+int rb_chol_solve(void *vh, int n, const double *b, double *x, char *msg, int msglen);
+
 enum { RB_OK = 0, RB_NOT_POSDEF = 1, RB_FAIL = 2, RB_BADARG = 3 };
 
 typedef struct {
@@ -185,10 +187,23 @@ int rb_chol_factorize(void *vh, int n, int nnz, const int *colptr, const int *ro
     }
     /* Other positive statuses (e.g. CHOLMOD_DSMALL, a tiny pivot) leave a usable factor. */
     h->factored = 1;
+    if (h->X == NULL) {
+        /* One solve of a zero right-hand side now, so that the solve workspaces X, Y, E exist
+         * before any time loop: every later solve is allocation-free. */
+        double *z = calloc(2 * (size_t)n, sizeof(double));
+        int rc;
+        if (z == NULL) {
+            set_msg(msg, msglen, "CHOLMOD factorize: out of memory for the solve workspace");
+            return RB_FAIL;
+        }
+        rc = rb_chol_solve(h, n, z, z + n, msg, msglen);
+        free(z);
+        if (rc != RB_OK) return rc;
+    }
     return RB_OK;
 }
 
-/* x = A^{-1} b with the current factor. Allocation-free after the first call. */
+/* x = A^{-1} b with the current factor. Allocation-free: rb_chol_factorize made the workspaces. */
 int rb_chol_solve(void *vh, int n, const double *b, double *x, char *msg, int msglen)
 {
     rb_chol *h = vh;

@@ -732,11 +732,6 @@ contains
         call contact_am_block(cs, [j], 1, a, stat, errmsg)
         if (stat /= STAT_OK) return
       end do
-    class default
-      ! One solve now, so that the factor's solve workspace exists before the time loop.
-      cs%f = 0.0_dp
-      call cs%minv%apply(cs%f, cs%xw, stat, errmsg)
-      if (stat /= STAT_OK) return
     end select
     cs%mass_set = .true.
   end subroutine finish_mass
@@ -1024,21 +1019,36 @@ contains
       n = n + 1
       cs%idx(n) = j
     end do
-    call reserve_dense(cs, n)
-    associate (ia => cs%idx(1:n), a => cs%amat(1:n, 1:n))
-      call contact_am_block(cs, ia, n, a, stat, errmsg)
-      if (stat /= STAT_OK) return
-      do k = 1, n
-        cs%sv(k) = row_dot(cs, ia(k), v)
-      end do
-      ! ν of (16): (A M⁻¹A') ν = A v, in place (normal_multiplier without its allocations).
-      call spsd_solve_ws(n, cs%amat, cs%sv, rank, cs%ipiv, cs%work2)
-      rep%reflection_rank = rank
-      cs%mu = 0.0_dp
-      cs%mu(ia) = cs%sv(1:n)
-    end associate
+    call normal_multiplier_ws(cs, n, v, rank, stat, errmsg)
+    if (stat /= STAT_OK) return
+    rep%reflection_rank = rank
     call add_minv_ct(cs, cs%mu, -2.0_dp, v, mv, stat, errmsg)
   end subroutine paper_correction
+
+  !> ν with (A M⁻¹A') ν = A v for the conditions A = cs%idx(1:n), into cs%mu (0 elsewhere): the
+  !> multiplier of the hzero step (16) and of the PERSIST projection. normal_multiplier in the
+  !> workspaces of cs (no allocation), with A M⁻¹A' from contact_am_block.
+  subroutine normal_multiplier_ws(cs, n, v, rank, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: n
+    real(dp), intent(in) :: v(:)
+    integer, intent(out) :: rank
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k
+    rank = 0
+    call reserve_dense(cs, n)
+    call contact_am_block(cs, cs%idx(1:n), n, cs%amat(1:n, 1:n), stat, errmsg)
+    if (stat /= STAT_OK) return
+    do k = 1, n
+      cs%sv(k) = row_dot(cs, cs%idx(k), v)
+    end do
+    call spsd_solve_ws(n, cs%amat, cs%sv, rank, cs%ipiv, cs%work2)
+    cs%mu = 0.0_dp
+    do k = 1, n
+      cs%mu(cs%idx(k)) = cs%sv(k)
+    end do
+  end subroutine normal_multiplier_ws
 
   !> Section 6. Groups: bodies linked by active conditions. For each group holding an
   !> established condition: project on zero normal velocity of all its active conditions, then
@@ -1052,7 +1062,7 @@ contains
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: nb, j, p, bj, i, grp, rank, n, k
+    integer :: nb, j, p, bj, i, grp, rank, n
     real(dp) :: t1, tp, tstar, s, acm(2), tcm, vcm, mvcm
 
     stat = STAT_OK
@@ -1106,17 +1116,8 @@ contains
           n = n + 1
           cs%idx(n) = j
         end do
-        call reserve_dense(cs, n)
-        associate (ia => cs%idx(1:n), a => cs%amat(1:n, 1:n))
-          call contact_am_block(cs, ia, n, a, stat, errmsg)
-          if (stat /= STAT_OK) return
-          do k = 1, n
-            cs%sv(k) = row_dot(cs, ia(k), v)
-          end do
-          call spsd_solve_ws(n, cs%amat, cs%sv, rank, cs%ipiv, cs%work2)   ! projection's ν
-          cs%mu = 0.0_dp
-          cs%mu(ia) = cs%sv(1:n)
-        end associate
+        call normal_multiplier_ws(cs, n, v, rank, stat, errmsg)
+        if (stat /= STAT_OK) return
         cs%vp = v
         cs%mvp = mv
         call add_minv_ct(cs, cs%mu, -1.0_dp, cs%vp, cs%mvp, stat, errmsg)
