@@ -635,33 +635,17 @@ contains
     type(cholmod_factor_t), target :: f
     type(contact_set_t) :: cs
     type(contact_event_t), allocatable :: ev(:)
-    integer, allocatable :: eptr(:), edofs(:)
     real(dp), allocatable :: kval(:), mval(:), sval(:), sd(:, :), zd(:, :), cd(:, :), wd(:, :), md(:, :), amd(:, :)
     real(dp) :: r(n), dufree(n), du(n), du2(n), u(n), lam(4), lam2(4), g(4), res(n), mdiag(n), h, er, v(n), mv(n)
     real(dp) :: am_diag(4, 4), wfull(4, 4)
     type(chol_ref_t) :: fop
-    integer :: i, ne, p, stat
+    integer :: i, stat
     character(len=:), allocatable :: errmsg
     h = 1.0e-3_dp
-    allocate (eptr(2 * n), edofs(3 * n))
-    ne = 0
-    p = 1
-    do i = 1, n
-      ne = ne + 1; eptr(ne) = p; edofs(p) = i; p = p + 1
-      if (i < n) then
-        ne = ne + 1; eptr(ne) = p; edofs(p:p + 1) = [i, i + 1]; p = p + 2
-      end if
-    end do
-    eptr(ne + 1) = p
-    call pat%build(n, eptr(1:ne + 1), edofs(1:p - 1), stat, errmsg)
-    allocate (kval(pat%nnz), mval(pat%nnz))
-    kval = 0.0_dp
-    mval = 0.0_dp
     do i = 1, n
       mdiag(i) = 1.0_dp + 0.01_dp * i
-      call pat%add_element(mval, [i], reshape([mdiag(i)], [1, 1]))
-      if (i < n) call pat%add_element(kval, [i, i + 1], 1.0e4_dp * reshape([1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp], [2, 2]))
     end do
+    call chain_matrices(n, mdiag, pat, kval, mval)
     sval = kval + (4.0_dp / h**2) * mval
     call f%factorize(pat, sval, stat, errmsg)
     call check(stat == STAT_OK, 'CHOLMOD: S factorized')
@@ -759,31 +743,14 @@ contains
     type(cholmod_factor_t), target :: f
     type(contact_set_t) :: cs
     type(chol_ref_t) :: fop
-    integer, allocatable :: eptr(:), edofs(:)
     real(dp), allocatable :: kval(:), mval(:), sval(:)
-    real(dp) :: r(n), dufree(n), du(n), u(n), lam(nw), res(n), w(nw, nw), q(nw), lamd(nw), gd(nw), push(n)
+    real(dp) :: r(n), dufree(n), du(n), u(n), lam(nw), res(n), w(nw, nw), q(nw), lamd(nw), gd(nw), push(n), mdiag(n)
     logical :: actd(nw)
-    integer :: i, ne, p, stat, it, k, cols_before
+    integer :: i, stat, it, k, cols_before
     integer :: sets(3, 2)
     character(len=:), allocatable :: errmsg
-    allocate (eptr(2 * n), edofs(3 * n))
-    ne = 0
-    p = 1
-    do i = 1, n
-      ne = ne + 1; eptr(ne) = p; edofs(p) = i; p = p + 1
-      if (i < n) then
-        ne = ne + 1; eptr(ne) = p; edofs(p:p + 1) = [i, i + 1]; p = p + 2
-      end if
-    end do
-    eptr(ne + 1) = p
-    call pat%build(n, eptr(1:ne + 1), edofs(1:p - 1), stat, errmsg)
-    allocate (kval(pat%nnz), mval(pat%nnz))
-    kval = 0.0_dp
-    mval = 0.0_dp
-    do i = 1, n
-      call pat%add_element(mval, [i], reshape([1.0_dp], [1, 1]))
-      if (i < n) call pat%add_element(kval, [i, i + 1], 1.0e4_dp * reshape([1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp], [2, 2]))
-    end do
+    mdiag = 1.0_dp
+    call chain_matrices(n, mdiag, pat, kval, mval)
     sval = kval + 4.0e6_dp * mval
     call f%factorize(pat, sval, stat, errmsg)
     do i = 1, nw
@@ -830,4 +797,34 @@ contains
     call contact_destroy(cs)
     call f%destroy()
   end subroutine test_column_cache
+  !> Chain of n equations: springs of stiffness 1e4 between neighbours, masses mdiag, no
+  !> support; the pattern and the values of K and M.
+  subroutine chain_matrices(n, mdiag, pat, kval, mval)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: mdiag(n)
+    type(sym_csc_t), intent(out) :: pat
+    real(dp), allocatable, intent(out) :: kval(:), mval(:)
+    integer, allocatable :: eptr(:), edofs(:)
+    integer :: i, ne, p, stat
+    character(len=:), allocatable :: errmsg
+    allocate (eptr(2 * n), edofs(3 * n))
+    ne = 0
+    p = 1
+    do i = 1, n
+      ne = ne + 1; eptr(ne) = p; edofs(p) = i; p = p + 1
+      if (i < n) then
+        ne = ne + 1; eptr(ne) = p; edofs(p:p + 1) = [i, i + 1]; p = p + 2
+      end if
+    end do
+    eptr(ne + 1) = p
+    call pat%build(n, eptr(1:ne + 1), edofs(1:p - 1), stat, errmsg)
+    call check(stat == STAT_OK, 'chain pattern built')
+    allocate (kval(pat%nnz), mval(pat%nnz))
+    kval = 0.0_dp
+    mval = 0.0_dp
+    do i = 1, n
+      call pat%add_element(mval, [i], reshape([mdiag(i)], [1, 1]))
+      if (i < n) call pat%add_element(kval, [i, i + 1], 1.0e4_dp * reshape([1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp], [2, 2]))
+    end do
+  end subroutine chain_matrices
 end program test_contact
