@@ -22,9 +22,14 @@ override FFLAGS += $(MPI_FFLAGS)
 LDLIBS  = $(HDF5_LIB) -lumfpack -lcholmod -lamd -lsuitesparseconfig -llapack -lblas $(MPI_LIBS)
 PY      := /usr/bin/python3
 
-LIB_F90 := $(filter-out src/rebond.f90,$(wildcard src/*.f90))
-LIB_C   := $(wildcard src/*.c)
-LIB_OBJ := $(patsubst src/%.f90,$(BUILD)/%.o,$(LIB_F90)) $(patsubst src/%.c,$(BUILD)/%.o,$(LIB_C))
+# Sources live in src/<concern>/ (README: the module tour); objects and .mod files go flat
+# into $(BUILD)/, the source found by vpath.
+SRC_DIRS := $(sort $(dir $(wildcard src/*/*.f90 src/*/*.c)))
+LIB_F90 := $(wildcard src/*/*.f90)
+LIB_C   := $(wildcard src/*/*.c)
+LIB_OBJ := $(addprefix $(BUILD)/,$(notdir $(LIB_F90:.f90=.o) $(LIB_C:.c=.o)))
+vpath %.f90 src $(SRC_DIRS)
+vpath %.c $(SRC_DIRS)
 TEST_F90 := $(wildcard tests/unit/test_*.f90)
 TEST_BIN := $(patsubst tests/unit/%.f90,$(BUILD)/tests/%,$(TEST_F90))
 DEPS_STAMP := $(BUILD)/.deps-ok
@@ -37,6 +42,7 @@ help:
 	@echo "make         build bin/rebond"
 	@echo "make run     install what is missing, build, run the default scene"
 	@echo "make test    build and run every test; ends with 'N passed, M failed'"
+	@echo "make test T=NAME   only the suites whose name contains NAME (e.g. T=contact, T=scene_bar)"
 	@echo "make bench   QUAD4 plate benchmark (writes docs/performance.md)"
 	@echo "make studies run every studies/*.sweep under mpirun (results/studies/, docs/sweep.md)"
 	@echo "make check-debug  unit tests and every scene with -fcheck=all and FPE traps (build-debug/)"
@@ -57,10 +63,10 @@ $(BUILD)/deps.mk: $(LIB_F90) src/rebond.f90 tests/testing.f90 $(TEST_F90) tools/
 
 -include $(BUILD)/deps.mk
 
-$(BUILD)/%.o: src/%.f90 | $(DEPS_STAMP)
+$(BUILD)/%.o: %.f90 | $(DEPS_STAMP)
 	$(FC) $(FFLAGS) -c $< -o $@
 
-$(BUILD)/%.o: src/%.c | $(DEPS_STAMP)
+$(BUILD)/%.o: %.c | $(DEPS_STAMP)
 	$(CC) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/librebond.a: $(LIB_OBJ)
@@ -78,8 +84,9 @@ $(BUILD)/tests/%: tests/unit/%.f90 $(BUILD)/testing.o $(BUILD)/librebond.a
 	@mkdir -p $(BUILD)/tests
 	$(FC) $(FFLAGS) -o $@ $< $(BUILD)/testing.o $(BUILD)/librebond.a $(LDLIBS)
 
+# make test T=NAME runs the suites whose name contains NAME (test_contact, scene_bar_impact, …).
 test: bin/rebond $(TEST_BIN)
-	@bash tests/run_tests.sh
+	@bash tests/run_tests.sh $(T)
 
 run: bin/rebond
 	@bin/rebond inputs/beam_drop_vertical.dat

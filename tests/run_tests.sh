@@ -2,12 +2,16 @@
 # Run every unit suite (build/tests/test_*) and every scene test (tests/scenes/*.sh), count the
 # PASS/FAIL lines they print, and end with the line `N passed, M failed`.
 # A suite that exits non-zero without printing a FAIL line counts as one failure (a crash).
+# With an argument (make test T=NAME) only the suites whose name contains NAME run: unit suites
+# are named test_<module>, scene tests scene_<case> (tests/scenes/<case>/check.py).
 set -u
+only=${1:-}
 cd "$(dirname "$0")/.."
 log=$(mktemp -d)
 pass=0; fail=0
 run_one() {  # name, command...
   local name=$1; shift
+  case "$name" in *"$only"*) ;; *) return 0 ;; esac
   local out="$log/$name.out"
   "$@" >"$out" 2>&1
   local rc=$?
@@ -31,5 +35,8 @@ for s in tests/scenes/*/check.py; do
   run_one "scene_$(basename "$(dirname "$s")")" /usr/bin/python3 "$s"
 done
 rm -rf "$log"
+if [ -n "$only" ] && [ $((pass + fail)) -eq 0 ]; then
+  echo "no test suite matches T=$only"; fail=1
+fi
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

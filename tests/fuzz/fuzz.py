@@ -45,26 +45,25 @@ CRASH_DIR = os.path.join(ROOT, 'tests', 'fuzz', 'crashes')
 SCENE_NAME = 'scene.dat'
 
 # ----------------------------------------------------------------------------------------------
-# Grammar (read from src/scene.f90, so that the fuzzer follows the language as it evolves)
+# Grammar (read from src/input/scene.f90, so that the fuzzer follows the language as it evolves)
 
 NUMBER_RE = re.compile(r'^[+-]?(\d+\.?\d*|\.\d+)([eEdD][+-]?\d+)?$')
 TOKEN_RE = re.compile(rb'"[^"\n]*"|[^\s"]+|"')
 
 
 def read_schema():
-    """{KEYWORD: {PARAM: (min, max)}} from the add_keyword/add_param calls of src/scene.f90."""
+    """{KEYWORD: {PARAM: (min, max)}} from the add_keyword/add_param calls of src/input/*.f90."""
     schema = {}
-    try:
-        with open(os.path.join(ROOT, 'src', 'scene.f90')) as f:
-            src = f.read()
-    except OSError:
-        src = ''
+    src = ''
+    for path in sorted(glob.glob(os.path.join(ROOT, 'src', 'input', '*.f90'))):
+        with open(path) as f:
+            src += f.read()
     for kw in re.findall(r"add_keyword\('(\w+)'", src):
         schema.setdefault(kw, {})
     for kw, p, lo, hi in re.findall(r"add_param\('(\w+)',\s*'(\w+)',\s*(-?\d+),\s*(-?\d+)", src):
         schema.setdefault(kw, {})[p] = (int(lo), int(hi))
-    if not schema:   # fallback: a few keywords are enough to fuzz
-        schema = {'TIME': {'STEP': (1, 1), 'END': (1, 1)}, 'MATERIAL': {'YOUNG': (1, 1)}}
+    if not schema:   # the fuzzer must follow the real grammar: losing it is an error, not a fallback
+        sys.exit('fuzz.py: no add_keyword/add_param calls found in src/input/*.f90')
     return schema
 
 

@@ -1,5 +1,5 @@
 /* bench_cholmod.c -- benchmark-only helper (not part of librebond): the symbolic analysis of
- * a 1-based upper-triangle pattern with the same CHOLMOD settings as src/cholmod_shim.c
+ * a 1-based upper-triangle pattern with the same CHOLMOD settings as src/linalg/cholmod_shim.c
  * (AMD and METIS tried, the one with less fill kept), to report nnz(L) and the flop count of
  * the factorization. The shim's factor is opaque, so the analysis is repeated here once. */
 #include <stdlib.h>
