@@ -22,6 +22,7 @@ module contact_multipliers
   use inverse_ops, only: inverse_op_t
   use lcp, only: active_system_t
   use dense_solve, only: spsd_solve_ws
+  use constraint_rows, only: constraint_rows_t
   implicit none
   private
   public :: multiplier_system_t, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
@@ -32,11 +33,11 @@ module contact_multipliers
 
   type, extends(active_system_t) :: multiplier_system_t
     integer :: nc = 0, neq = 0
-    integer, allocatable :: ptr(:), eq(:)           !< C by rows (CSR), rows sorted by equation
-    real(dp), allocatable :: coef(:)
     integer :: mode = SOLVER_AUTO
     integer :: switch_size = SWITCH_DEFAULT
-    class(inverse_op_t), pointer :: s => null()     !< S⁻¹, set by the caller around each LCP
+    ! C and S⁻¹ are the contact set's: bound by the caller around each use (bind / unbind).
+    type(constraint_rows_t), pointer :: c => null()
+    class(inverse_op_t), pointer :: s => null()
     ! Schur columns: slot(j) holds z_j = zcol(:, slot(j)) and W(:, j) = wcol(:, slot(j)).
     integer :: cap = 0, nslot = 0, clock = 0
     real(dp), allocatable :: zcol(:, :), wcol(:, :)
@@ -62,6 +63,8 @@ module contact_multipliers
     ! Counters (docs/performance.md).
     integer(8) :: n_columns = 0, n_lu = 0, n_kkt = 0, n_schur = 0, n_singular = 0
   contains
+    procedure :: bind => ms_bind
+    procedure :: unbind => ms_unbind
     procedure :: init => ms_init
     procedure :: prepare => ms_prepare
     procedure :: solve_active => ms_solve_active
@@ -73,47 +76,34 @@ module contact_multipliers
 
 contains
 
-  !> C (nc rows over neq equations, CSR; duplicate equations in a row are summed) and the
-  !> workspaces. cap0 = initial number of cached Schur columns (grows when an active set needs more).
-  subroutine ms_init(self, nc, neq, ptr, eq, coef, cap0)
+  !> C and S⁻¹ for the calls that follow (rows must be finalized); unbind when done.
+  subroutine ms_bind(self, rows, s)
     class(multiplier_system_t), intent(inout) :: self
-    integer, intent(in) :: nc, neq, ptr(:), eq(:)
-    real(dp), intent(in) :: coef(:)
+    type(constraint_rows_t), intent(in), target :: rows
+    class(inverse_op_t), intent(in), target, optional :: s
+    self%c => rows
+    if (present(s)) self%s => s
+  end subroutine ms_bind
+
+  subroutine ms_unbind(self)
+    class(multiplier_system_t), intent(inout) :: self
+    nullify (self%c, self%s)
+  end subroutine ms_unbind
+
+  !> The workspaces for the rows bound by ms_bind. cap0 = initial number of cached Schur
+  !> columns (grows when an active set needs more).
+  subroutine ms_init(self, cap0)
+    class(multiplier_system_t), intent(inout) :: self
     integer, intent(in) :: cap0
-    integer :: j, p, q, n, k
-    integer, allocatable :: e(:)
-    real(dp), allocatable :: c(:)
+    integer :: nc, neq
+    type(constraint_rows_t), pointer :: c
+    c => self%c
     call self%destroy()
+    self%c => c
+    nc = c%n()
+    neq = c%n_equations()
     self%nc = nc
     self%neq = neq
-    allocate (self%ptr(nc + 1), self%eq(ptr(nc + 1) - 1), self%coef(ptr(nc + 1) - 1))
-    self%ptr(1) = 1
-    do j = 1, nc
-      e = eq(ptr(j):ptr(j + 1) - 1)
-      c = coef(ptr(j):ptr(j + 1) - 1)
-      n = 0
-      do p = 1, size(e)                    ! insertion sort, merging repeated equations
-        k = 0
-        do q = 1, n
-          if (self%eq(self%ptr(j) + q - 1) == e(p)) k = q
-        end do
-        if (k > 0) then
-          self%coef(self%ptr(j) + k - 1) = self%coef(self%ptr(j) + k - 1) + c(p)
-          cycle
-        end if
-        q = n
-        do while (q > 0)
-          if (self%eq(self%ptr(j) + q - 1) < e(p)) exit
-          self%eq(self%ptr(j) + q) = self%eq(self%ptr(j) + q - 1)
-          self%coef(self%ptr(j) + q) = self%coef(self%ptr(j) + q - 1)
-          q = q - 1
-        end do
-        self%eq(self%ptr(j) + q) = e(p)
-        self%coef(self%ptr(j) + q) = c(p)
-        n = n + 1
-      end do
-      self%ptr(j + 1) = self%ptr(j) + n
-    end do
     self%cap = max(1, min(nc, cap0))
     allocate (self%zcol(neq, self%cap), self%wcol(nc, self%cap), self%owner(self%cap), self%used(self%cap))
     allocate (self%slot(nc), self%ia(nc), self%ra(nc), self%dropped(nc), self%x(neq), self%b(neq))
@@ -156,8 +146,8 @@ contains
       self%kval(self%pos_s(2, q)) = sval(q)
     end do
     do j = 1, self%nc
-      csc = c_s_c(self, pat, sval, j)
-      cc = sum(self%coef(self%ptr(j):self%ptr(j + 1) - 1)**2)
+      csc = c_s_c(self%c, pat, sval, j)
+      cc = self%c%norm2_sq(j)
       self%dscale(j) = 1.0_dp
       self%wlow(j) = 1.0_dp
       if (cc > 0.0_dp .and. csc > 0.0_dp) then
@@ -168,19 +158,19 @@ contains
   end subroutine ms_prepare
 
   !> c_j' S c_j from the upper triangle of S (binary search in each column).
-  pure real(dp) function c_s_c(self, pat, sval, j) result(r)
-    type(multiplier_system_t), intent(in) :: self
+  pure real(dp) function c_s_c(c, pat, sval, j) result(r)
+    type(constraint_rows_t), intent(in) :: c
     type(sym_csc_t), intent(in) :: pat
     real(dp), intent(in) :: sval(:)
     integer, intent(in) :: j
     integer :: p, q, a, b, k
     r = 0.0_dp
-    do p = self%ptr(j), self%ptr(j + 1) - 1
-      do q = self%ptr(j), self%ptr(j + 1) - 1
-        a = min(self%eq(p), self%eq(q))
-        b = max(self%eq(p), self%eq(q))
+    do p = c%first(j), c%last(j)
+      do q = c%first(j), c%last(j)
+        a = min(c%eq_at(p), c%eq_at(q))
+        b = max(c%eq_at(p), c%eq_at(q))
         k = find_row(pat%rowind, pat%colptr(b), pat%colptr(b + 1) - 1, a)
-        if (k > 0) r = r + self%coef(p) * self%coef(q) * sval(k)
+        if (k > 0) r = r + c%coef_at(p) * c%coef_at(q) * sval(k)
       end do
     end do
   end function c_s_c
@@ -212,8 +202,8 @@ contains
     type(sym_csc_t), intent(in) :: pat
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer, allocatable :: cnt(:), fill(:), cptr(:), crow(:)
-    integer :: n, neq, nc, i, k, q, r, j, p, nnz
+    integer, allocatable :: cnt(:), fill(:), cptr(:), crow(:), cown(:)
+    integer :: n, neq, nc, i, k, q, r, j, p, nnz, nzc
     neq = self%neq
     nc = self%nc
     n = neq + nc
@@ -222,21 +212,24 @@ contains
       return
     end if
     ! C' by columns of the equations: the conditions touching each equation, in order.
+    nzc = 0
+    if (nc > 0) nzc = self%c%last(nc)
     allocate (cnt(neq + 1))
     cnt = 0
-    do p = 1, size(self%eq)
-      cnt(self%eq(p) + 1) = cnt(self%eq(p) + 1) + 1
+    do p = 1, nzc
+      cnt(self%c%eq_at(p) + 1) = cnt(self%c%eq_at(p) + 1) + 1
     end do
-    allocate (cptr(neq + 1), crow(size(self%eq)))
+    allocate (cptr(neq + 1), crow(nzc), cown(nzc))
     cptr(1) = 1
     do i = 1, neq
       cptr(i + 1) = cptr(i) + cnt(i + 1)
     end do
     fill = cptr(1:neq)
     do j = 1, nc
-      do p = self%ptr(j), self%ptr(j + 1) - 1
-        crow(fill(self%eq(p))) = p
-        fill(self%eq(p)) = fill(self%eq(p)) + 1
+      do p = self%c%first(j), self%c%last(j)
+        crow(fill(self%c%eq_at(p))) = p
+        cown(fill(self%c%eq_at(p))) = j
+        fill(self%c%eq_at(p)) = fill(self%c%eq_at(p)) + 1
       end do
     end do
     ! Column counts: upper part + lower part (transposed) + C' entries; then C rows + diagonal.
@@ -251,15 +244,15 @@ contains
       self%kptr(k + 1) = self%kptr(k + 1) + (cptr(k + 1) - cptr(k))
     end do
     do j = 1, nc
-      self%kptr(neq + j + 1) = self%ptr(j + 1) - self%ptr(j) + 1
+      self%kptr(neq + j + 1) = self%c%last(j) - self%c%first(j) + 2
     end do
     self%kptr(1) = 1
     do i = 1, n
       self%kptr(i + 1) = self%kptr(i) + self%kptr(i + 1)
     end do
     nnz = self%kptr(n + 1) - 1
-    allocate (self%krow(nnz), self%kval(nnz), self%pos_s(2, pat%nnz), self%pos_cr(size(self%eq)), &
-      self%pos_cc(size(self%eq)), self%pos_d(nc), self%dscale(nc))
+    allocate (self%krow(nnz), self%kval(nnz), self%pos_s(2, pat%nnz), self%pos_cr(nzc), &
+      self%pos_cc(nzc), self%pos_d(nc), self%dscale(nc))
     self%kval = 0.0_dp
     fill = self%kptr(1:neq)
     ! Column r: its upper rows (<= r, ascending in sym_csc_t) are placed when k = r, its lower
@@ -282,15 +275,15 @@ contains
     do i = 1, neq
       do k = cptr(i), cptr(i + 1) - 1
         p = crow(k)
-        self%krow(fill(i)) = neq + row_of(self, p)
+        self%krow(fill(i)) = neq + cown(k)
         self%pos_cr(p) = fill(i)
         fill(i) = fill(i) + 1
       end do
     end do
     do j = 1, nc
       k = self%kptr(neq + j)
-      do p = self%ptr(j), self%ptr(j + 1) - 1
-        self%krow(k) = self%eq(p)
+      do p = self%c%first(j), self%c%last(j)
+        self%krow(k) = self%c%eq_at(p)
         self%pos_cc(p) = k
         k = k + 1
       end do
@@ -305,24 +298,6 @@ contains
     allocate (self%kb(n), self%kx(n))
     self%kkt_built = .true.
   end subroutine build_kkt
-
-  !> The condition owning entry p of C.
-  pure integer function row_of(self, p) result(j)
-    type(multiplier_system_t), intent(in) :: self
-    integer, intent(in) :: p
-    integer :: a, b, m
-    a = 1
-    b = self%nc
-    do while (a < b)                       ! largest j with ptr(j) <= p
-      m = (a + b + 1) / 2
-      if (self%ptr(m) <= p) then
-        a = m
-      else
-        b = m - 1
-      end if
-    end do
-    j = a
-  end function row_of
 
   !> lcp_pivot's trial solve (see active_system_t).
   subroutine ms_solve_active(self, q, active, lam, g, wdiag, stat, errmsg)
@@ -440,7 +415,7 @@ contains
       end if
       call self%column(j, self%zcol(:, sl), stat, errmsg)
       if (stat /= STAT_OK) return
-      call c_times(self, self%zcol(:, sl), self%wcol(:, sl))
+      call self%c%times(self%zcol(:, sl), self%wcol(:, sl))
       self%slot(j) = sl
       self%owner(sl) = j
       self%used(sl) = self%clock
@@ -454,18 +429,13 @@ contains
     real(dp), intent(out), contiguous :: z(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: p
     if (.not. associated(self%s)) then
       call set_error(stat, errmsg, STAT_INPUT, 'contact: no S operator for the multipliers')
       return
     end if
-    do p = self%ptr(j), self%ptr(j + 1) - 1
-      self%b(self%eq(p)) = self%coef(p)
-    end do
+    call self%c%scatter(j, 1.0_dp, self%b)
     call self%s%apply(self%b, z, stat, errmsg)
-    do p = self%ptr(j), self%ptr(j + 1) - 1
-      self%b(self%eq(p)) = 0.0_dp
-    end do
+    call self%c%scatter(j, 0.0_dp, self%b)
     self%n_columns = self%n_columns + 1
   end subroutine ms_column
 
@@ -507,9 +477,9 @@ contains
     if (same) same = all(active .eqv. self%kkt_set)
     if (.not. same) then
       do j = 1, self%nc
-        do p = self%ptr(j), self%ptr(j + 1) - 1
-          self%kval(self%pos_cr(p)) = merge(self%coef(p), 0.0_dp, active(j))
-          self%kval(self%pos_cc(p)) = merge(self%coef(p), 0.0_dp, active(j))
+        do p = self%c%first(j), self%c%last(j)
+          self%kval(self%pos_cr(p)) = merge(self%c%coef_at(p), 0.0_dp, active(j))
+          self%kval(self%pos_cc(p)) = merge(self%c%coef_at(p), 0.0_dp, active(j))
         end do
         self%kval(self%pos_d(j)) = merge(0.0_dp, self%dscale(j), active(j))
       end do
@@ -539,7 +509,7 @@ contains
     do j = 1, self%nc
       lam(j) = merge(-self%kx(neq + j), 0.0_dp, active(j))
     end do
-    call c_times(self, self%x, g)
+    call self%c%times(self%x, g)
     g = q + g
     wdiag = self%wlow
   end subroutine kkt_solve
@@ -553,7 +523,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     call apply_minv_ct(self, lam, stat, errmsg)
     if (stat /= STAT_OK) return
-    call c_times(self, self%x, g)
+    call self%c%times(self%x, g)
     g = q + g
   end subroutine ms_gaps
 
@@ -594,11 +564,7 @@ contains
         return
       end if
       self%b = 0.0_dp
-      do j = 1, self%nc
-        do p = self%ptr(j), self%ptr(j + 1) - 1
-          self%b(self%eq(p)) = self%b(self%eq(p)) + self%coef(p) * lam(j)
-        end do
-      end do
+      call self%c%add_transpose(lam, self%b)
       call self%s%apply(self%b, self%x, stat, errmsg)
       self%b = 0.0_dp
       if (stat /= STAT_OK) return
@@ -606,24 +572,9 @@ contains
     self%x_ok = .true.
   end subroutine apply_minv_ct
 
-  !> cx = C x.
-  pure subroutine c_times(self, x, cx)
-    type(multiplier_system_t), intent(in) :: self
-    real(dp), intent(in) :: x(:)
-    real(dp), intent(out) :: cx(:)
-    integer :: j, p
-    do j = 1, self%nc
-      cx(j) = 0.0_dp
-      do p = self%ptr(j), self%ptr(j + 1) - 1
-        cx(j) = cx(j) + self%coef(p) * x(self%eq(p))
-      end do
-    end do
-  end subroutine c_times
-
   subroutine ms_destroy(self)
     class(multiplier_system_t), intent(inout) :: self
     call self%lu%destroy()
-    if (allocated(self%ptr)) deallocate (self%ptr, self%eq, self%coef)
     if (allocated(self%zcol)) deallocate (self%zcol, self%wcol, self%owner, self%used)
     if (allocated(self%slot)) deallocate (self%slot, self%ia, self%ra, self%dropped, self%x, self%b, &
       self%wlow, self%kkt_set, self%piv, self%work)
@@ -637,6 +588,6 @@ contains
     self%nc = 0
     self%cap = 0
     self%nslot = 0
-    nullify (self%s)
+    call self%unbind()
   end subroutine ms_destroy
 end module contact_multipliers

@@ -181,8 +181,8 @@ contains
       lscale = max(maxval(x(1, :)) - minval(x(1, :)), maxval(x(2, :)) - minval(x(2, :)))
     end associate
     if (lscale <= 0.0_dp) lscale = 1.0_dp
-    rs%cs%solver = scn%multipliers
-    rs%cs%switch_size = scn%augmented_above
+    rs%cs%settings%solver = scn%multipliers
+    rs%cs%settings%switch_size = scn%augmented_above
     call contact_finalize(rs%cs, sys%neq, lscale, stat, errmsg)
     if (stat /= STAT_OK) return
     if (scn%impact /= IMPACT_OFF) then
@@ -293,7 +293,7 @@ contains
       if (stat /= STAT_OK) return
     end if
     nactive = 0
-    if (rs%has_contact) nactive = count(rs%cs%active)
+    if (rs%has_contact) nactive = rs%cs%n_active()
     call install_signal_handlers(stat, errmsg)
     if (stat /= STAT_OK) return
     call system_clock(c0, crate)
@@ -467,7 +467,7 @@ contains
           '): the coupled impulses (14) have no all-negative solution; decoupled roots of (13) scaled to restore ' // &
           'the lost energy exactly'
         if (sys%extended) rs%v_q = rs%v_q + real(rs%v - rs%ddu, qp)
-        call write_events(step, t, rs%cs%events(1:rs%cs%n_events))
+        call write_events(step, t)
         if (stat /= STAT_OK) return
       end if
       rs%u = rs%utrial
@@ -524,10 +524,12 @@ contains
       summary%iterations = total_iter
       summary%max_rel_balance = rs%en%relative_balance()
       if (rs%has_contact) then
-        summary%schur_columns = rs%cs%ms%n_columns
-        summary%schur_solves = rs%cs%ms%n_schur
-        summary%augmented_solves = rs%cs%ms%n_kkt
-        summary%augmented_factorizations = rs%cs%ms%n_lu
+        associate (k => rs%cs%counters())
+          summary%schur_columns = k%columns
+          summary%schur_solves = k%schur_solves
+          summary%augmented_solves = k%augmented_solves
+          summary%augmented_factorizations = k%factorizations
+        end associate
       end if
       call system_clock(c1)
       summary%wall = real(c1 - c0, dp) / real(crate, dp)
@@ -574,12 +576,7 @@ contains
         call ck%put('fint_n_q', rs%fint_n_q, stat, errmsg)
         call ck%put('mv_q', rs%mv_q, stat, errmsg)
       end if
-      if (rs%has_contact) then
-        call ck%put('contact_active', merge(1, 0, rs%cs%active), stat, errmsg)
-        call ck%put('contact_active_iter', merge(1, 0, rs%cs%active_iter), stat, errmsg)
-        call ck%put('contact_lambda', rs%cs%lambda, stat, errmsg)
-        call ck%put('contact_r_prev', rs%cs%r_prev, stat, errmsg)
-      end if
+      if (rs%has_contact) call rs%cs%save(ck, stat, errmsg)
       call ck%commit(stat, errmsg)
     end subroutine save_checkpoint
 
@@ -592,7 +589,6 @@ contains
       type(ckpt_file_t) :: ck
       integer :: neq
       real(dp) :: en(ENERGY_STATE_SIZE), tck
-      integer, allocatable :: flags(:)
       call ck%open(path, stat, errmsg)
       if (stat /= STAT_OK) return
       call ck%get('step', step, stat, errmsg)
@@ -620,15 +616,7 @@ contains
         call ck%get('fint_n_q', rs%fint_n_q, stat, errmsg)
         call ck%get('mv_q', rs%mv_q, stat, errmsg)
       end if
-      if (rs%has_contact) then
-        allocate (flags(size(rs%cs%active)))
-        call ck%get('contact_active', flags, stat, errmsg)
-        rs%cs%active = flags == 1
-        call ck%get('contact_active_iter', flags, stat, errmsg)
-        rs%cs%active_iter = flags == 1
-        call ck%get('contact_lambda', rs%cs%lambda, stat, errmsg)
-        call ck%get('contact_r_prev', rs%cs%r_prev, stat, errmsg)
-      end if
+      if (rs%has_contact) call rs%cs%load(ck, stat, errmsg)
       call ck%close()
     end subroutine load_checkpoint
 
@@ -714,22 +702,23 @@ contains
       rs%reaction = 0.0_dp
       do j = 1, size(scn%conditions)
         associate (c => scn%conditions(j))
-          rs%reaction(1:2, c%node_b) = rs%reaction(1:2, c%node_b) + rs%cs%r_prev(j) * c%normal
-          if (c%node_a > 0) rs%reaction(1:2, c%node_a) = rs%reaction(1:2, c%node_a) - rs%cs%r_prev(j) * c%normal
+          rs%reaction(1:2, c%node_b) = rs%reaction(1:2, c%node_b) + rs%cs%reaction(j) * c%normal
+          if (c%node_a > 0) rs%reaction(1:2, c%node_a) = rs%reaction(1:2, c%node_a) - rs%cs%reaction(j) * c%normal
         end associate
       end do
     end subroutine contact_reactions
 
     !> events.csv: one line per contact established or released in the step, built with
     !> text_format in a fixed buffer (no internal WRITE, no allocation: these are in the loop).
-    subroutine write_events(step, t, events)
+    subroutine write_events(step, t)
       integer, intent(in) :: step
       real(dp), intent(in) :: t
-      type(contact_event_t), intent(in) :: events(:)
+      type(contact_event_t) :: event
       integer :: k, j, pos
       character(len=256) :: line
-      do k = 1, size(events)
-        j = events(k)%index
+      do k = 1, rs%cs%n_events()
+        event = rs%cs%event(k)
+        j = event%index
         pos = 0
         call put_int(line, pos, step)
         call put_text(line, pos, ',')
@@ -742,19 +731,19 @@ contains
           call put_text(line, pos, ' ')
         end if
         call put_int(line, pos, scn%conditions(j)%node_b)
-        if (events(k)%kind == EVENT_ESTABLISH) then
+        if (event%kind == EVENT_ESTABLISH) then
           call put_text(line, pos, ',establish,')
         else
           call put_text(line, pos, ',release,')
         end if
-        call put_es(line, pos, events(k)%gap_start)
+        call put_es(line, pos, event%gap_start)
         call put_text(line, pos, ',')
-        call put_es(line, pos, events(k)%multiplier)
+        call put_es(line, pos, event%multiplier)
         call put_text(line, pos, ',')
-        call put_es(line, pos, merge(events(k)%energy, 0.0_dp, events(k)%kind == EVENT_ESTABLISH))
+        call put_es(line, pos, merge(event%energy, 0.0_dp, event%kind == EVENT_ESTABLISH))
         write (ev%unit, '(a)') line(1:pos)
       end do
-      if (size(events) > 0) flush (ev%unit)
+      if (rs%cs%n_events() > 0) flush (ev%unit)
     end subroutine write_events
 
     !> Close the result files; the summary then tells what was done (also on failure: a

@@ -44,9 +44,9 @@ program test_contact
   use contact, only: contact_set_t, contact_event_t, contact_report_t, IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, &
     EVENT_ESTABLISH, EVENT_RELEASE, contact_add, contact_finalize, contact_set_mass, contact_prepare, &
     contact_solve_step, contact_end_step, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, &
-    contact_am_block, SOLVER_AUTO, SOLVER_AUGMENTED, SOLVER_SCHUR, &
-    impact_energy_error, lambda_root, impulse_fixed_point, normal_multiplier, hzero_reflection, &
-    persist_projection, persist_scale
+    contact_am_block, SOLVER_AUTO, SOLVER_AUGMENTED, SOLVER_SCHUR, contact_events, hzero_reflection, multiplier_counters_t
+  use impact_kernels, only: impact_energy_error, lambda_root, impulse_fixed_point, normal_multiplier, &
+    hzero_reflection_dense, persist_projection_dense, persist_scale
   use test_contact_ops, only: dense_inverse_t
   use lcp, only: lcp_solve
   implicit none
@@ -62,6 +62,7 @@ program test_contact
   call test_fixed_point()
   call test_reflection()
   call test_projection()
+  call test_hzero_sparse()
   call test_hand_check(IMPACT_PAPER)
   call test_hand_check(IMPACT_PERSIST)
   call test_chain_single_step()
@@ -260,7 +261,7 @@ contains
     v0 = v0 - 0.5_dp
     v = v0
     av = matmul(a, v)
-    call hzero_reflection(minv_at, amat, av, v, rank)
+    call hzero_reflection_dense(minv_at, amat, av, v, rank)
     t0 = dot_product(v0, matmul(m, v0))
     t1 = dot_product(v, matmul(m, v))
     call check(rank == p, '(16) A M-1 A'' has full rank')
@@ -268,17 +269,78 @@ contains
     call check(maxval(abs(matmul(a, v) + av)) <= 1.0e-14_dp * maxval(abs(av)) * 10, &
       '(16) normal velocities A v change sign')
     vt0 = v0
-    call persist_projection(minv_at, amat, matmul(a, v0), vt0)
+    call persist_projection_dense(minv_at, amat, matmul(a, v0), vt0)
     vt = v
-    call persist_projection(minv_at, amat, matmul(a, v), vt)
+    call persist_projection_dense(minv_at, amat, matmul(a, v), vt)
     call check(maxval(abs(vt - vt0)) <= 1.0e-14_dp * maxval(abs(v0)) * 10, '(16) M-orthogonal tangential part unchanged')
-    call hzero_reflection(minv_at, amat, matmul(a, v), v)
+    call hzero_reflection_dense(minv_at, amat, matmul(a, v), v)
     call check(maxval(abs(v - v0)) <= 1.0e-14_dp * maxval(abs(v0)) * 10, '(16) reflecting twice is the identity')
     ! Lumped mass, one DOF: the local flip of the hand check.
     v(1:1) = [-2.0_dp]
-    call hzero_reflection(reshape([1.0_dp], [1, 1]), reshape([1.0_dp], [1, 1]), [-2.0_dp], v(1:1))
+    call hzero_reflection_dense(reshape([1.0_dp], [1, 1]), reshape([1.0_dp], [1, 1]), [-2.0_dp], v(1:1))
     call check(v(1) == 2.0_dp, '(16) one DOF: v = -2 is flipped to +2 exactly')
   end subroutine test_reflection
+
+  !> The run's sparse (16), hzero_reflection, against the dense oracle: factor 2 (reflection)
+  !> and factor 1 (PERSIST's projection), with a consistent and a lumped mass; mv stays M v.
+  subroutine test_hzero_sparse()
+    integer, parameter :: n = 6, p = 3
+    real(dp) :: m(n, n), a(p, n), amat(p, p), v0(n), v(n), mv(n), vd(n), factor
+    real(dp), allocatable :: minv_at(:, :), tmp(:, :)
+    integer :: stat, rank, j, pass, f, k
+    character(len=:), allocatable :: errmsg, tag
+    character(len=16) :: buf
+    do pass = 1, 2
+      block
+      type(contact_set_t) :: cs
+      type(dense_inverse_t) :: mop
+      m = random_spd(n)
+      if (pass == 2) then                    ! lumped
+        do j = 1, n
+          m(:, j) = merge(m(j, j), 0.0_dp, [(k == j, k = 1, n)])
+        end do
+      end if
+      tag = merge(' [consistent M]', ' [lumped M]    ', pass == 1)
+      call random_number(a)
+      a = a - 0.5_dp
+      a(1, 1) = 0.0_dp                       ! sparse rows, one with a zero entry
+      do j = 1, p
+        call contact_add(cs, 1.0_dp, [(k, k = 1, n)], a(j, :))
+      end do
+      call contact_finalize(cs, n, 1.0_dp, stat, errmsg)
+      if (pass == 1) then
+        mop%a = m
+        call contact_set_mass(cs, mop, stat, errmsg)
+      else
+        call contact_set_mass(cs, [(m(j, j), j = 1, n)], stat, errmsg)
+      end if
+      tmp = m
+      minv_at = transpose(a)
+      call spd_solve(tmp, minv_at, stat, errmsg)
+      amat = matmul(a, minv_at)
+      call random_number(v0)
+      v0 = v0 - 0.5_dp
+      do f = 1, 2
+        factor = real(f, dp)
+        v = v0
+        mv = matmul(m, v0)
+        call hzero_reflection(cs, [1, 2, 3], factor, v, mv, rank, stat, errmsg)
+        vd = v0
+        if (f == 2) then
+          call hzero_reflection_dense(minv_at, amat, matmul(a, v0), vd)
+        else
+          call persist_projection_dense(minv_at, amat, matmul(a, v0), vd)
+        end if
+        write (buf, '(es10.3)') maxval(abs(v - vd))
+        call check(stat == STAT_OK .and. rank == p .and. maxval(abs(v - vd)) <= 1.0e-13_dp * maxval(abs(v0)), &
+          '(16) sparse hzero_reflection = dense oracle, factor ' // itoa(f) // tag, 'max diff ' // buf)
+        call check(maxval(abs(mv - matmul(m, v))) <= 1.0e-13_dp * maxval(abs(matmul(m, v0))), &
+          '(16) sparse hzero_reflection keeps mv = M v, factor ' // itoa(f) // tag)
+      end do
+      call contact_destroy(cs)
+      end block
+    end do
+  end subroutine test_hzero_sparse
 
   subroutine test_projection()
     integer, parameter :: n = 7, p = 3
@@ -296,7 +358,7 @@ contains
     amat = matmul(a, minv_at)
     call random_number(v0)
     v = v0
-    call persist_projection(minv_at, amat, matmul(a, v0), v)
+    call persist_projection_dense(minv_at, amat, matmul(a, v0), v)
     call check(maxval(abs(matmul(a, v))) <= 1.0e-14_dp * maxval(abs(matmul(a, v0))) * 10, &
       'PERSIST projection: normal velocities zero')
     vp = v
@@ -344,7 +406,7 @@ contains
     call check(abs(v(1)) <= 1.0e-14_dp, 'hand check: v(n+1) = 0 by (3)' // tag)
     mv = v
     call contact_end_step(cs, mode, u, du, v, mv, er, stat, errmsg, body=[1], report=rep)
-    ev = cs%events(1:cs%n_events)
+    ev = contact_events(cs)
     call check(stat == STAT_OK, 'hand check: end of step' // tag)
     call check(size(ev) == 1, 'hand check: one event' // tag)
     if (size(ev) == 1) then
@@ -366,7 +428,7 @@ contains
     v = 2.0_dp * du / h - v
     mv = v
     call contact_end_step(cs, mode, u, du, v, mv, er, stat, errmsg, body=[1])
-    ev = cs%events(1:cs%n_events)
+    ev = contact_events(cs)
     call check(size(ev) == 1 .and. er == 0.0_dp .and. abs(v(1) - 2.0_dp) <= 1.0e-14_dp, &
       'hand check: release, nothing restored' // tag)
     if (size(ev) == 1) call check(ev(1)%kind == EVENT_RELEASE .and. ev(1)%reaction == 0.0_dp, &
@@ -432,7 +494,7 @@ contains
         mv = matmul(m, v)
         t1 = 0.5_dp * dot_product(v, mv)
         call contact_end_step(cs, mode, u, du, v, mv, er, stat, errmsg, body=[1, 1, 1], report=rep)
-        ev = cs%events(1:cs%n_events)
+        ev = contact_events(cs)
         u = u + du
         if (rep%n_establish > 0) exit
       end do
@@ -503,7 +565,7 @@ contains
         mv = matmul(m, v)
         call contact_end_step(cs, merge(mode, IMPACT_OFF, pass == 1), u, du, v, mv, er, stat, errmsg, &
           body=[1, 1, 1], report=rep)
-        ev = cs%events(1:cs%n_events)
+        ev = contact_events(cs)
         ok = ok .and. stat == STAT_OK
         u = u + du
         nest = nest + rep%n_establish
@@ -566,7 +628,7 @@ contains
       v = 2.0_dp * du / h - v
       mv = m * v
       call contact_end_step(cs, IMPACT_PAPER, u, du, v, mv, er, stat, errmsg, report=rep)
-      ev = cs%events(1:cs%n_events)
+      ev = contact_events(cs)
       nest = nest + rep%n_establish
       u = u + du
     end do
@@ -613,7 +675,7 @@ contains
       t1 = 0.5_dp * dot_product(v(1:3), mv(1:3))
       call contact_end_step(cs, IMPACT_PERSIST, u, du, v, mv, er, stat, errmsg, body=[1, 1, 1, 2, 2, 2], &
         report=rep)
-      ev = cs%events(1:cs%n_events)
+      ev = contact_events(cs)
       u = u + du
       if (rep%n_establish > 0) exit
     end do
@@ -691,7 +753,7 @@ contains
     call f%solve(r, dufree, stat, errmsg)
     u = 0.0_dp
     call contact_solve_step(cs, f, u, dufree, du, lam, stat, errmsg)
-    call check(stat == STAT_OK, 'CHOLMOD step: LCP solved (' // itoa(cs%lcp_iterations) // ' pivots)')
+    call check(stat == STAT_OK, 'CHOLMOD step: LCP solved (' // itoa(cs%lcp_iterations()) // ' pivots)')
     call contact_gaps(cs, u + du, g)
     call check(all(lam >= 0.0_dp) .and. all(g >= -1.0e-12_dp), 'CHOLMOD step: lam >= 0, g >= -tol')
     call check(abs(dot_product(lam, g)) <= 1.0e-12_dp * maxval(lam), 'CHOLMOD step: complementarity')
@@ -705,27 +767,28 @@ contains
     r = r - matmul(transpose(cd), lam)
     ! The augmented sparse system (UMFPACK) from a cold start: the same du and Λ. Both copies of
     ! the duplicated condition in one active set make it singular: that solve falls back to Schur.
-    cs%ms%mode = SOLVER_AUGMENTED
-    cs%active_iter = .true.
+    call cs%set_solver(SOLVER_AUGMENTED)
+    call cs%warm_start(spread(.true., 1, cs%n_conditions()))
     call contact_solve_step(cs, f, u, dufree, du2, lam2, stat, errmsg)
     ! Both are backward stable solves of the same system, cond(W) ~ 1e3: 1e-12 relative.
     call check(stat == STAT_OK .and. maxval(abs(du2 - du)) <= 1.0e-12_dp * maxval(abs(du)) .and. &
       maxval(abs(lam2 - lam)) <= 1.0e-12_dp * maxval(lam), 'CHOLMOD: augmented system gives the same du and Λ', &
       'lam2 = ' // rtoa(lam2(1)) // rtoa(lam2(2)) // rtoa(lam2(3)) // rtoa(lam2(4)))
-    call check(cs%ms%n_lu >= 1 .and. cs%ms%n_singular >= 1, 'CHOLMOD: dependent conditions: singular KKT detected, ' // &
-      'Schur fallback (' // itoa(int(cs%ms%n_lu)) // ' LU, ' // itoa(int(cs%ms%n_singular)) // ' singular)')
-    cs%active_iter = .false.
-    cs%active_iter(1) = .true.
+    call check(counter(cs, 'factorizations') >= 1 .and. counter(cs, 'singular') >= 1, &
+      'CHOLMOD: dependent conditions: singular KKT detected, ' // &
+      'Schur fallback (' // itoa(int(counter(cs, 'factorizations'))) // ' LU, ' // &
+      itoa(int(counter(cs, 'singular'))) // ' singular)')
+    call cs%warm_start([.true., spread(.false., 1, cs%n_conditions() - 1)])
     call contact_solve_step(cs, f, u, dufree, du2, lam2, stat, errmsg)
     call check(stat == STAT_OK .and. maxval(abs(du2 - du)) <= 1.0e-12_dp * maxval(abs(du)) .and. &
-      cs%ms%n_kkt >= 1, 'CHOLMOD: augmented system from the warm start, no fallback needed')
-    cs%ms%mode = SOLVER_AUTO
+      counter(cs, 'augmented_solves') >= 1, 'CHOLMOD: augmented system from the warm start, no fallback needed')
+    call cs%set_solver(SOLVER_AUTO)
     ! End of step (PAPER, lumped mass): energy restored = Σ E_j, events for the 3 closed ones.
     v = 2.0_dp * du / h
     mv = mdiag * v
     call contact_end_step(cs, IMPACT_PAPER, u, du, v, mv, er, stat, errmsg)
-    ev = cs%events(1:cs%n_events)
-    call check(stat == STAT_OK .and. size(ev) == count(cs%active), 'CHOLMOD end of step: one event per established')
+    ev = contact_events(cs)
+    call check(stat == STAT_OK .and. size(ev) == cs%n_active(), 'CHOLMOD end of step: one event per established')
     call check_close(er, sum(ev%energy), 1.0e-13_dp, 'CHOLMOD end of step: energy restored = sum E_j', &
       atol=1.0e-13_dp * 0.5_dp * dot_product(v, mv))
     call contact_destroy(cs)
@@ -756,16 +819,16 @@ contains
     do i = 1, nw
       call contact_add(cs, 1.0e-6_dp * i, [i], [-1.0_dp], [0, i])     ! u_i <= 1e-6 i
     end do
-    cs%z_max_entries = 0
-    cs%switch_size = 0
-    cs%solver = SOLVER_SCHUR
+    cs%settings%z_max_entries = 0
+    cs%settings%switch_size = 0
+    cs%settings%solver = SOLVER_SCHUR
     call contact_finalize(cs, n, 1.0_dp, stat, errmsg)
     call contact_prepare(cs, f, stat, errmsg, pat, sval)
-    call check(stat == STAT_OK .and. cs%ms%cap == 8, 'cache: starts with 8 columns (z_max_entries = 0)', &
-      'cap = ' // itoa(cs%ms%cap))
+    call check(stat == STAT_OK .and. counter(cs, 'cache_columns') == 8, 'cache: starts with 8 columns (z_max_entries = 0)', &
+      'cap = ' // itoa(int(counter(cs, 'cache_columns'))))
     fop%f => f
     call contact_w_matrix(cs, fop, w, stat, errmsg)
-    cols_before = int(cs%ms%n_columns)
+    cols_before = int(counter(cs, 'columns'))
     u = 0.0_dp
     sets(1, :) = [1, 12]       ! push nodes 1..12 past their walls, then 13..17, then 1..12 again
     sets(2, :) = [13, 17]
@@ -784,16 +847,16 @@ contains
       call lcp_solve(w, q, 1.0e-14_dp, lamd, gd, actd, k, stat, errmsg)
       call check(stat == STAT_OK .and. maxval(abs(lam - lamd)) <= 1.0e-12_dp * maxval(abs(lamd)), &
         'cache step ' // itoa(it) // ': Λ = dense LCP on C S-1 C'' to 1e-12 (' // itoa(count(lam > 0.0_dp)) // &
-        ' active, cache ' // itoa(cs%ms%cap) // ' columns)')
+        ' active, cache ' // itoa(int(counter(cs, 'cache_columns'))) // ' columns)')
       call pat%matvec(sval, du, res)
       call contact_add_force(cs, r)
       call check(maxval(abs(res - r)) <= 1.0e-10_dp * maxval(abs(r)), 'cache step ' // itoa(it) // ': S du = r + C''Λ')
-      if (it == 1) call check(cs%ms%cap >= 12, 'cache: grew to hold the 12-condition active set')
+      if (it == 1) call check(counter(cs, 'cache_columns') >= 12, 'cache: grew to hold the 12-condition active set')
     end do
     ! Columns: 20 for the reference W, 12 + 5 for the first two steps; the third step finds
     ! the 12 first columns evicted only as far as room was needed for the 5 others.
-    call check(int(cs%ms%n_columns) - cols_before <= 12 + 5 + 5, 'cache: no more columns than evictions require (' // &
-      itoa(int(cs%ms%n_columns) - cols_before) // ' computed for 29 activations)')
+    call check(int(counter(cs, 'columns')) - cols_before <= 12 + 5 + 5, 'cache: no more columns than evictions require (' // &
+      itoa(int(counter(cs, 'columns')) - cols_before) // ' computed for 29 activations)')
     call contact_destroy(cs)
     call f%destroy()
   end subroutine test_column_cache
@@ -827,4 +890,25 @@ contains
       if (i < n) call pat%add_element(kval, [i, i + 1], 1.0e4_dp * reshape([1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp], [2, 2]))
     end do
   end subroutine chain_matrices
+  !> One counter of the multiplier system (contact_set_t%counters).
+  integer(8) function counter(cs, what)
+    type(contact_set_t), intent(in) :: cs
+    character(len=*), intent(in) :: what
+    type(multiplier_counters_t) :: k
+    k = cs%counters()
+    select case (what)
+    case ('factorizations')
+      counter = k%factorizations
+    case ('singular')
+      counter = k%singular
+    case ('augmented_solves')
+      counter = k%augmented_solves
+    case ('columns')
+      counter = k%columns
+    case ('cache_columns')
+      counter = k%cache_columns
+    case default
+      counter = -1
+    end select
+  end function counter
 end program test_contact

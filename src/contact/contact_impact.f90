@@ -1,0 +1,397 @@
+!> The end of a step with contact (method.md sections 3 and 6): events, the energy error (10),
+!> IMPACT PAPER's impulses (12)-(15) and hzero reflection (16), IMPACT PERSIST's projection and
+!> scaling. A submodule of contact: it works on the set's private state.
+submodule (contact) contact_impact
+  implicit none
+
+contains
+
+  !> End of a converged step, after eq (3) gave v = v(n+1) and mv = M v(n+1):
+  !>   events (established: active now and not at the end of the last step; released: the
+  !>   reverse), E_j = ½ Λ_j max(g_j(n), 0) (10) for the established ones, then the correction
+  !>   of the mode (IMPACT_OFF: none; IMPACT_PAPER: (12)-(15) then (16); IMPACT_PERSIST: section 6,
+  !>   falling back to PAPER for bodies left without kinetic energy), reactions R(n+1) = Λ - R(n)
+  !>   (0 for inactive conditions), new state. v and mv are updated together (mv stays M v).
+  !>   body(i) is the mesh-connected component of equation i (0: none), required by PERSIST.
+  !>   energy_restored = kinetic energy added, measured (= Σ E_j to round-off). The events of
+  !>   the step are cs%events(1:cs%n_events).
+  module subroutine contact_end_step(cs, mode, u_n, du, v, mv, energy_restored, stat, errmsg, body, report)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: mode
+    real(dp), intent(in) :: u_n(:), du(:)
+    real(dp), intent(inout) :: v(:), mv(:)
+    real(dp), intent(out) :: energy_restored
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer, intent(in), optional :: body(:)
+    type(contact_report_t), intent(out), optional :: report
+    type(contact_report_t) :: rep
+    real(dp) :: t_before
+    integer :: j, k
+
+    stat = STAT_OK
+    energy_restored = 0.0_dp
+    cs%n_ev = 0
+    if (.not. cs%finalized) then
+      call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: call contact_finalize first')
+      return
+    end if
+    if (cs%nc == 0) then
+      if (present(report)) report = rep
+      return
+    end if
+    if (mode /= IMPACT_OFF .and. .not. cs%mass_set) then
+      call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: call contact_set_mass first')
+      return
+    end if
+    associate (gn => cs%gn, gend => cs%gend, now => cs%now, est => cs%est, rel => cs%rel, e => cs%e, y => cs%y)
+      call cs%c%gaps(u_n, gn)
+      do j = 1, cs%nc
+        gend(j) = gn(j) + cs%c%dot(j, du)
+      end do
+      now = cs%st%active_iter
+      est = now .and. .not. cs%st%active
+      rel = cs%st%active .and. .not. now
+      y = 0.0_dp
+      e = 0.0_dp
+      where (est) e = impact_energy_error(cs%st%lambda, max(gn, 0.0_dp))
+      rep%n_active = count(now)
+      rep%n_establish = count(est)
+      rep%n_release = count(rel)
+      rep%energy_error = sum(e)
+      rep%scheme_work = 0.5_dp * dot_product(cs%st%lambda, gend - gn)
+      t_before = 0.5_dp * dot_product(v, mv)
+
+      if (rep%n_establish > 0) then
+        select case (mode)
+        case (IMPACT_PAPER)
+          call paper_correction(cs, est, v, mv, rep, stat, errmsg)
+        case (IMPACT_PERSIST)
+          if (.not. present(body)) then
+            call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: IMPACT PERSIST needs body(:)')
+            return
+          end if
+          call persist_correction(cs, body, v, mv, rep, stat, errmsg)
+          if (stat == STAT_OK .and. any(cs%fallback)) then
+            cs%est = cs%fallback
+            call paper_correction(cs, cs%est, v, mv, rep, stat, errmsg)
+            cs%est = now .and. .not. cs%st%active
+          end if
+        case (IMPACT_OFF)
+        case default
+          call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: unknown impact mode ' // str(mode))
+        end select
+        if (stat /= STAT_OK) return
+        if (mode /= IMPACT_OFF) energy_restored = 0.5_dp * dot_product(v, mv) - t_before
+      end if
+      rep%energy_restored = energy_restored
+
+      ! Reactions (reported only) and the new state.
+      cs%r = merge(cs%st%lambda - cs%st%r_prev, 0.0_dp, now)
+      k = 0
+      do j = 1, cs%nc
+        if (.not. (est(j) .or. rel(j))) cycle
+        k = k + 1
+        cs%ev(k) = contact_event_t(j, merge(EVENT_ESTABLISH, EVENT_RELEASE, est(j)), gn(j), gend(j), &
+          cs%st%lambda(j), cs%r(j), e(j), y(j))
+      end do
+      cs%n_ev = k
+      cs%st%r_prev = cs%r
+      cs%st%active = now
+      cs%st%gap_n = gend
+    end associate
+    if (present(report)) report = rep
+  end subroutine contact_end_step
+
+  !> Dense workspaces amat and gmat at least n x n (they only grow).
+  subroutine reserve_dense(cs, n)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: n
+    integer :: m
+    if (size(cs%amat, 1) >= n) return
+    m = max(n, 2 * size(cs%amat, 1))
+    deallocate (cs%amat, cs%gmat)
+    allocate (cs%amat(m, m), cs%gmat(m, m))
+  end subroutine reserve_dense
+
+  !> IMPACT PAPER for the conditions sel (all established in the step): the impulses of
+  !> (12)-(15) (impulse_eq12_15), then the hzero reflection (16) about all of them.
+  subroutine paper_correction(cs, sel, v, mv, rep, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    logical, intent(in) :: sel(:)
+    real(dp), intent(inout) :: v(:), mv(:)
+    type(contact_report_t), intent(inout) :: rep
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: j, n, rank
+    call impulse_eq12_15(cs, sel, v, mv, rep, stat, errmsg)
+    if (stat /= STAT_OK) return
+    n = 0
+    do j = 1, cs%nc
+      if (.not. sel(j)) cycle
+      n = n + 1
+      cs%idx(n) = j
+    end do
+    call hzero_reflection(cs, cs%idx(1:n), 2.0_dp, v, mv, rank, stat, errmsg)
+    rep%reflection_rank = rank
+  end subroutine paper_correction
+
+  !> (12)-(15) for the conditions sel established in the step with Λ_j > 0: E_j (cs%e, eq 10)
+  !> given back as kinetic energy by the impulses y_j Λ_j c_j, y from the coupled quadratics
+  !> (14) (impulse_fixed_point; (13) for one point), then (12) v <- v + M⁻¹ Σ y_j Λ_j c_j.
+  !> Sets cs%y (y_j).
+  subroutine impulse_eq12_15(cs, sel, v, mv, rep, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    logical, intent(in) :: sel(:)
+    real(dp), intent(inout) :: v(:), mv(:)
+    type(contact_report_t), intent(inout) :: rep
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: change
+    integer :: j, k, n, iters
+    logical :: conv
+
+    stat = STAT_OK
+    n = 0
+    do j = 1, cs%nc
+      if (.not. (sel(j) .and. cs%st%lambda(j) > 0.0_dp)) cycle
+      n = n + 1
+      cs%idx(n) = j
+    end do
+    call reserve_dense(cs, n)
+    if (n > 0) then
+      associate (ip => cs%idx(1:n), g => cs%gmat(1:n, 1:n))
+        call contact_am_block(cs, ip, n, g, stat, errmsg)
+        if (stat /= STAT_OK) return
+        do k = 1, n
+          g(:, k) = g(:, k) * cs%st%lambda(ip) * cs%st%lambda(ip(k))
+          cs%sv(k) = cs%st%lambda(ip(k)) * cs%c%dot(ip(k), v)
+          cs%ct(k) = cs%e(ip(k))
+        end do
+        call impulse_fixed_point(g, cs%sv(1:n), cs%ct(1:n), cs%wq(1:n), iters, change, conv, cs%settings%fp_tol, &
+          cs%settings%fp_max_iter, cs%work2)
+        rep%fp_iterations = rep%fp_iterations + iters
+        rep%fp_change = max(rep%fp_change, change)
+        if (.not. conv) rep%fp_failures = rep%fp_failures + 1     ! reported, energy still exact
+        cs%mu = 0.0_dp
+        do k = 1, n
+          cs%y(ip(k)) = cs%wq(k)
+          cs%mu(ip(k)) = cs%wq(k) * cs%st%lambda(ip(k))
+        end do
+      end associate
+      call add_minv_ct(cs, cs%mu, 1.0_dp, v, mv, stat, errmsg)          ! (12)
+    end if
+  end subroutine impulse_eq12_15
+
+  !> (16) The hzero step about the conditions A = conds: one Newmark step of length
+  !> h0 -> 0 with A held as equalities leaves only the mass terms,
+  !>     M w + A'ν = M v,  A w = 0,   then v <- 2 w - v by (3),
+  !> i.e. v <- v - 2 M⁻¹A'ν with (A M⁻¹A') ν = A v: the M-orthogonal reflection of v about the
+  !> tangent space of A (normal velocities reversed, v'Mv kept). factor = 2 is (16); factor = 1
+  !> stops at w, the M-orthogonal projection on A v = 0 that PERSIST uses (method.md section 6).
+  !> mv is updated with v (mv <- mv - factor A'ν). rank: independent rows of A (dependent ones,
+  !> e.g. duplicated conditions, get ν = 0). The dense hzero_reflection_dense of impact_kernels
+  !> is its test oracle.
+  module subroutine hzero_reflection(cs, conds, factor, v, mv, rank, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: conds(:)
+    real(dp), intent(in) :: factor
+    real(dp), intent(inout) :: v(:), mv(:)
+    integer, intent(out) :: rank
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call normal_multiplier_ws(cs, conds, v, rank, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call add_minv_ct(cs, cs%mu, -factor, v, mv, stat, errmsg)
+  end subroutine hzero_reflection
+
+  !> ν with (A M⁻¹A') ν = A v for the conditions A = conds, into cs%mu (0 elsewhere): the
+  !> multiplier of the hzero step (16) and of the PERSIST projection. normal_multiplier in the
+  !> workspaces of cs (no allocation), with A M⁻¹A' from contact_am_block.
+  subroutine normal_multiplier_ws(cs, conds, v, rank, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: conds(:)
+    real(dp), intent(in) :: v(:)
+    integer, intent(out) :: rank
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, n
+    rank = 0
+    n = size(conds)
+    call reserve_dense(cs, n)
+    call contact_am_block(cs, conds, n, cs%amat(1:n, 1:n), stat, errmsg)
+    if (stat /= STAT_OK) return
+    do k = 1, n
+      cs%sv(k) = cs%c%dot(conds(k), v)
+    end do
+    call spsd_solve_ws(n, cs%amat, cs%sv, rank, cs%ipiv, cs%work2)
+    cs%mu = 0.0_dp
+    do k = 1, n
+      cs%mu(conds(k)) = cs%sv(k)
+    end do
+  end subroutine normal_multiplier_ws
+
+  !> Section 6. Groups: bodies linked by active conditions. For each group holding an
+  !> established condition: project on zero normal velocity of all its active conditions, then
+  !> scale its velocity so that its kinetic energy is T1_group + Σ E_j. Groups whose projected
+  !> kinetic energy is below persist_min_fraction of that target, or conditions on equations
+  !> without body, are left untouched and returned in cs%fallback (their established conditions).
+  subroutine persist_correction(cs, body, v, mv, rep, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: body(:)
+    real(dp), intent(inout) :: v(:), mv(:)
+    type(contact_report_t), intent(inout) :: rep
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: nb, j, p, bj, i, grp, rank, n
+    real(dp) :: t1, tp, tstar, s, acm(2), tcm, vcm, mvcm
+
+    stat = STAT_OK
+    cs%fallback = .false.
+    if (size(body) /= cs%neq) then
+      call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: body(:) must have one entry per equation')
+      return
+    end if
+    nb = 0
+    if (cs%neq > 0) nb = max(maxval(body), 0)
+    if (size(cs%parent) < nb) then                 ! sized neq at contact_finalize: never
+      deallocate (cs%parent)
+      allocate (cs%parent(nb))
+    end if
+    associate (parent => cs%parent, cgroup => cs%cgroup, now => cs%now, est => cs%est, rows => cs%rows)
+      do i = 1, nb
+        parent(i) = i
+      end do
+      ! Union of the bodies touched by each active condition; cgroup = representative body (0: none).
+      cgroup = 0
+      do j = 1, cs%nc
+        if (.not. now(j)) cycle
+        do p = cs%c%first(j), cs%c%last(j)
+          bj = body(cs%c%eq_at(p))
+          if (bj <= 0) then
+            cgroup(j) = -1
+            exit
+          end if
+          if (cgroup(j) == 0) then
+            cgroup(j) = bj
+          else
+            call union(parent, cgroup(j), bj)
+          end if
+        end do
+      end do
+      do j = 1, cs%nc
+        if (cgroup(j) > 0) cgroup(j) = find(parent, cgroup(j))
+      end do
+      where (est .and. cgroup <= 0) cs%fallback = .true.
+      do grp = 1, nb
+        if (find(parent, grp) /= grp) cycle
+        if (.not. any(est .and. cgroup == grp)) cycle
+        rep%persist_groups = rep%persist_groups + 1
+        do i = 1, cs%neq
+          rows(i) = body(i) > 0
+          if (rows(i)) rows(i) = find(parent, body(i)) == grp
+        end do
+        n = 0
+        do j = 1, cs%nc
+          if (.not. (now(j) .and. cgroup(j) == grp)) cycle
+          n = n + 1
+          cs%idx(n) = j
+        end do
+        cs%vp = v
+        cs%mvp = mv
+        call hzero_reflection(cs, cs%idx(1:n), 1.0_dp, cs%vp, cs%mvp, rank, stat, errmsg)
+        if (stat /= STAT_OK) return
+        t1 = 0.5_dp * sum(v * mv, mask=rows)
+        tp = 0.5_dp * sum(cs%vp * cs%mvp, mask=rows)
+        tstar = t1 + sum(cs%e, mask=est .and. cgroup == grp)
+        ! Scale about the centre-of-mass velocity a_k t_k when the group's conditions are all
+        ! invariant under its translations (node-to-node, no obstacle, no support): momentum and
+        ! the zero normal velocities are kept; otherwise about zero.
+        call group_translation(cs, rows, n, acm, tcm)
+        if (.not. (tp - tcm > cs%settings%persist_min_fraction * tstar)) then
+          where (est .and. cgroup == grp) cs%fallback = .true.
+          rep%persist_fallbacks = rep%persist_fallbacks + 1
+          cycle
+        end if
+        s = persist_scale(tstar, tcm, tp - tcm)
+        do i = 1, cs%neq                           ! (a loop: a WHERE block allocates its mask)
+          if (.not. rows(i)) cycle
+          if (cs%has_rigid) then
+            vcm = acm(1) * cs%rig(i, 1) + acm(2) * cs%rig(i, 2)
+            mvcm = acm(1) * cs%mrig(i, 1) + acm(2) * cs%mrig(i, 2)
+          else
+            vcm = 0.0_dp
+            mvcm = 0.0_dp
+          end if
+          v(i) = vcm + s * (cs%vp(i) - vcm)
+          mv(i) = mvcm + s * (cs%mvp(i) - mvcm)
+        end do
+      end do
+    end associate
+  end subroutine persist_correction
+
+  !> The centre-of-mass velocity v_cm = a_1 t_1 + a_2 t_2 of the group (rows) after the
+  !> projection (cs%vp, cs%mvp): the M-orthogonal projection on its translations, G a = P with
+  !> G_kl = t_k'M t_l and P_k = t_k'M v over the group, and its kinetic energy tcm = ½ a'P.
+  !> a = 0, tcm = 0 (scale about zero) without rigid modes, when an active condition of the
+  !> group, cs%idx(1:n), is not invariant under the translations (c_j't_k /= 0: an obstacle
+  !> or a supported node), or when G is singular.
+  subroutine group_translation(cs, rows, n, a, tcm)
+    type(contact_set_t), intent(in) :: cs
+    logical, intent(in) :: rows(:)
+    integer, intent(in) :: n
+    real(dp), intent(out) :: a(2), tcm
+    real(dp) :: g(2, 2), pk(2), det
+    integer :: k, l, j
+    a = 0.0_dp
+    tcm = 0.0_dp
+    if (.not. cs%has_rigid) return
+    do j = 1, n
+      do k = 1, 2
+        if (cs%c%dot(cs%idx(j), cs%rig(:, k)) /= 0.0_dp) return
+      end do
+    end do
+    do k = 1, 2
+      pk(k) = sum(cs%rig(:, k) * cs%mvp, mask=rows)
+      do l = 1, 2
+        g(k, l) = sum(cs%rig(:, k) * cs%mrig(:, l), mask=rows)
+      end do
+    end do
+    det = g(1, 1) * g(2, 2) - g(1, 2) * g(2, 1)
+    if (.not. (det > 0.0_dp)) return
+    a(1) = (g(2, 2) * pk(1) - g(1, 2) * pk(2)) / det     ! 2 x 2 by Cramer's rule
+    a(2) = (g(1, 1) * pk(2) - g(2, 1) * pk(1)) / det
+    tcm = 0.5_dp * (a(1) * pk(1) + a(2) * pk(2))
+  end subroutine group_translation
+
+  pure recursive integer function find(parent, i) result(r)
+    integer, intent(in) :: parent(:), i
+    r = i
+    if (parent(i) /= i) r = find(parent, parent(i))
+  end function find
+
+  pure subroutine union(parent, a, b)
+    integer, intent(inout) :: parent(:)
+    integer, intent(in) :: a, b
+    integer :: ra, rb
+    ra = find(parent, a)
+    rb = find(parent, b)
+    if (ra /= rb) parent(max(ra, rb)) = min(ra, rb)
+  end subroutine union
+
+  !> v <- v + alpha M⁻¹C'mu and mv <- mv + alpha C'mu (mv stays M v without a product by M).
+  subroutine add_minv_ct(cs, mu, alpha, v, mv, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    real(dp), intent(in) :: mu(:), alpha
+    real(dp), intent(inout) :: v(:), mv(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    cs%f = 0.0_dp
+    call cs%c%add_transpose(mu, cs%f)
+    call cs%minv%apply(cs%f, cs%xw, stat, errmsg)
+    if (stat /= STAT_OK) return
+    v = v + alpha * cs%xw
+    mv = mv + alpha * cs%f
+  end subroutine add_minv_ct
+end submodule contact_impact
