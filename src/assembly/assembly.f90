@@ -11,10 +11,12 @@ module assembly
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
   use material_law, only: law_update, law_is_linear, law_nstate, law_stored, law_elastic_matrix
+  use checkpoint, only: ckpt_file_t
   implicit none
   private
   public :: system_t, build_system, internal_force, commit_state, external_force, &
-    element_stress, nodal_values, mass_times, initial_state, dof_label, dof_origin, stored_energy, mass_times_q
+    element_stress, nodal_values, mass_times, initial_state, dof_label, dof_origin, stored_energy, mass_times_q, &
+    save_points, load_points
 
   !> Nodal forces of one LOAD statement on the free DOFs (sparse).
   type :: load_vector_t
@@ -750,6 +752,28 @@ contains
       call move_alloc(tmp, sys%q_t)
     end if
   end subroutine commit_state
+
+  !> The committed integration-point state (strains, stresses, internal variables) into an
+  !> open checkpoint, and back (sticky stat, as ckpt_file_t).
+  subroutine save_points(sys, ck, stat, errmsg)
+    type(system_t), intent(in) :: sys
+    type(ckpt_file_t), intent(inout) :: ck
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    call ck%put('eps', sys%eps, stat, errmsg)
+    call ck%put('sig', sys%sig, stat, errmsg)
+    if (sys%nq > 0) call ck%put('q', sys%q, stat, errmsg)
+  end subroutine save_points
+
+  subroutine load_points(sys, ck, stat, errmsg)
+    type(system_t), intent(inout) :: sys
+    type(ckpt_file_t), intent(inout) :: ck
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    call ck%get('eps', sys%eps, stat, errmsg)
+    call ck%get('sig', sys%sig, stat, errmsg)
+    if (sys%nq > 0) call ck%get('q', sys%q, stat, errmsg)
+  end subroutine load_points
 
   !> Element means of the integration-point stresses, (MAX_NSTRAIN, nelem).
   subroutine element_stress(sys, s)

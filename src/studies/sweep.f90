@@ -295,7 +295,7 @@ contains
     end if
     if (factored) then
       ! gfortran does not finalize these locals: free the CHOLMOD factors explicitly.
-      call rs%factor%destroy()
+      call rs%mat%destroy()
       if (rs%has_contact) call contact_destroy(rs%cs)
     end if
     call system_clock(c1)

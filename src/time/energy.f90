@@ -2,6 +2,8 @@
 !> compensated summation so that round-off of the running sums stays out of the balance.
 module energy
   use kinds, only: dp
+  use errors, only: STAT_OK
+  use checkpoint, only: ckpt_file_t
   implicit none
   private
   public :: energy_t
@@ -31,6 +33,8 @@ module energy
     procedure :: relative_balance
     procedure :: pack_state
     procedure :: unpack_state
+    procedure :: save
+    procedure :: load
   end type energy_t
 
   integer, parameter, public :: ENERGY_STATE_SIZE = 14
@@ -146,6 +150,25 @@ contains
     self%max_balance = x(12)
     self%max_scale = x(13)
   end subroutine unpack_state
+
+  !> The accounts into an open checkpoint (sticky stat, as ckpt_file_t).
+  subroutine save(self, ck, stat, errmsg)
+    class(energy_t), intent(in) :: self
+    type(ckpt_file_t), intent(inout) :: ck
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    call ck%put('energy', self%pack_state(), stat, errmsg)
+  end subroutine save
+
+  subroutine load(self, ck, stat, errmsg)
+    class(energy_t), intent(inout) :: self
+    type(ckpt_file_t), intent(inout) :: ck
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    real(dp) :: x(ENERGY_STATE_SIZE)
+    call ck%get('energy', x, stat, errmsg)
+    if (stat == STAT_OK) call self%unpack_state(x)
+  end subroutine load
 
   !> max |balance| relative to the largest kinetic + internal seen.
   pure real(dp) function relative_balance(self)

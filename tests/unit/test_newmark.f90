@@ -4,7 +4,7 @@
 !> they are compared exactly unless stated otherwise.
 program test_newmark
   use kinds, only: dp
-  use newmark, only: velocity_eq3
+  use newmark_scheme, only: velocity_eq3
   use energy, only: energy_t
   use testing, only: check, check_close, test_summary
   implicit none

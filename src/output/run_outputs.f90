@@ -1,0 +1,201 @@
+!> The result files of a run (README "Outputs"): history.csv, probes.csv, events.csv (contact
+!> scenes) and fields.h5/.xmf, opened together (or resumed after a checkpoint), written per
+!> step, closed together. The column names are public contracts: extended at the end only.
+!> Rows are built without allocation (text_format): they are written in the time loop.
+module run_outputs
+  use kinds, only: dp
+  use errors, only: STAT_OK
+  use scene, only: scene_t
+  use assembly, only: system_t, element_stress, nodal_values, stored_energy
+  use energy, only: energy_t
+  use contact, only: contact_set_t, contact_event_t, EVENT_ESTABLISH
+  use history_writer, only: csv_file_t
+  use fields_hdf5, only: fields_writer_t
+  use text_format, only: put_es, put_int, put_text
+  implicit none
+  private
+  public :: output_set_t, HISTORY_HEADER, EVENTS_HEADER
+
+  character(len=*), parameter :: HISTORY_HEADER = &
+    'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored'
+  character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored'
+
+  type :: output_set_t
+    private
+    type(csv_file_t) :: hist, probes, ev
+    type(fields_writer_t) :: fields
+    logical :: with_events = .false., with_fields = .false.
+    integer :: last_step = 0                 !< the run's last step: always written
+    real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), reaction(:, :)
+    real(dp), allocatable :: preals(:), hreals(:), htail(:)
+  contains
+    procedure :: open => outputs_open
+    procedure :: write_step => outputs_write_step
+    procedure :: write_events => outputs_write_events
+    procedure :: close => outputs_close
+  end type output_set_t
+
+contains
+
+  !> Open the files under outdir for a run of nsteps steps; step0 > 0 resumes after a
+  !> checkpoint of step step0 (lines written past it are dropped, the fields of the continued
+  !> run go to fields_restart_NNNNNN.h5/.xmf). with_events: a contact scene.
+  subroutine outputs_open(self, scn, outdir, step0, nsteps, with_events, stat, errmsg)
+    class(output_set_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    character(len=*), intent(in) :: outdir
+    integer, intent(in) :: step0, nsteps
+    logical, intent(in) :: with_events
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: header
+    character(len=32) :: part
+    integer :: i
+    self%last_step = nsteps
+    self%with_events = with_events
+    self%with_fields = scn%fields_every /= 0
+    header = 'step,time'
+    do i = 1, size(scn%probes)
+      header = header // ',' // scn%probes(i)%label
+    end do
+    allocate (self%nodal_u(3, scn%mesh%nnode), self%nodal_v(3, scn%mesh%nnode), self%estress(4, scn%mesh%nelem), &
+      self%reaction(3, scn%mesh%nnode), self%preals(1 + size(scn%probes)), self%hreals(6), self%htail(2))
+    self%reaction = 0.0_dp
+    if (step0 > 0) then
+      call self%hist%resume(outdir // '/history.csv', HISTORY_HEADER, step0, stat, errmsg)
+      if (stat == STAT_OK) call self%probes%resume(outdir // '/probes.csv', header, step0, stat, errmsg)
+      if (stat == STAT_OK .and. with_events) &
+        call self%ev%resume(outdir // '/events.csv', EVENTS_HEADER, step0, stat, errmsg)
+    else
+      call self%hist%open(outdir // '/history.csv', HISTORY_HEADER, stat, errmsg)
+      if (stat == STAT_OK) call self%probes%open(outdir // '/probes.csv', header, stat, errmsg)
+      if (stat == STAT_OK .and. with_events) call self%ev%open(outdir // '/events.csv', EVENTS_HEADER, stat, errmsg)
+    end if
+    if (stat /= STAT_OK .or. .not. self%with_fields) return
+    if (step0 > 0) then
+      write (part, '(a,i6.6)') 'fields_restart_', step0
+      call self%fields%open(outdir, scn%mesh, stat, errmsg, basename=trim(part))
+    else
+      call self%fields%open(outdir, scn%mesh, stat, errmsg)
+    end if
+  end subroutine outputs_open
+
+  !> The history and probe lines of a step (every HISTORY EVERY steps and the last one) and its
+  !> fields (every FIELDS EVERY steps, the first and the last).
+  subroutine outputs_write_step(self, scn, sys, step, t, iter, nactive, en, u, v, stat, errmsg, cs)
+    class(output_set_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    integer, intent(in) :: step, iter, nactive
+    real(dp), intent(in) :: t
+    type(energy_t), intent(in) :: en
+    real(dp), intent(in) :: u(:), v(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(contact_set_t), intent(in), optional :: cs
+    integer :: k
+    logical :: last
+    stat = STAT_OK
+    last = step == self%last_step
+    if (scn%history_every > 0) then
+      if (mod(step, scn%history_every) == 0 .or. last) then
+        self%hreals = [t, en%kinetic, en%internal(), en%external(), en%correction(), en%balance()]
+        if (sys%linear) then
+          self%htail = [0.0_dp, en%elastic]
+        else
+          self%htail = [en%dissipated(), stored_energy(scn, sys)]
+        end if
+        call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail)
+        if (stat /= STAT_OK) return
+        self%preals(1) = t
+        do k = 1, size(scn%probes)
+          self%preals(k + 1) = 0.0_dp
+          associate (j => sys%eqn(scn%probes(k)%dof, scn%probes(k)%node))
+            if (j > 0) self%preals(k + 1) = u(j)
+          end associate
+        end do
+        call self%probes%write_row(step, self%preals, [integer ::], stat, errmsg)
+        if (stat /= STAT_OK) return
+      end if
+    end if
+    if (.not. self%with_fields) return
+    if (step == 0 .or. last .or. (scn%fields_every > 0 .and. mod(step, max(scn%fields_every, 1)) == 0)) then
+      call nodal_values(sys, u, self%nodal_u)
+      call nodal_values(sys, v, self%nodal_v)
+      call element_stress(sys, self%estress)
+      if (present(cs)) then
+        call contact_reactions(self, scn, cs)
+        call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%estress, stat, errmsg, &
+          reaction=self%reaction)
+      else
+        call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%estress, stat, errmsg)
+      end if
+    end if
+  end subroutine outputs_write_step
+
+  !> Nodal reactions R(n+1) = Λ - R(n) of the contact conditions (R on node b along n, its
+  !> opposite on node a).
+  subroutine contact_reactions(self, scn, cs)
+    type(output_set_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    type(contact_set_t), intent(in) :: cs
+    integer :: j
+    self%reaction = 0.0_dp
+    do j = 1, size(scn%conditions)
+      associate (c => scn%conditions(j))
+        self%reaction(1:2, c%node_b) = self%reaction(1:2, c%node_b) + cs%reaction(j) * c%normal
+        if (c%node_a > 0) self%reaction(1:2, c%node_a) = self%reaction(1:2, c%node_a) - cs%reaction(j) * c%normal
+      end associate
+    end do
+  end subroutine contact_reactions
+
+  !> events.csv: one line per contact established or released in the step, built with
+  !> text_format in a fixed buffer (no internal WRITE, no allocation: these are in the loop).
+  subroutine outputs_write_events(self, scn, step, t, cs)
+    class(output_set_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: step
+    real(dp), intent(in) :: t
+    type(contact_set_t), intent(in) :: cs
+    type(contact_event_t) :: event
+    integer :: k, j, pos
+    character(len=256) :: line
+    do k = 1, cs%n_events()
+      event = cs%event(k)
+      j = event%index
+      pos = 0
+      call put_int(line, pos, step)
+      call put_text(line, pos, ',')
+      call put_es(line, pos, t)
+      call put_text(line, pos, ',')
+      call put_int(line, pos, j)
+      call put_text(line, pos, ',')
+      if (scn%conditions(j)%node_a > 0) then
+        call put_int(line, pos, scn%conditions(j)%node_a)
+        call put_text(line, pos, ' ')
+      end if
+      call put_int(line, pos, scn%conditions(j)%node_b)
+      if (event%kind == EVENT_ESTABLISH) then
+        call put_text(line, pos, ',establish,')
+      else
+        call put_text(line, pos, ',release,')
+      end if
+      call put_es(line, pos, event%gap_start)
+      call put_text(line, pos, ',')
+      call put_es(line, pos, event%multiplier)
+      call put_text(line, pos, ',')
+      call put_es(line, pos, merge(event%energy, 0.0_dp, event%kind == EVENT_ESTABLISH))
+      write (self%ev%unit, '(a)') line(1:pos)
+    end do
+    if (cs%n_events() > 0) flush (self%ev%unit)
+  end subroutine outputs_write_events
+
+  !> Close every file (also after a failure: what was written stays).
+  subroutine outputs_close(self)
+    class(output_set_t), intent(inout) :: self
+    if (self%with_events) call self%ev%close()
+    call self%hist%close()
+    call self%probes%close()
+    if (self%with_fields) call self%fields%close()
+  end subroutine outputs_close
+end module run_outputs

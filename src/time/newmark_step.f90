@@ -1,0 +1,168 @@
+!> One step of the scheme (method.md sections 1-3): the iteration of eq (9) with the contact
+!> multipliers, then the end of the step in the paper's order, (3), then (12)-(15), then (16)
+!> (or PERSIST). The time loop (newmark) calls iterate_eq9 and end_step; it owns the outputs,
+!> the checkpoints and the messages.
+module newmark_step
+  use kinds, only: dp
+  use errors, only: STAT_OK
+  use scene, only: scene_t
+  use assembly, only: system_t, commit_state
+  use contact, only: contact_set_t, contact_report_t, contact_prepare, contact_solve_step, contact_end_step, &
+    contact_add_force
+  use step_state, only: step_state_t
+  use iteration_matrix, only: iteration_matrix_t
+  implicit none
+  private
+  public :: step_report_t, iterate_eq9, end_step, STEP_CONVERGED, STEP_DIVERGED, STEP_NOT_CONVERGED, STEP_NONFINITE
+
+  !> How the iteration of a step ended.
+  integer, parameter :: STEP_CONVERGED = 0       !< converged (or a linear step refined to round-off)
+  integer, parameter :: STEP_DIVERGED = 1        !< a residual norm is not finite
+  integer, parameter :: STEP_NOT_CONVERGED = 2   !< MAX_ITERATIONS reached
+  integer, parameter :: STEP_NONFINITE = 3       !< converged on a non-finite du or Bσ
+
+  type :: step_report_t
+    integer :: outcome = STEP_CONVERGED
+    integer :: iterations = 0
+    integer :: bad_equation = 0              !< first non-finite entry (STEP_DIVERGED, STEP_NONFINITE)
+    real(dp) :: force_scale = 0.0_dp         !< of the convergence test (STEP_NOT_CONVERGED)
+  end type step_report_t
+
+contains
+
+  !> Iterate eq (9) on du from du = 0 (F(n+1) already in st%f_np1): solve with the iteration
+  !> matrix, add the contact multipliers (cs present: du = du_free + S⁻¹C'Λ, the LCP of the
+  !> active set), evaluate the laws along the step, the residual; until the residual (with C'Λ
+  !> on the right) is below SCHEME TOLERANCE x the step's force scale. Linear steps: one iterate,
+  !> or with contact or EXTENDED refinement until the residual stops falling. stat reports
+  !> a failed factorization or contact solve; the other endings are rep%outcome.
+  subroutine iterate_eq9(scn, sys, st, mat, rep, stat, errmsg, cs, lam)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(step_state_t), intent(inout) :: st
+    type(iteration_matrix_t), intent(inout), target :: mat
+    type(step_report_t), intent(out) :: rep
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(contact_set_t), intent(inout), optional :: cs
+    real(dp), intent(inout), optional :: lam(:)
+    integer :: iter
+    logical :: refactored
+    call st%begin_step()
+    call mat%begin_step()
+    do iter = 1, scn%max_iterations
+      rep%iterations = iter
+      call mat%update(sys, refactored, stat, errmsg)
+      if (stat /= STAT_OK) errmsg = 'tangent matrix: ' // errmsg
+      if (stat == STAT_OK .and. refactored .and. present(cs)) &
+        call contact_prepare(cs, mat%factor, stat, errmsg, sys%pat, mat%sval)
+      if (stat /= STAT_OK) return
+      call mat%solve(st%r, st%ddu, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (present(cs)) then
+        ! Multipliers: the unconstrained iterate, then du = du_free + S^-1 C' Lambda with the
+        ! active set of the LCP (gaps >= 0, Lambda >= 0, complementarity).
+        st%ddu = st%du + st%ddu
+        call contact_solve_step(cs, mat%factor, st%u, st%ddu, st%du, lam, stat, errmsg)
+        if (stat /= STAT_OK) then
+          errmsg = 'contact: ' // errmsg
+          return
+        end if
+      else
+        st%du = st%du + st%ddu
+      end if
+      call st%trial(scn, sys, scn%energy_correction)
+      if (sys%linear .and. .not. st%extended) exit
+      call st%residual(sys)
+      ! st%r is the residual without the contact forces: the next unconstrained iterate is
+      ! du + S^-1 r and contact_solve_step adds S^-1 C' Lambda with the total multiplier.
+      ! Convergence is judged on the full residual, with C' Lambda on the right of eq (9).
+      if (present(cs)) then
+        st%ddu = st%r
+        call contact_add_force(cs, st%ddu)
+        st%res_hist(iter) = norm2(st%ddu)
+      else
+        st%res_hist(iter) = norm2(st%r)
+      end if
+      if (.not. (st%res_hist(iter) <= huge(1.0_dp))) then
+        rep%outcome = STEP_DIVERGED
+        rep%bad_equation = max(first_nonfinite(st%r), 1)
+        return
+      end if
+      if (sys%linear) then
+        ! Refinement of a linear step: on until the residual stops falling (round-off).
+        if (iter >= 2) then
+          if (st%res_hist(iter) >= 0.5_dp * st%res_hist(iter - 1)) exit
+        end if
+        ! (An absolute floor such as 16 eps x force scale stops too early: at small steps the
+        ! scale is 4Mv/h and the first iterate passes it unrefined.)
+        if (st%res_hist(iter) == 0.0_dp .or. iter == min(scn%max_iterations, 6)) exit
+        cycle
+      end if
+      if (st%res_hist(iter) <= scn%tolerance * force_scale(st)) exit
+      call mat%check_stall(sys, st%res_hist, iter, refactored, stat, errmsg)
+      if (stat == STAT_OK .and. refactored .and. present(cs)) &
+        call contact_prepare(cs, mat%factor, stat, errmsg, sys%pat, mat%sval)
+      if (stat /= STAT_OK) return
+      if (iter == scn%max_iterations) then
+        rep%outcome = STEP_NOT_CONVERGED
+        rep%force_scale = force_scale(st)
+        return
+      end if
+    end do
+    rep%bad_equation = first_nonfinite(st%du)
+    if (rep%bad_equation == 0) rep%bad_equation = first_nonfinite(st%fint)
+    if (rep%bad_equation > 0) rep%outcome = STEP_NONFINITE
+  end subroutine iterate_eq9
+
+  !> End of a converged step: the points' state committed, the works of the step (external
+  !> ½ du'(F(n) + F(n+1)), correction ½ du'Bσc), eq (3), then with contact the impact
+  !> correction of SCHEME IMPACT (energy restored in e_rest, report in crep), then the new state.
+  subroutine end_step(scn, sys, st, dw_ext, dw_corr, e_rest, stat, errmsg, cs, body, crep)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(step_state_t), intent(inout) :: st
+    real(dp), intent(out) :: dw_ext, dw_corr, e_rest
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(contact_set_t), intent(inout), optional :: cs
+    integer, intent(in), optional :: body(:)
+    type(contact_report_t), intent(out), optional :: crep
+    stat = STAT_OK
+    call commit_state(sys)
+    dw_ext = 0.5_dp * dot_product(st%du, st%f_n + st%f_np1)
+    dw_corr = 0.5_dp * dot_product(st%du, st%fcorr)
+    call st%velocity(sys)
+    e_rest = 0.0_dp
+    if (present(cs)) then
+      ! Order at the end of a step: (3), then (12)-(15), then (16) (or PERSIST).
+      call contact_end_step(cs, scn%impact, st%u, st%du, st%v, st%mv, e_rest, stat, errmsg, body=body, report=crep)
+      if (stat /= STAT_OK) then
+        errmsg = 'impact correction: ' // errmsg
+        return
+      end if
+      call st%absorb_velocity_change()
+    end if
+    call st%commit(sys)
+  end subroutine end_step
+
+  !> Force scale of the step for the convergence test (docs/input.md, SCHEME TOLERANCE).
+  real(dp) function force_scale(st)
+    type(step_state_t), intent(in) :: st
+    force_scale = max(norm2(st%f_np1 + st%f_n), norm2(st%fint_n), norm2(st%fint), norm2((4.0_dp / st%h) * st%mv), &
+      tiny(1.0_dp))
+  end function force_scale
+
+  !> Index of the first NaN or infinite entry, 0 if none.
+  pure integer function first_nonfinite(x)
+    real(dp), intent(in) :: x(:)
+    integer :: i
+    first_nonfinite = 0
+    do i = 1, size(x)
+      if (.not. (abs(x(i)) <= huge(1.0_dp))) then
+        first_nonfinite = i
+        return
+      end if
+    end do
+  end function first_nonfinite
+end module newmark_step

@@ -1,0 +1,200 @@
+!> The state the time loop advances (u, v and what the next step reuses: Bσ(n), F(n), M v(n))
+!> and the iterate of a step, with the optional extended-precision shadow of SCHEME PRECISION
+!> EXTENDED: when it is on, u, v, Bσ(n), M v(n), the right-hand side and the residual are also
+!> carried unrounded (docs/precision.md) and every double value is the rounding of its shadow.
+!> The step is written once; each operation below picks its precision.
+module step_state
+  use kinds, only: dp, qp
+  use scene, only: scene_t
+  use assembly, only: system_t, internal_force, commit_state, mass_times, mass_times_q
+  use checkpoint, only: ckpt_file_t
+  use newmark_scheme, only: rhs_eq9, residual_eq9, velocity_eq3
+  implicit none
+  private
+  public :: step_state_t
+
+  type :: step_state_t
+    logical :: extended = .false.
+    real(dp) :: h = 0.0_dp, c4 = 0.0_dp      !< step, 4/h²
+    real(qp) :: a = 0.0_qp                   !< 2/h unrounded (extended)
+    ! Start of the step (state): u(n), v(n), Bσ(n), F(n), M v(n).
+    real(dp), allocatable :: u(:), v(:), fint_n(:), f_n(:), mv(:)
+    ! The step: F(n+1), right-hand side of (9), iterate du and its update ddu, residual r, trial
+    ! u(n) + du with its Bσ(n+1) and Bσc, M du; v(n+1) by (3) before the impact correction.
+    real(dp), allocatable :: f_np1(:), rhs(:), du(:), ddu(:), r(:), utrial(:), fint(:), fcorr(:), mdu(:), v_eq3(:)
+    real(dp), allocatable :: res_hist(:)     !< residual norm of each iteration of the step
+    real(dp) :: kinetic = 0.0_dp             !< ½ v'Mv at the end of the last step
+    ! Extended-precision shadow.
+    real(qp), allocatable :: u_q(:), v_q(:), fint_n_q(:), mv_q(:), rhs_q(:), r_q(:), utrial_q(:), mdu_q(:)
+  contains
+    procedure :: init => state_init
+    procedure :: set_initial => state_set_initial
+    procedure :: begin_step => state_begin_step
+    procedure :: trial => state_trial
+    procedure :: residual => state_residual
+    procedure :: velocity => state_velocity
+    procedure :: absorb_velocity_change => state_absorb
+    procedure :: commit => state_commit
+    procedure :: save => state_save
+    procedure :: load => state_load
+  end type step_state_t
+
+contains
+
+  !> Room for n equations and max_iter iterations; step h.
+  subroutine state_init(self, n, max_iter, h, extended)
+    class(step_state_t), intent(inout) :: self
+    integer, intent(in) :: n, max_iter
+    real(dp), intent(in) :: h
+    logical, intent(in) :: extended
+    self%h = h
+    self%c4 = 4.0_dp / h**2
+    self%a = 2.0_qp / real(h, qp)
+    self%extended = extended
+    allocate (self%u(n), self%v(n), self%fint_n(n), self%f_n(n), self%mv(n), self%f_np1(n), self%rhs(n), &
+      self%du(n), self%ddu(n), self%r(n), self%utrial(n), self%fint(n), self%fcorr(n), self%mdu(n), self%v_eq3(n), &
+      self%res_hist(max_iter))
+    if (extended) allocate (self%rhs_q(n), self%mv_q(n), self%mdu_q(n), self%r_q(n), self%utrial_q(n))
+  end subroutine state_init
+
+  !> The initial state: u0, v0 (set by the caller in u and v), Bσ(u0) along the path from zero
+  !> strain (committed as the points' state), M v0 and the kinetic energy; F(t_start) is the
+  !> caller's.
+  subroutine state_set_initial(self, scn, sys)
+    class(step_state_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%tval))
+    call commit_state(sys)
+    call mass_times(sys, self%v, self%mv)
+    self%kinetic = 0.5_dp * dot_product(self%v, self%mv)
+    if (self%extended) then
+      ! The state itself is kept unrounded: rounding u and v to double at every step drifts
+      ! the energy by a fraction of eps per step (docs/precision.md).
+      self%u_q = real(self%u, qp)
+      self%v_q = real(self%v, qp)
+      call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%tval), uq=self%u_q)
+      self%fint_n_q = sys%fint_q
+      call mass_times_q(sys, self%v_q, self%mv_q)
+      self%kinetic = real(0.5_qp * sum(self%v_q * self%mv_q), dp)
+    end if
+  end subroutine state_set_initial
+
+  !> Start a step (F(n+1) in f_np1): the right-hand side of (9) and the residual of the first
+  !> iterate du = 0, where Bσ(n+1) = Bσ(n) and Bσc = 0.
+  subroutine state_begin_step(self)
+    class(step_state_t), intent(inout) :: self
+    call rhs_eq9(self%h, self%f_np1, self%f_n, self%fint_n, self%mv, self%rhs)
+    self%du = 0.0_dp
+    self%r = self%rhs - self%fint_n
+    if (self%extended) then
+      call rhs_eq9(self%a, self%f_np1, self%f_n, self%fint_n_q, self%mv_q, self%rhs_q)
+      self%r = real(self%rhs_q - self%fint_n_q, dp)
+    end if
+  end subroutine state_begin_step
+
+  !> The trial state u(n) + du: strains, stresses along the step's path, Bσ(n+1) and, with
+  !> correct, the correction force Bσc of eq (9).
+  subroutine state_trial(self, scn, sys, correct)
+    class(step_state_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    logical, intent(in) :: correct
+    if (self%extended) then
+      self%utrial_q = self%u_q + real(self%du, qp)
+      self%utrial = real(self%utrial_q, dp)
+      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, allocated(sys%tval), uq=self%utrial_q)
+    else
+      self%utrial = self%u + self%du
+      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, allocated(sys%tval))
+    end if
+  end subroutine state_trial
+
+  !> r = the residual of eq (9) at the trial state (without the contact forces).
+  subroutine state_residual(self, sys)
+    class(step_state_t), intent(inout) :: self
+    type(system_t), intent(in) :: sys
+    if (self%extended) then
+      call mass_times_q(sys, real(self%du, qp), self%mdu_q)
+      call residual_eq9(self%a, self%rhs_q, self%mdu_q, sys%fint_q, self%fcorr, self%r_q)
+      self%r = real(self%r_q, dp)
+    else
+      call mass_times(sys, self%du, self%mdu)
+      call residual_eq9(self%c4, self%rhs, self%mdu, self%fint, self%fcorr, self%r)
+    end if
+  end subroutine state_residual
+
+  !> End of the step: v(n+1) by eq (3), M v(n+1); v_eq3 keeps it for the impact correction.
+  subroutine state_velocity(self, sys)
+    class(step_state_t), intent(inout) :: self
+    type(system_t), intent(in) :: sys
+    call velocity_eq3(self%h, self%du, self%v)
+    if (self%extended) then
+      call velocity_eq3(self%a, self%du, self%v_q)
+      self%v = real(self%v_q, dp)
+    end if
+    call mass_times(sys, self%v, self%mv)
+    self%v_eq3 = self%v
+  end subroutine state_velocity
+
+  !> After the impact correction changed v (and M v): carry the change into the shadow.
+  subroutine state_absorb(self)
+    class(step_state_t), intent(inout) :: self
+    if (self%extended) self%v_q = self%v_q + real(self%v - self%v_eq3, qp)
+  end subroutine state_absorb
+
+  !> The trial state becomes the state: u(n+1), Bσ(n+1), F(n+1), M v(n+1), kinetic energy.
+  subroutine state_commit(self, sys)
+    class(step_state_t), intent(inout) :: self
+    type(system_t), intent(in) :: sys
+    self%u = self%utrial
+    self%fint_n = self%fint
+    self%f_n = self%f_np1
+    self%kinetic = 0.5_dp * dot_product(self%v, self%mv)
+    if (self%extended) then
+      self%fint_n_q = sys%fint_q
+      self%u_q = self%utrial_q
+      self%v = real(self%v_q, dp)
+      call mass_times_q(sys, self%v_q, self%mv_q)
+      self%mv = real(self%mv_q, dp)
+      self%kinetic = real(0.5_qp * sum(self%v_q * self%mv_q), dp)
+    end if
+  end subroutine state_commit
+
+  !> The state into an open checkpoint (sticky stat, as ckpt_file_t).
+  subroutine state_save(self, ck, stat, errmsg)
+    class(step_state_t), intent(in) :: self
+    type(ckpt_file_t), intent(inout) :: ck
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    call ck%put('u', self%u, stat, errmsg)
+    call ck%put('v', self%v, stat, errmsg)
+    call ck%put('fint_n', self%fint_n, stat, errmsg)
+    call ck%put('f_n', self%f_n, stat, errmsg)
+    call ck%put('mv', self%mv, stat, errmsg)
+    if (self%extended) then
+      call ck%put('u_q', self%u_q, stat, errmsg)
+      call ck%put('v_q', self%v_q, stat, errmsg)
+      call ck%put('fint_n_q', self%fint_n_q, stat, errmsg)
+      call ck%put('mv_q', self%mv_q, stat, errmsg)
+    end if
+  end subroutine state_save
+
+  subroutine state_load(self, ck, stat, errmsg)
+    class(step_state_t), intent(inout) :: self
+    type(ckpt_file_t), intent(inout) :: ck
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    call ck%get('u', self%u, stat, errmsg)
+    call ck%get('v', self%v, stat, errmsg)
+    call ck%get('fint_n', self%fint_n, stat, errmsg)
+    call ck%get('f_n', self%f_n, stat, errmsg)
+    call ck%get('mv', self%mv, stat, errmsg)
+    if (self%extended) then
+      call ck%get('u_q', self%u_q, stat, errmsg)
+      call ck%get('v_q', self%v_q, stat, errmsg)
+      call ck%get('fint_n_q', self%fint_n_q, stat, errmsg)
+      call ck%get('mv_q', self%mv_q, stat, errmsg)
+    end if
+  end subroutine state_load
+end module step_state
