@@ -188,7 +188,7 @@ contains
     type(step_report_t) :: rep
     type(contact_report_t) :: crep
     integer :: step, step0, total_iter, nactive, done
-    integer(8) :: c0, c1, crate, clast
+    integer(8) :: c0, crate, clast
     real(dp) :: t, dw_ext, dw_corr, e_rest
 
     call system_clock(c0, crate)
@@ -197,13 +197,13 @@ contains
     total_iter = 0
     done = 0
     call make_directory(opts%outdir, stat, errmsg)
-    if (stat == STAT_OK .and. allocated(opts%restart)) call load_checkpoint(opts%restart, step0, total_iter, stat, errmsg)
+    if (stat == STAT_OK .and. allocated(opts%restart)) call load_checkpoint(opts%restart, sys, rs, step0, total_iter, stat, errmsg)
     done = step0
     if (stat == STAT_OK) call outs%open(scn, opts%outdir, step0, rs%nsteps, rs%has_contact, stat, errmsg)
     nactive = 0
     if (rs%has_contact) nactive = rs%cs%n_active()
     if (stat == STAT_OK) call install_signal_handlers(stat, errmsg)
-    if (stat == STAT_OK .and. step0 == 0) call write_outputs(0, scn%t_start, 0)
+    if (stat == STAT_OK .and. step0 == 0) call write_outputs(outs, scn, sys, rs, 0, scn%t_start, 0, nactive, stat, errmsg)
 
     do step = step0 + 1, rs%nsteps
       if (stat /= STAT_OK) exit
@@ -219,7 +219,7 @@ contains
         exit
       end if
       if (rep%outcome /= STEP_CONVERGED) then
-        call step_failure(step, t)
+        call step_failure(scn, sys, rs, rep, opts%outdir, step, t, total_iter, stat, errmsg)
         exit
       end if
       total_iter = total_iter + rep%iterations
@@ -239,173 +239,202 @@ contains
       end if
       call rs%en%add_step(rs%st%kinetic, sys%work_t, dw_ext, dw_corr + e_rest, sys%dissip_t, sys%elastic_t)
       if (.not. (abs(rs%en%balance()) <= huge(1.0_dp))) then
-        call write_outputs(step, t, rep%iterations)
+        call write_outputs(outs, scn, sys, rs, step, t, rep%iterations, nactive, stat, errmsg)
         call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'the energies overflowed (kinetic ' // &
           str(rs%en%kinetic) // ', internal ' // str(rs%en%internal()) // &
           '): displacements or velocities beyond what double precision can square')
         exit
       end if
-      call write_outputs(step, t, rep%iterations)
+      call write_outputs(outs, scn, sys, rs, step, t, rep%iterations, nactive, stat, errmsg)
       if (stat /= STAT_OK) exit
       if (scn%checkpoint_every > 0) then
-        if (mod(step, scn%checkpoint_every) == 0 .or. step == rs%nsteps) call save_checkpoint(step, t, total_iter, stat, &
-          errmsg)
+        if (mod(step, scn%checkpoint_every) == 0 .or. step == rs%nsteps) &
+          call save_checkpoint(opts%outdir, sys, rs, step, t, total_iter, stat, errmsg)
         if (stat /= STAT_OK) exit
       end if
       done = step
       if (signal_received() /= 0) then
         ! SIGINT or SIGTERM: a checkpoint of this complete step, the summary, a non-zero exit.
-        call save_checkpoint(step, t, total_iter, stat, errmsg)
+        call save_checkpoint(opts%outdir, sys, rs, step, t, total_iter, stat, errmsg)
         if (stat == STAT_OK) call set_error(stat, errmsg, STAT_RUN, 'interrupted by signal ' // &
           str(signal_received()) // ' after step ' // str(step) // ' (t = ' // str(t) // '); continue with --restart ' &
           // opts%outdir // '/checkpoint.h5')
         exit
       end if
-      if (.not. opts%quiet) call progress(step, t)
+      if (.not. opts%quiet) call progress(rs%nsteps, step, t, c0, crate, clast)
     end do
     ! The one exit: files closed, summary filled (also on failure: a sweep records the steps and
     ! the balance of a case that stopped).
     call outs%close()
-    call fill_summary(done)
+    call fill_summary(rs, done, total_iter, c0, crate, summary)
     if (stat == STAT_OK .and. .not. opts%quiet) write (0, '(a)') ''
 
-  contains
-
-    function at_step(step, t) result(s)
-      integer, intent(in) :: step
-      real(dp), intent(in) :: t
-      character(len=:), allocatable :: s
-      s = 'step ' // str(step) // ' (t = ' // str(t) // '): '
-    end function at_step
-
-    !> The messages of a step whose iteration did not end well; the state of the last good
-    !> step is saved when the iterate is not finite.
-    subroutine step_failure(step, t)
-      integer, intent(in) :: step
-      real(dp), intent(in) :: t
-      character(len=:), allocatable :: where
-      where = ''
-      if (rep%outcome == STEP_DIVERGED .or. rep%outcome == STEP_NONFINITE) then
-        call save_checkpoint(step - 1, t - rs%h, total_iter, stat, errmsg)
-        where = '; the state of step ' // str(step - 1) // ' is in ' // opts%outdir // '/checkpoint.h5'
-      end if
-      select case (rep%outcome)
-      case (STEP_DIVERGED)
-        call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'the iteration of eq (9) diverged (residual ' // &
-          str(rs%st%res_hist(rep%iterations)) // ' at iteration ' // str(rep%iterations) // ', first non-finite at ' &
-          // dof_label(scn, sys, rep%bad_equation) // '; residual norms: ' // &
-          history_text(rs%st%res_hist(1:rep%iterations)) // '); try a smaller TIME STEP or SCHEME ITERATION ' // &
-          'TANGENT' // where)
-      case (STEP_NONFINITE)
-        call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'non-finite displacement or internal force at ' // &
-          dof_label(scn, sys, rep%bad_equation) // where)
-      case default
-        call set_error(stat, errmsg, STAT_RUN, 'step ' // str(step) // ' (t = ' // str(t) // ') did not converge in ' &
-          // str(rep%iterations) // ' iterations (tolerance ' // str(scn%tolerance) // ' x force scale ' // &
-          str(rep%force_scale) // '); residual norms: ' // history_text(rs%st%res_hist(1:rep%iterations)))
-      end select
-    end subroutine step_failure
-
-    subroutine fill_summary(last)
-      integer, intent(in) :: last
-      summary%steps = last
-      summary%iterations = total_iter
-      summary%max_rel_balance = rs%en%relative_balance()
-      if (rs%has_contact) then
-        associate (k => rs%cs%counters())
-          summary%schur_columns = k%columns
-          summary%schur_solves = k%schur_solves
-          summary%augmented_solves = k%augmented_solves
-          summary%augmented_factorizations = k%factorizations
-        end associate
-      end if
-      call system_clock(c1)
-      summary%wall = real(c1 - c0, dp) / real(crate, dp)
-    end subroutine fill_summary
-
-    subroutine write_outputs(step, t, iter)
-      integer, intent(in) :: step, iter
-      real(dp), intent(in) :: t
-      if (rs%has_contact) then
-        call outs%write_step(scn, sys, step, t, iter, nactive, rs%en, rs%st%u, rs%st%v, stat, errmsg, rs%cs)
-      else
-        call outs%write_step(scn, sys, step, t, iter, nactive, rs%en, rs%st%u, rs%st%v, stat, errmsg)
-      end if
-    end subroutine write_outputs
-
-    !> The whole state at the end of step `step` in OUTDIR/checkpoint.h5, atomically: each
-    !> owner writes its own fields.
-    subroutine save_checkpoint(step, t, iters, stat, errmsg)
-      integer, intent(in) :: step, iters
-      real(dp), intent(in) :: t
-      integer, intent(out) :: stat
-      character(len=:), allocatable, intent(out) :: errmsg
-      type(ckpt_file_t) :: ck
-      call ck%create(opts%outdir // '/checkpoint.h5', stat, errmsg)
-      if (stat /= STAT_OK) return
-      call ck%put('step', step, stat, errmsg)
-      call ck%put('time', t, stat, errmsg)
-      call ck%put('iterations', iters, stat, errmsg)
-      call ck%put('neq', sys%neq, stat, errmsg)
-      call rs%st%save(ck, stat, errmsg)
-      call save_points(sys, ck, stat, errmsg)
-      call rs%en%save(ck, stat, errmsg)
-      if (rs%has_contact) call rs%cs%save(ck, stat, errmsg)
-      call ck%commit(stat, errmsg)
-    end subroutine save_checkpoint
-
-    !> The state saved by save_checkpoint, checked against this scene's sizes.
-    subroutine load_checkpoint(path, step, iters, stat, errmsg)
-      character(len=*), intent(in) :: path
-      integer, intent(out) :: step, iters
-      integer, intent(out) :: stat
-      character(len=:), allocatable, intent(out) :: errmsg
-      type(ckpt_file_t) :: ck
-      integer :: neq
-      real(dp) :: tck
-      call ck%open(path, stat, errmsg)
-      if (stat /= STAT_OK) return
-      call ck%get('step', step, stat, errmsg)
-      call ck%get('time', tck, stat, errmsg)
-      call ck%get('iterations', iters, stat, errmsg)
-      call ck%get('neq', neq, stat, errmsg)
-      if (stat == STAT_OK .and. (neq /= sys%neq .or. step < 0 .or. step > rs%nsteps)) then
-        call set_error(stat, errmsg, STAT_INPUT, 'checkpoint ' // path // ': step ' // str(step) // ' of a system of ' // &
-          str(neq) // ' equations does not fit this scene (' // str(sys%neq) // ' equations, ' // str(rs%nsteps) // &
-          ' steps)')
-      end if
-      call rs%st%load(ck, stat, errmsg)
-      call load_points(sys, ck, stat, errmsg)
-      call rs%en%load(ck, stat, errmsg)
-      if (rs%has_contact) call rs%cs%load(ck, stat, errmsg)
-      call ck%close()
-    end subroutine load_checkpoint
-
-    !> Residual norms as text, for the non-convergence report.
-    function history_text(res) result(txt)
-      real(dp), intent(in) :: res(:)
-      character(len=:), allocatable :: txt
-      integer :: k
-      character(len=16) :: buf
-      txt = ''
-      do k = 1, size(res)
-        write (buf, '(es10.3)') res(k)
-        txt = txt // trim(adjustl(buf)) // merge(', ', '  ', k < size(res))
-      end do
-      txt = trim(txt)
-    end function history_text
-
-    subroutine progress(step, t)
-      integer, intent(in) :: step
-      real(dp), intent(in) :: t
-      real(dp) :: el, eta
-      call system_clock(c1)
-      if (real(c1 - c0, dp) / crate < 2.0_dp .or. real(c1 - clast, dp) / crate < 1.0_dp) return
-      clast = c1
-      el = real(c1 - c0, dp) / crate
-      eta = el * (rs%nsteps - step) / step
-      write (0, '(a,i0,a,i0,a,es11.4,a,f5.1,a,f9.1,a)', advance='no') achar(13) // 'step ', step, '/', rs%nsteps, &
-        '  t = ', t, '  (', 100.0_dp * step / rs%nsteps, ' %)  ETA ', eta, ' s   '
-    end subroutine progress
   end subroutine run_newmark
+
+  !> "step N (t = T): ", the prefix of the messages of a step.
+  function at_step(step, t) result(s)
+    integer, intent(in) :: step
+    real(dp), intent(in) :: t
+    character(len=:), allocatable :: s
+    s = 'step ' // str(step) // ' (t = ' // str(t) // '): '
+  end function at_step
+
+  !> The messages of a step whose iteration did not end well; the state of the last good
+  !> step is saved when the iterate is not finite.
+  subroutine step_failure(scn, sys, rs, rep, outdir, step, t, total_iter, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    type(run_state_t), intent(in) :: rs
+    type(step_report_t), intent(in) :: rep
+    character(len=*), intent(in) :: outdir
+    integer, intent(in) :: step, total_iter
+    real(dp), intent(in) :: t
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: where
+    where = ''
+    if (rep%outcome == STEP_DIVERGED .or. rep%outcome == STEP_NONFINITE) then
+      call save_checkpoint(outdir, sys, rs, step - 1, t - rs%h, total_iter, stat, errmsg)
+      where = '; the state of step ' // str(step - 1) // ' is in ' // outdir // '/checkpoint.h5'
+    end if
+    select case (rep%outcome)
+    case (STEP_DIVERGED)
+      call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'the iteration of eq (9) diverged (residual ' // &
+        str(rs%st%res_hist(rep%iterations)) // ' at iteration ' // str(rep%iterations) // ', first non-finite at ' &
+        // dof_label(scn, sys, rep%bad_equation) // '; residual norms: ' // &
+        history_text(rs%st%res_hist(1:rep%iterations)) // '); try a smaller TIME STEP or SCHEME ITERATION ' // &
+        'TANGENT' // where)
+    case (STEP_NONFINITE)
+      call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'non-finite displacement or internal force at ' // &
+        dof_label(scn, sys, rep%bad_equation) // where)
+    case default
+      call set_error(stat, errmsg, STAT_RUN, 'step ' // str(step) // ' (t = ' // str(t) // ') did not converge in ' &
+        // str(rep%iterations) // ' iterations (tolerance ' // str(scn%tolerance) // ' x force scale ' // &
+        str(rep%force_scale) // '); residual norms: ' // history_text(rs%st%res_hist(1:rep%iterations)))
+    end select
+  end subroutine step_failure
+
+  !> What was done: steps, iterations, the balance, the multipliers' work, the wall time.
+  subroutine fill_summary(rs, last, total_iter, c0, crate, summary)
+    type(run_state_t), intent(in) :: rs
+    integer, intent(in) :: last, total_iter
+    integer(8), intent(in) :: c0, crate
+    type(run_summary_t), intent(inout) :: summary
+    integer(8) :: c1
+    summary%steps = last
+    summary%iterations = total_iter
+    summary%max_rel_balance = rs%en%relative_balance()
+    if (rs%has_contact) then
+      associate (k => rs%cs%counters())
+        summary%schur_columns = k%columns
+        summary%schur_solves = k%schur_solves
+        summary%augmented_solves = k%augmented_solves
+        summary%augmented_factorizations = k%factorizations
+      end associate
+    end if
+    call system_clock(c1)
+    summary%wall = real(c1 - c0, dp) / real(crate, dp)
+  end subroutine fill_summary
+
+  subroutine write_outputs(outs, scn, sys, rs, step, t, iter, nactive, stat, errmsg)
+    type(output_set_t), intent(inout) :: outs
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    type(run_state_t), intent(in) :: rs
+    integer, intent(in) :: step, iter, nactive
+    real(dp), intent(in) :: t
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    if (rs%has_contact) then
+      call outs%write_step(scn, sys, step, t, iter, nactive, rs%en, rs%st%u, rs%st%v, stat, errmsg, rs%cs)
+    else
+      call outs%write_step(scn, sys, step, t, iter, nactive, rs%en, rs%st%u, rs%st%v, stat, errmsg)
+    end if
+  end subroutine write_outputs
+
+  !> The whole state at the end of step `step` in OUTDIR/checkpoint.h5, atomically: each
+  !> owner writes its own fields.
+  subroutine save_checkpoint(outdir, sys, rs, step, t, iters, stat, errmsg)
+    character(len=*), intent(in) :: outdir
+    type(system_t), intent(in) :: sys
+    type(run_state_t), intent(in) :: rs
+    integer, intent(in) :: step, iters
+    real(dp), intent(in) :: t
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(ckpt_file_t) :: ck
+    call ck%create(outdir // '/checkpoint.h5', stat, errmsg)
+    if (stat /= STAT_OK) return
+    call ck%put('step', step, stat, errmsg)
+    call ck%put('time', t, stat, errmsg)
+    call ck%put('iterations', iters, stat, errmsg)
+    call ck%put('neq', sys%neq, stat, errmsg)
+    call rs%st%save(ck, stat, errmsg)
+    call save_points(sys, ck, stat, errmsg)
+    call rs%en%save(ck, stat, errmsg)
+    if (rs%has_contact) call rs%cs%save(ck, stat, errmsg)
+    call ck%commit(stat, errmsg)
+  end subroutine save_checkpoint
+
+  !> The state saved by save_checkpoint, checked against this scene's sizes.
+  subroutine load_checkpoint(path, sys, rs, step, iters, stat, errmsg)
+    character(len=*), intent(in) :: path
+    type(system_t), intent(inout) :: sys
+    type(run_state_t), intent(inout) :: rs
+    integer, intent(out) :: step, iters
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(ckpt_file_t) :: ck
+    integer :: neq
+    real(dp) :: tck
+    step = 0
+    iters = 0
+    call ck%open(path, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call ck%get('step', step, stat, errmsg)
+    call ck%get('time', tck, stat, errmsg)
+    call ck%get('iterations', iters, stat, errmsg)
+    call ck%get('neq', neq, stat, errmsg)
+    if (stat == STAT_OK .and. (neq /= sys%neq .or. step < 0 .or. step > rs%nsteps)) then
+      call set_error(stat, errmsg, STAT_INPUT, 'checkpoint ' // path // ': step ' // str(step) // ' of a system of ' // &
+        str(neq) // ' equations does not fit this scene (' // str(sys%neq) // ' equations, ' // str(rs%nsteps) // &
+        ' steps)')
+    end if
+    call rs%st%load(ck, stat, errmsg)
+    call load_points(sys, ck, stat, errmsg)
+    call rs%en%load(ck, stat, errmsg)
+    if (rs%has_contact) call rs%cs%load(ck, stat, errmsg)
+    call ck%close()
+  end subroutine load_checkpoint
+
+  !> Residual norms as text, for the non-convergence report.
+  function history_text(res) result(txt)
+    real(dp), intent(in) :: res(:)
+    character(len=:), allocatable :: txt
+    integer :: k
+    character(len=16) :: buf
+    txt = ''
+    do k = 1, size(res)
+      write (buf, '(es10.3)') res(k)
+      txt = txt // trim(adjustl(buf)) // merge(', ', '  ', k < size(res))
+    end do
+    txt = trim(txt)
+  end function history_text
+
+  !> The progress line on stderr (runs longer than 2 s, at most once a second).
+  subroutine progress(nsteps, step, t, c0, crate, clast)
+    integer, intent(in) :: nsteps, step
+    real(dp), intent(in) :: t
+    integer(8), intent(in) :: c0, crate
+    integer(8), intent(inout) :: clast
+    integer(8) :: c1
+    real(dp) :: el, eta
+    call system_clock(c1)
+    if (real(c1 - c0, dp) / crate < 2.0_dp .or. real(c1 - clast, dp) / crate < 1.0_dp) return
+    clast = c1
+    el = real(c1 - c0, dp) / crate
+    eta = el * (nsteps - step) / step
+    write (0, '(a,i0,a,i0,a,es11.4,a,f5.1,a,f9.1,a)', advance='no') achar(13) // 'step ', step, '/', nsteps, &
+      '  t = ', t, '  (', 100.0_dp * step / nsteps, ' %)  ETA ', eta, ' s   '
+  end subroutine progress
 end module newmark
