@@ -11,6 +11,7 @@ module assembly
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
   use material_law, only: law_update, law_is_linear, law_nstate, law_stored, law_elastic_matrix
+  use subincrement, only: correction_stress
   use checkpoint, only: ckpt_file_t
   implicit none
   private
@@ -534,7 +535,7 @@ contains
           ! Eq (9): the correction stress, only where the law was sub-incremented.
           if (nused > 0 .and. correct) then
             any_c = .true.
-            sc(1:nstr) = 2.0_dp * sbar(1:nstr) - (sys%sig(1:nstr, igp) + sys%sig_t(1:nstr, igp))
+            call correction_stress(sbar(1:nstr), sys%sig(1:nstr, igp), sys%sig_t(1:nstr, igp), sc(1:nstr))
             call add_btsig(nstr, ndof, sys%bmat(p), sc, w, fc)
           end if
         end do

@@ -7,9 +7,17 @@
 !> which the AUTO rule inverts to pick N for a relative tolerance.
 module law_nonlinear_elastic
   use kinds, only: dp
+  use subincrement, only: return_map_t, subincrement_path
   implicit none
   private
-  public :: nle_stress, nle_tangent, nle_energy, nle_path, nle_auto_nsub, NLE_RTOL, NLE_NMAX
+  public :: nle_stress, nle_tangent, nle_energy, nle_path, nle_auto_nsub, nle_map_t, NLE_RTOL, NLE_NMAX
+
+  !> The law's one-step map: the stress of the strain at the end of the sub-increment.
+  type, extends(return_map_t) :: nle_map_t
+    real(dp) :: e = 0.0_dp, b = 0.0_dp
+  contains
+    procedure :: step => nle_step
+  end type nle_map_t
 
   real(dp), parameter :: NLE_RTOL = 1.0e-4_dp  !< AUTO: target |W_N - W| / (|deps| max|sigma|)
   integer, parameter :: NLE_NMAX = 100         !< AUTO: largest number of sub-increments
@@ -45,21 +53,27 @@ contains
     end if
   end function nle_auto_nsub
 
-  !> Straight path eps_n -> eps_n + deps in nsub >= 1 equal sub-increments: end stress, trapezoid
-  !> mean stress (sigma_0 = sig_n as given) and the consistent tangent dsig/ddeps (exact).
+  !> One sub-increment (return_map_t): sigma(e_end), no plastic strain, the exact tangent.
+  pure subroutine nle_step(self, e_end, de, s0, q0, s1, q1, dep, dtan)
+    class(nle_map_t), intent(in) :: self
+    real(dp), intent(in) :: e_end(:), de(:), s0(:), q0(:)
+    real(dp), intent(out) :: s1(:), q1(:), dep(:), dtan(:, :)
+    s1(1) = nle_stress(self%e, self%b, e_end(1))
+    dep(1) = 0.0_dp
+    dtan(1, 1) = nle_tangent(self%e, self%b, e_end(1))
+  end subroutine nle_step
+
+  !> Straight path eps_n -> eps_n + deps in nsub >= 1 equal sub-increments (subincrement_path):
+  !> end stress, trapezoid mean stress (sigma_0 = sig_n as given) and the consistent tangent
+  !> dsig/ddeps (exact).
   pure subroutine nle_path(e, b, nsub, eps_n, deps, sig_n, sig, sigbar, et)
     real(dp), intent(in) :: e, b, eps_n, deps, sig_n
     integer, intent(in) :: nsub
     real(dp), intent(out) :: sig, sigbar, et
-    real(dp) :: s
-    integer :: k, n
-    n = max(1, nsub)
-    s = 0.5_dp * sig_n
-    do k = 1, n - 1
-      s = s + nle_stress(e, b, eps_n + deps * (real(k, dp) / real(n, dp)))
-    end do
-    sig = nle_stress(e, b, eps_n + deps)
-    sigbar = (s + 0.5_dp * sig) / real(n, dp)
-    et = nle_tangent(e, b, eps_n + deps)
+    real(dp) :: s(1), sb(1), t(1, 1), q_n(0), q(0), dis
+    call subincrement_path(nle_map_t(e, b), max(1, nsub), [eps_n], [deps], [sig_n], q_n, s, sb, q, dis, t)
+    sig = s(1)
+    sigbar = sb(1)
+    et = t(1, 1)
   end subroutine nle_path
 end module law_nonlinear_elastic

@@ -7,10 +7,18 @@
 !> H = h_iso + h_kin). For springs read force for stress and elongation for strain.
 module law_plastic_1d
   use kinds, only: dp
+  use subincrement, only: return_map_t, subincrement_path
   implicit none
   private
-  public :: P1D_NSTATE, plastic_1d_return, plastic_1d_inside, plastic_1d_path
+  public :: P1D_NSTATE, plastic_1d_return, plastic_1d_inside, plastic_1d_path, plastic_1d_map_t
   public :: plastic_auto_nsub, AUTO_ALPHA, AUTO_NMAX
+
+  !> The law's one-step map for the sub-incrementation: plastic_1d_return.
+  type, extends(return_map_t) :: plastic_1d_map_t
+    real(dp) :: e = 0.0_dp, sy = 0.0_dp, hi = 0.0_dp, hk = 0.0_dp
+  contains
+    procedure :: step => plastic_1d_step
+  end type plastic_1d_map_t
 
   integer, parameter :: P1D_NSTATE = 3
   !> AUTO rule of the plastic laws: N = clamp(ceil(r / AUTO_ALPHA), 1, AUTO_NMAX), with r the
@@ -62,18 +70,25 @@ contains
     end if
   end subroutine plastic_1d_return
 
+  !> One sub-increment (return_map_t): the closed-form return of plastic_1d_return.
+  pure subroutine plastic_1d_step(self, e_end, de, s0, q0, s1, q1, dep, dtan)
+    class(plastic_1d_map_t), intent(in) :: self
+    real(dp), intent(in) :: e_end(:), de(:), s0(:), q0(:)
+    real(dp), intent(out) :: s1(:), q1(:), dep(:), dtan(:, :)
+    call plastic_1d_return(self%e, self%sy, self%hi, self%hk, s0(1), q0, de(1), s1(1), q1, dep(1), dtan(1, 1))
+  end subroutine plastic_1d_step
+
   !> Straight strain path deps in nsub >= 1 sub-increments. If the whole step is elastic
   !> (plastic_1d_inside) nothing is sub-incremented: sig = sig_n + e deps, sigbar the exact chord
-  !> midpoint, nused = 0. Otherwise sigbar is the trapezoid mean of sigma_0 = sig_n .. sigma_N and
-  !> dissip the trapezoid sum of sigma . dep over the sub-increments; nused = nsub; et is the
-  !> tangent of the last sub-increment.
+  !> midpoint, nused = 0. Otherwise subincrement_path gives sigbar, the trapezoid mean of
+  !> sigma_0 = sig_n .. sigma_N, and dissip, the trapezoid sum of sigma . dep over the
+  !> sub-increments; nused = nsub; et is the tangent of the last sub-increment.
   pure subroutine plastic_1d_path(e, sy, hi, hk, nsub, sig_n, q_n, deps, sig, sigbar, q, dissip, nused, et)
     real(dp), intent(in) :: e, sy, hi, hk, sig_n, q_n(:), deps
     integer, intent(in) :: nsub
     real(dp), intent(out) :: sig, sigbar, q(:), dissip, et
     integer, intent(out) :: nused
-    real(dp) :: s0, s1, dep, acc, qk(P1D_NSTATE), de
-    integer :: k
+    real(dp) :: s(1), sb(1), t(1, 1)
     if (plastic_1d_inside(e, sy, hi, sig_n, q_n, deps)) then
       sig = sig_n + e * deps
       sigbar = 0.5_dp * (sig_n + sig)
@@ -84,19 +99,10 @@ contains
       return
     end if
     nused = max(1, nsub)
-    de = deps / real(nused, dp)
-    s0 = sig_n
-    qk = q_n(1:P1D_NSTATE)
-    acc = 0.5_dp * sig_n
-    dissip = 0.0_dp
-    do k = 1, nused
-      call plastic_1d_return(e, sy, hi, hk, s0, qk, de, s1, q, dep, et)
-      dissip = dissip + 0.5_dp * (s0 + s1) * dep
-      if (k < nused) acc = acc + s1
-      s0 = s1
-      qk = q(1:P1D_NSTATE)
-    end do
-    sig = s1
-    sigbar = (acc + 0.5_dp * s1) / real(nused, dp)
+    call subincrement_path(plastic_1d_map_t(e, sy, hi, hk), nused, [0.0_dp], [deps], [sig_n], q_n, s, sb, &
+      q(1:P1D_NSTATE), dissip, t)
+    sig = s(1)
+    sigbar = sb(1)
+    et = t(1, 1)
   end subroutine plastic_1d_path
 end module law_plastic_1d

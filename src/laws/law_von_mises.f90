@@ -15,13 +15,22 @@
 !> plane strain).
 module law_von_mises
   use kinds, only: dp
+  use subincrement, only: return_map_t, subincrement_path
   implicit none
   private
-  public :: VM_NSTATE, vm_d3, vm_dps, vm_return, vm_path, vm_trial_ratio, vm_stored, vm_dev, vm_norm
+  public :: VM_NSTATE, vm_d3, vm_dps, vm_return, vm_path, vm_trial_ratio, vm_stored, vm_dev, vm_norm, vm_map_t
 
   integer, parameter :: VM_NSTATE = 10
   integer, parameter :: PS_MAXIT = 50                 !< plane stress: Newton iterations on ezz
   real(dp), parameter :: PS_RTOL = 1.0e-13_dp         !< plane stress: |szz| <= PS_RTOL (sy + |sigma|)
+
+  !> The law's one-step map for the sub-incrementation.
+  type, extends(return_map_t) :: vm_map_t
+    real(dp) :: e = 0.0_dp, nu = 0.0_dp, sy = 0.0_dp, hi = 0.0_dp, hk = 0.0_dp
+    logical :: plane_stress = .false.
+  contains
+    procedure :: step => vm_step
+  end type vm_map_t
 
 contains
 
@@ -157,10 +166,27 @@ contains
     end do
   end subroutine vm_return_ps
 
+  !> One sub-increment (return_map_t): vm_return, or vm_return_ps in plane stress (whose
+  !> through-thickness strain is an unknown: de(3) is not used).
+  pure subroutine vm_step(self, e_end, de, s0, q0, s1, q1, dep, dtan)
+    class(vm_map_t), intent(in) :: self
+    real(dp), intent(in) :: e_end(:), de(:), s0(:), q0(:)
+    real(dp), intent(out) :: s1(:), q1(:), dep(:), dtan(:, :)
+    real(dp) :: d(4)
+    d = de(1:4)
+    if (self%plane_stress) then
+      d(3) = 0.0_dp
+      call vm_return_ps(self%e, self%nu, self%sy, self%hi, self%hk, s0, q0, d, s1, q1, dep, dtan)
+    else
+      call vm_return(self%e, self%nu, self%sy, self%hi, self%hk, s0, q0, d, s1, q1, dep, dtan)
+    end if
+  end subroutine vm_step
+
   !> Straight strain path deps in nsub >= 1 sub-increments (see law_plastic_1d's plastic_1d_path
   !> for the conventions): whole-step elastic check with the elastic matrix d_el (plane strain or
-  !> plane stress D) and the frozen state -> exact chord, nused = 0; else trapezoid mean stress,
-  !> trapezoid dissipation sum 1/2 (sig_{k-1} + sig_k) . dep_k, tangent of the last sub-increment.
+  !> plane stress D) and the frozen state -> exact chord, nused = 0; else subincrement_path:
+  !> trapezoid mean stress, trapezoid dissipation sum 1/2 (sig_{k-1} + sig_k) . dep_k, tangent of
+  !> the last sub-increment.
   pure subroutine vm_path(e, nu, sy, hi, hk, plane_stress, nsub, d_el, sig_n, q_n, deps, &
                           sig, sigbar, q, dissip, nused, dtan)
     real(dp), intent(in) :: e, nu, sy, hi, hk, d_el(4, 4), sig_n(4), q_n(:), deps(4)
@@ -168,8 +194,6 @@ contains
     integer, intent(in) :: nsub
     real(dp), intent(out) :: sig(4), sigbar(4), q(:), dissip, dtan(4, 4)
     integer, intent(out) :: nused
-    real(dp) :: s0(4), s1(4), qk(VM_NSTATE), acc(4), dep(4), de(4)
-    integer :: k
     sig = sig_n + matmul(d_el, deps)
     if (sqrt(1.5_dp) * vm_norm(vm_dev(sig) - q_n(6:9)) - (sy + hi * q_n(5)) <= 0.0_dp) then
       sigbar = 0.5_dp * (sig_n + sig)
@@ -181,24 +205,7 @@ contains
       return
     end if
     nused = max(1, nsub)
-    de = deps / real(nused, dp)
-    if (plane_stress) de(3) = 0.0_dp
-    s0 = sig_n
-    qk = q_n(1:VM_NSTATE)
-    acc = 0.5_dp * sig_n
-    dissip = 0.0_dp
-    do k = 1, nused
-      if (plane_stress) then
-        call vm_return_ps(e, nu, sy, hi, hk, s0, qk, de, s1, q, dep, dtan)
-      else
-        call vm_return(e, nu, sy, hi, hk, s0, qk, de, s1, q, dep, dtan)
-      end if
-      dissip = dissip + 0.5_dp * dot_product(s0 + s1, dep)
-      if (k < nused) acc = acc + s1
-      s0 = s1
-      qk = q(1:VM_NSTATE)
-    end do
-    sig = s1
-    sigbar = (acc + 0.5_dp * s1) / real(nused, dp)
+    call subincrement_path(vm_map_t(e, nu, sy, hi, hk, plane_stress), nused, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
+      deps, sig_n, q_n, sig, sigbar, q(1:VM_NSTATE), dissip, dtan)
   end subroutine vm_path
 end module law_von_mises

@@ -1,0 +1,69 @@
+!> The sub-incrementation of method.md section 2, written once for every law: a law gives its
+!> one-step map (return_map_t), this module integrates it along the straight strain path
+!> ε(s) = ε(n) + s Δε of a step in N equal sub-increments and forms the path-mean stress
+!>     σ̄ = (1/N) [ σ0/2 + σ1 + … + σ(N-1) + σN/2 ]
+!> and the plastic work (trapezoid of σ·Δεp over the sub-increments); correction_stress forms
+!> the σc of eq (9). material_law calls it for the spring, bar and quad laws, beam_fibre for
+!> each layer of a fibre section.
+module subincrement
+  use kinds, only: dp
+  implicit none
+  private
+  public :: return_map_t, subincrement_path, correction_stress
+
+  !> What a law supplies: one sub-increment of its constitutive update.
+  type, abstract :: return_map_t
+  contains
+    procedure(step_i), deferred :: step
+  end type return_map_t
+
+  abstract interface
+    !> One sub-increment: from the stress s0 and internal variables q0 at its start and the
+    !> strain increment de (e_end = the total strain at its end, for laws whose stress is a
+    !> function of the strain), the stress s1 and variables q1 at its end, the plastic strain
+    !> increment dep and the consistent tangent dtan = dσ/dε of the sub-increment.
+    pure subroutine step_i(self, e_end, de, s0, q0, s1, q1, dep, dtan)
+      import :: return_map_t, dp
+      class(return_map_t), intent(in) :: self
+      real(dp), intent(in) :: e_end(:), de(:), s0(:), q0(:)
+      real(dp), intent(out) :: s1(:), q1(:), dep(:), dtan(:, :)
+    end subroutine step_i
+  end interface
+
+contains
+
+  !> The path of one step in n >= 1 sub-increments: end stress sig, internal variables q, the
+  !> path-mean stress sigbar (trapezoid rule over σ0 = sig_n … σN = sig), the plastic work
+  !> dissip = Σ_k ½ (σ(k-1) + σk)·Δεp_k and the tangent of the last sub-increment. The total
+  !> strain at the end of sub-increment k is eps_n + (k/n) deps (exactly eps_n + deps at k = n).
+  pure subroutine subincrement_path(map, n, eps_n, deps, sig_n, q_n, sig, sigbar, q, dissip, dtan)
+    class(return_map_t), intent(in) :: map
+    integer, intent(in) :: n
+    real(dp), intent(in) :: eps_n(:), deps(:), sig_n(:), q_n(:)
+    real(dp), intent(out) :: sig(:), sigbar(:), q(:), dissip, dtan(:, :)
+    real(dp) :: s0(size(sig)), acc(size(sig)), dep(size(sig)), de(size(sig)), ek(size(sig)), qk(size(q))
+    integer :: k
+    de = deps / real(n, dp)
+    s0 = sig_n
+    qk = q_n(1:size(q))
+    acc = 0.5_dp * sig_n
+    dissip = 0.0_dp
+    do k = 1, n
+      ek = eps_n + deps * (real(k, dp) / real(n, dp))
+      call map%step(ek, de, s0, qk, sig, q, dep, dtan)
+      dissip = dissip + 0.5_dp * dot_product(s0 + sig, dep)
+      if (k < n) acc = acc + sig
+      s0 = sig
+      qk = q
+    end do
+    sigbar = (acc + 0.5_dp * sig) / real(n, dp)
+  end subroutine subincrement_path
+
+  !> Eq (9): σc = 2 σ̄ - (σ(n) + σ(n+1)), twice the mean deviation of the path from its chord;
+  !> Bσc on the left of (9) cancels the energy the trapezoid rule invents (the lunule).
+  pure subroutine correction_stress(sigbar, sig_n, sig, sc)
+    real(dp), intent(in) :: sigbar(:), sig_n(:), sig(:)
+    real(dp), intent(out) :: sc(:)
+    sc = 2.0_dp * sigbar - (sig_n + sig)
+  end subroutine correction_stress
+end module subincrement
