@@ -9,7 +9,12 @@ module subincrement
   use kinds, only: dp
   implicit none
   private
-  public :: return_map_t, subincrement_path, correction_stress
+  public :: return_map_t, subincrement_path, correction_stress, MAX_COMPONENTS, MAX_STATE
+
+  !> Largest stress and internal-variable vectors of a point: the locals are fixed-size (no
+  !> allocation at the integration points); every law is within them (1D: 1 and 3, quads: 4
+  !> and 10), a larger one is out of bounds (make check-debug).
+  integer, parameter :: MAX_COMPONENTS = 4, MAX_STATE = 16
 
   !> What a law supplies: one sub-increment of its constitutive update.
   type, abstract :: return_map_t
@@ -41,22 +46,25 @@ contains
     integer, intent(in) :: n
     real(dp), intent(in) :: eps_n(:), deps(:), sig_n(:), q_n(:)
     real(dp), intent(out) :: sig(:), sigbar(:), q(:), dissip, dtan(:, :)
-    real(dp) :: s0(size(sig)), acc(size(sig)), dep(size(sig)), de(size(sig)), ek(size(sig)), qk(size(q))
-    integer :: k
-    de = deps / real(n, dp)
-    s0 = sig_n
-    qk = q_n(1:size(q))
-    acc = 0.5_dp * sig_n
+    real(dp) :: s0(MAX_COMPONENTS), acc(MAX_COMPONENTS), dep(MAX_COMPONENTS), de(MAX_COMPONENTS), &
+      ek(MAX_COMPONENTS), qk(MAX_STATE)
+    integer :: k, ns, nq
+    ns = size(sig)
+    nq = size(q)
+    de(1:ns) = deps / real(n, dp)
+    s0(1:ns) = sig_n
+    qk(1:nq) = q_n(1:nq)
+    acc(1:ns) = 0.5_dp * sig_n
     dissip = 0.0_dp
     do k = 1, n
-      ek = eps_n + deps * (real(k, dp) / real(n, dp))
-      call map%step(ek, de, s0, qk, sig, q, dep, dtan)
-      dissip = dissip + 0.5_dp * dot_product(s0 + sig, dep)
-      if (k < n) acc = acc + sig
-      s0 = sig
-      qk = q
+      ek(1:ns) = eps_n + deps * (real(k, dp) / real(n, dp))
+      call map%step(ek(1:ns), de(1:ns), s0(1:ns), qk(1:nq), sig, q, dep(1:ns), dtan)
+      dissip = dissip + 0.5_dp * dot_product(s0(1:ns) + sig, dep(1:ns))
+      if (k < n) acc(1:ns) = acc(1:ns) + sig
+      s0(1:ns) = sig
+      qk(1:nq) = q
     end do
-    sigbar = (acc + 0.5_dp * sig) / real(n, dp)
+    sigbar = (acc(1:ns) + 0.5_dp * sig) / real(n, dp)
   end subroutine subincrement_path
 
   !> Eq (9): σc = 2 σ̄ - (σ(n) + σ(n+1)), twice the mean deviation of the path from its chord;
