@@ -546,7 +546,7 @@ contains
     real(dp), intent(in) :: lam(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, p
+    integer :: j
     logical :: cached
     stat = STAT_OK
     cached = .true.

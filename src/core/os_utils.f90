@@ -3,72 +3,13 @@
 module os_utils
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_ptr, c_null_char, c_associated
   use errors, only: STAT_OK, STAT_RUN, set_error
+  use c_interfaces, only: c_rename, c_mkdir, c_access, c_opendir, c_closedir, c_rmdir, c_install_signals, &
+    c_signal_received, c_exit, c_remove
   implicit none
   private
   public :: os_rename, make_directory, path_exists, is_directory, remove_file, remove_directory
   public :: install_signal_handlers, signal_received, path_stem, exit_with
 
-  interface
-    function c_rename(from, to) bind(c, name='rename') result(rc)
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: from(*), to(*)
-      integer(c_int) :: rc
-    end function c_rename
-
-    function c_mkdir(path, mode) bind(c, name='mkdir') result(rc)
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: path(*)
-      integer(c_int), value :: mode   ! mode_t is a 32-bit unsigned int on Linux
-      integer(c_int) :: rc
-    end function c_mkdir
-
-    function c_access(path, mode) bind(c, name='access') result(rc)
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: path(*)
-      integer(c_int), value :: mode
-      integer(c_int) :: rc
-    end function c_access
-
-    function c_opendir(path) bind(c, name='opendir') result(dir)
-      import :: c_char, c_ptr
-      character(kind=c_char), intent(in) :: path(*)
-      type(c_ptr) :: dir
-    end function c_opendir
-
-    function c_closedir(dir) bind(c, name='closedir') result(rc)
-      import :: c_ptr, c_int
-      type(c_ptr), value :: dir
-      integer(c_int) :: rc
-    end function c_closedir
-
-    function c_rmdir(path) bind(c, name='rmdir') result(rc)
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: path(*)
-      integer(c_int) :: rc
-    end function c_rmdir
-
-    ! src/os_shim.c: SIGINT/SIGTERM only raise a flag, polled by the time loop.
-    function c_install_signals() bind(c, name='rebond_install_signal_handlers') result(rc)
-      import :: c_int
-      integer(c_int) :: rc
-    end function c_install_signals
-
-    function c_signal_received() bind(c, name='rebond_signal_received') result(sig)
-      import :: c_int
-      integer(c_int) :: sig
-    end function c_signal_received
-
-    subroutine c_exit(status) bind(c, name='rebond_exit')
-      import :: c_int
-      integer(c_int), value :: status
-    end subroutine c_exit
-
-    function c_remove(path) bind(c, name='remove') result(rc)
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: path(*)
-      integer(c_int) :: rc
-    end function c_remove
-  end interface
 
   integer(c_int), parameter :: F_OK = 0_c_int
   integer(c_int), parameter :: MODE_0755 = int(o'755', c_int)

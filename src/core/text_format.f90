@@ -5,21 +5,13 @@
 module text_format
   use, intrinsic :: iso_c_binding, only: c_double, c_char, c_int
   use kinds, only: dp
+  use c_interfaces, only: rb_format_es
   implicit none
   private
   public :: put_es, put_int, put_text, ES_MAX_LEN
 
   !> Longest text put_es writes: sign, 17 digits, the point, E, sign, 3 exponent digits.
   integer, parameter :: ES_MAX_LEN = 24
-
-  interface
-    function rb_format_es(x, out) bind(c, name='rb_format_es') result(n)
-      import :: c_double, c_char, c_int
-      real(c_double), value :: x
-      character(kind=c_char), intent(out) :: out(*)
-      integer(c_int) :: n
-    end function rb_format_es
-  end interface
 
 contains
 

@@ -23,6 +23,9 @@ module cholmod_binding
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use sparse_matrix, only: sym_csc_t
+  use c_interfaces, only: rb_chol_new, rb_chol_free, rb_chol_is_factored, rb_chol_version, rb_chol_factorize, &
+    rb_chol_solve, rb_umf_new, rb_umf_free, rb_umf_is_factored, rb_umf_version, rb_umf_analyze, rb_umf_factorize, &
+    rb_umf_solve
   implicit none
   private
   public :: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version
@@ -54,105 +57,6 @@ module cholmod_binding
   integer(c_int), parameter :: RB_OK = 0, RB_NOT_POSDEF = 1, RB_FAIL = 2, RB_BADARG = 3
   integer(c_int), parameter :: RB_UMF_OK = 0, RB_UMF_SINGULAR = 1, RB_UMF_FAIL = 2, RB_UMF_BADARG = 3
   integer, parameter :: MSGLEN = 320
-
-  interface
-    function rb_chol_new() bind(c, name='rb_chol_new') result(h)
-      import :: c_ptr
-      type(c_ptr) :: h
-    end function rb_chol_new
-
-    subroutine rb_chol_free(h) bind(c, name='rb_chol_free')
-      import :: c_ptr
-      type(c_ptr), value :: h
-    end subroutine rb_chol_free
-
-    function rb_chol_is_factored(h) bind(c, name='rb_chol_is_factored') result(r)
-      import :: c_ptr, c_int
-      type(c_ptr), value :: h
-      integer(c_int) :: r
-    end function rb_chol_is_factored
-
-    subroutine rb_chol_version(v) bind(c, name='rb_chol_version')
-      import :: c_int
-      integer(c_int), intent(out) :: v(3)
-    end subroutine rb_chol_version
-
-    function rb_chol_factorize(h, n, nnz, colptr, rowind, values, minor, msg, msglen) &
-        bind(c, name='rb_chol_factorize') result(rc)
-      import :: c_ptr, c_int, c_double, c_char
-      type(c_ptr), value :: h
-      integer(c_int), value :: n, nnz
-      integer(c_int), intent(in) :: colptr(*), rowind(*)
-      real(c_double), intent(in) :: values(*)
-      integer(c_int), intent(out) :: minor
-      character(kind=c_char), intent(inout) :: msg(*)
-      integer(c_int), value :: msglen
-      integer(c_int) :: rc
-    end function rb_chol_factorize
-
-    function rb_chol_solve(h, n, b, x, msg, msglen) bind(c, name='rb_chol_solve') result(rc)
-      import :: c_ptr, c_int, c_double, c_char
-      type(c_ptr), value :: h
-      integer(c_int), value :: n
-      real(c_double), intent(in) :: b(*)
-      real(c_double), intent(inout) :: x(*)
-      character(kind=c_char), intent(inout) :: msg(*)
-      integer(c_int), value :: msglen
-      integer(c_int) :: rc
-    end function rb_chol_solve
-
-    function rb_umf_new() bind(c, name='rb_umf_new') result(h)
-      import :: c_ptr
-      type(c_ptr) :: h
-    end function rb_umf_new
-
-    subroutine rb_umf_free(h) bind(c, name='rb_umf_free')
-      import :: c_ptr
-      type(c_ptr), value :: h
-    end subroutine rb_umf_free
-
-    function rb_umf_is_factored(h) bind(c, name='rb_umf_is_factored') result(r)
-      import :: c_ptr, c_int
-      type(c_ptr), value :: h
-      integer(c_int) :: r
-    end function rb_umf_is_factored
-
-    subroutine rb_umf_version(v) bind(c, name='rb_umf_version')
-      import :: c_int
-      integer(c_int), intent(out) :: v(3)
-    end subroutine rb_umf_version
-
-    function rb_umf_analyze(h, n, nnz, colptr0, rowind0, msg, msglen) bind(c, name='rb_umf_analyze') result(rc)
-      import :: c_ptr, c_int, c_char
-      type(c_ptr), value :: h
-      integer(c_int), value :: n, nnz
-      integer(c_int), intent(in) :: colptr0(*), rowind0(*)
-      character(kind=c_char), intent(inout) :: msg(*)
-      integer(c_int), value :: msglen
-      integer(c_int) :: rc
-    end function rb_umf_analyze
-
-    function rb_umf_factorize(h, nnz, values, msg, msglen) bind(c, name='rb_umf_factorize') result(rc)
-      import :: c_ptr, c_int, c_double, c_char
-      type(c_ptr), value :: h
-      integer(c_int), value :: nnz
-      real(c_double), intent(in) :: values(*)
-      character(kind=c_char), intent(inout) :: msg(*)
-      integer(c_int), value :: msglen
-      integer(c_int) :: rc
-    end function rb_umf_factorize
-
-    function rb_umf_solve(h, n, b, x, msg, msglen) bind(c, name='rb_umf_solve') result(rc)
-      import :: c_ptr, c_int, c_double, c_char
-      type(c_ptr), value :: h
-      integer(c_int), value :: n
-      real(c_double), intent(in) :: b(*)
-      real(c_double), intent(inout) :: x(*)
-      character(kind=c_char), intent(inout) :: msg(*)
-      integer(c_int), value :: msglen
-      integer(c_int) :: rc
-    end function rb_umf_solve
-  end interface
 
 contains
 

@@ -26,6 +26,7 @@ module sweep
                         MK_APEX, MK_PROBE, CS_OK, CS_INPUT_ERROR, CS_RUN_ERROR, CS_METRIC_ERROR
   use sweep_metrics, only: case_metrics, nan_value
   use sweep_output, only: apply_reference, write_sweep_csv, write_sweep_h5, seconds_text
+  use c_interfaces, only: c_usleep
   implicit none
   private
   public :: run_sweep, case_cost_order
@@ -33,14 +34,6 @@ module sweep
   integer, parameter :: TAG_READY = 1, TAG_RESULT = 2, TAG_MESSAGE = 3, TAG_WORK = 4
   !> Longest message sent back from a worker.
   integer, parameter :: MAX_MESSAGE = 2000
-
-  interface
-    function c_usleep(usec) bind(c, name='usleep') result(rc)
-      import :: c_int
-      integer(c_int), value :: usec
-      integer(c_int) :: rc
-    end function c_usleep
-  end interface
 
 contains
 

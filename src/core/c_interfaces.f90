@@ -1,0 +1,187 @@
+!> Every C function rebond calls, in one place: the few POSIX calls Fortran 2008 lacks (libc),
+!> and rebond's own C (src/core/os_shim.c: signals, exit; src/core/format_shim.c: the digits of
+!> ES24.16E3; src/linalg/cholmod_shim.c and umfpack_shim.c: the SuiteSparse handles). The
+!> modules that wrap them (os_utils, text_format, cholmod_binding, sweep) translate their
+!> status codes; nothing else calls C.
+module c_interfaces
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_int, c_double, c_char
+  implicit none
+  private
+  public :: c_rename, c_mkdir, c_access, c_opendir, c_closedir, c_rmdir, c_install_signals, &
+    c_signal_received, c_exit, c_remove, rb_format_es, rb_chol_new, rb_chol_free, rb_chol_is_factored, &
+    rb_chol_version, rb_chol_factorize, rb_chol_solve, rb_umf_new, rb_umf_free, rb_umf_is_factored, &
+    rb_umf_version, rb_umf_analyze, rb_umf_factorize, rb_umf_solve, c_usleep
+
+  interface
+    ! libc and os_shim.c (os_utils)
+    function c_rename(from, to) bind(c, name='rename') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: from(*), to(*)
+      integer(c_int) :: rc
+    end function c_rename
+
+    function c_mkdir(path, mode) bind(c, name='mkdir') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: mode   ! mode_t is a 32-bit unsigned int on Linux
+      integer(c_int) :: rc
+    end function c_mkdir
+
+    function c_access(path, mode) bind(c, name='access') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: mode
+      integer(c_int) :: rc
+    end function c_access
+
+    function c_opendir(path) bind(c, name='opendir') result(dir)
+      import :: c_char, c_ptr
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr) :: dir
+    end function c_opendir
+
+    function c_closedir(dir) bind(c, name='closedir') result(rc)
+      import :: c_ptr, c_int
+      type(c_ptr), value :: dir
+      integer(c_int) :: rc
+    end function c_closedir
+
+    function c_rmdir(path) bind(c, name='rmdir') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: rc
+    end function c_rmdir
+
+    ! src/os_shim.c: SIGINT/SIGTERM only raise a flag, polled by the time loop.
+    function c_install_signals() bind(c, name='rebond_install_signal_handlers') result(rc)
+      import :: c_int
+      integer(c_int) :: rc
+    end function c_install_signals
+
+    function c_signal_received() bind(c, name='rebond_signal_received') result(sig)
+      import :: c_int
+      integer(c_int) :: sig
+    end function c_signal_received
+
+    subroutine c_exit(status) bind(c, name='rebond_exit')
+      import :: c_int
+      integer(c_int), value :: status
+    end subroutine c_exit
+
+    function c_remove(path) bind(c, name='remove') result(rc)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: rc
+    end function c_remove
+    ! format_shim.c (text_format)
+    function rb_format_es(x, out) bind(c, name='rb_format_es') result(n)
+      import :: c_double, c_char, c_int
+      real(c_double), value :: x
+      character(kind=c_char), intent(out) :: out(*)
+      integer(c_int) :: n
+    end function rb_format_es
+    ! cholmod_shim.c and umfpack_shim.c (cholmod_binding)
+    function rb_chol_new() bind(c, name='rb_chol_new') result(h)
+      import :: c_ptr
+      type(c_ptr) :: h
+    end function rb_chol_new
+
+    subroutine rb_chol_free(h) bind(c, name='rb_chol_free')
+      import :: c_ptr
+      type(c_ptr), value :: h
+    end subroutine rb_chol_free
+
+    function rb_chol_is_factored(h) bind(c, name='rb_chol_is_factored') result(r)
+      import :: c_ptr, c_int
+      type(c_ptr), value :: h
+      integer(c_int) :: r
+    end function rb_chol_is_factored
+
+    subroutine rb_chol_version(v) bind(c, name='rb_chol_version')
+      import :: c_int
+      integer(c_int), intent(out) :: v(3)
+    end subroutine rb_chol_version
+
+    function rb_chol_factorize(h, n, nnz, colptr, rowind, values, minor, msg, msglen) &
+        bind(c, name='rb_chol_factorize') result(rc)
+      import :: c_ptr, c_int, c_double, c_char
+      type(c_ptr), value :: h
+      integer(c_int), value :: n, nnz
+      integer(c_int), intent(in) :: colptr(*), rowind(*)
+      real(c_double), intent(in) :: values(*)
+      integer(c_int), intent(out) :: minor
+      character(kind=c_char), intent(inout) :: msg(*)
+      integer(c_int), value :: msglen
+      integer(c_int) :: rc
+    end function rb_chol_factorize
+
+    function rb_chol_solve(h, n, b, x, msg, msglen) bind(c, name='rb_chol_solve') result(rc)
+      import :: c_ptr, c_int, c_double, c_char
+      type(c_ptr), value :: h
+      integer(c_int), value :: n
+      real(c_double), intent(in) :: b(*)
+      real(c_double), intent(inout) :: x(*)
+      character(kind=c_char), intent(inout) :: msg(*)
+      integer(c_int), value :: msglen
+      integer(c_int) :: rc
+    end function rb_chol_solve
+
+    function rb_umf_new() bind(c, name='rb_umf_new') result(h)
+      import :: c_ptr
+      type(c_ptr) :: h
+    end function rb_umf_new
+
+    subroutine rb_umf_free(h) bind(c, name='rb_umf_free')
+      import :: c_ptr
+      type(c_ptr), value :: h
+    end subroutine rb_umf_free
+
+    function rb_umf_is_factored(h) bind(c, name='rb_umf_is_factored') result(r)
+      import :: c_ptr, c_int
+      type(c_ptr), value :: h
+      integer(c_int) :: r
+    end function rb_umf_is_factored
+
+    subroutine rb_umf_version(v) bind(c, name='rb_umf_version')
+      import :: c_int
+      integer(c_int), intent(out) :: v(3)
+    end subroutine rb_umf_version
+
+    function rb_umf_analyze(h, n, nnz, colptr0, rowind0, msg, msglen) bind(c, name='rb_umf_analyze') result(rc)
+      import :: c_ptr, c_int, c_char
+      type(c_ptr), value :: h
+      integer(c_int), value :: n, nnz
+      integer(c_int), intent(in) :: colptr0(*), rowind0(*)
+      character(kind=c_char), intent(inout) :: msg(*)
+      integer(c_int), value :: msglen
+      integer(c_int) :: rc
+    end function rb_umf_analyze
+
+    function rb_umf_factorize(h, nnz, values, msg, msglen) bind(c, name='rb_umf_factorize') result(rc)
+      import :: c_ptr, c_int, c_double, c_char
+      type(c_ptr), value :: h
+      integer(c_int), value :: nnz
+      real(c_double), intent(in) :: values(*)
+      character(kind=c_char), intent(inout) :: msg(*)
+      integer(c_int), value :: msglen
+      integer(c_int) :: rc
+    end function rb_umf_factorize
+
+    function rb_umf_solve(h, n, b, x, msg, msglen) bind(c, name='rb_umf_solve') result(rc)
+      import :: c_ptr, c_int, c_double, c_char
+      type(c_ptr), value :: h
+      integer(c_int), value :: n
+      real(c_double), intent(in) :: b(*)
+      real(c_double), intent(inout) :: x(*)
+      character(kind=c_char), intent(inout) :: msg(*)
+      integer(c_int), value :: msglen
+      integer(c_int) :: rc
+    end function rb_umf_solve
+    ! libc (sweep)
+    function c_usleep(usec) bind(c, name='usleep') result(rc)
+      import :: c_int
+      integer(c_int), value :: usec
+      integer(c_int) :: rc
+    end function c_usleep
+  end interface
+end module c_interfaces
