@@ -24,15 +24,7 @@ module fields_hdf5
   use mesh, only: mesh_t, ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8
   use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic
   use os_utils, only: make_directory
-  use hdf5, only: hid_t, hsize_t, h5open_f, h5close_f, &
-                  h5fcreate_f, h5fclose_f, h5fflush_f, H5F_ACC_TRUNC_F, H5F_SCOPE_GLOBAL_F, &
-                  h5gcreate_f, h5gclose_f, h5lexists_f, &
-                  h5screate_simple_f, h5screate_f, h5sclose_f, h5sselect_hyperslab_f, &
-                  H5S_SCALAR_F, H5S_UNLIMITED_F, H5S_SELECT_SET_F, &
-                  h5dcreate_f, h5dopen_f, h5dclose_f, h5dwrite_f, h5dset_extent_f, h5dget_space_f, &
-                  h5acreate_f, h5awrite_f, h5aclose_f, &
-                  h5pcreate_f, h5pclose_f, h5pset_chunk_f, h5pset_file_locking_f, &
-                  H5P_FILE_ACCESS_F, H5P_DATASET_CREATE_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER
+  use hdf5_file, only: h5_file_t
   implicit none
   private
   public :: fields_writer_t, mixed_topology
@@ -43,15 +35,11 @@ module fields_hdf5
   integer, parameter :: XDMF_QUADRILATERAL_8 = 37
 
   character(len=*), parameter :: H5_NAME = 'fields.h5', XMF_NAME = 'fields.xmf'
-  integer(hsize_t), parameter :: SERIES_CHUNK = 256   ! chunk length of /times and /steps
-
-  !> Number of open writers; the HDF5 Fortran interface is opened by the first, closed by the last.
-  integer, save :: h5_users = 0
 
   type :: fields_writer_t
     private
     logical :: is_open = .false.
-    integer(hid_t) :: file_id = -1
+    type(h5_file_t) :: h5
     character(len=:), allocatable :: h5path, xmfpath, h5name
     integer :: nnode = 0, nelem = 0, ntopo = 0
     integer :: nsteps = 0
@@ -125,72 +113,6 @@ contains
     end select
   end subroutine cell_head
 
-  !> Record the first HDF5 failure (hdferr < 0) as STAT_RUN naming the operation and the file.
-  subroutine check_h5(hdferr, op, path, stat, errmsg)
-    integer, intent(in) :: hdferr
-    character(len=*), intent(in) :: op, path
-    integer, intent(inout) :: stat
-    character(len=:), allocatable, intent(inout) :: errmsg
-    if (hdferr < 0 .and. stat == STAT_OK) then
-      stat = STAT_RUN
-      errmsg = 'HDF5: cannot ' // op // ' in "' // path // '"'
-    end if
-  end subroutine check_h5
-
-  !> Write a new float64 dataset holding a(:, :) under loc.
-  subroutine write_real2(loc, where, name, a, path, stat, errmsg)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: where, name, path
-    real(dp), intent(in) :: a(:, :)
-    integer, intent(inout) :: stat
-    character(len=:), allocatable, intent(inout) :: errmsg
-    integer(hid_t) :: space, dset
-    integer(hsize_t) :: dims(2)
-    integer :: hdferr
-    if (stat /= STAT_OK) return
-    dims = shape(a, kind=hsize_t)
-    call h5screate_simple_f(2, dims, space, hdferr)
-    call check_h5(hdferr, 'create the dataspace of ' // where // '/' // name, path, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call h5dcreate_f(loc, name, H5T_NATIVE_DOUBLE, space, dset, hdferr)
-    call check_h5(hdferr, 'create dataset ' // where // '/' // name, path, stat, errmsg)
-    if (stat == STAT_OK) then
-      call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, a, dims, hdferr)
-      call check_h5(hdferr, 'write dataset ' // where // '/' // name, path, stat, errmsg)
-      call h5dclose_f(dset, hdferr)
-      call check_h5(hdferr, 'close dataset ' // where // '/' // name, path, stat, errmsg)
-    end if
-    call h5sclose_f(space, hdferr)
-    call check_h5(hdferr, 'close the dataspace of ' // where // '/' // name, path, stat, errmsg)
-  end subroutine write_real2
-
-  !> Write a new float64 dataset holding a(:) under loc.
-  subroutine write_real1(loc, where, name, a, path, stat, errmsg)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: where, name, path
-    real(dp), intent(in) :: a(:)
-    integer, intent(inout) :: stat
-    character(len=:), allocatable, intent(inout) :: errmsg
-    integer(hid_t) :: space, dset
-    integer(hsize_t) :: dims(1)
-    integer :: hdferr
-    if (stat /= STAT_OK) return
-    dims = shape(a, kind=hsize_t)
-    call h5screate_simple_f(1, dims, space, hdferr)
-    call check_h5(hdferr, 'create the dataspace of ' // where // '/' // name, path, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call h5dcreate_f(loc, name, H5T_NATIVE_DOUBLE, space, dset, hdferr)
-    call check_h5(hdferr, 'create dataset ' // where // '/' // name, path, stat, errmsg)
-    if (stat == STAT_OK) then
-      call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, a, dims, hdferr)
-      call check_h5(hdferr, 'write dataset ' // where // '/' // name, path, stat, errmsg)
-      call h5dclose_f(dset, hdferr)
-      call check_h5(hdferr, 'close dataset ' // where // '/' // name, path, stat, errmsg)
-    end if
-    call h5sclose_f(space, hdferr)
-    call check_h5(hdferr, 'close the dataspace of ' // where // '/' // name, path, stat, errmsg)
-  end subroutine write_real1
-
   !> Split nodal (UX, UY, RZ) columns into the in-plane 3-vector (UX, UY, 0) and the scalar RZ:
   !> a rotation stored as a z component would lift nodes out of the plane in a viewer's warp.
   pure subroutine split_planar(a, vec, rz)
@@ -203,155 +125,17 @@ contains
 
   !> Write a (UX, UY, RZ) field a as the 3-vector dataset vname and the scalar dataset sname,
   !> through the writer's work arrays.
-  subroutine write_planar(self, gid, where, a, vname, sname, stat, errmsg)
+  subroutine write_planar(self, grp, a, vname, sname, stat, errmsg)
     class(fields_writer_t), intent(inout) :: self
-    integer(hid_t), intent(in) :: gid
-    character(len=*), intent(in) :: where, vname, sname
+    character(len=*), intent(in) :: grp, vname, sname
     real(dp), intent(in) :: a(:, :)
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
     if (stat /= STAT_OK) return
     call split_planar(a, self%vec, self%rz)
-    call write_real2(gid, where, vname, self%vec, self%h5path, stat, errmsg)
-    call write_real1(gid, where, sname, self%rz, self%h5path, stat, errmsg)
+    call self%h5%write(grp // '/' // vname, self%vec, stat, errmsg)
+    call self%h5%write(grp // '/' // sname, self%rz, stat, errmsg)
   end subroutine write_planar
-
-  !> Write a new int32 dataset holding a(:) under loc.
-  subroutine write_int1(loc, where, name, a, path, stat, errmsg)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: where, name, path
-    integer, intent(in) :: a(:)
-    integer, intent(inout) :: stat
-    character(len=:), allocatable, intent(inout) :: errmsg
-    integer(hid_t) :: space, dset
-    integer(hsize_t) :: dims(1)
-    integer :: hdferr
-    if (stat /= STAT_OK) return
-    dims = shape(a, kind=hsize_t)
-    call h5screate_simple_f(1, dims, space, hdferr)
-    call check_h5(hdferr, 'create the dataspace of ' // where // '/' // name, path, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call h5dcreate_f(loc, name, H5T_NATIVE_INTEGER, space, dset, hdferr)
-    call check_h5(hdferr, 'create dataset ' // where // '/' // name, path, stat, errmsg)
-    if (stat == STAT_OK) then
-      call h5dwrite_f(dset, H5T_NATIVE_INTEGER, a, dims, hdferr)
-      call check_h5(hdferr, 'write dataset ' // where // '/' // name, path, stat, errmsg)
-      call h5dclose_f(dset, hdferr)
-      call check_h5(hdferr, 'close dataset ' // where // '/' // name, path, stat, errmsg)
-    end if
-    call h5sclose_f(space, hdferr)
-    call check_h5(hdferr, 'close the dataspace of ' // where // '/' // name, path, stat, errmsg)
-  end subroutine write_int1
-
-  !> Attach a scalar attribute (float64 if x is given, int32 if i is given) to loc.
-  subroutine write_attr(loc, where, name, path, stat, errmsg, x, i)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: where, name, path
-    integer, intent(inout) :: stat
-    character(len=:), allocatable, intent(inout) :: errmsg
-    real(dp), intent(in), optional :: x
-    integer, intent(in), optional :: i
-    integer(hid_t) :: space, attr, mtype
-    integer(hsize_t), parameter :: dims(1) = [1_hsize_t]
-    integer :: hdferr
-    if (stat /= STAT_OK) return
-    mtype = H5T_NATIVE_INTEGER
-    if (present(x)) mtype = H5T_NATIVE_DOUBLE
-    call h5screate_f(H5S_SCALAR_F, space, hdferr)
-    call check_h5(hdferr, 'create the dataspace of attribute ' // where // '@' // name, path, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call h5acreate_f(loc, name, mtype, space, attr, hdferr)
-    call check_h5(hdferr, 'create attribute ' // where // '@' // name, path, stat, errmsg)
-    if (stat == STAT_OK) then
-      if (present(x)) then
-        call h5awrite_f(attr, mtype, x, dims, hdferr)
-      else if (present(i)) then
-        call h5awrite_f(attr, mtype, i, dims, hdferr)
-      end if
-      call check_h5(hdferr, 'write attribute ' // where // '@' // name, path, stat, errmsg)
-      call h5aclose_f(attr, hdferr)
-      call check_h5(hdferr, 'close attribute ' // where // '@' // name, path, stat, errmsg)
-    end if
-    call h5sclose_f(space, hdferr)
-    call check_h5(hdferr, 'close the dataspace of attribute ' // where // '@' // name, path, stat, errmsg)
-  end subroutine write_attr
-
-  !> Create an empty, extendable 1-D dataset (float64 or int32) for a per-step series.
-  subroutine create_series(loc, name, mtype, path, stat, errmsg)
-    integer(hid_t), intent(in) :: loc, mtype
-    character(len=*), intent(in) :: name, path
-    integer, intent(inout) :: stat
-    character(len=:), allocatable, intent(inout) :: errmsg
-    integer(hid_t) :: space, dcpl, dset
-    integer :: hdferr
-    if (stat /= STAT_OK) return
-    call h5screate_simple_f(1, [0_hsize_t], space, hdferr, maxdims=[H5S_UNLIMITED_F])
-    call check_h5(hdferr, 'create the dataspace of /' // name, path, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call h5pcreate_f(H5P_DATASET_CREATE_F, dcpl, hdferr)
-    call check_h5(hdferr, 'create the creation properties of /' // name, path, stat, errmsg)
-    if (stat == STAT_OK) then
-      ! An unlimited dimension requires chunked storage.
-      call h5pset_chunk_f(dcpl, 1, [SERIES_CHUNK], hdferr)
-      call check_h5(hdferr, 'set the chunk size of /' // name, path, stat, errmsg)
-      if (stat == STAT_OK) then
-        call h5dcreate_f(loc, name, mtype, space, dset, hdferr, dcpl_id=dcpl)
-        call check_h5(hdferr, 'create dataset /' // name, path, stat, errmsg)
-        if (stat == STAT_OK) then
-          call h5dclose_f(dset, hdferr)
-          call check_h5(hdferr, 'close dataset /' // name, path, stat, errmsg)
-        end if
-      end if
-      call h5pclose_f(dcpl, hdferr)
-      call check_h5(hdferr, 'close the creation properties of /' // name, path, stat, errmsg)
-    end if
-    call h5sclose_f(space, hdferr)
-    call check_h5(hdferr, 'close the dataspace of /' // name, path, stat, errmsg)
-  end subroutine create_series
-
-  !> Grow the 1-D series dataset `name` to length n and store x (float64) or i (int32) at n.
-  subroutine append_series(loc, name, n, path, stat, errmsg, x, i)
-    integer(hid_t), intent(in) :: loc
-    character(len=*), intent(in) :: name, path
-    integer, intent(in) :: n
-    integer, intent(inout) :: stat
-    character(len=:), allocatable, intent(inout) :: errmsg
-    real(dp), intent(in), optional :: x
-    integer, intent(in), optional :: i
-    integer(hid_t) :: dset, fspace, mspace
-    integer(hsize_t), parameter :: one(1) = [1_hsize_t]
-    integer :: hdferr
-    if (stat /= STAT_OK) return
-    call h5dopen_f(loc, name, dset, hdferr)
-    call check_h5(hdferr, 'open dataset /' // name, path, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call h5dset_extent_f(dset, [int(n, hsize_t)], hdferr)
-    call check_h5(hdferr, 'extend dataset /' // name, path, stat, errmsg)
-    if (stat == STAT_OK) then
-      call h5dget_space_f(dset, fspace, hdferr)
-      call check_h5(hdferr, 'get the dataspace of /' // name, path, stat, errmsg)
-      if (stat == STAT_OK) then
-        call h5sselect_hyperslab_f(fspace, H5S_SELECT_SET_F, [int(n - 1, hsize_t)], one, hdferr)
-        call check_h5(hdferr, 'select the last entry of /' // name, path, stat, errmsg)
-        call h5screate_simple_f(1, one, mspace, hdferr)
-        call check_h5(hdferr, 'create a memory dataspace for /' // name, path, stat, errmsg)
-        if (stat == STAT_OK) then
-          if (present(x)) then
-            call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, [x], one, hdferr, mem_space_id=mspace, file_space_id=fspace)
-          else if (present(i)) then
-            call h5dwrite_f(dset, H5T_NATIVE_INTEGER, [i], one, hdferr, mem_space_id=mspace, file_space_id=fspace)
-          end if
-          call check_h5(hdferr, 'append to dataset /' // name, path, stat, errmsg)
-          call h5sclose_f(mspace, hdferr)
-          call check_h5(hdferr, 'close a memory dataspace for /' // name, path, stat, errmsg)
-        end if
-        call h5sclose_f(fspace, hdferr)
-        call check_h5(hdferr, 'close the dataspace of /' // name, path, stat, errmsg)
-      end if
-    end if
-    call h5dclose_f(dset, hdferr)
-    call check_h5(hdferr, 'close dataset /' // name, path, stat, errmsg)
-  end subroutine append_series
 
   !> dir/name, without doubling a trailing slash; an empty dir means the current directory.
   pure function join_path(dir, name) result(p)
@@ -379,8 +163,7 @@ contains
     character(len=*), intent(in), optional :: basename
     integer, allocatable :: topo(:)
     real(dp), allocatable :: xyz(:, :)
-    integer(hid_t) :: fapl, gid
-    integer :: hdferr, st2
+    integer :: st2
     character(len=:), allocatable :: msg2
 
     stat = STAT_OK
@@ -414,52 +197,22 @@ contains
     if (allocated(self%rz)) deallocate (self%rz)
     allocate (self%vec(3, self%nnode), self%rz(self%nnode))
 
-    if (h5_users == 0) then
-      call h5open_f(hdferr)
-      call check_h5(hdferr, 'initialise the HDF5 library', self%h5path, stat, errmsg)
-      if (stat /= STAT_OK) return
-    end if
-    h5_users = h5_users + 1
-
-    call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, hdferr)
-    call check_h5(hdferr, 'create file access properties', self%h5path, stat, errmsg)
-    if (stat == STAT_OK) then
-      ! No lock, so that a viewer can read the completed steps while the run goes on.
-      call h5pset_file_locking_f(fapl, .false., .true., hdferr)
-      call check_h5(hdferr, 'disable file locking', self%h5path, stat, errmsg)
-      if (stat == STAT_OK) then
-        call h5fcreate_f(self%h5path, H5F_ACC_TRUNC_F, self%file_id, hdferr, access_prp=fapl)
-        call check_h5(hdferr, 'create the file', self%h5path, stat, errmsg)
-      end if
-      call h5pclose_f(fapl, hdferr)
-      call check_h5(hdferr, 'close file access properties', self%h5path, stat, errmsg)
-    end if
-    if (stat /= STAT_OK) then
-      call release_library()
-      return
-    end if
+    ! No lock, so that a viewer can read the completed steps while the run goes on.
+    call self%h5%create(self%h5path, 'field output', stat, errmsg, unlocked=.true.)
+    if (stat /= STAT_OK) return
     self%is_open = .true.
-
     allocate (xyz(3, mesh%nnode))
     xyz(1:2, :) = mesh%x(1:2, 1:mesh%nnode)
     xyz(3, :) = 0.0_dp
-    call h5gcreate_f(self%file_id, 'mesh', gid, hdferr)
-    call check_h5(hdferr, 'create group /mesh', self%h5path, stat, errmsg)
-    if (stat == STAT_OK) then
-      call write_real2(gid, '/mesh', 'coordinates', xyz, self%h5path, stat, errmsg)
-      call write_int1(gid, '/mesh', 'topology', topo, self%h5path, stat, errmsg)
-      call write_int1(gid, '/mesh', 'element_type', mesh%etype(1:mesh%nelem), self%h5path, stat, errmsg)
-      call write_attr(gid, '/mesh', 'nnode', self%h5path, stat, errmsg, i=mesh%nnode)
-      call write_attr(gid, '/mesh', 'nelem', self%h5path, stat, errmsg, i=mesh%nelem)
-      call h5gclose_f(gid, hdferr)
-      call check_h5(hdferr, 'close group /mesh', self%h5path, stat, errmsg)
-    end if
-    call create_series(self%file_id, 'times', H5T_NATIVE_DOUBLE, self%h5path, stat, errmsg)
-    call create_series(self%file_id, 'steps', H5T_NATIVE_INTEGER, self%h5path, stat, errmsg)
-    if (stat == STAT_OK) then
-      call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, hdferr)
-      call check_h5(hdferr, 'flush the file', self%h5path, stat, errmsg)
-    end if
+    call self%h5%create_group('mesh', stat, errmsg)
+    call self%h5%write('mesh/coordinates', xyz, stat, errmsg)
+    call self%h5%write('mesh/topology', topo, stat, errmsg)
+    call self%h5%write('mesh/element_type', mesh%etype(1:mesh%nelem), stat, errmsg)
+    call self%h5%write_attr('mesh', 'nnode', stat, errmsg, i=mesh%nnode)
+    call self%h5%write_attr('mesh', 'nelem', stat, errmsg, i=mesh%nelem)
+    call self%h5%create_series('times', .false., stat, errmsg)
+    call self%h5%create_series('steps', .true., stat, errmsg)
+    call self%h5%flush(stat, errmsg)
     ! An empty collection replaces any fields.xmf left by an earlier run of the same case.
     self%xhead = xdmf_head()
     self%xtail = xdmf_tail()
@@ -483,9 +236,6 @@ contains
     real(dp), intent(in), optional :: reaction(:, :)
     character(len=:), allocatable :: grp
     type(xdmf_step_t), allocatable :: tmp(:)
-    integer(hid_t) :: gid
-    integer :: hdferr
-    logical :: exists
 
     stat = STAT_OK
     if (.not. self%is_open) then
@@ -510,33 +260,22 @@ contains
     end if
 
     grp = step_group_name(step)
-    call h5lexists_f(self%file_id, grp, exists, hdferr)
-    call check_h5(hdferr, 'look up group /' // grp, self%h5path, stat, errmsg)
-    if (stat /= STAT_OK) return
-    if (exists) then
+    if (self%h5%exists(grp, stat, errmsg)) then
       call set_error(stat, errmsg, STAT_RUN, 'field output: step ' // str(step) // ' is already in "' // &
                      self%h5path // '"')
       return
     end if
-
-    call h5gcreate_f(self%file_id, grp, gid, hdferr)
-    call check_h5(hdferr, 'create group /' // grp, self%h5path, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call write_attr(gid, '/' // grp, 'time', self%h5path, stat, errmsg, x=time)
-    call write_attr(gid, '/' // grp, 'step', self%h5path, stat, errmsg, i=step)
-    call write_planar(self, gid, '/' // grp, u, 'displacement', 'rotation', stat, errmsg)
-    call write_planar(self, gid, '/' // grp, v, 'velocity', 'angular_velocity', stat, errmsg)
-    if (present(reaction)) &
-      call write_planar(self, gid, '/' // grp, reaction, 'reaction', 'reaction_moment', stat, errmsg)
-    call write_real2(gid, '/' // grp, 'stress', stress, self%h5path, stat, errmsg)
-    call h5gclose_f(gid, hdferr)
-    call check_h5(hdferr, 'close group /' // grp, self%h5path, stat, errmsg)
-    call append_series(self%file_id, 'times', self%nsteps + 1, self%h5path, stat, errmsg, x=time)
-    call append_series(self%file_id, 'steps', self%nsteps + 1, self%h5path, stat, errmsg, i=step)
-    if (stat /= STAT_OK) return
+    call self%h5%create_group(grp, stat, errmsg)
+    call self%h5%write_attr(grp, 'time', stat, errmsg, x=time)
+    call self%h5%write_attr(grp, 'step', stat, errmsg, i=step)
+    call write_planar(self, grp, u, 'displacement', 'rotation', stat, errmsg)
+    call write_planar(self, grp, v, 'velocity', 'angular_velocity', stat, errmsg)
+    if (present(reaction)) call write_planar(self, grp, reaction, 'reaction', 'reaction_moment', stat, errmsg)
+    call self%h5%write(grp // '/stress', stress, stat, errmsg)
+    call self%h5%append_series('times', self%nsteps + 1, stat, errmsg, x=time)
+    call self%h5%append_series('steps', self%nsteps + 1, stat, errmsg, i=step)
     ! Everything of this step reaches the disk before the .xmf announces it.
-    call h5fflush_f(self%file_id, H5F_SCOPE_GLOBAL_F, hdferr)
-    call check_h5(hdferr, 'flush the file', self%h5path, stat, errmsg)
+    call self%h5%flush(stat, errmsg)
     if (stat /= STAT_OK) return
 
     if (self%nsteps == size(self%steps)) then
@@ -577,21 +316,17 @@ contains
     fw_opened = self%is_open
   end function fw_opened
 
-  !> Close the file (and the HDF5 interface when no other writer is open). Closing a writer that
-  !> is not open does nothing.
+  !> Close the file. Closing a writer that is not open does nothing.
   subroutine fw_close(self, stat, errmsg)
     class(fields_writer_t), intent(inout) :: self
     integer, intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
-    integer :: st, hdferr
+    integer :: st
     character(len=:), allocatable :: msg
     st = STAT_OK
     if (self%is_open) then
       self%is_open = .false.
-      call h5fclose_f(self%file_id, hdferr)
-      call check_h5(hdferr, 'close the file', self%h5path, st, msg)
-      self%file_id = -1
-      call release_library(st, msg, self%h5path)
+      call self%h5%close(st, msg)
     end if
     if (allocated(self%steps)) deallocate (self%steps)
     if (allocated(self%grids)) deallocate (self%grids)
@@ -602,19 +337,6 @@ contains
     if (present(stat)) stat = st
     if (present(errmsg) .and. st /= STAT_OK) errmsg = msg
   end subroutine fw_close
-
-  !> One writer fewer; the last one closes the HDF5 Fortran interface.
-  subroutine release_library(stat, errmsg, path)
-    integer, intent(inout), optional :: stat
-    character(len=:), allocatable, intent(inout), optional :: errmsg
-    character(len=*), intent(in), optional :: path
-    integer :: hdferr
-    h5_users = max(h5_users - 1, 0)
-    if (h5_users > 0) return
-    call h5close_f(hdferr)
-    if (present(stat) .and. present(errmsg) .and. present(path)) &
-      call check_h5(hdferr, 'close the HDF5 library', path, stat, errmsg)
-  end subroutine release_library
 
   subroutine fw_final(self)
     type(fields_writer_t), intent(inout) :: self

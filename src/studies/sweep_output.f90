@@ -8,7 +8,6 @@
 !> sweep.h5 holds one dataset per column at the root (float64, int32, or fixed-length NUL-padded
 !> strings) and /columns, the column names in table order.
 module sweep_output
-  use, intrinsic :: iso_c_binding, only: c_char, c_loc, c_null_char
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
   use, intrinsic :: ieee_exceptions, only: ieee_overflow, ieee_get_flag, ieee_set_flag, ieee_get_halting_mode, &
     ieee_set_halting_mode
@@ -17,10 +16,7 @@ module sweep_output
   use sweep_spec, only: sweep_t, case_result_t, text_t, status_name, case_dir_name, push, &
                         REF_FINEST, REF_CASE, REF_VALUE, CS_OK
   use sweep_metrics, only: metric_error, nan_value
-  use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fcreate_f, h5fclose_f, H5F_ACC_TRUNC_F, &
-                  h5screate_simple_f, h5sclose_f, h5dcreate_f, h5dclose_f, h5dwrite_f, &
-                  h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, H5T_NATIVE_CHARACTER, H5T_STR_NULLPAD_F, &
-                  H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER
+  use hdf5_file, only: h5_file_t
   implicit none
   private
   public :: apply_reference, write_sweep_csv, write_sweep_h5, real_text, seconds_text
@@ -228,25 +224,15 @@ contains
     integer, intent(in) :: iref
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer(hid_t) :: fid
-    integer :: hdferr, k, j, n
+    type(h5_file_t) :: h5
+    integer :: k, j, n
     type(text_t), allocatable :: s(:)
     real(dp), allocatable :: x(:)
-    stat = STAT_OK
-    errmsg = ''
     n = size(res)
-    call h5open_f(hdferr)
-    if (hdferr /= 0) then
-      call set_error(stat, errmsg, STAT_RUN, 'cannot initialize HDF5')
-      return
-    end if
-    call h5fcreate_f(path, H5F_ACC_TRUNC_F, fid, hdferr)
-    if (hdferr /= 0) then
-      call set_error(stat, errmsg, STAT_RUN, 'cannot create ' // path)
-      return
-    end if
+    call h5%create(path, 'sweep table', stat, errmsg)
+    if (stat /= STAT_OK) return
     allocate (s(n), x(n))
-    call put_int('case', [(k, k = 1, n)])
+    call h5%write('case', [(k, k = 1, n)], stat, errmsg)
     do k = 1, n
       s(k)%s = sw%cases(k)%name
     end do
@@ -263,26 +249,26 @@ contains
     end do
     ! copies: res%dt etc. are not contiguous
     x = res%dt
-    call put_real('time_step', x)
+    call h5%write('time_step', x, stat, errmsg)
     x = res%wall
-    call put_real('wall_time', x)
-    call put_int('steps', [(res(k)%steps, k = 1, n)])
-    call put_int('iterations', [(res(k)%iterations, k = 1, n)])
+    call h5%write('wall_time', x, stat, errmsg)
+    call h5%write('steps', [(res(k)%steps, k = 1, n)], stat, errmsg)
+    call h5%write('iterations', [(res(k)%iterations, k = 1, n)], stat, errmsg)
     x = res%max_rel_balance
-    call put_real('max_rel_balance', x)
+    call h5%write('max_rel_balance', x, stat, errmsg)
     do j = 1, size(sw%columns)
       do k = 1, n
         x(k) = value_or_nan(res(k)%values, j)
       end do
-      call put_real(sw%columns(j)%s, x)
+      call h5%write(sw%columns(j)%s, x, stat, errmsg)
     end do
     do j = 1, size(sw%columns)
       do k = 1, n
         x(k) = value_or_nan(res(k)%errors, j)
       end do
-      call put_real('err_' // sw%columns(j)%s, x)
+      call h5%write('err_' // sw%columns(j)%s, x, stat, errmsg)
     end do
-    call put_int('reference', [(merge(1, 0, k == iref), k = 1, n)])
+    call h5%write('reference', [(merge(1, 0, k == iref), k = 1, n)], stat, errmsg)
     do k = 1, n
       s(k)%s = case_dir_name(k, n)
     end do
@@ -292,81 +278,26 @@ contains
     end do
     call put_text('message', s)
     call put_text('columns', column_names(sw))
-    call h5fclose_f(fid, hdferr)
-    if (hdferr /= 0 .and. stat == STAT_OK) call set_error(stat, errmsg, STAT_RUN, 'cannot close ' // path)
+    call h5%close(stat, errmsg)
 
   contains
-
-    subroutine put_real(name, a)
-      character(len=*), intent(in) :: name
-      real(dp), intent(in) :: a(:)
-      integer(hid_t) :: space, dset
-      integer(hsize_t) :: dims(1)
-      if (stat /= STAT_OK) return
-      dims = size(a)
-      call h5screate_simple_f(1, dims, space, hdferr)
-      call h5dcreate_f(fid, name, H5T_NATIVE_DOUBLE, space, dset, hdferr)
-      if (hdferr /= 0) then
-        call set_error(stat, errmsg, STAT_RUN, path // ': cannot create dataset ' // name)
-      else
-        call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, a, dims, hdferr)
-        call h5dclose_f(dset, hdferr)
-      end if
-      call h5sclose_f(space, hdferr)
-    end subroutine put_real
-
-    subroutine put_int(name, a)
-      character(len=*), intent(in) :: name
-      integer, intent(in) :: a(:)
-      integer(hid_t) :: space, dset
-      integer(hsize_t) :: dims(1)
-      if (stat /= STAT_OK) return
-      dims = size(a)
-      call h5screate_simple_f(1, dims, space, hdferr)
-      call h5dcreate_f(fid, name, H5T_NATIVE_INTEGER, space, dset, hdferr)
-      if (hdferr /= 0) then
-        call set_error(stat, errmsg, STAT_RUN, path // ': cannot create dataset ' // name)
-      else
-        call h5dwrite_f(dset, H5T_NATIVE_INTEGER, a, dims, hdferr)
-        call h5dclose_f(dset, hdferr)
-      end if
-      call h5sclose_f(space, hdferr)
-    end subroutine put_int
 
     !> Fixed-length strings, NUL-padded to the longest (h5py reads them back without padding).
     subroutine put_text(name, a)
       character(len=*), intent(in) :: name
       type(text_t), intent(in) :: a(:)
-      integer(hid_t) :: space, dset, stype
-      integer(hsize_t) :: dims(1)
-      character(kind=c_char, len=1), allocatable, target :: buf(:)
-      integer :: w, i, c
-      if (stat /= STAT_OK) return
+      integer :: w, i
       w = 1
       do i = 1, size(a)
         w = max(w, len(a(i)%s))
       end do
-      allocate (buf(w * size(a)))
-      buf = c_null_char
-      do i = 1, size(a)
-        do c = 1, len(a(i)%s)
-          buf((i - 1) * w + c) = a(i)%s(c:c)
+      block
+        character(len=w) :: t(size(a))
+        do i = 1, size(a)
+          t(i) = a(i)%s
         end do
-      end do
-      dims = size(a)
-      call h5tcopy_f(H5T_NATIVE_CHARACTER, stype, hdferr)
-      call h5tset_size_f(stype, int(w, size_t), hdferr)
-      call h5tset_strpad_f(stype, H5T_STR_NULLPAD_F, hdferr)
-      call h5screate_simple_f(1, dims, space, hdferr)
-      call h5dcreate_f(fid, name, stype, space, dset, hdferr)
-      if (hdferr /= 0) then
-        call set_error(stat, errmsg, STAT_RUN, path // ': cannot create dataset ' // name)
-      else
-        call h5dwrite_f(dset, stype, c_loc(buf), hdferr)
-        call h5dclose_f(dset, hdferr)
-      end if
-      call h5sclose_f(space, hdferr)
-      call h5tclose_f(stype, hdferr)
+        call h5%write_text(name, t, stat, errmsg)
+      end block
     end subroutine put_text
   end subroutine write_sweep_h5
 
