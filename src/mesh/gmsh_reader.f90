@@ -13,6 +13,7 @@ module gmsh_reader
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use mesh, only: mesh_t, ET_MASS, ET_BAR2, ET_QUAD4, ET_QUAD8, etype_nen
+  use number_text, only: parse_real_text, parse_int64_text, NUM_OK, NUM_MALFORMED, NUM_RANGE
   implicit none
   private
   public :: read_gmsh
@@ -154,8 +155,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp) :: version
-    integer :: ftype, dsize
-    logical :: ok
+    integer :: ftype, dsize, ierr
 
     call data_line(g, 'the format line "4.1 0 8"', stat, errmsg)
     if (stat /= STAT_OK) return
@@ -164,8 +164,8 @@ contains
         clip(g%line) // '"')
       return
     end if
-    call parse_real(tok(g, 1), version, ok)
-    if (.not. ok) then
+    call parse_real_text(tok(g, 1), version, ierr)
+    if (ierr /= NUM_OK) then
       call fail(g, stat, errmsg, 'expected a version number, found "' // tok(g, 1) // '"')
       return
     end if
@@ -998,13 +998,13 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer(int64) :: v
-    logical :: ok
+    integer :: ierr
     stat = STAT_OK
     val = 0
-    call parse_int(tok(g, k), v, ok)
-    if (.not. ok) then
+    call parse_int64_text(tok(g, k), v, ierr)
+    if (ierr == NUM_MALFORMED) then
       call fail(g, stat, errmsg, 'expected ' // what // ', found "' // tok(g, k) // '"')
-    else if (v < lo .or. v > hi) then
+    else if (ierr /= NUM_OK .or. v < lo .or. v > hi) then
       call fail(g, stat, errmsg, 'expected ' // what // ', found ' // tok(g, k) // ' (out of range)')
     else
       val = int(v)
@@ -1019,13 +1019,13 @@ contains
     real(dp), intent(out) :: val(n)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: k
-    logical :: ok
+    integer :: k, ierr
     stat = STAT_OK
     do k = 1, n
-      call parse_real(tok(g, k), val(k), ok)
-      if (.not. ok) then
-        call fail(g, stat, errmsg, 'expected ' // what // ' (a finite real number), found "' // tok(g, k) // '"')
+      call parse_real_text(tok(g, k), val(k), ierr)
+      if (ierr /= NUM_OK) then
+        call fail(g, stat, errmsg, 'expected ' // what // ' (a finite real number), found "' // tok(g, k) // '"' // &
+          trim(merge(' (out of range)', '               ', ierr == NUM_RANGE)))
         return
       end if
     end do
@@ -1039,10 +1039,10 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp) :: v
-    logical :: ok
+    integer :: ierr
     stat = STAT_OK
-    call parse_real(tok(g, k), v, ok)
-    if (.not. ok) call fail(g, stat, errmsg, 'expected ' // what // ' (a real number), found "' // tok(g, k) // '"')
+    call parse_real_text(tok(g, k), v, ierr)
+    if (ierr /= NUM_OK) call fail(g, stat, errmsg, 'expected ' // what // ' (a real number), found "' // tok(g, k) // '"')
   end subroutine get_real_tok
 
   !> Error at the current line.
@@ -1111,54 +1111,4 @@ contains
     end if
   end function clip
 
-  !> Parse an optionally signed decimal integer of at most 18 digits.
-  pure subroutine parse_int(s, v, ok)
-    character(len=*), intent(in) :: s
-    integer(int64), intent(out) :: v
-    logical, intent(out) :: ok
-    integer :: i, i0, d
-    v = 0
-    ok = .false.
-    if (len(s) == 0) return
-    i0 = 1
-    if (s(1:1) == '-' .or. s(1:1) == '+') i0 = 2
-    if (len(s) < i0 .or. len(s) - i0 + 1 > 18) return
-    do i = i0, len(s)
-      d = iachar(s(i:i)) - iachar('0')
-      if (d < 0 .or. d > 9) return
-      v = 10 * v + d
-    end do
-    if (s(1:1) == '-') v = -v
-    ok = .true.
-  end subroutine parse_int
-
-  !> Parse a finite real number (digits, sign, point, exponent; nothing else).
-  subroutine parse_real(s, v, ok)
-    character(len=*), intent(in) :: s
-    real(dp), intent(out) :: v
-    logical, intent(out) :: ok
-    integer :: i, ios
-    logical :: digit
-    v = 0.0_dp
-    ok = .false.
-    digit = .false.
-    if (len(s) == 0 .or. len(s) > 64) return
-    if (len(s) == 1) then  ! fast path for the "0" z coordinates of plane meshes
-      ok = s >= '0' .and. s <= '9'
-      if (ok) v = real(iachar(s) - iachar('0'), dp)
-      return
-    end if
-    do i = 1, len(s)
-      select case (s(i:i))
-      case ('0':'9')
-        digit = .true.
-      case ('+', '-', '.', 'e', 'E', 'd', 'D')
-      case default
-        return
-      end select
-    end do
-    if (.not. digit) return
-    read (s, *, iostat=ios) v
-    ok = ios == 0 .and. abs(v) <= huge(v)
-  end subroutine parse_real
 end module gmsh_reader

@@ -5,7 +5,8 @@ module sweep_metrics
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error
-  use scene_parser, only: read_text, parse_real_text, NUM_OK
+  use scene_parser, only: read_text
+  use number_text, only: parse_real_text, NUM_OK
   use os_utils, only: path_exists
   use sweep_spec, only: sweep_t, text_t, MK_APEX, MK_CONTACT_DURATION, MK_ONSETS, MK_PROBE
   implicit none

@@ -9,7 +9,8 @@ module sweep_spec
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
   use os_utils, only: path_exists, path_stem
   use scene_parser, only: schema_t, statement_t, token_t, parse_file, stmt_error, find_param, count_param, &
-                          get_int, get_real, get_word, parse_real_text, NUM_OK
+                          get_int, get_real, get_word
+  use number_text, only: parse_real_text, NUM_OK
   implicit none
   private
   public :: text_t, metric_t, sweep_case_t, sweep_t, case_result_t

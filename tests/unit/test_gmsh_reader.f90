@@ -233,6 +233,8 @@ contains
     call check_error('bad_short_element.msh', 19, '4 node tags')
     call check_error('bad_elements_first.msh', 4, '$Nodes')
     call check_error('bad_sparse_duplicate.msh', 15, 'duplicate node tag 5')
+    ! The shared number reader: an overflowing coordinate is an input error, never a trap.
+    call check_error('bad_overflow.msh', 13, 'out of range')
     call check_error('no_such_file.msh', 0, 'cannot open')
     call check_endless()
   end subroutine test_errors

@@ -7,7 +7,8 @@ program test_scene_parser
   use testing, only: check, check_close, test_summary
   use scene_parser, only: token_t, statement_t, schema_t, parse_file, parse_string, read_text, &
     apply_override, stmt_error, find_param, count_param, get_real, get_int, get_word, get_real_list, &
-    get_int_list, to_real, to_int, parse_real_text, parse_int_text, NUM_OK, NUM_MALFORMED, NUM_RANGE
+    get_int_list, to_real, to_int
+  use number_text, only: parse_real_text, parse_int_text, NUM_OK, NUM_MALFORMED, NUM_RANGE
   implicit none
 
   character(len=*), parameter :: NL = new_line('a')
