@@ -11,7 +11,7 @@ module scene
   use material_law, only: material_t, law_check, LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES, &
     PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS
   use scene_parser, only: schema_t, statement_t, token_t, parse_file, apply_override, stmt_error, find_param, &
-    count_param, get_real, get_int, get_word, to_real, to_int
+    count_param, get_real, get_int, get_word, to_real, to_int, check_required
   use mesh_generators, only: generate_line, generate_rectangle, MAX_GENERATED_ELEMENTS
   use gmsh_reader, only: read_gmsh
   use elements, only: elem_check_geometry
@@ -122,8 +122,8 @@ contains
   !> The grammar of a scene file: keywords, their leading tokens and parameters.
   subroutine scene_schema(sch)
     type(schema_t), intent(out) :: sch
-    call sch%add_keyword('TITLE', 1, 1)
-    call sch%add_keyword('DIMENSION', 1, 1)
+    call sch%add_keyword('TITLE', 1, 1, once=.true.)
+    call sch%add_keyword('DIMENSION', 1, 1, once=.true.)
     call sch%add_keyword('NODE', 1, 1)
     call sch%add_param('NODE', 'AT', 2, 2)
     call sch%add_keyword('ELEMENT', 1, 1)
@@ -183,7 +183,7 @@ contains
     call sch%add_param('INITIAL', 'VELOCITY', 2, 3)
     call sch%add_param('INITIAL', 'STATIC', 0, 0)
     call sch%add_param('INITIAL', 'FORCE', 2, 3)
-    call sch%add_keyword('GRAVITY', 0, 0)
+    call sch%add_keyword('GRAVITY', 0, 0, once=.true.)
     call sch%add_param('GRAVITY', 'GX', 1, 1)
     call sch%add_param('GRAVITY', 'GY', 1, 1)
     call sch%add_param('GRAVITY', 'FUNCTION', 1, 1)
@@ -193,11 +193,11 @@ contains
     call sch%add_param('LOAD', 'FUNCTION', 1, 1)
     call sch%add_keyword('FUNCTION', 1, 1)
     call sch%add_param('FUNCTION', 'POINTS', 2, -1)
-    call sch%add_keyword('TIME', 0, 0)
+    call sch%add_keyword('TIME', 0, 0, once=.true., required=.true., hint='TIME STEP h END t')
     call sch%add_param('TIME', 'STEP', 1, 1)
     call sch%add_param('TIME', 'END', 1, 1)
     call sch%add_param('TIME', 'START', 1, 1)
-    call sch%add_keyword('SCHEME', 0, 0)
+    call sch%add_keyword('SCHEME', 0, 0, once=.true.)
     call sch%add_param('SCHEME', 'NEWMARK', 0, 0)
     call sch%add_param('SCHEME', 'TOLERANCE', 1, 1)
     call sch%add_param('SCHEME', 'MAX_ITERATIONS', 1, 1)
@@ -216,7 +216,7 @@ contains
     call sch%add_param('GAP', 'WITH', 1, 1)
     call sch%add_param('GAP', 'PAIRS', 2, -1)
     call sch%add_param('GAP', 'NORMAL', 2, 2)
-    call sch%add_keyword('OUTPUT', 0, 0)
+    call sch%add_keyword('OUTPUT', 0, 0, once=.true.)
     call sch%add_param('OUTPUT', 'HISTORY', 1, 2)
     call sch%add_param('OUTPUT', 'FIELDS', 1, 2)
     call sch%add_param('OUTPUT', 'PROBE', 2, -1, repeatable=.true.)
@@ -245,8 +245,6 @@ contains
     scn%title = ''
     allocate (scn%materials(0), scn%sections(0), scn%models(0), scn%fixes(0), scn%initials(0), &
       scn%functions(0), scn%loads(0), scn%probes(0), scn%conditions(0))
-    call check_singletons(st, stat, errmsg)
-    if (stat /= STAT_OK) return
     ! Pass 1: mesh and definitions, in file order.
     allocate (scn%node_line(0))
     do i = 1, size(st)
@@ -306,32 +304,12 @@ contains
       end select
       if (stat /= STAT_OK) return
     end do
-    call check_complete(scn, st, path, stat, errmsg)
+    if (size(scn%models) == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, path // ':1: no MODEL statement: nothing to compute')
+      return
+    end if
+    call check_required(st, sch, path, stat, errmsg)
   end subroutine load_scene
-
-  !> Statements that may occur once at most.
-  subroutine check_singletons(st, stat, errmsg)
-    type(statement_t), intent(in) :: st(:)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    character(len=9), parameter :: once(6) = [character(len=9) :: 'TITLE', 'DIMENSION', 'GRAVITY', 'TIME', &
-      'SCHEME', 'OUTPUT']
-    integer :: i, j, k
-    stat = STAT_OK
-    do k = 1, size(once)
-      do i = 1, size(st)
-        if (st(i)%keyword /= trim(once(k))) cycle
-        do j = i + 1, size(st)
-          if (st(j)%keyword == trim(once(k))) then
-            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st(j), 'statement repeated (first at line ' // &
-              str(st(i)%line) // '); give it once', st(j)%kwtok))
-            return
-          end if
-        end do
-        exit
-      end do
-    end do
-  end subroutine check_singletons
 
   subroutine do_dimension(st, stat, errmsg)
     type(statement_t), intent(in) :: st
@@ -1400,31 +1378,6 @@ contains
       node = scn%mesh%ngroups(g)%items(1)
     end subroutine one_node
   end subroutine do_gap
-
-  !> What a run cannot do without.
-  subroutine check_complete(scn, st, path, stat, errmsg)
-    type(scene_t), intent(in) :: scn
-    type(statement_t), intent(in) :: st(:)
-    character(len=*), intent(in) :: path
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    stat = STAT_OK
-    if (size(scn%models) == 0) then
-      call set_error(stat, errmsg, STAT_INPUT, path // ':1: no MODEL statement: nothing to compute')
-    else if (.not. st_is(st, 'TIME')) then
-      call set_error(stat, errmsg, STAT_INPUT, path // ':1: no TIME statement (TIME STEP h END t)')
-    end if
-  end subroutine check_complete
-
-  pure logical function st_is(st, kw)
-    type(statement_t), intent(in) :: st(:)
-    character(len=*), intent(in) :: kw
-    integer :: i
-    st_is = .false.
-    do i = 1, size(st)
-      if (st(i)%keyword == kw) st_is = .true.
-    end do
-  end function st_is
 
   !> Index in choices(:) of the word given to parameter key (default when absent).
   subroutine get_choice(st, key, choices, default, k, stat, errmsg)

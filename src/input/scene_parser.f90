@@ -13,7 +13,7 @@ module scene_parser
   implicit none
   private
   public :: token_t, param_t, statement_t, schema_t
-  public :: parse_file, parse_string, read_text, apply_override, stmt_error
+  public :: parse_file, parse_string, read_text, apply_override, stmt_error, check_required
   public :: find_param, count_param, get_real, get_int, get_word, get_real_list, get_int_list
   public :: to_real, to_int
 
@@ -53,6 +53,9 @@ module scene_parser
 
   type :: kwdef_t
     character(len=:), allocatable :: name
+    character(len=:), allocatable :: hint     !< for a missing required statement, e.g. 'TIME STEP h END t'
+    logical :: once = .false.                 !< may be given once at most
+    logical :: required = .false.             !< must be given (check_required)
     integer :: nlead_min = 0, nlead_max = 0
     integer :: np = 0
     type(pdef_t), allocatable :: params(:)
@@ -79,10 +82,14 @@ contains
   ! ---------------------------------------------------------------------------------------------
 
   !> Declare a keyword taking between nlead_min and nlead_max lead tokens (both default 0).
-  subroutine schema_add_keyword(self, name, nlead_min, nlead_max)
+  !> once: the statement may be given once at most (parse_string refuses a repeat); required:
+  !> it must be given (check_required, hint: what it looks like, for the message).
+  subroutine schema_add_keyword(self, name, nlead_min, nlead_max, once, required, hint)
     class(schema_t), intent(inout) :: self
     character(len=*), intent(in) :: name
     integer, intent(in), optional :: nlead_min, nlead_max
+    logical, intent(in), optional :: once, required
+    character(len=*), intent(in), optional :: hint
     type(kwdef_t), allocatable :: tmp(:)
     character(len=:), allocatable :: u
     u = upcase(trim(adjustl(name)))
@@ -109,6 +116,10 @@ contains
       if (present(nlead_max)) k%nlead_max = nlead_max
       if (present(nlead_min) .and. .not. present(nlead_max)) k%nlead_max = k%nlead_min
       k%np = 0
+      if (present(once)) k%once = once
+      if (present(required)) k%required = required
+      k%hint = ''
+      if (present(hint)) k%hint = hint
       allocate (k%params(8))
       if (k%nlead_min < 0 .or. k%nlead_max < k%nlead_min) &
         call note_defect(self, 'keyword ' // u // ': bad nlead_min/nlead_max')
@@ -468,7 +479,50 @@ contains
     do i = 1, nst
       call move_statement(buf(i), stmts(i))
     end do
+    call check_once(stmts, sch, stat, errmsg)
   end subroutine parse_string
+
+  !> The statements declared `once` are given once at most: the repeat is named.
+  subroutine check_once(stmts, sch, stat, errmsg)
+    type(statement_t), intent(in) :: stmts(:)
+    type(schema_t), intent(in) :: sch
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    integer :: i, j
+    do j = 2, size(stmts)
+      if (.not. sch%kws(find_kw(sch, stmts(j)%keyword))%once) cycle
+      do i = 1, j - 1
+        if (stmts(i)%keyword /= stmts(j)%keyword) cycle
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(stmts(j), 'statement repeated (first at line ' // &
+          str(stmts(i)%line) // '); give it once', stmts(j)%kwtok))
+        return
+      end do
+    end do
+  end subroutine check_once
+
+  !> Every statement declared `required` is there, else "file:1: no KEYWORD statement (hint)".
+  subroutine check_required(stmts, sch, filename, stat, errmsg)
+    type(statement_t), intent(in) :: stmts(:)
+    type(schema_t), intent(in) :: sch
+    character(len=*), intent(in) :: filename
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, i
+    logical :: found
+    stat = STAT_OK
+    do k = 1, sch%nkw
+      if (.not. sch%kws(k)%required) cycle
+      found = .false.
+      do i = 1, size(stmts)
+        found = found .or. stmts(i)%keyword == sch%kws(k)%name
+      end do
+      if (found) cycle
+      errmsg = filename // ':1: no ' // sch%kws(k)%name // ' statement'
+      if (len(sch%kws(k)%hint) > 0) errmsg = errmsg // ' (' // sch%kws(k)%hint // ')'
+      stat = STAT_INPUT
+      return
+    end do
+  end subroutine check_required
 
   !> Move a statement's allocatable parts without copying them.
   subroutine move_statement(from, to)

@@ -9,7 +9,7 @@ module sweep_spec
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
   use os_utils, only: path_exists, path_stem
   use scene_parser, only: schema_t, statement_t, token_t, parse_file, stmt_error, find_param, count_param, &
-                          get_int, get_real, get_word
+                          get_int, get_real, get_word, check_required
   use number_text, only: parse_real_text, NUM_OK
   implicit none
   private
@@ -81,11 +81,11 @@ contains
   subroutine sweep_schema(sch)
     type(schema_t), intent(out) :: sch
     integer, parameter :: MANY = 1000000
-    call sch%add_keyword('SCENE', 1, 1)
-    call sch%add_keyword('OUTPUT', 1, 1)
+    call sch%add_keyword('SCENE', 1, 1, once=.true., required=.true., hint='SCENE path')
+    call sch%add_keyword('OUTPUT', 1, 1, once=.true.)
     call sch%add_keyword('SET', 1, MANY)
     call sch%add_keyword('VARY', 2, MANY)
-    call sch%add_keyword('COMBINE', 1, 1)
+    call sch%add_keyword('COMBINE', 1, 1, once=.true.)
     call sch%add_keyword('CASE', 1, 1)
     call sch%add_param('CASE', 'SET', 1, 1, repeatable=.true.)
     call sch%add_keyword('METRIC', 0, 1)
@@ -94,7 +94,7 @@ contains
     call sch%add_param('METRIC', 'AT', 1, 1)
     call sch%add_param('METRIC', 'GAP', 1, 1)
     call sch%add_param('METRIC', 'SCALE', 1, 1)
-    call sch%add_keyword('REFERENCE', 1, MANY)
+    call sch%add_keyword('REFERENCE', 1, MANY, once=.true.)
   end subroutine sweep_schema
 
   pure function status_name(code) result(s)
@@ -157,7 +157,7 @@ contains
     type(text_t), allocatable :: vvals(:, :)
     integer, allocatable :: nvals(:)
     character(len=:), allocatable :: w, dir
-    integer :: i, j, k, nv, ng, nscene, noutput, ncomb, nref, ip
+    integer :: i, j, k, nv, ng, ip
     logical :: zip
 
     w = ''
@@ -173,21 +173,12 @@ contains
     dir = path(1:index(path, '/', back=.true.))
     allocate (gsets(0), vkeys(0), named(0), nvals(0), sw%metrics(0))
     allocate (vvals(0, 0))
-    nscene = 0
-    noutput = 0
-    ncomb = 0
-    nref = 0
     zip = .false.
     sw%outdir = 'results/' // sw%name
 
     do i = 1, size(st)
       select case (st(i)%keyword)
       case ('SCENE')
-        nscene = nscene + 1
-        if (nscene > 1) then
-          call err_at('SCENE given twice', st(i)%kwtok)
-          return
-        end if
         w = st(i)%lead(1)%text
         if (len(w) == 0) then
           call err_at('empty scene path', st(i)%lead(1))
@@ -199,11 +190,6 @@ contains
           sw%scene = dir // w
         end if
       case ('OUTPUT')
-        noutput = noutput + 1
-        if (noutput > 1) then
-          call err_at('OUTPUT given twice', st(i)%kwtok)
-          return
-        end if
         sw%outdir = st(i)%lead(1)%text
         if (len(sw%outdir) == 0) then
           call err_at('empty output directory', st(i)%lead(1))
@@ -235,11 +221,6 @@ contains
           vvals(j, size(nvals))%s = st(i)%lead(j + 1)%text
         end do
       case ('COMBINE')
-        ncomb = ncomb + 1
-        if (ncomb > 1) then
-          call err_at('COMBINE given twice', st(i)%kwtok)
-          return
-        end if
         select case (upper(st(i)%lead(1)%text))
         case ('GRID')
           zip = .false.
@@ -256,17 +237,10 @@ contains
         call add_metric(st(i), stat, errmsg)
         if (stat /= STAT_OK) return
       case ('REFERENCE')
-        nref = nref + 1
-        if (nref > 1) then
-          call err_at('REFERENCE given twice', st(i)%kwtok)
-          return
-        end if
       end select
     end do
-    if (nscene == 0) then
-      call set_error(stat, errmsg, STAT_INPUT, path // ': missing SCENE statement')
-      return
-    end if
+    call check_required(st, sch, path, stat, errmsg)
+    if (stat /= STAT_OK) return
 
     ! The grid (or the zipped lists) of the VARY statements.
     if (zip .and. size(nvals) > 0) then

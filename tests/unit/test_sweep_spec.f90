@@ -57,7 +57,7 @@ program test_sweep_spec
   call check(sw%cases(2)%values(1)%s == '5e-4' .and. sw%cases(2)%values(2)%s == '2', 'zip: paired values')
 
   ! Errors name the file, the line and the word.
-  call expect_error('VARY TIME.STEP 1 2' // NL // 'METRIC contact_duration', 'missing SCENE')
+  call expect_error('VARY TIME.STEP 1 2' // NL // 'METRIC contact_duration', 'no SCENE statement')
   call expect_error('SCENE s.dat' // NL // 'VARY TIME.STEP', 'VARY')
   call expect_error('SCENE s.dat' // NL // 'METRIC speed', ":2: METRIC speed: unknown metric")
   call expect_error('SCENE s.dat' // NL // 'METRIC apex PROBE m.UY AT 3', 'AT does not apply')
