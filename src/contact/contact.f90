@@ -33,7 +33,9 @@ module contact
   use checkpoint, only: ckpt_file_t
   use constraint_rows, only: constraint_rows_t, LABEL_LEN
   use contact_state, only: contact_state_t
-  use contact_multipliers, only: multiplier_system_t, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
+  use contact_multipliers, only: multiplier_system_t
+  use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, &
+    SWITCH_DEFAULT
   use impact_kernels, only: impact_energy_error, impulse_fixed_point, persist_scale
   implicit none
   private
@@ -45,8 +47,6 @@ module contact
     contact_end_step, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, contact_am_block, &
     contact_set_rigid_modes, contact_events, hzero_reflection
 
-  !> Impact treatment (same values as scene's SCHEME IMPACT).
-  integer, parameter :: IMPACT_OFF = 0, IMPACT_PAPER = 1, IMPACT_PERSIST = 2
   integer, parameter :: EVENT_ESTABLISH = 1, EVENT_RELEASE = 2
 
   !> One line of events.csv.

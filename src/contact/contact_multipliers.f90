@@ -23,13 +23,10 @@ module contact_multipliers
   use lcp, only: active_system_t
   use dense_solve, only: spsd_solve_ws
   use constraint_rows, only: constraint_rows_t
+  use contact_modes, only: SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   implicit none
   private
-  public :: multiplier_system_t, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
-
-  integer, parameter :: SOLVER_AUTO = 0, SOLVER_SCHUR = 1, SOLVER_AUGMENTED = 2
-  !> AUTO: active sets larger than this go to the augmented system (docs/performance.md).
-  integer, parameter :: SWITCH_DEFAULT = 128
+  public :: multiplier_system_t
 
   type, extends(active_system_t) :: multiplier_system_t
     integer :: nc = 0, neq = 0

@@ -6,7 +6,8 @@
 module newmark
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
-  use scene, only: scene_t, IMPACT_OFF
+  use scene, only: scene_t
+  use contact_modes, only: IMPACT_OFF
   use dof_map, only: equation_bodies
   use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
     contact_prepare, contact_set_rigid_modes

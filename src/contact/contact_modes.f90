@@ -1,0 +1,15 @@
+!> The settings of contact that the scene chooses (SCHEME IMPACT, SCHEME MULTIPLIERS), defined
+!> once: the scene reads the words, contact and contact_multipliers act on the codes.
+module contact_modes
+  implicit none
+  private
+  public :: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
+
+  !> SCHEME IMPACT: plain Newmark, the paper's (10)-(16), or the persistent-contact variant.
+  integer, parameter :: IMPACT_OFF = 0, IMPACT_PAPER = 1, IMPACT_PERSIST = 2
+  !> SCHEME MULTIPLIERS: Schur columns up to AUGMENTED_ABOVE active conditions then the
+  !> augmented system (AUTO), or one of them always.
+  integer, parameter :: SOLVER_AUTO = 0, SOLVER_SCHUR = 1, SOLVER_AUGMENTED = 2
+  !> AUTO: active sets larger than this go to the augmented system (docs/performance-contact.md).
+  integer, parameter :: SWITCH_DEFAULT = 128
+end module contact_modes

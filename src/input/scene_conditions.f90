@@ -1,0 +1,188 @@
+!> Scene input: supports, initial state and loads (FIX, INITIAL, GRAVITY, LOAD).
+!> Their grammar (schema) and their handlers, a submodule of scene.
+submodule (scene) scene_conditions
+  use scene_helpers, only: node_group
+  implicit none
+
+contains
+
+  module subroutine conditions_schema(sch)
+    type(schema_t), intent(inout) :: sch
+    call sch%add_keyword('FIX', 1, 1)
+    call sch%add_param('FIX', 'UX', 0, 0)
+    call sch%add_param('FIX', 'UY', 0, 0)
+    call sch%add_param('FIX', 'RZ', 0, 0)
+    call sch%add_param('FIX', 'ALL', 0, 0)
+    call sch%add_keyword('INITIAL', 1, 1)
+    call sch%add_param('INITIAL', 'DISPLACEMENT', 2, 3)
+    call sch%add_param('INITIAL', 'VELOCITY', 2, 3)
+    call sch%add_param('INITIAL', 'STATIC', 0, 0)
+    call sch%add_param('INITIAL', 'FORCE', 2, 3)
+    call sch%add_keyword('GRAVITY', 0, 0, once=.true.)
+    call sch%add_param('GRAVITY', 'GX', 1, 1)
+    call sch%add_param('GRAVITY', 'GY', 1, 1)
+    call sch%add_param('GRAVITY', 'FUNCTION', 1, 1)
+    call sch%add_keyword('LOAD', 1, 1)
+    call sch%add_param('LOAD', 'NODES', 1, 1)
+    call sch%add_param('LOAD', 'FORCE', 2, 3)
+    call sch%add_param('LOAD', 'FUNCTION', 1, 1)
+  end subroutine conditions_schema
+
+  !> One conditions statement (pass 2 of load_scene).
+  module subroutine conditions_statement(scn, st, path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    select case (st%keyword)
+    case ('FIX')
+      call do_fix(scn, st, stat, errmsg)
+    case ('INITIAL')
+      call do_initial(scn, st, stat, errmsg)
+    case ('GRAVITY')
+      call do_gravity(scn, st, stat, errmsg)
+    case ('LOAD')
+      call do_load(scn, st, stat, errmsg)
+    end select
+  end subroutine conditions_statement
+
+  subroutine do_fix(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(fix_t) :: fx
+    call node_group(scn, st, st%lead(1), fx%ngroup, stat, errmsg)
+    if (stat /= STAT_OK) return
+    fx%dofs = [find_param(st, 'UX') > 0, find_param(st, 'UY') > 0, find_param(st, 'RZ') > 0]
+    if (find_param(st, 'ALL') > 0) fx%dofs = .true.
+    if (.not. any(fx%dofs)) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'no DOF to fix (expected UX, UY, RZ or ALL)', st%lead(1)))
+      return
+    end if
+    fx%line = st%line
+    scn%fixes = [scn%fixes, fx]
+  end subroutine do_fix
+
+  !> Values of a parameter with 2 or 3 numbers (x, y[, rotation]).
+  subroutine get_vector(st, key, v, mask, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: key
+    real(dp), intent(out) :: v(3)
+    logical, intent(out) :: mask(3)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, i
+    v = 0.0_dp
+    mask = .false.
+    k = find_param(st, key)
+    do i = 1, size(st%params(k)%values)
+      call to_real(st%params(k)%values(i), st, v(i), stat, errmsg)
+      if (stat /= STAT_OK) return
+      mask(i) = .true.
+    end do
+    stat = STAT_OK
+  end subroutine get_vector
+
+  subroutine do_initial(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(initial_t) :: ic
+    integer :: nkind
+    call node_group(scn, st, st%lead(1), ic%ngroup, stat, errmsg)
+    if (stat /= STAT_OK) return
+    ic%line = st%line
+    nkind = count([find_param(st, 'DISPLACEMENT') > 0, find_param(st, 'VELOCITY') > 0, find_param(st, 'STATIC') > 0])
+    if (nkind /= 1) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give exactly one of DISPLACEMENT, VELOCITY or ' // &
+        'STATIC FORCE', st%lead(1)))
+      return
+    end if
+    if (find_param(st, 'DISPLACEMENT') > 0) then
+      ic%kind = INIT_DISPLACEMENT
+      call get_vector(st, 'DISPLACEMENT', ic%values, ic%mask, stat, errmsg)
+    else if (find_param(st, 'VELOCITY') > 0) then
+      ic%kind = INIT_VELOCITY
+      call get_vector(st, 'VELOCITY', ic%values, ic%mask, stat, errmsg)
+    else
+      ic%kind = INIT_STATIC
+      if (find_param(st, 'FORCE') == 0) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'STATIC needs FORCE fx fy [mz]', &
+          st%params(find_param(st, 'STATIC'))%keytok))
+        return
+      end if
+      call get_vector(st, 'FORCE', ic%values, ic%mask, stat, errmsg)
+    end if
+    if (stat /= STAT_OK) return
+    if (ic%kind /= INIT_STATIC .and. find_param(st, 'FORCE') > 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORCE goes with STATIC only', &
+        st%params(find_param(st, 'FORCE'))%keytok))
+      return
+    end if
+    scn%initials = [scn%initials, ic]
+  end subroutine do_initial
+
+  !> Index of the function named by parameter FUNCTION (0 when absent).
+  subroutine get_function(scn, st, ifn, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: ifn
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: w
+    integer :: i
+    ifn = 0
+    stat = STAT_OK
+    if (find_param(st, 'FUNCTION') == 0) return
+    call get_word(st, 'FUNCTION', w, stat, errmsg)
+    if (stat /= STAT_OK) return
+    do i = 1, size(scn%functions)
+      if (scn%functions(i)%name == w) ifn = i
+    end do
+    if (ifn == 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown function', &
+      st%params(find_param(st, 'FUNCTION'))%values(1)))
+  end subroutine get_function
+
+  subroutine do_gravity(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call get_real(st, 'GX', scn%gravity(1), stat, errmsg, default=0.0_dp)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'GY', scn%gravity(2), stat, errmsg, default=0.0_dp)
+    if (stat /= STAT_OK) return
+    call get_function(scn, st, scn%gravity_func, stat, errmsg)
+  end subroutine do_gravity
+
+  subroutine do_load(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(load_t) :: ld
+    logical :: mask(3)
+    integer :: k
+    ld%name = st%lead(1)%text
+    k = find_param(st, 'NODES')
+    if (k == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter NODES', st%lead(1)))
+      return
+    end if
+    call node_group(scn, st, st%params(k)%values(1), ld%ngroup, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (find_param(st, 'FORCE') == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter FORCE', st%lead(1)))
+      return
+    end if
+    call get_vector(st, 'FORCE', ld%force, mask, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_function(scn, st, ld%func, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%loads = [scn%loads, ld]
+  end subroutine do_load
+end submodule scene_conditions

@@ -1,0 +1,200 @@
+!> Scene input: the unilateral contacts (OBSTACLE, GAP): one condition per node or node pair.
+!> Their grammar (schema) and their handlers, a submodule of scene.
+submodule (scene) scene_contacts
+  use scene_helpers, only: node_group, get_pair, model_size, get_unit
+  implicit none
+
+contains
+
+  module subroutine contacts_schema(sch)
+    type(schema_t), intent(inout) :: sch
+    call sch%add_keyword('OBSTACLE', 1, 1)
+    call sch%add_param('OBSTACLE', 'NODES', 1, 1)
+    call sch%add_param('OBSTACLE', 'POINT', 2, 2)
+    call sch%add_param('OBSTACLE', 'NORMAL', 2, 2)
+    call sch%add_keyword('GAP', 1, 1)
+    call sch%add_param('GAP', 'NODES', 1, 1)
+    call sch%add_param('GAP', 'WITH', 1, 1)
+    call sch%add_param('GAP', 'PAIRS', 2, -1)
+    call sch%add_param('GAP', 'NORMAL', 2, 2)
+  end subroutine contacts_schema
+
+  !> One contacts statement (pass 2 of load_scene).
+  module subroutine contacts_statement(scn, st, path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    select case (st%keyword)
+    case ('OBSTACLE')
+      call do_obstacle(scn, st, stat, errmsg)
+    case ('GAP')
+      call do_gap(scn, st, stat, errmsg)
+    end select
+  end subroutine contacts_statement
+
+  !> Refuse an initial penetration beyond 1e-10 of the model size (a gap of zero is a contact
+  !> at t = 0, legitimate).
+  subroutine check_penetration(scn, st, c, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    type(condition_t), intent(in) :: c
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (c%g0 < -1.0e-10_dp * model_size(scn%mesh)) then
+      if (c%node_a == 0) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(c%node_b) // ' (x = ' // &
+          str(scn%mesh%x(1, c%node_b)) // ', y = ' // str(scn%mesh%x(2, c%node_b)) // ') starts ' // str(-c%g0) // &
+          ' inside the obstacle', st%lead(1)))
+      else
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'nodes ' // str(c%node_a) // ' and ' // &
+          str(c%node_b) // ' start interpenetrated by ' // str(-c%g0), st%lead(1)))
+      end if
+    end if
+  end subroutine check_penetration
+
+  !> OBSTACLE name NODES group POINT x y NORMAL nx ny: each node of the group stays on the side
+  !> of the rigid plane its outward normal points to.
+  subroutine do_obstacle(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: p(2), n(2)
+    integer :: ig, k, i
+    type(condition_t) :: c
+    k = find_param(st, 'NODES')
+    if (k == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter NODES', st%lead(1)))
+      return
+    end if
+    call node_group(scn, st, st%params(k)%values(1), ig, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_pair(st, 'POINT', p, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_unit(st, 'NORMAL', n, stat, errmsg)
+    if (stat /= STAT_OK) return
+    do i = 1, size(scn%mesh%ngroups(ig)%items)
+      c%source = st%lead(1)%text
+      c%node_a = 0
+      c%node_b = scn%mesh%ngroups(ig)%items(i)
+      c%normal = n
+      c%g0 = dot_product(n, scn%mesh%x(:, c%node_b) - p)
+      c%line = st%line
+      call check_penetration(scn, st, c, stat, errmsg)
+      if (stat /= STAT_OK) return
+      scn%conditions = [scn%conditions, c]
+    end do
+  end subroutine do_obstacle
+
+  !> GAP name NODES ga WITH gb [NORMAL nx ny] | GAP name PAIRS a1 b1 a2 b2 … [NORMAL nx ny]:
+  !> node-to-node unilateral conditions, b staying on the side of a the normal points to.
+  !> With NODES … WITH, each node of ga is paired with the nearest node of gb; without NORMAL
+  !> the normal of a pair is the direction from a to b.
+  subroutine do_gap(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: kn, kw, kp, ga, gb, i, j, a, b, best
+    real(dp) :: n(2), d, dbest
+    logical :: given
+    type(condition_t) :: c
+    integer, allocatable :: pa(:), pb(:)
+    kn = find_param(st, 'NODES')
+    kw = find_param(st, 'WITH')
+    kp = find_param(st, 'PAIRS')
+    given = find_param(st, 'NORMAL') > 0
+    if (given) then
+      call get_unit(st, 'NORMAL', n, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
+    if (kp > 0 .and. kn == 0 .and. kw == 0) then
+      associate (vals => st%params(kp)%values)
+        if (mod(size(vals), 2) /= 0) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'PAIRS takes pairs of one-node groups', &
+            st%params(kp)%keytok))
+          return
+        end if
+        allocate (pa(size(vals) / 2), pb(size(vals) / 2))
+        do i = 1, size(vals) / 2
+          call one_node(vals(2 * i - 1), pa(i), stat, errmsg)
+          if (stat /= STAT_OK) return
+          call one_node(vals(2 * i), pb(i), stat, errmsg)
+          if (stat /= STAT_OK) return
+        end do
+      end associate
+    else if (kn > 0 .and. kw > 0 .and. kp == 0) then
+      call node_group(scn, st, st%params(kn)%values(1), ga, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call node_group(scn, st, st%params(kw)%values(1), gb, stat, errmsg)
+      if (stat /= STAT_OK) return
+      associate (na => scn%mesh%ngroups(ga)%items, nb => scn%mesh%ngroups(gb)%items)
+        allocate (pa(size(na)), pb(size(na)))
+        do i = 1, size(na)
+          best = 0
+          dbest = huge(1.0_dp)
+          do j = 1, size(nb)
+            if (nb(j) == na(i)) cycle
+            d = norm2(scn%mesh%x(:, nb(j)) - scn%mesh%x(:, na(i)))
+            if (d < dbest) then
+              dbest = d
+              best = nb(j)
+            end if
+          end do
+          if (best == 0) then
+            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'no node to pair with node ' // str(na(i)), &
+              st%params(kw)%values(1)))
+            return
+          end if
+          pa(i) = na(i)
+          pb(i) = best
+        end do
+      end associate
+    else
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give NODES ga WITH gb, or PAIRS a1 b1 …', st%lead(1)))
+      return
+    end if
+    do i = 1, size(pa)
+      a = pa(i)
+      b = pb(i)
+      c%source = st%lead(1)%text
+      c%node_a = a
+      c%node_b = b
+      c%line = st%line
+      if (given) then
+        c%normal = n
+      else
+        d = norm2(scn%mesh%x(:, b) - scn%mesh%x(:, a))
+        if (d <= 1.0e-12_dp * model_size(scn%mesh)) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'nodes ' // str(a) // ' and ' // str(b) // &
+            ' coincide: give NORMAL', st%lead(1)))
+          return
+        end if
+        c%normal = (scn%mesh%x(:, b) - scn%mesh%x(:, a)) / d
+      end if
+      c%g0 = dot_product(c%normal, scn%mesh%x(:, b) - scn%mesh%x(:, a))
+      call check_penetration(scn, st, c, stat, errmsg)
+      if (stat /= STAT_OK) return
+      scn%conditions = [scn%conditions, c]
+    end do
+  contains
+    subroutine one_node(tok, node, stat, errmsg)
+      type(token_t), intent(in) :: tok
+      integer, intent(out) :: node
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+      integer :: g
+      call node_group(scn, st, tok, g, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (size(scn%mesh%ngroups(g)%items) /= 1) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a pair needs one-node groups', tok))
+        return
+      end if
+      node = scn%mesh%ngroups(g)%items(1)
+    end subroutine one_node
+  end subroutine do_gap
+end submodule scene_contacts

@@ -1,0 +1,110 @@
+!> Getters shared by the statement families of the scene (scene_mesh … scene_run): an element
+!> type, a node group, a word among choices, a pair of reals, the model size.
+module scene_helpers
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
+  use mesh, only: mesh_t, etype_from_name, etype_name
+  use scene_parser, only: statement_t, token_t, stmt_error, find_param, get_real, get_word
+  use scene, only: scene_t
+  implicit none
+  private
+  public :: get_etype, node_group, get_choice, get_pair, model_size, get_unit
+
+contains
+
+  !> Element type named by parameter key; allowed(:) restricts the choice.
+  subroutine get_etype(st, key, allowed, et, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: key
+    integer, intent(in) :: allowed(:)
+    integer, intent(out) :: et
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: w, names
+    integer :: k, i
+    call get_word(st, key, w, stat, errmsg)
+    if (stat /= STAT_OK) return
+    et = etype_from_name(upper(w))
+    if (any(allowed == et)) return
+    names = ''
+    do i = 1, size(allowed)
+      names = names // merge(', ', '  ', i > 1) // etype_name(allowed(i))
+    end do
+    names = adjustl(names)
+    k = find_param(st, key)
+    call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'element type not allowed here (expected one of: ' // &
+      trim(names) // ')', st%params(k)%values(1)))
+  end subroutine get_etype
+
+  !> Index of the node group named by a token, with an error naming it when unknown.
+  subroutine node_group(scn, st, tok, ig, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    type(token_t), intent(in) :: tok
+    integer, intent(out) :: ig
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    ig = scn%mesh%find_node_group(tok%text)
+    if (ig == 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown node group', tok))
+  end subroutine node_group
+
+  !> Index in choices(:) of the word given to parameter key (default when absent).
+  subroutine get_choice(st, key, choices, default, k, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: key, choices(:), default
+    integer, intent(out) :: k
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: w, names
+    integer :: i
+    call get_word(st, key, w, stat, errmsg, default=default)
+    if (stat /= STAT_OK) return
+    do k = 1, size(choices)
+      if (upper(w) == trim(choices(k))) return
+    end do
+    names = trim(choices(1))
+    do i = 2, size(choices)
+      names = names // ' or ' // trim(choices(i))
+    end do
+    call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, key // ': expected ' // names, &
+      st%params(find_param(st, key))%values(1)))
+  end subroutine get_choice
+
+  !> Two numbers of a parameter.
+  subroutine get_pair(st, key, p, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: key
+    real(dp), intent(out) :: p(2)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call get_real(st, key, p(1), stat, errmsg, index=1)
+    if (stat /= STAT_OK) return
+    call get_real(st, key, p(2), stat, errmsg, index=2)
+  end subroutine get_pair
+
+  !> Largest extent of the mesh, the length scale of the gap tolerance.
+  pure real(dp) function model_size(m)
+    type(mesh_t), intent(in) :: m
+    model_size = 1.0_dp
+    if (m%nnode > 0) model_size = max(maxval(m%x(1, 1:m%nnode)) - minval(m%x(1, 1:m%nnode)), &
+      maxval(m%x(2, 1:m%nnode)) - minval(m%x(2, 1:m%nnode)), tiny(1.0_dp))
+  end function model_size
+
+  !> A unit vector from parameter key.
+  subroutine get_unit(st, key, n, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: key
+    real(dp), intent(out) :: n(2)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call get_pair(st, key, n, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (norm2(n) <= 0.0_dp) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, key // ' must be a non-zero vector', &
+        st%params(find_param(st, key))%keytok))
+      return
+    end if
+    n = n / norm2(n)
+  end subroutine get_unit
+end module scene_helpers

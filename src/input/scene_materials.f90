@@ -1,0 +1,224 @@
+!> Scene input: materials, sections and functions (MATERIAL, SECTION, FUNCTION).
+!> Their grammar (schema) and their handlers, a submodule of scene.
+submodule (scene) scene_materials
+  use scene_helpers, only: get_pair
+  implicit none
+
+contains
+
+  module subroutine materials_schema(sch)
+    type(schema_t), intent(inout) :: sch
+    call sch%add_keyword('MATERIAL', 1, 1)
+    call sch%add_param('MATERIAL', 'ELASTIC', 0, 0)
+    call sch%add_param('MATERIAL', 'NONLINEAR_ELASTIC', 0, 0)
+    call sch%add_param('MATERIAL', 'ELASTOPLASTIC', 0, 0)
+    call sch%add_param('MATERIAL', 'VON_MISES', 0, 0)
+    call sch%add_param('MATERIAL', 'B', 1, 1)
+    call sch%add_param('MATERIAL', 'YIELD', 1, 1)
+    call sch%add_param('MATERIAL', 'H_ISO', 1, 1)
+    call sch%add_param('MATERIAL', 'H_KIN', 1, 1)
+    call sch%add_param('MATERIAL', 'YOUNG', 1, 1)
+    call sch%add_param('MATERIAL', 'POISSON', 1, 1)
+    call sch%add_param('MATERIAL', 'DENSITY', 1, 1)
+    call sch%add_keyword('SECTION', 1, 1)
+    call sch%add_param('SECTION', 'AREA', 1, 1)
+    call sch%add_param('SECTION', 'INERTIA', 1, 1)
+    call sch%add_param('SECTION', 'HEIGHT', 1, 1)
+    call sch%add_param('SECTION', 'THICKNESS', 1, 1)
+    call sch%add_param('SECTION', 'MASS', 1, 1)
+    call sch%add_param('SECTION', 'DIRECTION', 2, 2)
+    call sch%add_param('SECTION', 'GAUSS', 1, 1)
+    call sch%add_param('SECTION', 'LAYERS', 1, 1)
+    call sch%add_keyword('FUNCTION', 1, 1)
+    call sch%add_param('FUNCTION', 'POINTS', 2, -1)
+  end subroutine materials_schema
+
+  !> One materials statement (pass 1 of load_scene).
+  module subroutine materials_statement(scn, st, path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    select case (st%keyword)
+    case ('MATERIAL')
+      call do_material(scn, st, stat, errmsg)
+    case ('SECTION')
+      call do_section(scn, st, stat, errmsg)
+    case ('FUNCTION')
+      call do_function(scn, st, stat, errmsg)
+    end select
+  end subroutine materials_statement
+
+  subroutine do_material(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(material_t) :: mat
+    integer :: i, nlaw
+    do i = 1, size(scn%materials)
+      if (scn%materials(i)%name == st%lead(1)%text) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'material defined twice', st%lead(1)))
+        return
+      end if
+    end do
+    mat%name = st%lead(1)%text
+    nlaw = count([find_param(st, 'ELASTIC') > 0, find_param(st, 'NONLINEAR_ELASTIC') > 0, &
+      find_param(st, 'ELASTOPLASTIC') > 0, find_param(st, 'VON_MISES') > 0])
+    if (nlaw /= 1) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give exactly one law (ELASTIC, NONLINEAR_ELASTIC, ' // &
+        'ELASTOPLASTIC or VON_MISES)', st%lead(1)))
+      return
+    end if
+    mat%law = LAW_ELASTIC
+    if (find_param(st, 'NONLINEAR_ELASTIC') > 0) mat%law = LAW_NONLINEAR_ELASTIC
+    if (find_param(st, 'ELASTOPLASTIC') > 0) mat%law = LAW_ELASTOPLASTIC
+    if (find_param(st, 'VON_MISES') > 0) mat%law = LAW_VON_MISES
+    call check_law_params(st, mat%law, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'B', mat%nl_b, stat, errmsg, default=0.0_dp)
+    if (stat /= STAT_OK) return
+    if (mat%law == LAW_ELASTOPLASTIC .or. mat%law == LAW_VON_MISES) then
+      call get_real(st, 'YIELD', mat%yield, stat, errmsg, lower=0.0_dp, lower_inclusive=.false.)
+      if (stat /= STAT_OK) return
+    end if
+    call get_real(st, 'H_ISO', mat%h_iso, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'H_KIN', mat%h_kin, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'YOUNG', mat%young, stat, errmsg, lower=0.0_dp, lower_inclusive=.false.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'POISSON', mat%poisson, stat, errmsg, default=0.0_dp, lower=-1.0_dp, lower_inclusive=.false.)
+    if (stat /= STAT_OK) return
+    if (mat%poisson >= 0.5_dp) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'POISSON must be < 0.5', &
+        st%params(find_param(st, 'POISSON'))%values(1)))
+      return
+    end if
+    call get_real(st, 'DENSITY', mat%density, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    scn%materials = [scn%materials, mat]
+  end subroutine do_material
+
+  subroutine do_section(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(section_t) :: sec
+    integer :: i
+    do i = 1, size(scn%sections)
+      if (scn%sections(i)%name == st%lead(1)%text) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'section defined twice', st%lead(1)))
+        return
+      end if
+    end do
+    sec%name = st%lead(1)%text
+    call get_real(st, 'AREA', sec%area, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.false.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'INERTIA', sec%inertia, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.false.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'HEIGHT', sec%height, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.false.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'THICKNESS', sec%thickness, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.false.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'MASS', sec%mass, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    if (find_param(st, 'DIRECTION') > 0) then
+      call get_pair(st, 'DIRECTION', sec%direction, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (norm2(sec%direction) <= 0.0_dp) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'DIRECTION must be a non-zero vector', &
+          st%params(find_param(st, 'DIRECTION'))%keytok))
+        return
+      end if
+      sec%direction = sec%direction / norm2(sec%direction)
+      sec%has_direction = .true.
+    end if
+    call get_int(st, 'GAUSS', sec%gauss, stat, errmsg, default=0, lower=1, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    ! LAYERS <= MAX_LAYERS: each layer carries state at every Gauss point of every element, and a
+    ! count near 2**31 failed to allocate or ran for hours (found by tests/fuzz/fuzz.py).
+    call get_int(st, 'LAYERS', sec%layers, stat, errmsg, default=0, lower=1, lower_inclusive=.true., &
+      upper=MAX_LAYERS, upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    if (sec%gauss > 5) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'GAUSS must be between 1 and 5', &
+        st%params(find_param(st, 'GAUSS'))%values(1)))
+      return
+    end if
+    scn%sections = [scn%sections, sec]
+  end subroutine do_section
+
+  subroutine do_function(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(function_t) :: fn
+    integer :: k, n, i
+    do i = 1, size(scn%functions)
+      if (scn%functions(i)%name == st%lead(1)%text) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'function defined twice', st%lead(1)))
+        return
+      end if
+    end do
+    fn%name = st%lead(1)%text
+    k = find_param(st, 'POINTS')
+    if (k == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter POINTS (pairs of time and value)'))
+      return
+    end if
+    n = size(st%params(k)%values)
+    if (mod(n, 2) /= 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'POINTS needs pairs of time and value, found ' // &
+        str(n) // ' numbers', st%params(k)%keytok))
+      return
+    end if
+    allocate (fn%t(n / 2), fn%f(n / 2))
+    do i = 1, n / 2
+      call to_real(st%params(k)%values(2 * i - 1), st, fn%t(i), stat, errmsg)
+      if (stat /= STAT_OK) return
+      call to_real(st%params(k)%values(2 * i), st, fn%f(i), stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (i > 1) then
+        if (fn%t(i) <= fn%t(i - 1)) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'times must increase', &
+            st%params(k)%values(2 * i - 1)))
+          return
+        end if
+      end if
+    end do
+    scn%functions = [scn%functions, fn]
+  end subroutine do_function
+
+  !> Parameters that the chosen law does not use are refused rather than ignored.
+  subroutine check_law_params(st, law, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    integer, intent(in) :: law
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=5), parameter :: keys(4) = [character(len=5) :: 'B', 'YIELD', 'H_ISO', 'H_KIN']
+    logical :: allowed(4)
+    integer :: i, k
+    stat = STAT_OK
+    select case (law)
+    case (LAW_NONLINEAR_ELASTIC)
+      allowed = [.true., .false., .false., .false.]
+    case (LAW_ELASTOPLASTIC, LAW_VON_MISES)
+      allowed = [.false., .true., .true., .true.]
+    case default
+      allowed = .false.
+    end select
+    do i = 1, size(keys)
+      k = find_param(st, trim(keys(i)))
+      if (k > 0 .and. .not. allowed(i)) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'parameter ' // trim(keys(i)) // &
+          ' does not belong to this law', st%params(k)%keytok))
+        return
+      end if
+    end do
+  end subroutine check_law_params
+end submodule scene_materials

@@ -1,0 +1,288 @@
+!> Scene input: the mesh statements (DIMENSION, NODE, ELEMENT, GROUP, LINE, RECTANGLE, GMSH).
+!> Their grammar (schema) and their handlers, a submodule of scene.
+submodule (scene) scene_mesh
+  use scene_helpers, only: get_etype, get_pair
+  implicit none
+
+contains
+
+  module subroutine mesh_schema(sch)
+    type(schema_t), intent(inout) :: sch
+    call sch%add_keyword('DIMENSION', 1, 1, once=.true.)
+    call sch%add_keyword('NODE', 1, 1)
+    call sch%add_param('NODE', 'AT', 2, 2)
+    call sch%add_keyword('ELEMENT', 1, 1)
+    call sch%add_param('ELEMENT', 'TYPE', 1, 1)
+    call sch%add_param('ELEMENT', 'NODES', 1, -1)
+    call sch%add_keyword('GROUP', 1, 1)
+    call sch%add_param('GROUP', 'NODES', 1, -1)
+    call sch%add_param('GROUP', 'ELEMENTS', 1, -1)
+    call sch%add_keyword('LINE', 1, 1)
+    call sch%add_param('LINE', 'FROM', 2, 2)
+    call sch%add_param('LINE', 'TO', 2, 2)
+    call sch%add_param('LINE', 'ELEMENTS', 1, 1)
+    call sch%add_param('LINE', 'TYPE', 1, 1)
+    call sch%add_keyword('RECTANGLE', 1, 1)
+    call sch%add_param('RECTANGLE', 'ORIGIN', 2, 2)
+    call sch%add_param('RECTANGLE', 'SIZE', 2, 2)
+    call sch%add_param('RECTANGLE', 'ELEMENTS', 2, 2)
+    call sch%add_param('RECTANGLE', 'TYPE', 1, 1)
+    call sch%add_param('RECTANGLE', 'ANGLE', 1, 1)
+    call sch%add_keyword('GMSH', 1, 1)
+    call sch%add_param('GMSH', 'FILE', 1, 1)
+  end subroutine mesh_schema
+
+  !> One mesh statement (pass 1 of load_scene).
+  module subroutine mesh_statement(scn, st, path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    select case (st%keyword)
+    case ('DIMENSION')
+      call do_dimension(st, stat, errmsg)
+    case ('NODE')
+      call do_node(scn, st, stat, errmsg)
+    case ('ELEMENT')
+      call do_element(scn, st, stat, errmsg)
+    case ('GROUP')
+      call do_group(scn, st, stat, errmsg)
+    case ('LINE')
+      call do_line(scn, st, stat, errmsg)
+    case ('RECTANGLE')
+      call do_rectangle(scn, st, stat, errmsg)
+    case ('GMSH')
+      call do_gmsh(scn, st, path, stat, errmsg)
+    end select
+  end subroutine mesh_statement
+
+  subroutine do_dimension(st, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: d
+    call to_int(st%lead(1), st, d, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (d /= 2) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'only DIMENSION 2 is supported', st%lead(1)))
+  end subroutine do_dimension
+
+  subroutine do_node(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: xy(2)
+    integer :: id
+    call check_new_group_name(scn, st, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'AT', xy(1), stat, errmsg, index=1)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'AT', xy(2), stat, errmsg, index=2)
+    if (stat /= STAT_OK) return
+    call scn%mesh%add_node(xy, id)
+    call scn%mesh%add_node_group(st%lead(1)%text, [id])
+  end subroutine do_node
+
+  !> A new group name must not shadow an existing node or element group.
+  subroutine check_new_group_name(scn, st, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (scn%mesh%find_node_group(st%lead(1)%text) > 0 .or. scn%mesh%find_elem_group(st%lead(1)%text) > 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a group of this name already exists', st%lead(1)))
+    end if
+  end subroutine check_new_group_name
+
+  subroutine do_element(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: et, k, nen, nv, i, j, ig, id
+    integer, allocatable :: nodes(:), ids(:)
+    call check_new_group_name(scn, st, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_etype(st, 'TYPE', [ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8], et, stat, errmsg)
+    if (stat /= STAT_OK) return
+    k = find_param(st, 'NODES')
+    if (k == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter NODES'))
+      return
+    end if
+    nen = etype_nen(et)
+    nv = size(st%params(k)%values)
+    if (mod(nv, nen) /= 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'NODES lists ' // str(nv) // ' nodes, not a multiple of ' &
+        // str(nen) // ' (nodes of a ' // etype_name(et) // ')', st%params(k)%keytok))
+      return
+    end if
+    allocate (nodes(nen), ids(nv / nen))
+    do i = 1, nv / nen
+      do j = 1, nen
+        associate (tok => st%params(k)%values((i - 1) * nen + j))
+          ig = scn%mesh%find_node_group(tok%text)
+          if (ig == 0) then
+            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown node group', tok))
+            return
+          end if
+          if (size(scn%mesh%ngroups(ig)%items) /= 1) then
+            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node group has ' // &
+              str(size(scn%mesh%ngroups(ig)%items)) // ' nodes; an element node must name one node', tok))
+            return
+          end if
+          nodes(j) = scn%mesh%ngroups(ig)%items(1)
+        end associate
+      end do
+      call scn%mesh%add_element(et, nodes, id)
+      ids(i) = id
+    end do
+    call scn%mesh%add_elem_group(st%lead(1)%text, ids)
+  end subroutine do_element
+
+  subroutine do_group(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: kn, ke, i, ig
+    integer, allocatable :: items(:)
+    logical, allocatable :: used(:)
+    call check_new_group_name(scn, st, stat, errmsg)
+    if (stat /= STAT_OK) return
+    kn = find_param(st, 'NODES')
+    ke = find_param(st, 'ELEMENTS')
+    if ((kn == 0) .eqv. (ke == 0)) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give exactly one of NODES or ELEMENTS'))
+      return
+    end if
+    if (kn > 0) then
+      allocate (used(scn%mesh%nnode))
+      used = .false.
+      do i = 1, size(st%params(kn)%values)
+        ig = scn%mesh%find_node_group(st%params(kn)%values(i)%text)
+        if (ig == 0) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown node group', st%params(kn)%values(i)))
+          return
+        end if
+        used(scn%mesh%ngroups(ig)%items) = .true.
+      end do
+      items = pack([(i, i = 1, scn%mesh%nnode)], used)
+      call scn%mesh%add_node_group(st%lead(1)%text, items)
+    else
+      allocate (used(scn%mesh%nelem))
+      used = .false.
+      do i = 1, size(st%params(ke)%values)
+        ig = scn%mesh%find_elem_group(st%params(ke)%values(i)%text)
+        if (ig == 0) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown element group', st%params(ke)%values(i)))
+          return
+        end if
+        used(scn%mesh%egroups(ig)%items) = .true.
+      end do
+      items = pack([(i, i = 1, scn%mesh%nelem)], used)
+      call scn%mesh%add_elem_group(st%lead(1)%text, items)
+    end if
+  end subroutine do_group
+
+  subroutine do_line(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: p0(2), p1(2)
+    integer :: nel, et
+    call check_new_group_name(scn, st, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_pair(st, 'FROM', p0, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_pair(st, 'TO', p1, stat, errmsg)
+    if (stat /= STAT_OK) return
+    ! Upper bound: an absurd count must be an input error, not an allocation failure (fuzz).
+    call get_int(st, 'ELEMENTS', nel, stat, errmsg, lower=1, lower_inclusive=.true., upper=MAX_GENERATED_ELEMENTS, &
+      upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call get_etype(st, 'TYPE', [ET_BAR2, ET_BEAM2, ET_SPRING], et, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (norm2(p1 - p0) <= zero_tol * max(1.0_dp, norm2(p0), norm2(p1))) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FROM and TO coincide: zero-length line', &
+        st%params(find_param(st, 'TO'))%keytok))
+      return
+    end if
+    call generate_line(scn%mesh, st%lead(1)%text, p0, p1, nel, et, stat, errmsg)
+    if (stat /= STAT_OK) errmsg = stmt_error(st, errmsg)
+  end subroutine do_line
+
+  subroutine do_rectangle(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: origin(2), lxy(2), angle
+    integer :: nx, ny, et
+    real(dp), parameter :: pi = acos(-1.0_dp)
+    call check_new_group_name(scn, st, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_pair(st, 'ORIGIN', origin, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'SIZE', lxy(1), stat, errmsg, index=1, lower=0.0_dp, lower_inclusive=.false.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'SIZE', lxy(2), stat, errmsg, index=2, lower=0.0_dp, lower_inclusive=.false.)
+    if (stat /= STAT_OK) return
+    call get_int(st, 'ELEMENTS', nx, stat, errmsg, index=1, lower=1, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call get_int(st, 'ELEMENTS', ny, stat, errmsg, index=2, lower=1, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    ! nx*ny is bounded without forming it (it may overflow): an absurd mesh is an input error, not an
+    ! allocation failure or hours of node generation (found by tests/fuzz/fuzz.py).
+    if (nx > MAX_GENERATED_ELEMENTS / ny) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ELEMENTS ' // str(nx) // ' x ' // str(ny) // &
+        ' exceeds the limit of ' // str(MAX_GENERATED_ELEMENTS) // ' elements', &
+        st%params(find_param(st, 'ELEMENTS'))%values(1)))
+      return
+    end if
+    call get_etype(st, 'TYPE', [ET_QUAD4, ET_QUAD8], et, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'ANGLE', angle, stat, errmsg, default=0.0_dp)
+    if (stat /= STAT_OK) return
+    call generate_rectangle(scn%mesh, st%lead(1)%text, origin, lxy(1), lxy(2), nx, ny, et, stat, errmsg, &
+      angle=angle * pi / 180.0_dp)
+    if (stat /= STAT_OK) errmsg = stmt_error(st, errmsg)
+  end subroutine do_rectangle
+
+  subroutine do_gmsh(scn, st, scene_path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: scene_path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: file, full, msg
+    call check_new_group_name(scn, st, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_word(st, 'FILE', file, stat, errmsg)
+    if (stat /= STAT_OK) return
+    full = resolve_path(scene_path, file)
+    call read_gmsh(scn%mesh, full, st%lead(1)%text, stat, msg)
+    if (stat /= STAT_OK) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, msg, st%params(find_param(st, 'FILE'))%values(1)))
+    end if
+  end subroutine do_gmsh
+
+  !> A path relative to the directory of the scene file (absolute paths unchanged).
+  pure function resolve_path(scene_path, file) result(full)
+    character(len=*), intent(in) :: scene_path, file
+    character(len=:), allocatable :: full
+    integer :: k
+    if (len(file) > 0) then
+      if (file(1:1) == '/') then
+        full = file
+        return
+      end if
+    end if
+    k = index(scene_path, '/', back=.true.)
+    full = scene_path(1:k) // file
+  end function resolve_path
+end submodule scene_mesh

@@ -1,0 +1,226 @@
+!> Scene input: the models (MODEL): element group, formulation, material, section, mass, sub-increments.
+!> Their grammar (schema) and their handlers, a submodule of scene.
+submodule (scene) scene_models
+  use scene_helpers, only: get_etype, model_size
+  implicit none
+
+contains
+
+  module subroutine models_schema(sch)
+    type(schema_t), intent(inout) :: sch
+    call sch%add_keyword('MODEL', 1, 1)
+    call sch%add_param('MODEL', 'TYPE', 1, 1)
+    call sch%add_param('MODEL', 'MATERIAL', 1, 1)
+    call sch%add_param('MODEL', 'SECTION', 1, 1)
+    call sch%add_param('MODEL', 'MASS', 1, 1)
+    call sch%add_param('MODEL', 'PLANE', 1, 1)
+    call sch%add_param('MODEL', 'SUBSTEPS', 1, 1)
+  end subroutine models_schema
+
+  !> One models statement (pass 2 of load_scene).
+  module subroutine models_statement(scn, st, path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    select case (st%keyword)
+    case ('MODEL')
+      call do_model(scn, st, stat, errmsg)
+    end select
+  end subroutine models_statement
+
+  subroutine do_model(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(model_t) :: md
+    integer :: ig, e, i, et0, isec, imodel
+    character(len=:), allocatable :: w, msg
+    real(dp) :: x(2, 8), msize
+    md%group = st%lead(1)%text
+    msize = model_size(scn%mesh)
+    md%line = st%line
+    ig = scn%mesh%find_elem_group(md%group)
+    if (ig == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown element group', st%lead(1)))
+      return
+    end if
+    md%egroup = ig
+    associate (items => scn%mesh%egroups(ig)%items)
+      if (size(items) == 0) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'element group is empty', st%lead(1)))
+        return
+      end if
+      et0 = scn%mesh%etype(items(1))
+      if (any(scn%mesh%etype(items) /= et0)) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'element group mixes element types; model each type '// &
+          'in its own group', st%lead(1)))
+        return
+      end if
+      md%etype = et0
+      if (find_param(st, 'TYPE') > 0) then
+        if (any(et0 == [ET_SPRING, ET_BAR2, ET_BEAM2])) then
+          call get_etype(st, 'TYPE', [ET_SPRING, ET_BAR2, ET_BEAM2], md%etype, stat, errmsg)
+        else
+          call get_etype(st, 'TYPE', [et0], md%etype, stat, errmsg)
+        end if
+        if (stat /= STAT_OK) return
+      end if
+    end associate
+    ! Material (not for point masses).
+    md%material = 0
+    if (find_param(st, 'MATERIAL') > 0) then
+      call get_word(st, 'MATERIAL', w, stat, errmsg)
+      do i = 1, size(scn%materials)
+        if (scn%materials(i)%name == w) md%material = i
+      end do
+      if (md%material == 0) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown material', &
+          st%params(find_param(st, 'MATERIAL'))%values(1)))
+        return
+      end if
+    else if (md%etype /= ET_MASS) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter MATERIAL (required for ' // &
+        etype_name(md%etype) // ')', st%lead(1)))
+      return
+    end if
+    ! Section.
+    isec = 0
+    if (find_param(st, 'SECTION') > 0) then
+      call get_word(st, 'SECTION', w, stat, errmsg)
+      do i = 1, size(scn%sections)
+        if (scn%sections(i)%name == w) isec = i
+      end do
+      if (isec == 0) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown section', &
+          st%params(find_param(st, 'SECTION'))%values(1)))
+        return
+      end if
+      md%sec = scn%sections(isec)
+    else if (any(md%etype == [ET_MASS, ET_BAR2, ET_BEAM2])) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter SECTION (required for ' // &
+        etype_name(md%etype) // ')', st%lead(1)))
+      return
+    else
+      md%sec%name = '(default)'
+    end if
+    call check_section(st, md, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_word(st, 'MASS', w, stat, errmsg, default='CONSISTENT')
+    if (stat /= STAT_OK) return
+    select case (upper(w))
+    case ('CONSISTENT')
+      md%lumped = .false.
+    case ('LUMPED')
+      md%lumped = .true.
+    case default
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected CONSISTENT or LUMPED', &
+        st%params(find_param(st, 'MASS'))%values(1)))
+      return
+    end select
+    call get_word(st, 'SUBSTEPS', w, stat, errmsg, default='AUTO')
+    if (stat /= STAT_OK) return
+    if (upper(w) == 'AUTO') then
+      md%substeps = 0
+    else
+      ! SUBSTEPS <= MAX_SUBSTEPS: the laws loop over the sub-increments at every point and iteration,
+      ! so SUBSTEPS 1000000000 hung the run (found by tests/fuzz/fuzz.py); AUTO stays <= 100.
+      call get_int(st, 'SUBSTEPS', md%substeps, stat, errmsg, lower=1, lower_inclusive=.true., &
+        upper=MAX_SUBSTEPS, upper_inclusive=.true.)
+      if (stat /= STAT_OK) return
+    end if
+    call get_word(st, 'PLANE', w, stat, errmsg, default='STRAIN')
+    if (stat /= STAT_OK) return
+    select case (upper(w))
+    case ('STRAIN')
+      md%sec%plane_stress = .false.
+    case ('STRESS')
+      md%sec%plane_stress = .true.
+    case default
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected STRAIN or STRESS', &
+        st%params(find_param(st, 'PLANE'))%values(1)))
+      return
+    end select
+    if (md%material > 0) then
+      call check_model_law(st, md, scn%materials(md%material), stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
+    imodel = size(scn%models) + 1
+    associate (items => scn%mesh%egroups(ig)%items)
+      do i = 1, size(items)
+        e = items(i)
+        if (scn%elem_model(e) /= 0) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'element ' // str(e) // ' already belongs to the ' // &
+            'model of group ' // scn%models(scn%elem_model(e))%group // ' (line ' // &
+            str(scn%models(scn%elem_model(e))%line) // ')', st%lead(1)))
+          return
+        end if
+        scn%mesh%etype(e) = md%etype
+        x(:, 1:etype_nen(md%etype)) = scn%mesh%x(:, scn%mesh%conn(1:etype_nen(md%etype), e))
+        call elem_check_geometry(md%etype, x(:, 1:etype_nen(md%etype)), md%sec, stat, msg, size_ref=msize)
+        if (stat /= STAT_OK) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, etype_name(md%etype) // ' element ' // str(i) // &
+            ' of group ' // md%group // ' (nodes ' // node_list(scn%mesh%conn(1:etype_nen(md%etype), e)) // '): ' &
+            // msg, st%lead(1)))
+          return
+        end if
+        scn%elem_model(e) = imodel
+      end do
+    end associate
+    scn%models = [scn%models, md]
+  end subroutine do_model
+
+  pure function node_list(nodes) result(s)
+    integer, intent(in) :: nodes(:)
+    character(len=:), allocatable :: s
+    integer :: i
+    s = ''
+    do i = 1, size(nodes)
+      if (i > 1) s = s // ' '
+      s = s // str(nodes(i))
+    end do
+  end function node_list
+
+  !> The section characteristics an element type needs.
+  subroutine check_section(st, md, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(model_t), intent(in) :: md
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: need
+    stat = STAT_OK
+    need = ''
+    select case (md%etype)
+    case (ET_MASS)
+      if (md%sec%mass <= 0.0_dp) need = 'MASS > 0'
+    case (ET_BAR2)
+      if (md%sec%area <= 0.0_dp) need = 'AREA'
+    case (ET_BEAM2)
+      ! A fibre section (LAYERS) integrates its inertia over the layers: INERTIA is not used.
+      if (md%sec%area <= 0.0_dp) need = 'AREA'
+      if (md%sec%inertia <= 0.0_dp .and. md%sec%layers == 0) then
+        if (len(need) > 0) need = need // ' and '
+        need = need // 'INERTIA'
+      end if
+    end select
+    if (len(need) > 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'section ' // md%sec%name // &
+      ' lacks ' // trim(need) // ' needed by ' // etype_name(md%etype) // ' elements', st%lead(1)))
+  end subroutine check_section
+
+  !> Which laws an element type accepts (1D laws on springs, bars and fibre beams, J2 on
+  !> quads) and what they need: material_law's law_check, with the statement's file:line.
+  subroutine check_model_law(st, md, mat, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(model_t), intent(in) :: md
+    type(material_t), intent(in) :: mat
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: msg
+    call law_check(mat, model_point_kind(md), md%sec, stat, msg)
+    if (stat /= STAT_OK) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'material ' // mat%name // ' on ' // &
+      etype_name(md%etype) // ' elements: ' // msg, st%params(find_param(st, 'MATERIAL'))%values(1)))
+  end subroutine check_model_law
+end submodule scene_models

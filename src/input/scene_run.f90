@@ -1,0 +1,180 @@
+!> Scene input: the run: time, scheme and outputs (TIME, SCHEME, OUTPUT).
+!> Their grammar (schema) and their handlers, a submodule of scene.
+submodule (scene) scene_run
+  use scene_helpers, only: node_group, get_choice
+  implicit none
+
+  !> SCHEME IMPACT and MULTIPLIERS: the codes of each word, in the words' order.
+  integer, parameter :: IMPACT_MODES(3) = [IMPACT_PAPER, IMPACT_PERSIST, IMPACT_OFF]
+  integer, parameter :: SOLVERS(3) = [SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED]
+
+contains
+
+  module subroutine run_schema(sch)
+    type(schema_t), intent(inout) :: sch
+    call sch%add_keyword('TIME', 0, 0, once=.true., required=.true., hint='TIME STEP h END t')
+    call sch%add_param('TIME', 'STEP', 1, 1)
+    call sch%add_param('TIME', 'END', 1, 1)
+    call sch%add_param('TIME', 'START', 1, 1)
+    call sch%add_keyword('SCHEME', 0, 0, once=.true.)
+    call sch%add_param('SCHEME', 'NEWMARK', 0, 0)
+    call sch%add_param('SCHEME', 'TOLERANCE', 1, 1)
+    call sch%add_param('SCHEME', 'MAX_ITERATIONS', 1, 1)
+    call sch%add_param('SCHEME', 'ENERGY_CORRECTION', 1, 1)
+    call sch%add_param('SCHEME', 'ITERATION', 1, 1)
+    call sch%add_param('SCHEME', 'IMPACT', 1, 1)
+    call sch%add_param('SCHEME', 'PRECISION', 1, 1)
+    call sch%add_param('SCHEME', 'MULTIPLIERS', 1, 1)
+    call sch%add_param('SCHEME', 'AUGMENTED_ABOVE', 1, 1)
+    call sch%add_keyword('OUTPUT', 0, 0, once=.true.)
+    call sch%add_param('OUTPUT', 'HISTORY', 1, 2)
+    call sch%add_param('OUTPUT', 'FIELDS', 1, 2)
+    call sch%add_param('OUTPUT', 'PROBE', 2, -1, repeatable=.true.)
+    call sch%add_param('OUTPUT', 'CHECKPOINT', 1, 2)
+  end subroutine run_schema
+
+  !> One run statement (pass 2 of load_scene).
+  module subroutine run_statement(scn, st, path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    select case (st%keyword)
+    case ('TIME')
+      call do_time(scn, st, stat, errmsg)
+    case ('SCHEME')
+      call do_scheme(scn, st, stat, errmsg)
+    case ('OUTPUT')
+      call do_output(scn, st, stat, errmsg)
+    end select
+  end subroutine run_statement
+
+  subroutine do_time(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call get_real(st, 'STEP', scn%dt, stat, errmsg, lower=0.0_dp, lower_inclusive=.false.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'START', scn%t_start, stat, errmsg, default=0.0_dp)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'END', scn%t_end, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (scn%t_end <= scn%t_start) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'END must be after START (' // str(scn%t_start) // ')', &
+        st%params(find_param(st, 'END'))%values(1)))
+      return
+    end if
+    if ((scn%t_end - scn%t_start) / scn%dt > 2.0e9_dp) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'more than 2e9 steps', &
+        st%params(find_param(st, 'STEP'))%values(1)))
+    end if
+  end subroutine do_time
+
+  subroutine do_scheme(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k
+    call get_real(st, 'TOLERANCE', scn%tolerance, stat, errmsg, default=1.0e-10_dp, lower=0.0_dp, &
+      lower_inclusive=.false.)
+    if (stat /= STAT_OK) return
+    call get_int(st, 'MAX_ITERATIONS', scn%max_iterations, stat, errmsg, default=25, lower=1, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call get_choice(st, 'ENERGY_CORRECTION', ['ON ', 'OFF'], 'ON', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%energy_correction = k == 1
+    call get_choice(st, 'ITERATION', ['ELASTIC', 'TANGENT'], 'ELASTIC', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%tangent = k == 2
+    call get_choice(st, 'IMPACT', ['PAPER  ', 'PERSIST', 'OFF    '], 'PAPER', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%impact = IMPACT_MODES(k)
+    call get_choice(st, 'PRECISION', ['DOUBLE  ', 'EXTENDED'], 'DOUBLE', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%extended = k == 2
+    call get_choice(st, 'MULTIPLIERS', ['AUTO     ', 'SCHUR    ', 'AUGMENTED'], 'AUTO', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%multipliers = SOLVERS(k)
+    call get_int(st, 'AUGMENTED_ABOVE', scn%augmented_above, stat, errmsg, default=SWITCH_DEFAULT, lower=0, &
+      lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+  end subroutine do_scheme
+
+  !> "[EVERY] k" of OUTPUT HISTORY / FIELDS.
+  subroutine get_every(st, key, every, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: key
+    integer, intent(inout) :: every
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, n
+    stat = STAT_OK
+    k = find_param(st, key)
+    if (k == 0) return
+    n = size(st%params(k)%values)
+    if (n == 2) then
+      if (upper(st%params(k)%values(1)%text) /= 'EVERY') then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected EVERY k', st%params(k)%values(1)))
+        return
+      end if
+    end if
+    call to_int(st%params(k)%values(n), st, every, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (every < 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'must be >= 0 (0: never)', &
+      st%params(k)%values(n)))
+  end subroutine get_every
+
+  subroutine do_output(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, occ, i, ig, d
+    type(probe_t) :: pr
+    call get_every(st, 'HISTORY', scn%history_every, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_every(st, 'FIELDS', scn%fields_every, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_every(st, 'CHECKPOINT', scn%checkpoint_every, stat, errmsg)
+    if (stat /= STAT_OK) return
+    do occ = 1, count_param(st, 'PROBE')
+      k = find_param(st, 'PROBE', occ)
+      associate (vals => st%params(k)%values)
+        if (mod(size(vals), 2) /= 0) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'PROBE takes pairs: group DOF', st%params(k)%keytok))
+          return
+        end if
+        do i = 1, size(vals), 2
+          call node_group(scn, st, vals(i), ig, stat, errmsg)
+          if (stat /= STAT_OK) return
+          if (size(scn%mesh%ngroups(ig)%items) /= 1) then
+            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a probe needs a one-node group; this one has ' &
+              // str(size(scn%mesh%ngroups(ig)%items)) // ' nodes', vals(i)))
+            return
+          end if
+          select case (upper(vals(i + 1)%text))
+          case ('UX')
+            d = DOF_UX
+          case ('UY')
+            d = DOF_UY
+          case ('RZ')
+            d = DOF_RZ
+          case default
+            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected a DOF: UX, UY or RZ', vals(i + 1)))
+            return
+          end select
+          pr%node = scn%mesh%ngroups(ig)%items(1)
+          pr%dof = d
+          pr%label = vals(i)%text // '.' // upper(vals(i + 1)%text)
+          pr%line = st%line
+          scn%probes = [scn%probes, pr]
+        end do
+      end associate
+    end do
+  end subroutine do_output
+
+end submodule scene_run
