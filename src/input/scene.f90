@@ -10,8 +10,10 @@ module scene
   use section, only: section_t
   use material_law, only: material_t, law_check, LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES, &
     PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS
-  use scene_parser, only: schema_t, statement_t, token_t, parse_file, apply_override, stmt_error, find_param, &
-    count_param, get_real, get_int, get_word, to_real, to_int, check_required
+  use statement, only: statement_t, token_t, stmt_error, find_param, count_param, get_real, get_int, get_word, &
+    to_real, to_int
+  use statement_schema, only: schema_t
+  use scene_parser, only: parse_file, apply_override, check_required
   use mesh_generators, only: generate_line, generate_rectangle, MAX_GENERATED_ELEMENTS
   use gmsh_reader, only: read_gmsh
   use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, &

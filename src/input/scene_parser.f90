@@ -1,297 +1,25 @@
-!> Schema-driven lexer and parser for rebond's keyword scene files.
+!> Schema-driven lexer and parser for rebond's keyword files (scene, sweep).
 !>
 !> A statement is `KEYWORD [lead tokens] (PARAM value*)*` on one logical line (physical lines
 !> joined by a trailing `&`). The lexer only knows blanks, comments, quotes and continuations;
 !> which token is a parameter name and how many values each parameter takes comes from a
-!> schema_t built by the caller, so the scene module never splits text itself.
-!> The lexical rules are documented in docs/input.md, section "Lexical rules".
+!> schema_t (statement_schema) built by the caller, so the scene never splits text itself.
+!> The lexical rules are documented in docs/input.md, section "Lexical rules". Values are read
+!> out of the statements by the getters of module statement.
 module scene_parser
   use, intrinsic :: iso_fortran_env, only: int64, iostat_end, iostat_eor
-  use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str, upcase => upper
-  use number_text, only: parse_real_text, parse_int_text, real_text, NUM_MALFORMED, NUM_RANGE
+  use kinds, only: dp
+  use statement, only: token_t, param_t, statement_t, stmt_error, shown, find_param, count_param, MAX_SHOWN
+  use statement_schema, only: schema_t, kwdef_t, pdef_t, find_kw, find_pdef, param_of_token, pdef_list, arity_text, plural
+  use number_text, only: parse_real_text, parse_int_text, NUM_MALFORMED
   implicit none
   private
-  public :: token_t, param_t, statement_t, schema_t
-  public :: parse_file, parse_string, read_text, apply_override, stmt_error, check_required
-  public :: find_param, count_param, get_real, get_int, get_word, get_real_list, get_int_list
-  public :: to_real, to_int
+  public :: parse_file, parse_string, read_text, apply_override, check_required
 
   character(len=*), parameter :: LF = achar(10), CR = achar(13), TAB = achar(9)
-  !> Longest word quoted verbatim in a message; longer ones are cut (a token may be 50 000 chars).
-  integer, parameter :: MAX_SHOWN = 60
-
-  !> One token: a bare word or a quoted string (quotes removed).
-  type :: token_t
-    character(len=:), allocatable :: text  !< as written (quotes removed)
-    integer :: line = 0                    !< physical line in the file; 0 for a --set value
-    logical :: quoted = .false.
-  end type token_t
-
-  !> One parameter occurrence with its values.
-  type :: param_t
-    character(len=:), allocatable :: key   !< upper case
-    type(token_t) :: keytok
-    type(token_t), allocatable :: values(:)
-  end type param_t
-
-  !> One statement: keyword, lead tokens, parameters in order of appearance.
-  type :: statement_t
-    character(len=:), allocatable :: keyword  !< upper case
-    character(len=:), allocatable :: file
-    integer :: line = 0                       !< line of the keyword
-    type(token_t) :: kwtok
-    type(token_t), allocatable :: lead(:)
-    type(param_t), allocatable :: params(:)   !< in order of appearance
-  end type statement_t
-
-  type :: pdef_t
-    character(len=:), allocatable :: name
-    integer :: nmin = 0, nmax = 0             ! nmax = -1: unbounded
-    logical :: repeatable = .false.
-  end type pdef_t
-
-  type :: kwdef_t
-    character(len=:), allocatable :: name
-    character(len=:), allocatable :: hint     !< for a missing required statement, e.g. 'TIME STEP h END t'
-    logical :: once = .false.                 !< may be given once at most
-    logical :: required = .false.             !< must be given (check_required)
-    integer :: nlead_min = 0, nlead_max = 0
-    integer :: np = 0
-    type(pdef_t), allocatable :: params(:)
-  end type kwdef_t
-
-  !> What each keyword accepts. A mistake while building it (duplicate, unknown keyword, bad
-  !> counts) is remembered in `defect` and reported by every parse, since add_* has no stat.
-  type :: schema_t
-    integer, private :: nkw = 0
-    type(kwdef_t), allocatable, private :: kws(:)
-    character(len=:), allocatable, private :: defect
-  contains
-    procedure :: add_keyword => schema_add_keyword
-    procedure :: add_param => schema_add_param
-    procedure :: param_names => schema_param_names
-    procedure :: keyword_names => schema_keyword_names
-    procedure :: has_keyword => schema_has_keyword
-  end type schema_t
 
 contains
-
-  ! ---------------------------------------------------------------------------------------------
-  ! Schema
-  ! ---------------------------------------------------------------------------------------------
-
-  !> Declare a keyword taking between nlead_min and nlead_max lead tokens (both default 0).
-  !> once: the statement may be given once at most (parse_string refuses a repeat); required:
-  !> it must be given (check_required, hint: what it looks like, for the message).
-  subroutine schema_add_keyword(self, name, nlead_min, nlead_max, once, required, hint)
-    class(schema_t), intent(inout) :: self
-    character(len=*), intent(in) :: name
-    integer, intent(in), optional :: nlead_min, nlead_max
-    logical, intent(in), optional :: once, required
-    character(len=*), intent(in), optional :: hint
-    type(kwdef_t), allocatable :: tmp(:)
-    character(len=:), allocatable :: u
-    u = upcase(trim(adjustl(name)))
-    if (.not. allocated(self%kws)) allocate (self%kws(16))
-    if (len(u) == 0) then
-      call note_defect(self, 'empty keyword name')
-      return
-    end if
-    if (find_kw(self, u) > 0) then
-      call note_defect(self, 'keyword ' // u // ' declared twice')
-      return
-    end if
-    if (self%nkw == size(self%kws)) then
-      allocate (tmp(2 * size(self%kws)))
-      tmp(1:self%nkw) = self%kws(1:self%nkw)
-      call move_alloc(tmp, self%kws)
-    end if
-    self%nkw = self%nkw + 1
-    associate (k => self%kws(self%nkw))
-      k%name = u
-      k%nlead_min = 0
-      k%nlead_max = 0
-      if (present(nlead_min)) k%nlead_min = nlead_min
-      if (present(nlead_max)) k%nlead_max = nlead_max
-      if (present(nlead_min) .and. .not. present(nlead_max)) k%nlead_max = k%nlead_min
-      k%np = 0
-      if (present(once)) k%once = once
-      if (present(required)) k%required = required
-      k%hint = ''
-      if (present(hint)) k%hint = hint
-      allocate (k%params(8))
-      if (k%nlead_min < 0 .or. k%nlead_max < k%nlead_min) &
-        call note_defect(self, 'keyword ' // u // ': bad nlead_min/nlead_max')
-    end associate
-  end subroutine schema_add_keyword
-
-  !> Declare parameter `name` of `keyword` taking nmin..nmax values (nmax = -1: unbounded;
-  !> both default 0, a flag). A non-repeatable parameter may appear once per statement.
-  subroutine schema_add_param(self, keyword, name, nmin, nmax, repeatable)
-    class(schema_t), intent(inout) :: self
-    character(len=*), intent(in) :: keyword, name
-    integer, intent(in), optional :: nmin, nmax
-    logical, intent(in), optional :: repeatable
-    type(pdef_t), allocatable :: tmp(:)
-    character(len=:), allocatable :: u
-    integer :: k
-    k = find_kw(self, upcase(trim(adjustl(keyword))))
-    if (k == 0) then
-      call note_defect(self, 'parameter ' // trim(name) // ' added to undeclared keyword ' // trim(keyword))
-      return
-    end if
-    u = upcase(trim(adjustl(name)))
-    associate (kd => self%kws(k))
-      if (len(u) == 0) then
-        call note_defect(self, 'empty parameter name for ' // kd%name)
-        return
-      end if
-      if (find_pdef(kd, u) > 0) then
-        call note_defect(self, 'parameter ' // u // ' of ' // kd%name // ' declared twice')
-        return
-      end if
-      if (kd%np == size(kd%params)) then
-        allocate (tmp(2 * size(kd%params)))
-        tmp(1:kd%np) = kd%params(1:kd%np)
-        call move_alloc(tmp, kd%params)
-      end if
-      kd%np = kd%np + 1
-      kd%params(kd%np)%name = u
-      kd%params(kd%np)%nmin = 0
-      kd%params(kd%np)%nmax = 0
-      if (present(nmin)) kd%params(kd%np)%nmin = nmin
-      if (present(nmax)) kd%params(kd%np)%nmax = nmax
-      if (present(nmin) .and. .not. present(nmax)) kd%params(kd%np)%nmax = nmin
-      kd%params(kd%np)%repeatable = .false.
-      if (present(repeatable)) kd%params(kd%np)%repeatable = repeatable
-      associate (pd => kd%params(kd%np))
-        if (pd%nmin < 0 .or. (pd%nmax >= 0 .and. pd%nmax < pd%nmin) .or. pd%nmax < -1) &
-          call note_defect(self, 'parameter ' // u // ' of ' // kd%name // ': bad nmin/nmax')
-      end associate
-    end associate
-  end subroutine schema_add_param
-
-  !> Comma-separated parameter names of a keyword, in declaration order ('' if none or unknown).
-  function schema_param_names(self, keyword) result(s)
-    class(schema_t), intent(in) :: self
-    character(len=*), intent(in) :: keyword
-    character(len=:), allocatable :: s
-    integer :: k
-    s = ''
-    k = find_kw(self, upcase(keyword))
-    if (k > 0) s = pdef_list(self%kws(k))
-  end function schema_param_names
-
-  !> Comma-separated keyword names, in declaration order.
-  function schema_keyword_names(self) result(s)
-    class(schema_t), intent(in) :: self
-    character(len=:), allocatable :: s
-    integer :: k
-    s = ''
-    do k = 1, self%nkw
-      if (k > 1) s = s // ', '
-      s = s // self%kws(k)%name
-    end do
-  end function schema_keyword_names
-
-  !> Whether a keyword (any case) is declared.
-  logical function schema_has_keyword(self, keyword)
-    class(schema_t), intent(in) :: self
-    character(len=*), intent(in) :: keyword
-    schema_has_keyword = find_kw(self, upcase(keyword)) > 0
-  end function schema_has_keyword
-
-  subroutine note_defect(self, msg)
-    type(schema_t), intent(inout) :: self
-    character(len=*), intent(in) :: msg
-    if (.not. allocated(self%defect)) self%defect = msg   ! keep the first: later ones may follow from it
-  end subroutine note_defect
-
-  pure integer function find_kw(sch, uname)
-    type(schema_t), intent(in) :: sch
-    character(len=*), intent(in) :: uname
-    integer :: k
-    find_kw = 0
-    do k = 1, sch%nkw
-      if (sch%kws(k)%name == uname .and. len(sch%kws(k)%name) == len(uname)) then
-        find_kw = k
-        return
-      end if
-    end do
-  end function find_kw
-
-  pure integer function find_pdef(kd, uname)
-    type(kwdef_t), intent(in) :: kd
-    character(len=*), intent(in) :: uname
-    integer :: p
-    find_pdef = 0
-    do p = 1, kd%np
-      if (kd%params(p)%name == uname .and. len(kd%params(p)%name) == len(uname)) then
-        find_pdef = p
-        return
-      end if
-    end do
-  end function find_pdef
-
-  !> Index of the parameter named by token `t`, 0 if `t` is not one (quoted tokens never are).
-  !> Lengths are compared first so long value tokens are never upper-cased.
-  pure integer function param_of_token(kd, t)
-    type(kwdef_t), intent(in) :: kd
-    type(token_t), intent(in) :: t
-    integer :: p
-    param_of_token = 0
-    if (t%quoted) return
-    do p = 1, kd%np
-      if (len(kd%params(p)%name) /= len(t%text)) cycle
-      if (kd%params(p)%name == upcase(t%text)) then
-        param_of_token = p
-        return
-      end if
-    end do
-  end function param_of_token
-
-  pure function pdef_list(kd) result(s)
-    type(kwdef_t), intent(in) :: kd
-    character(len=:), allocatable :: s
-    integer :: p
-    s = ''
-    do p = 1, kd%np
-      if (p > 1) s = s // ', '
-      s = s // kd%params(p)%name
-    end do
-  end function pdef_list
-
-  !> "2 values", "at least 1 value", "1 to 3 values", "no value".
-  pure function arity_text(nmin, nmax) result(s)
-    integer, intent(in) :: nmin, nmax
-    character(len=:), allocatable :: s
-    if (nmax == nmin) then
-      if (nmin == 0) then
-        s = 'no value'
-      else
-        s = str(nmin) // plural(nmin)
-      end if
-    else if (nmax < 0) then
-      s = 'at least ' // str(nmin) // plural(nmin)
-    else
-      s = str(nmin) // ' to ' // str(nmax) // ' values'
-    end if
-  end function arity_text
-
-  pure function plural(n) result(s)
-    integer, intent(in) :: n
-    character(len=:), allocatable :: s
-    if (n == 1) then
-      s = ' value'
-    else
-      s = ' values'
-    end if
-  end function plural
-
-  ! ---------------------------------------------------------------------------------------------
-  ! Reading and lexing
-  ! ---------------------------------------------------------------------------------------------
 
   !> Parse a scene file. Errors read `<path>:<line>: <KEYWORD>: <what>, at '<word>'`.
   subroutine parse_file(path, sch, stmts, stat, errmsg)
@@ -482,48 +210,6 @@ contains
     call check_once(stmts, sch, stat, errmsg)
   end subroutine parse_string
 
-  !> The statements declared `once` are given once at most: the repeat is named.
-  subroutine check_once(stmts, sch, stat, errmsg)
-    type(statement_t), intent(in) :: stmts(:)
-    type(schema_t), intent(in) :: sch
-    integer, intent(inout) :: stat
-    character(len=:), allocatable, intent(inout) :: errmsg
-    integer :: i, j
-    do j = 2, size(stmts)
-      if (.not. sch%kws(find_kw(sch, stmts(j)%keyword))%once) cycle
-      do i = 1, j - 1
-        if (stmts(i)%keyword /= stmts(j)%keyword) cycle
-        call set_error(stat, errmsg, STAT_INPUT, stmt_error(stmts(j), 'statement repeated (first at line ' // &
-          str(stmts(i)%line) // '); give it once', stmts(j)%kwtok))
-        return
-      end do
-    end do
-  end subroutine check_once
-
-  !> Every statement declared `required` is there, else "file:1: no KEYWORD statement (hint)".
-  subroutine check_required(stmts, sch, filename, stat, errmsg)
-    type(statement_t), intent(in) :: stmts(:)
-    type(schema_t), intent(in) :: sch
-    character(len=*), intent(in) :: filename
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: k, i
-    logical :: found
-    stat = STAT_OK
-    do k = 1, sch%nkw
-      if (.not. sch%kws(k)%required) cycle
-      found = .false.
-      do i = 1, size(stmts)
-        found = found .or. stmts(i)%keyword == sch%kws(k)%name
-      end do
-      if (found) cycle
-      errmsg = filename // ':1: no ' // sch%kws(k)%name // ' statement'
-      if (len(sch%kws(k)%hint) > 0) errmsg = errmsg // ' (' // sch%kws(k)%hint // ')'
-      stat = STAT_INPUT
-      return
-    end do
-  end subroutine check_required
-
   !> Move a statement's allocatable parts without copying them.
   subroutine move_statement(from, to)
     type(statement_t), intent(inout) :: from
@@ -700,25 +386,47 @@ contains
     s = s // what // ", at '" // shown(word) // "'"
   end function lex_error
 
-  !> A word made safe and short for a message: non-printable bytes as '?', cut at MAX_SHOWN.
-  pure function shown(w) result(s)
-    character(len=*), intent(in) :: w
-    character(len=:), allocatable :: s
-    integer :: k, ic
-    if (len(w) > MAX_SHOWN) then
-      s = w(1:MAX_SHOWN) // '...'
-    else
-      s = w
-    end if
-    do k = 1, min(len(w), MAX_SHOWN)
-      ic = iachar(s(k:k))
-      if (ic < 32 .or. ic > 126) s(k:k) = '?'
+  !> The statements declared `once` are given once at most: the repeat is named.
+  subroutine check_once(stmts, sch, stat, errmsg)
+    type(statement_t), intent(in) :: stmts(:)
+    type(schema_t), intent(in) :: sch
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    integer :: i, j
+    do j = 2, size(stmts)
+      if (.not. sch%kws(find_kw(sch, stmts(j)%keyword))%once) cycle
+      do i = 1, j - 1
+        if (stmts(i)%keyword /= stmts(j)%keyword) cycle
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(stmts(j), 'statement repeated (first at line ' // &
+          str(stmts(i)%line) // '); give it once', stmts(j)%kwtok))
+        return
+      end do
     end do
-  end function shown
+  end subroutine check_once
 
-  ! ---------------------------------------------------------------------------------------------
-  ! Splitting a statement with the schema
-  ! ---------------------------------------------------------------------------------------------
+  !> Every statement declared `required` is there, else "file:1: no KEYWORD statement (hint)".
+  subroutine check_required(stmts, sch, filename, stat, errmsg)
+    type(statement_t), intent(in) :: stmts(:)
+    type(schema_t), intent(in) :: sch
+    character(len=*), intent(in) :: filename
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, i
+    logical :: found
+    stat = STAT_OK
+    do k = 1, sch%nkw
+      if (.not. sch%kws(k)%required) cycle
+      found = .false.
+      do i = 1, size(stmts)
+        found = found .or. stmts(i)%keyword == sch%kws(k)%name
+      end do
+      if (found) cycle
+      errmsg = filename // ':1: no ' // sch%kws(k)%name // ' statement'
+      if (len(sch%kws(k)%hint) > 0) errmsg = errmsg // ' (' // sch%kws(k)%hint // ')'
+      stat = STAT_INPUT
+      return
+    end do
+  end subroutine check_required
 
   subroutine parse_statement(toks, filename, sch, st, stat, errmsg)
     type(token_t), intent(in) :: toks(:)
@@ -854,47 +562,6 @@ contains
       end if
     end function unknown_param_text
   end subroutine parse_statement
-
-  !> "<file>:<line>: <KEYWORD>[ <lead(1)>]: <msg>[, at '<word>']". The line is the token's
-  !> (the keyword's if the token has none); a token from --set (line 0) is marked as such.
-  function stmt_error(st, msg, tok) result(s)
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: msg
-    type(token_t), intent(in), optional :: tok
-    character(len=:), allocatable :: s
-    integer :: line
-    line = st%line
-    if (present(tok)) then
-      if (tok%line > 0) line = tok%line
-    end if
-    if (allocated(st%file)) then
-      s = st%file // ':' // str(line) // ': '
-    else
-      s = '?:' // str(line) // ': '
-    end if
-    if (allocated(st%keyword)) then
-      if (len(st%keyword) > 0) then
-        s = s // st%keyword
-        if (allocated(st%lead)) then
-          if (size(st%lead) > 0) s = s // ' ' // shown(st%lead(1)%text)
-        end if
-        s = s // ': '
-      end if
-    end if
-    s = s // msg
-    if (present(tok)) then
-      if (allocated(tok%text)) then
-        s = s // ", at '" // shown(tok%text) // "'"
-      else
-        s = s // ", at ''"
-      end if
-      if (tok%line == 0) s = s // ' (given with --set)'
-    end if
-  end function stmt_error
-
-  ! ---------------------------------------------------------------------------------------------
-  ! Command-line overrides
-  ! ---------------------------------------------------------------------------------------------
 
   !> Apply "KEYWORD.PARAM=VALUE" or "KEYWORD.NAME.PARAM=VALUE" (NAME = lead(1), exact case; it
   !> may itself contain dots). VALUE follows the lexical rules of a scene line and may hold
@@ -1049,283 +716,4 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, pre // msg)
     end subroutine bad
   end subroutine apply_override
-
-  ! ---------------------------------------------------------------------------------------------
-  ! Queries
-  ! ---------------------------------------------------------------------------------------------
-
-  !> Index in st%params of the occurrence-th (default first) parameter `key` (any case), or 0.
-  integer function find_param(st, key, occurrence)
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: key
-    integer, intent(in), optional :: occurrence
-    integer :: i, want, seen
-    character(len=:), allocatable :: u
-    find_param = 0
-    if (.not. allocated(st%params)) return
-    want = 1
-    if (present(occurrence)) want = occurrence
-    u = upcase(key)
-    seen = 0
-    do i = 1, size(st%params)
-      if (st%params(i)%key == u .and. len(st%params(i)%key) == len(u)) then
-        seen = seen + 1
-        if (seen == want) then
-          find_param = i
-          return
-        end if
-      end if
-    end do
-  end function find_param
-
-  !> How many times parameter `key` (any case) occurs in the statement.
-  integer function count_param(st, key)
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: key
-    integer :: i
-    character(len=:), allocatable :: u
-    count_param = 0
-    if (.not. allocated(st%params)) return
-    u = upcase(key)
-    do i = 1, size(st%params)
-      if (st%params(i)%key == u .and. len(st%params(i)%key) == len(u)) count_param = count_param + 1
-    end do
-  end function count_param
-
-  !> Locate value `iv` of the first occurrence of `key`. found = .false. when the parameter or
-  !> that value is missing (ip tells which: 0 = parameter missing).
-  subroutine locate(st, key, iv, ip, found)
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: key
-    integer, intent(in) :: iv
-    integer, intent(out) :: ip
-    logical, intent(out) :: found
-    ip = find_param(st, key)
-    found = .false.
-    if (ip == 0) return
-    if (.not. allocated(st%params(ip)%values)) return
-    found = iv >= 1 .and. iv <= size(st%params(ip)%values)
-  end subroutine locate
-
-  !> Error for a missing parameter or value (no default given).
-  function missing_text(st, key, ip, iv) result(s)
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: key
-    integer, intent(in) :: ip, iv
-    character(len=:), allocatable :: s
-    if (ip == 0) then
-      s = stmt_error(st, 'missing parameter ' // upcase(key), st%kwtok)
-    else
-      s = stmt_error(st, 'parameter ' // upcase(key) // ' has no value number ' // str(iv), st%params(ip)%keytok)
-    end if
-  end function missing_text
-
-  !> Real value `index` (default 1) of the first occurrence of `key`. Bounds are exclusive
-  !> unless lower_inclusive / upper_inclusive is .true.
-  subroutine get_real(st, key, x, stat, errmsg, default, index, lower, lower_inclusive, upper, upper_inclusive)
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: key
-    real(dp), intent(out) :: x
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    real(dp), intent(in), optional :: default, lower, upper
-    integer, intent(in), optional :: index
-    logical, intent(in), optional :: lower_inclusive, upper_inclusive
-    integer :: iv, ip
-    logical :: found, incl
-    stat = STAT_OK
-    errmsg = ''
-    x = 0.0_dp
-    iv = 1
-    if (present(index)) iv = index
-    call locate(st, key, iv, ip, found)
-    if (.not. found) then
-      if (present(default)) then
-        x = default
-      else
-        call set_error(stat, errmsg, STAT_INPUT, missing_text(st, key, ip, iv))
-      end if
-      return
-    end if
-    associate (t => st%params(ip)%values(iv))
-      call to_real(t, st, x, stat, errmsg)
-      if (stat /= STAT_OK) return
-      if (present(lower)) then
-        incl = .false.
-        if (present(lower_inclusive)) incl = lower_inclusive
-        if ((incl .and. x < lower) .or. (.not. incl .and. .not. x > lower)) then
-          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, upcase(key) // ' must be ' // &
-                         trim(merge('>=', '> ', incl)) // ' ' // real_text(lower), t))
-          return
-        end if
-      end if
-      if (present(upper)) then
-        incl = .false.
-        if (present(upper_inclusive)) incl = upper_inclusive
-        if ((incl .and. x > upper) .or. (.not. incl .and. .not. x < upper)) then
-          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, upcase(key) // ' must be ' // &
-                         trim(merge('<=', '< ', incl)) // ' ' // real_text(upper), t))
-          return
-        end if
-      end if
-    end associate
-  end subroutine get_real
-
-  !> Integer value `index` (default 1) of the first occurrence of `key`; bounds as get_real.
-  subroutine get_int(st, key, n, stat, errmsg, default, index, lower, lower_inclusive, upper, upper_inclusive)
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: key
-    integer, intent(out) :: n
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer, intent(in), optional :: default, index, lower, upper
-    logical, intent(in), optional :: lower_inclusive, upper_inclusive
-    integer :: iv, ip
-    logical :: found, incl
-    stat = STAT_OK
-    errmsg = ''
-    n = 0
-    iv = 1
-    if (present(index)) iv = index
-    call locate(st, key, iv, ip, found)
-    if (.not. found) then
-      if (present(default)) then
-        n = default
-      else
-        call set_error(stat, errmsg, STAT_INPUT, missing_text(st, key, ip, iv))
-      end if
-      return
-    end if
-    associate (t => st%params(ip)%values(iv))
-      call to_int(t, st, n, stat, errmsg)
-      if (stat /= STAT_OK) return
-      if (present(lower)) then
-        incl = .false.
-        if (present(lower_inclusive)) incl = lower_inclusive
-        if (n < lower .or. (n == lower .and. .not. incl)) then
-          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, upcase(key) // ' must be ' // &
-                         trim(merge('>=', '> ', incl)) // ' ' // str(lower), t))
-          return
-        end if
-      end if
-      if (present(upper)) then
-        incl = .false.
-        if (present(upper_inclusive)) incl = upper_inclusive
-        if (n > upper .or. (n == upper .and. .not. incl)) then
-          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, upcase(key) // ' must be ' // &
-                         trim(merge('<=', '< ', incl)) // ' ' // str(upper), t))
-          return
-        end if
-      end if
-    end associate
-  end subroutine get_int
-
-  !> Text of value `index` (default 1) of the first occurrence of `key`, case kept.
-  subroutine get_word(st, key, w, stat, errmsg, default, index)
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: key
-    character(len=:), allocatable, intent(out) :: w
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    character(len=*), intent(in), optional :: default
-    integer, intent(in), optional :: index
-    integer :: iv, ip
-    logical :: found
-    stat = STAT_OK
-    errmsg = ''
-    iv = 1
-    if (present(index)) iv = index
-    call locate(st, key, iv, ip, found)
-    if (found) then
-      w = st%params(ip)%values(iv)%text
-    else if (present(default)) then
-      w = default
-    else
-      w = ''
-      call set_error(stat, errmsg, STAT_INPUT, missing_text(st, key, ip, iv))
-    end if
-  end subroutine get_word
-
-  !> All values of the first occurrence of `key` as reals (error if the parameter is missing).
-  subroutine get_real_list(st, key, xs, stat, errmsg)
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: key
-    real(dp), allocatable, intent(out) :: xs(:)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: ip, i
-    stat = STAT_OK
-    errmsg = ''
-    ip = find_param(st, key)
-    if (ip == 0) then
-      allocate (xs(0))
-      call set_error(stat, errmsg, STAT_INPUT, missing_text(st, key, 0, 1))
-      return
-    end if
-    allocate (xs(size(st%params(ip)%values)))
-    do i = 1, size(xs)
-      call to_real(st%params(ip)%values(i), st, xs(i), stat, errmsg)
-      if (stat /= STAT_OK) return
-    end do
-  end subroutine get_real_list
-
-  !> All values of the first occurrence of `key` as integers (error if the parameter is missing).
-  subroutine get_int_list(st, key, ns, stat, errmsg)
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: key
-    integer, allocatable, intent(out) :: ns(:)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: ip, i
-    stat = STAT_OK
-    errmsg = ''
-    ip = find_param(st, key)
-    if (ip == 0) then
-      allocate (ns(0))
-      call set_error(stat, errmsg, STAT_INPUT, missing_text(st, key, 0, 1))
-      return
-    end if
-    allocate (ns(size(st%params(ip)%values)))
-    do i = 1, size(ns)
-      call to_int(st%params(ip)%values(i), st, ns(i), stat, errmsg)
-      if (stat /= STAT_OK) return
-    end do
-  end subroutine get_int_list
-
-  !> Strict real from one token; messages name the statement and the token.
-  subroutine to_real(tok, st, x, stat, errmsg)
-    type(token_t), intent(in) :: tok
-    type(statement_t), intent(in) :: st
-    real(dp), intent(out) :: x
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: ierr
-    stat = STAT_OK
-    errmsg = ''
-    call parse_real_text(tok%text, x, ierr)
-    if (ierr == NUM_MALFORMED) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected a number', tok))
-    else if (ierr == NUM_RANGE) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'number out of range', tok))
-    end if
-  end subroutine to_real
-
-  !> Strict integer from one token.
-  subroutine to_int(tok, st, n, stat, errmsg)
-    type(token_t), intent(in) :: tok
-    type(statement_t), intent(in) :: st
-    integer, intent(out) :: n
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: ierr
-    stat = STAT_OK
-    errmsg = ''
-    call parse_int_text(tok%text, n, ierr)
-    if (ierr == NUM_MALFORMED) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected an integer', tok))
-    else if (ierr == NUM_RANGE) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'integer out of range', tok))
-    end if
-  end subroutine to_int
-
 end module scene_parser

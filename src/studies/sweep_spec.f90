@@ -8,8 +8,9 @@ module sweep_spec
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
   use os_utils, only: path_exists, path_stem
-  use scene_parser, only: schema_t, statement_t, token_t, parse_file, stmt_error, find_param, count_param, &
-                          get_int, get_real, get_word, check_required
+  use statement, only: statement_t, token_t, stmt_error, find_param, count_param, get_int, get_real, get_word
+  use statement_schema, only: schema_t
+  use scene_parser, only: parse_file, check_required
   use number_text, only: parse_real_text, NUM_OK
   implicit none
   private

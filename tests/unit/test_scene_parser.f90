@@ -5,9 +5,10 @@ program test_scene_parser
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, STAT_RUN
   use testing, only: check, check_close, test_summary
-  use scene_parser, only: token_t, statement_t, schema_t, parse_file, parse_string, read_text, &
-    apply_override, stmt_error, find_param, count_param, get_real, get_int, get_word, get_real_list, &
-    get_int_list, to_real, to_int
+  use statement, only: token_t, statement_t, stmt_error, find_param, count_param, get_real, get_int, get_word, &
+    get_real_list, get_int_list, to_real, to_int
+  use statement_schema, only: schema_t
+  use scene_parser, only: parse_file, parse_string, read_text, apply_override
   use number_text, only: parse_real_text, parse_int_text, NUM_OK, NUM_MALFORMED, NUM_RANGE
   implicit none
 
