@@ -4,7 +4,8 @@
 module assembly
   use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use mesh, only: DOF_NAMES, ET_MASS, ET_BEAM2
+  use mesh, only: DOF_NAMES
+  use element_traits, only: ET_BEAM2, etype_needs_material
   use scene, only: scene_t, function_value, model_point_kind, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
   use dof_map, only: build_dof_map
   use sparse_matrix, only: sym_csc_t
@@ -110,7 +111,7 @@ contains
       associate (md => scn%models(im))
         sys%pk(im) = model_point_kind(md)
         sys%model_linear(im) = .true.
-        if (md%material > 0 .and. md%etype /= ET_MASS) then
+        if (md%material > 0 .and. etype_needs_material(md%etype)) then
           nstr = elem_nstrain(md%etype)
           if (md%etype == ET_BEAM2 .and. md%sec%layers > 0) then
             ! Fibre section: the elastic matrix of the layers, as the fibre laws see it.

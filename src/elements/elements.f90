@@ -11,7 +11,7 @@
 module elements
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use mesh, only: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, MAX_NEN, etype_nen, etype_name
+  use element_traits, only: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, MAX_NEN, etype_nen, etype_name
   use section, only: section_t
   use element_mass, only: mass_mass
   use element_spring, only: spring_b, spring_check

@@ -5,8 +5,8 @@
 module scene
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
-  use mesh, only: mesh_t, ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, etype_from_name, etype_name, &
-    etype_nen, DOF_UX, DOF_UY, DOF_RZ
+  use mesh, only: mesh_t, DOF_UX, DOF_UY, DOF_RZ
+  use element_traits, only: etype_point_kind
   use section, only: section_t
   use material_law, only: material_t, law_check, LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES, &
     PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS
@@ -252,16 +252,7 @@ contains
   !> Material-point kind of a model's integration points (material_law PK_*; 0 for masses).
   pure integer function model_point_kind(md) result(pk)
     type(model_t), intent(in) :: md
-    select case (md%etype)
-    case (ET_SPRING, ET_BAR2)
-      pk = PK_1D
-    case (ET_BEAM2)
-      pk = PK_BEAM
-    case (ET_QUAD4, ET_QUAD8)
-      pk = merge(PK_PSTRESS, PK_PSTRAIN, md%sec%plane_stress)
-    case default
-      pk = 0
-    end select
+    pk = etype_point_kind(md%etype, md%sec%plane_stress)
   end function model_point_kind
 
 

@@ -3,7 +3,8 @@
 module scene_helpers
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
-  use mesh, only: mesh_t, etype_from_name, etype_name
+  use mesh, only: mesh_t
+  use element_traits, only: etype_from_name, etype_name
   use statement, only: statement_t, token_t, stmt_error, find_param, get_real, get_word
   use scene, only: scene_t
   implicit none

@@ -2,6 +2,7 @@
 !> Their grammar (schema) and their handlers, a submodule of scene.
 submodule (scene) scene_mesh
   use scene_helpers, only: get_etype, get_pair
+  use element_traits, only: NUM_ETYPES, FAMILY_LINE, FAMILY_SURFACE, etypes_of_family, etype_nen, etype_name
   implicit none
 
 contains
@@ -106,7 +107,7 @@ contains
     integer, allocatable :: nodes(:), ids(:)
     call check_new_group_name(scn, st, stat, errmsg)
     if (stat /= STAT_OK) return
-    call get_etype(st, 'TYPE', [ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8], et, stat, errmsg)
+    call get_etype(st, 'TYPE', [(k, k = 1, NUM_ETYPES)], et, stat, errmsg)
     if (stat /= STAT_OK) return
     k = find_param(st, 'NODES')
     if (k == 0) then
@@ -205,7 +206,7 @@ contains
     call get_int(st, 'ELEMENTS', nel, stat, errmsg, lower=1, lower_inclusive=.true., upper=MAX_GENERATED_ELEMENTS, &
       upper_inclusive=.true.)
     if (stat /= STAT_OK) return
-    call get_etype(st, 'TYPE', [ET_BAR2, ET_BEAM2, ET_SPRING], et, stat, errmsg)
+    call get_etype(st, 'TYPE', etypes_of_family(FAMILY_LINE), et, stat, errmsg)
     if (stat /= STAT_OK) return
     if (norm2(p1 - p0) <= zero_tol * max(1.0_dp, norm2(p0), norm2(p1))) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FROM and TO coincide: zero-length line', &
@@ -244,7 +245,7 @@ contains
         st%params(find_param(st, 'ELEMENTS'))%values(1)))
       return
     end if
-    call get_etype(st, 'TYPE', [ET_QUAD4, ET_QUAD8], et, stat, errmsg)
+    call get_etype(st, 'TYPE', etypes_of_family(FAMILY_SURFACE), et, stat, errmsg)
     if (stat /= STAT_OK) return
     call get_real(st, 'ANGLE', angle, stat, errmsg, default=0.0_dp)
     if (stat /= STAT_OK) return

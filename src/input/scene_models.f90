@@ -2,6 +2,8 @@
 !> Their grammar (schema) and their handlers, a submodule of scene.
 submodule (scene) scene_models
   use scene_helpers, only: get_etype, model_size
+  use element_traits, only: FAMILY_LINE, etype_family, etypes_of_family, etype_needs_material, etype_section_needs, &
+    etype_name, etype_nen
   implicit none
 
 contains
@@ -62,8 +64,8 @@ contains
       end if
       md%etype = et0
       if (find_param(st, 'TYPE') > 0) then
-        if (any(et0 == [ET_SPRING, ET_BAR2, ET_BEAM2])) then
-          call get_etype(st, 'TYPE', [ET_SPRING, ET_BAR2, ET_BEAM2], md%etype, stat, errmsg)
+        if (etype_family(et0) == FAMILY_LINE) then
+          call get_etype(st, 'TYPE', etypes_of_family(FAMILY_LINE), md%etype, stat, errmsg)
         else
           call get_etype(st, 'TYPE', [et0], md%etype, stat, errmsg)
         end if
@@ -82,7 +84,7 @@ contains
           st%params(find_param(st, 'MATERIAL'))%values(1)))
         return
       end if
-    else if (md%etype /= ET_MASS) then
+    else if (etype_needs_material(md%etype)) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter MATERIAL (required for ' // &
         etype_name(md%etype) // ')', st%lead(1)))
       return
@@ -100,7 +102,7 @@ contains
         return
       end if
       md%sec = scn%sections(isec)
-    else if (any(md%etype == [ET_MASS, ET_BAR2, ET_BEAM2])) then
+    else if (len(etype_section_needs(md%etype)) > 0) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter SECTION (required for ' // &
         etype_name(md%etype) // ')', st%lead(1)))
       return
@@ -190,22 +192,17 @@ contains
     type(model_t), intent(in) :: md
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=:), allocatable :: need
+    character(len=:), allocatable :: need, needs
     stat = STAT_OK
     need = ''
-    select case (md%etype)
-    case (ET_MASS)
-      if (md%sec%mass <= 0.0_dp) need = 'MASS > 0'
-    case (ET_BAR2)
-      if (md%sec%area <= 0.0_dp) need = 'AREA'
-    case (ET_BEAM2)
-      ! A fibre section (LAYERS) integrates its inertia over the layers: INERTIA is not used.
-      if (md%sec%area <= 0.0_dp) need = 'AREA'
-      if (md%sec%inertia <= 0.0_dp .and. md%sec%layers == 0) then
-        if (len(need) > 0) need = need // ' and '
-        need = need // 'INERTIA'
-      end if
-    end select
+    needs = etype_section_needs(md%etype)
+    if (index(needs, 'MASS') > 0 .and. md%sec%mass <= 0.0_dp) need = 'MASS > 0'
+    if (index(needs, 'AREA') > 0 .and. md%sec%area <= 0.0_dp) need = 'AREA'
+    ! A fibre section (LAYERS) integrates its inertia over the layers: INERTIA is not used.
+    if (index(needs, 'INERTIA') > 0 .and. md%sec%inertia <= 0.0_dp .and. md%sec%layers == 0) then
+      if (len(need) > 0) need = need // ' and '
+      need = need // 'INERTIA'
+    end if
     if (len(need) > 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'section ' // md%sec%name // &
       ' lacks ' // trim(need) // ' needed by ' // etype_name(md%etype) // ' elements', st%lead(1)))
   end subroutine check_section

@@ -12,7 +12,8 @@ module gmsh_reader
   use, intrinsic :: iso_fortran_env, only: int64, iostat_end, iostat_eor
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use mesh, only: mesh_t, ET_MASS, ET_BAR2, ET_QUAD4, ET_QUAD8, etype_nen
+  use mesh, only: mesh_t
+  use element_traits, only: etype_nen, etype_gmsh, etype_family
   use number_text, only: parse_real_text, parse_int64_text, NUM_OK, NUM_MALFORMED, NUM_RANGE
   implicit none
   private
@@ -550,24 +551,13 @@ contains
       if (stat /= STAT_OK) return
       call get_int(g, 3, 1, huge(1), 'an element type', gtype, stat, errmsg)
       if (stat /= STAT_OK) return
-      select case (gtype)
-      case (15)
-        et = ET_MASS
-        dim = 0
-      case (1)
-        et = ET_BAR2
-        dim = 1
-      case (3)
-        et = ET_QUAD4
-        dim = 2
-      case (16)
-        et = ET_QUAD8
-        dim = 2
-      case default
+      et = etype_gmsh(gtype)
+      if (et == 0) then
         call fail(g, stat, errmsg, 'unsupported Gmsh element type ' // str(gtype) // ' (' // gmsh_type_name(gtype) // &
           '); expected 15 (point), 1 (2-node line), 3 (4-node quadrangle) or 16 (8-node quadrangle)')
         return
-      end select
+      end if
+      dim = etype_family(et) - 1          ! point 0, line 1, surface 2
       if (edim /= dim) then
         call fail(g, stat, errmsg, 'element type ' // str(gtype) // ' (' // gmsh_type_name(gtype) // ') in a block ' // &
           'of dimension ' // str(edim) // ', expected dimension ' // str(dim))

@@ -3,23 +3,13 @@
 !> statements all build a mesh_t through the procedures below.
 module mesh
   use kinds, only: dp
+  use element_traits, only: etype_nen, MAX_NEN
   implicit none
   private
   public :: mesh_t, group_t
-  public :: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, NUM_ETYPES, MAX_NEN
-  public :: etype_name, etype_from_name, etype_nen
   public :: DOF_UX, DOF_UY, DOF_RZ, DOF_NAMES
 
-  ! Element types. Connectivity conventions:
-  !   MASS 1 node; SPRING, BAR2, BEAM2 2 nodes; QUAD4 4 corners counter-clockwise;
-  !   QUAD8 4 corners counter-clockwise then 4 mid-side nodes (side 1-2, 2-3, 3-4, 4-1),
-  !   as Cast3M's QUA8 and Gmsh's 8-node quadrangle.
-  integer, parameter :: ET_MASS = 1, ET_SPRING = 2, ET_BAR2 = 3, ET_BEAM2 = 4, ET_QUAD4 = 5, ET_QUAD8 = 6
-  integer, parameter :: NUM_ETYPES = 6
-  integer, parameter :: MAX_NEN = 8
-  character(len=6), parameter :: ETYPE_NAMES(NUM_ETYPES) = &
-    [character(len=6) :: 'MASS', 'SPRING', 'BAR2', 'BEAM2', 'QUAD4', 'QUAD8']
-  integer, parameter :: NEN_OF(NUM_ETYPES) = [1, 2, 2, 2, 4, 8]
+  ! Element types and their node order: element_traits.
 
   ! Degrees of freedom of a node, in this order.
   integer, parameter :: DOF_UX = 1, DOF_UY = 2, DOF_RZ = 3
@@ -53,38 +43,11 @@ module mesh
 
 contains
 
-  !> Name of an element type (upper case).
-  pure function etype_name(et) result(name)
-    integer, intent(in) :: et
-    character(len=:), allocatable :: name
-    if (et >= 1 .and. et <= NUM_ETYPES) then
-      name = trim(ETYPE_NAMES(et))
-    else
-      name = '?'
-    end if
-  end function etype_name
-
-  !> Element type from its (upper-case) name; 0 when unknown.
-  pure function etype_from_name(name) result(et)
-    character(len=*), intent(in) :: name
-    integer :: et
-    do et = 1, NUM_ETYPES
-      if (trim(ETYPE_NAMES(et)) == name) return
-    end do
-    et = 0
-  end function etype_from_name
-
-  !> Number of nodes of an element type.
-  pure integer function etype_nen(et)
-    integer, intent(in) :: et
-    etype_nen = NEN_OF(et)
-  end function etype_nen
-
   !> Number of nodes of element e.
   pure integer function nen(self, e)
     class(mesh_t), intent(in) :: self
     integer, intent(in) :: e
-    nen = NEN_OF(self%etype(e))
+    nen = etype_nen(self%etype(e))
   end function nen
 
   !> Append a node; returns its number.

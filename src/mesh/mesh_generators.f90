@@ -4,7 +4,8 @@
 module mesh_generators
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use mesh, only: mesh_t, ET_BAR2, ET_BEAM2, ET_SPRING, ET_QUAD4, ET_QUAD8, etype_name
+  use mesh, only: mesh_t
+  use element_traits, only: ET_BAR2, ET_BEAM2, ET_SPRING, ET_QUAD4, ET_QUAD8, etype_name
   implicit none
   private
   public :: generate_line, generate_rectangle, MAX_GENERATED_ELEMENTS

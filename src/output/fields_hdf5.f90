@@ -21,7 +21,9 @@
 module fields_hdf5
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error, str
-  use mesh, only: mesh_t, ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8
+  use mesh, only: mesh_t
+  use element_traits, only: NUM_ETYPES, etype_nen, etype_xdmf_cell, XDMF_POLYVERTEX, XDMF_POLYLINE, &
+    XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
   use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic
   use os_utils, only: make_directory
   use hdf5_file, only: h5_file_t
@@ -30,9 +32,6 @@ module fields_hdf5
   public :: fields_writer_t, mixed_topology
   public :: XDMF_POLYVERTEX, XDMF_POLYLINE, XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
 
-  !> XDMF cell codes used in a Mixed topology array.
-  integer, parameter :: XDMF_POLYVERTEX = 1, XDMF_POLYLINE = 2, XDMF_QUADRILATERAL = 5
-  integer, parameter :: XDMF_QUADRILATERAL_8 = 37
 
   character(len=*), parameter :: H5_NAME = 'fields.h5', XMF_NAME = 'fields.xmf'
 
@@ -99,18 +98,11 @@ contains
     integer, intent(in) :: et
     integer, intent(out) :: head(2), nhead, nen
     head = 0
-    select case (et)
-    case (ET_MASS)
-      nen = 1; nhead = 2; head = [XDMF_POLYVERTEX, 1]
-    case (ET_SPRING, ET_BAR2, ET_BEAM2)
-      nen = 2; nhead = 2; head = [XDMF_POLYLINE, 2]
-    case (ET_QUAD4)
-      nen = 4; nhead = 1; head(1) = XDMF_QUADRILATERAL
-    case (ET_QUAD8)
-      nen = 8; nhead = 1; head(1) = XDMF_QUADRILATERAL_8
-    case default
-      nen = 0; nhead = 0
-    end select
+    nen = 0
+    nhead = 0
+    if (et < 1 .or. et > NUM_ETYPES) return
+    call etype_xdmf_cell(et, head, nhead)
+    nen = etype_nen(et)
   end subroutine cell_head
 
   !> Split nodal (UX, UY, RZ) columns into the in-plane 3-vector (UX, UY, 0) and the scalar RZ:

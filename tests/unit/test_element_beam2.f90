@@ -6,7 +6,7 @@
 program test_element_beam2
   use kinds, only: dp
   use testing, only: check, check_close, test_summary
-  use mesh, only: ET_BEAM2
+  use element_traits, only: ET_BEAM2
   use section, only: section_t
   use element_beam2, only: gauss_legendre
   use elements, only: MAX_EDOF, MAX_NSTRAIN, elem_ngauss, elem_gauss_b, elem_mass, elem_elastic_d, elem_stiffness

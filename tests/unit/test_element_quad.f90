@@ -9,7 +9,7 @@ program test_element_quad
   use kinds, only: dp
   use testing, only: check, check_close, test_summary
   use errors, only: STAT_OK
-  use mesh, only: ET_QUAD4, ET_QUAD8
+  use element_traits, only: ET_QUAD4, ET_QUAD8
   use section, only: section_t
   use elements, only: MAX_EDOF, MAX_NSTRAIN, elem_ngauss, elem_gauss_b, elem_mass, elem_elastic_d, elem_stiffness, &
     elem_check_geometry

@@ -7,7 +7,7 @@ program test_elements
   use kinds, only: dp
   use testing, only: check, check_close, test_summary
   use errors, only: STAT_OK, STAT_INPUT
-  use mesh, only: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8
+  use element_traits, only: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8
   use section, only: section_t
   use elements, only: MAX_EDOF, MAX_NSTRAIN, MAX_GAUSS, elem_dof_mask, elem_nen, elem_ndof, elem_nstrain, &
     elem_ngauss, elem_gauss_b, elem_mass, elem_elastic_d, elem_check_geometry, elem_check_section, elem_stiffness

@@ -7,7 +7,8 @@ program test_fields_hdf5
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN
   use testing, only: check, test_summary
-  use mesh, only: mesh_t, ET_MASS, ET_BEAM2, ET_QUAD4, ET_QUAD8
+  use mesh, only: mesh_t
+  use element_traits, only: ET_MASS, ET_BEAM2, ET_QUAD4, ET_QUAD8
   use fields_hdf5, only: fields_writer_t, mixed_topology
   use os_utils, only: path_exists, remove_file, remove_directory
   use hdf5, only: hid_t, hsize_t, h5open_f, h5close_f, h5fopen_f, h5fclose_f, H5F_ACC_RDONLY_F, &

@@ -5,7 +5,8 @@
 program test_gmsh_reader
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, str
-  use mesh, only: mesh_t, ET_MASS, ET_BAR2, ET_QUAD4, ET_QUAD8
+  use mesh, only: mesh_t
+  use element_traits, only: ET_MASS, ET_BAR2, ET_QUAD4, ET_QUAD8
   use gmsh_reader, only: read_gmsh
   use testing, only: check, check_close, test_summary
   implicit none

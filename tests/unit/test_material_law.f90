@@ -7,7 +7,7 @@ program test_material_law
   use kinds, only: dp
   use testing, only: check, check_close, test_summary
   use section, only: section_t
-  use mesh, only: ET_BAR2, ET_BEAM2, ET_QUAD4
+  use element_traits, only: ET_BAR2, ET_BEAM2, ET_QUAD4
   use elements, only: elem_elastic_d
   use errors, only: STAT_OK
   use material_law, only: material_t, law_update, law_is_linear, law_nstate, law_name, law_code, law_check, &

@@ -4,7 +4,8 @@
 program test_mesh_generators
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT
-  use mesh, only: mesh_t, ET_BAR2, ET_BEAM2, ET_SPRING, ET_QUAD4, ET_QUAD8, ET_MASS
+  use mesh, only: mesh_t
+  use element_traits, only: ET_BAR2, ET_BEAM2, ET_SPRING, ET_QUAD4, ET_QUAD8, ET_MASS
   use mesh_generators, only: generate_line, generate_rectangle, MAX_GENERATED_ELEMENTS
   use testing, only: check, check_close, test_summary
   implicit none

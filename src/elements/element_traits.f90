@@ -1,0 +1,132 @@
+!> The element types and their traits, in one table: what the mesh, the input, the assembly
+!> and the outputs need to know of a type without its kernels (those are in element_* and the
+!> dispatcher elements). Adding an element adds a row here, a kernel module and its cases in
+!> elements (README, "Adding an element").
+!> Node order of each type:
+!>   MASS 1 node; SPRING, BAR2, BEAM2 2 nodes; QUAD4 4 corners counter-clockwise;
+!>   QUAD8 4 corners counter-clockwise then 4 mid-side nodes (side 1-2, 2-3, 3-4, 4-1),
+!>   as Cast3M's QUA8 and Gmsh's 8-node quadrangle.
+module element_traits
+  use material_law, only: PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS
+  implicit none
+  private
+  public :: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, NUM_ETYPES, MAX_NEN
+  public :: FAMILY_POINT, FAMILY_LINE, FAMILY_SURFACE
+  public :: XDMF_POLYVERTEX, XDMF_POLYLINE, XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
+  public :: etype_name, etype_from_name, etype_nen, etype_family, etypes_of_family, etype_needs_material, &
+    etype_section_needs, etype_point_kind, etype_xdmf_cell, etype_gmsh
+
+  integer, parameter :: ET_MASS = 1, ET_SPRING = 2, ET_BAR2 = 3, ET_BEAM2 = 4, ET_QUAD4 = 5, ET_QUAD8 = 6
+  integer, parameter :: NUM_ETYPES = 6
+  integer, parameter :: MAX_NEN = 8
+  !> Families: a point (MASS), a line (LINE generates them; a MODEL may change one line type
+  !> into another: SPRING, BAR2, BEAM2), a surface (RECTANGLE generates them).
+  integer, parameter :: FAMILY_POINT = 1, FAMILY_LINE = 2, FAMILY_SURFACE = 3
+  !> XDMF cell codes of a Mixed topology array.
+  integer, parameter :: XDMF_POLYVERTEX = 1, XDMF_POLYLINE = 2, XDMF_QUADRILATERAL = 5, XDMF_QUADRILATERAL_8 = 37
+
+  !> One row of the table.
+  type :: etraits_t
+    character(len=6) :: name
+    integer :: nen                   !< nodes
+    integer :: family
+    logical :: material              !< needs a MATERIAL (a point mass does not)
+    character(len=12) :: section     !< section characteristics it needs: 'MASS', 'AREA', 'AREA INERTIA', ''
+    integer :: point_kind            !< material_law PK_* (quads: PK_PSTRAIN, or PK_PSTRESS in plane stress)
+    integer :: xdmf_cell             !< XDMF Mixed cell code
+    integer :: gmsh                  !< Gmsh element type number (0: none)
+  end type etraits_t
+
+  type(etraits_t), parameter :: TRAITS(NUM_ETYPES) = [ &
+    etraits_t('MASS', 1, FAMILY_POINT, .false., 'MASS', 0, XDMF_POLYVERTEX, 15), &
+    etraits_t('SPRING', 2, FAMILY_LINE, .true., '', PK_1D, XDMF_POLYLINE, 0), &
+    etraits_t('BAR2', 2, FAMILY_LINE, .true., 'AREA', PK_1D, XDMF_POLYLINE, 1), &
+    etraits_t('BEAM2', 2, FAMILY_LINE, .true., 'AREA INERTIA', PK_BEAM, XDMF_POLYLINE, 0), &
+    etraits_t('QUAD4', 4, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_QUADRILATERAL, 3), &
+    etraits_t('QUAD8', 8, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_QUADRILATERAL_8, 16)]
+
+contains
+
+  pure logical function valid(et)
+    integer, intent(in) :: et
+    valid = et >= 1 .and. et <= NUM_ETYPES
+  end function valid
+
+  !> Name of an element type (upper case), '?' for an unknown code.
+  pure function etype_name(et) result(name)
+    integer, intent(in) :: et
+    character(len=:), allocatable :: name
+    name = '?'
+    if (valid(et)) name = trim(TRAITS(et)%name)
+  end function etype_name
+
+  !> Element type from its (upper-case) name; 0 when unknown.
+  pure function etype_from_name(name) result(et)
+    character(len=*), intent(in) :: name
+    integer :: et
+    do et = 1, NUM_ETYPES
+      if (trim(TRAITS(et)%name) == name) return
+    end do
+    et = 0
+  end function etype_from_name
+
+  pure integer function etype_nen(et)
+    integer, intent(in) :: et
+    etype_nen = TRAITS(et)%nen
+  end function etype_nen
+
+  pure integer function etype_family(et)
+    integer, intent(in) :: et
+    etype_family = TRAITS(et)%family
+  end function etype_family
+
+  !> The types of a family, in table order.
+  pure function etypes_of_family(family) result(ets)
+    integer, intent(in) :: family
+    integer, allocatable :: ets(:)
+    integer :: et
+    ets = pack([(et, et = 1, NUM_ETYPES)], TRAITS%family == family)
+  end function etypes_of_family
+
+  pure logical function etype_needs_material(et)
+    integer, intent(in) :: et
+    etype_needs_material = TRAITS(et)%material
+  end function etype_needs_material
+
+  !> The section characteristics a type needs ('' when none: the default section serves).
+  pure function etype_section_needs(et) result(s)
+    integer, intent(in) :: et
+    character(len=:), allocatable :: s
+    s = trim(TRAITS(et)%section)
+  end function etype_section_needs
+
+  !> Material-point kind of the type's integration points (0 for a point mass).
+  pure integer function etype_point_kind(et, plane_stress)
+    integer, intent(in) :: et
+    logical, intent(in) :: plane_stress
+    etype_point_kind = TRAITS(et)%point_kind
+    if (etype_point_kind == PK_PSTRAIN .and. plane_stress) etype_point_kind = PK_PSTRESS
+  end function etype_point_kind
+
+  !> The leading entries of a cell in an XDMF Mixed array (cell code, and the node count of the
+  !> variable-size Polyvertex and Polyline) and their number.
+  pure subroutine etype_xdmf_cell(et, head, nhead)
+    integer, intent(in) :: et
+    integer, intent(out) :: head(2), nhead
+    head = [TRAITS(et)%xdmf_cell, 0]
+    nhead = 1
+    if (TRAITS(et)%xdmf_cell == XDMF_POLYVERTEX .or. TRAITS(et)%xdmf_cell == XDMF_POLYLINE) then
+      head(2) = TRAITS(et)%nen
+      nhead = 2
+    end if
+  end subroutine etype_xdmf_cell
+
+  !> The rebond type of a Gmsh element type number; 0 when rebond has none.
+  pure integer function etype_gmsh(gmsh_type) result(et)
+    integer, intent(in) :: gmsh_type
+    do et = 1, NUM_ETYPES
+      if (TRAITS(et)%gmsh == gmsh_type .and. gmsh_type > 0) return
+    end do
+    et = 0
+  end function etype_gmsh
+end module element_traits
