@@ -4,7 +4,6 @@
 !> Exit codes: 0 success, 2 bad input (scene, mesh, sweep file, command line), 1 failure during
 !> the run (sweep: some case failed; the table is written all the same).
 program rebond
-  use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, STAT_RUN, str
   use scene, only: scene_t, load_scene
   use assembly, only: system_t, build_system

@@ -106,7 +106,7 @@ contains
     end if
     ! Initial internal forces and strain energy: the laws take the path from zero strain to u0.
     call rs%st%set_initial(scn, sys)
-    call rs%en%start(rs%st%kinetic, sys%work_t, sys%elastic_t)
+    call rs%en%start(rs%st%kinetic, rs%st%inc%work, rs%st%inc%elastic)
     call external_force(scn, sys, scn%t_start, rs%st%f_n)
   end subroutine prepare_run
 
@@ -238,7 +238,8 @@ contains
       else
         call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg)
       end if
-      call rs%en%add_step(rs%st%kinetic, sys%work_t, dw_ext, dw_corr + e_rest, sys%dissip_t, sys%elastic_t)
+      call rs%en%add_step(rs%st%kinetic, rs%st%inc%work, dw_ext, dw_corr + e_rest, rs%st%inc%dissipated, &
+        rs%st%inc%elastic)
       if (.not. (abs(rs%en%balance()) <= huge(1.0_dp))) then
         call write_outputs(outs, scn, sys, rs, step, t, rep%iterations, nactive, stat, errmsg)
         call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'the energies overflowed (kinetic ' // &

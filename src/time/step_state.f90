@@ -6,7 +6,8 @@
 module step_state
   use kinds, only: dp, qp
   use scene, only: scene_t
-  use assembly, only: system_t, internal_force, commit_state, mass_times, mass_times_q
+  use assembly, only: system_t, commit_state, mass_times, mass_times_q
+  use internal_forces, only: internal_force, work_increment_t
   use checkpoint, only: ckpt_file_t
   use newmark_scheme, only: rhs_eq9, residual_eq9, velocity_eq3
   implicit none
@@ -24,6 +25,7 @@ module step_state
     real(dp), allocatable :: f_np1(:), rhs(:), du(:), ddu(:), r(:), utrial(:), fint(:), fcorr(:), mdu(:), v_eq3(:)
     real(dp), allocatable :: res_hist(:)     !< residual norm of each iteration of the step
     real(dp) :: kinetic = 0.0_dp             !< ½ v'Mv at the end of the last step
+    type(work_increment_t) :: inc            !< energies of the last trial (work, elastic, dissipated)
     ! Extended-precision shadow.
     real(qp), allocatable :: u_q(:), v_q(:), fint_n_q(:), mv_q(:), rhs_q(:), r_q(:), utrial_q(:), mdu_q(:)
   contains
@@ -64,7 +66,7 @@ contains
     class(step_state_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
-    call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%tval))
+    call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%tval), self%inc)
     call commit_state(sys)
     call mass_times(sys, self%v, self%mv)
     self%kinetic = 0.5_dp * dot_product(self%v, self%mv)
@@ -73,7 +75,8 @@ contains
       ! the energy by a fraction of eps per step (docs/precision.md).
       self%u_q = real(self%u, qp)
       self%v_q = real(self%v, qp)
-      call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%tval), uq=self%u_q)
+      call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%tval), self%inc, &
+        uq=self%u_q)
       self%fint_n_q = sys%fint_q
       call mass_times_q(sys, self%v_q, self%mv_q)
       self%kinetic = real(0.5_qp * sum(self%v_q * self%mv_q), dp)
@@ -103,10 +106,11 @@ contains
     if (self%extended) then
       self%utrial_q = self%u_q + real(self%du, qp)
       self%utrial = real(self%utrial_q, dp)
-      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, allocated(sys%tval), uq=self%utrial_q)
+      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, allocated(sys%tval), self%inc, &
+        uq=self%utrial_q)
     else
       self%utrial = self%u + self%du
-      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, allocated(sys%tval))
+      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, allocated(sys%tval), self%inc)
     end if
   end subroutine state_trial
 

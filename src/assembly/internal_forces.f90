@@ -1,0 +1,419 @@
+!> The internal forces of eq (9) from the element stresses: Bσ(n+1) of a trial state, the
+!> correction force Bσc where the laws were sub-incremented, the consistent tangent on demand,
+!> and the work of the increment (returned, never stored in the system). Linear elastic points
+!> take σ = D ε in fixed-size kernels; nonlinear points call material_law's law_update
+!> (sub-incrementation) and form σc with correction_stress.
+module internal_forces
+  use kinds, only: dp, qp
+  use scene, only: scene_t
+  use assembly, only: system_t
+  use elements, only: MAX_EDOF, MAX_NSTRAIN
+  use material_law, only: law_update, law_nstate
+  use subincrement, only: correction_stress
+  implicit none
+  private
+  public :: internal_force, work_increment_t
+
+  !> The energies of a trial increment.
+  type :: work_increment_t
+    real(dp) :: work = 0.0_dp        !< W_N = Σ w σ̄·Δε at the nonlinear points (sub-incremented work)
+    real(dp) :: elastic = 0.0_dp     !< strain energy ½ σ·ε of the trial state at the linear elastic points
+    real(dp) :: dissipated = 0.0_dp  !< plastic work of the increment
+  end type work_increment_t
+
+  !> What the points of one element need to know of their model.
+  type :: model_view_t
+    integer :: im = 0, mat = 0, nq = 0, nsub = 0
+    logical :: linear = .true.
+  end type model_view_t
+
+contains
+
+  !> Trial state for the total displacement u: strains, then the stresses the laws give along
+  !> the step's straight strain path from the committed state, in the model's sub-increments.
+  !> Returns fint = sum B'sigma(n+1) w and the correction force fcorr = sum B'sigma_c w of
+  !> eq (9), sigma_c = 2 sigma_bar - (sigma(n) + sigma(n+1)); with correct = .false., or at
+  !> points whose step stayed elastic, sigma_c is not formed (it is exactly zero), and the
+  !> energies of the increment in inc. With tangent = .true. the consistent tangent is
+  !> assembled into sys%tval. Every trial point (eps_t, sig_t, q_t) is written before it is
+  !> read, so commit_state may swap the trial and committed arrays. uq: u unrounded
+  !> (PRECISION EXTENDED: the linear elastic points are then evaluated in quadruple precision).
+  subroutine internal_force(scn, sys, u, fint, fcorr, correct, tangent, inc, uq)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    real(dp), intent(in) :: u(:)
+    real(dp), intent(out) :: fint(:), fcorr(:)
+    logical, intent(in) :: correct, tangent
+    type(work_increment_t), intent(out) :: inc
+    real(qp), intent(in), optional :: uq(:)
+    type(model_view_t) :: mv
+    integer :: e, ndof, nstr, ng, g0, k, j, e0
+    real(dp) :: ue(MAX_EDOF), fe(MAX_EDOF), fc(MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), wsum, dsum, esum
+    real(qp) :: esumq
+    logical :: any_c
+    fint = 0.0_dp
+    esumq = 0.0_qp
+    if (sys%extended) sys%fint_q = 0.0_qp
+    fcorr = 0.0_dp
+    wsum = 0.0_dp
+    esum = 0.0_dp
+    dsum = 0.0_dp
+    if (tangent) sys%tval = 0.0_dp
+    do e = 1, scn%mesh%nelem
+      if (scn%elem_model(e) == 0) cycle
+      g0 = sys%gp_ptr(e)
+      ng = sys%gp_ptr(e + 1) - g0
+      if (ng == 0) cycle
+      e0 = sys%edof_ptr(e)
+      ndof = sys%edof_ptr(e + 1) - e0
+      nstr = (sys%b_ptr(g0 + 1) - sys%b_ptr(g0)) / ndof
+      ! Per-model data, looked up once per run of elements of the same model.
+      if (scn%elem_model(e) /= mv%im) call view_model(scn, sys, scn%elem_model(e), mv)
+      do k = 1, ndof
+        j = sys%edof(e0 + k - 1)
+        ue(k) = 0.0_dp
+        if (j > 0) ue(k) = u(j)
+      end do
+      fe(1:ndof) = 0.0_dp
+      any_c = .false.
+      if (mv%linear .and. sys%extended .and. .not. tangent) then
+        call linear_element_q(sys, e, mv%im, ue, esumq, uq)
+        cycle
+      end if
+      if (tangent) ke(1:ndof, 1:ndof) = 0.0_dp
+      if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1)) then
+        call linear_element(sys, g0, ng, ndof, nstr, mv%im, ue, tangent, fe, ke, esum)
+      else
+        call nonlinear_element(scn, sys, mv, g0, ng, ndof, nstr, ue, correct, tangent, fe, fc, ke, any_c, wsum, dsum, &
+          esum)
+      end if
+      associate (dofs => sys%edof(e0:e0 + ndof - 1))
+        do k = 1, ndof
+          j = dofs(k)
+          if (j <= 0) cycle
+          if (sys%extended) then
+            sys%fint_q(j) = sys%fint_q(j) + real(fe(k), qp)
+          else
+            fint(j) = fint(j) + fe(k)
+          end if
+          if (any_c) fcorr(j) = fcorr(j) + fc(k)
+        end do
+        if (tangent) call sys%pat%add_element(sys%tval, dofs, ke(1:ndof, 1:ndof))
+      end associate
+    end do
+    if (sys%extended) then
+      fint = real(sys%fint_q, dp)
+      esum = real(esumq + real(esum, qp), dp)
+    end if
+    inc = work_increment_t(wsum, esum, dsum)
+  end subroutine internal_force
+
+  subroutine view_model(scn, sys, im, mv)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    integer, intent(in) :: im
+    type(model_view_t), intent(out) :: mv
+    mv%im = im
+    mv%linear = sys%model_linear(im)
+    mv%nsub = scn%models(im)%substeps
+    mv%mat = scn%models(im)%material
+    mv%nq = 0
+    if (mv%mat > 0) mv%nq = law_nstate(scn%materials(mv%mat), sys%pk(im), scn%models(im)%sec)
+  end subroutine view_model
+
+  !> Linear elastic points of one element: fixed-size kernels over the element's points (B,
+  !> w, eps_t and sig_t of consecutive points are contiguous; passed by sequence association,
+  !> no copies), and B'DB w into ke with the tangent.
+  subroutine linear_element(sys, g0, ng, ndof, nstr, im, ue, tangent, fe, ke, esum)
+    type(system_t), intent(inout) :: sys
+    integer, intent(in) :: g0, ng, ndof, nstr, im
+    real(dp), intent(in) :: ue(:)
+    logical, intent(in) :: tangent
+    real(dp), intent(inout) :: fe(:), ke(:, :), esum
+    integer :: p, igp
+    p = sys%b_ptr(g0)
+    select case (nstr)
+    case (4)
+      call linear_points_4(ndof, ng, sys%bmat(p), sys%wt(g0), ue, sys%dmat(1, 1, im), &
+        sys%eps_t(1, g0), sys%sig_t(1, g0), fe, esum)
+    case (2)
+      call linear_points_2(ndof, ng, sys%bmat(p), sys%wt(g0), ue, sys%dmat(1, 1, im), &
+        sys%eps_t(1, g0), sys%sig_t(1, g0), fe, esum)
+    case default
+      call linear_points_1(ndof, ng, sys%bmat(p), sys%wt(g0), ue, sys%dmat(1, 1, im), &
+        sys%eps_t(1, g0), sys%sig_t(1, g0), fe, esum)
+    end select
+    if (tangent) then
+      do igp = g0, g0 + ng - 1
+        call add_btdb(nstr, ndof, sys%bmat(sys%b_ptr(igp)), sys%dmat(1, 1, im), sys%wt(igp), ke)
+      end do
+    end if
+  end subroutine linear_element
+
+  !> Linear elastic points of element e in quadruple precision (PRECISION EXTENDED): strains of
+  !> smooth fields and the nodal balance of element forces cancel heavily; rounding them in
+  !> double injects energy (docs/precision.md). Explicit loops (software quad arithmetic: every
+  !> operation counts); the products by B are exact in quad (double x double), only the sums
+  !> round, at 1e-34. The element forces go to sys%fint_q, its strain energy to esumq.
+  subroutine linear_element_q(sys, e, im, ue, esumq, uq)
+    type(system_t), intent(inout) :: sys
+    integer, intent(in) :: e, im
+    real(dp), intent(in) :: ue(:)
+    real(qp), intent(inout) :: esumq
+    real(qp), intent(in), optional :: uq(:)
+    real(qp) :: ueq(MAX_EDOF), feq(MAX_EDOF), epsq(MAX_NSTRAIN), sigq(MAX_NSTRAIN), dq(MAX_NSTRAIN, MAX_NSTRAIN), wq
+    integer :: e0, g0, ng, ndof, nstr, k, j, a, b2, igp, p
+    g0 = sys%gp_ptr(e)
+    ng = sys%gp_ptr(e + 1) - g0
+    e0 = sys%edof_ptr(e)
+    ndof = sys%edof_ptr(e + 1) - e0
+    nstr = (sys%b_ptr(g0 + 1) - sys%b_ptr(g0)) / ndof
+    if (present(uq)) then
+      do k = 1, ndof
+        j = sys%edof(e0 + k - 1)
+        ueq(k) = 0.0_qp
+        if (j > 0) ueq(k) = uq(j)
+      end do
+    else
+      ueq(1:ndof) = real(ue(1:ndof), qp)
+    end if
+    feq(1:ndof) = 0.0_qp
+    do a = 1, nstr
+      do b2 = 1, nstr
+        dq(a, b2) = real(sys%dmat(a, b2, im), qp)
+      end do
+    end do
+    do igp = g0, g0 + ng - 1
+      p = sys%b_ptr(igp) - 1
+      wq = real(sys%wt(igp), qp)
+      epsq(1:nstr) = 0.0_qp
+      do k = 1, ndof
+        if (ueq(k) == 0.0_qp) cycle
+        do a = 1, nstr
+          if (sys%bmat(p + (k - 1) * nstr + a) /= 0.0_dp) &
+            epsq(a) = epsq(a) + real(sys%bmat(p + (k - 1) * nstr + a), qp) * ueq(k)
+        end do
+      end do
+      do a = 1, nstr
+        sigq(a) = 0.0_qp
+        do b2 = 1, nstr
+          if (dq(a, b2) /= 0.0_qp) sigq(a) = sigq(a) + dq(a, b2) * epsq(b2)
+        end do
+      end do
+      do k = 1, ndof
+        do a = 1, nstr
+          if (sys%bmat(p + (k - 1) * nstr + a) /= 0.0_dp) &
+            feq(k) = feq(k) + wq * (real(sys%bmat(p + (k - 1) * nstr + a), qp) * sigq(a))
+        end do
+      end do
+      esumq = esumq + 0.5_qp * wq * sum(sigq(1:nstr) * epsq(1:nstr))
+      sys%eps_t(1:nstr, igp) = real(epsq(1:nstr), dp)
+      sys%sig_t(1:nstr, igp) = real(sigq(1:nstr), dp)
+    end do
+    do k = 1, ndof
+      j = sys%edof(e0 + k - 1)
+      if (j > 0) sys%fint_q(j) = sys%fint_q(j) + feq(k)
+    end do
+  end subroutine linear_element_q
+
+  !> The points of one element through their law (material_law's law_update: sub-incremented
+  !> along the step), the element forces fe, with correct the correction forces fc of eq (9)
+  !> (any_c: some point was sub-incremented), the tangent into ke, the works of the increment.
+  subroutine nonlinear_element(scn, sys, mv, g0, ng, ndof, nstr, ue, correct, tangent, fe, fc, ke, any_c, wsum, dsum, &
+                               esum)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(model_view_t), intent(in) :: mv
+    integer, intent(in) :: g0, ng, ndof, nstr
+    real(dp), intent(in) :: ue(:)
+    logical, intent(in) :: correct, tangent
+    real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum, dsum, esum
+    logical, intent(inout) :: any_c
+    real(dp) :: deps(MAX_NSTRAIN), sbar(MAX_NSTRAIN), sc(MAX_NSTRAIN), dt(MAX_NSTRAIN, MAX_NSTRAIN), work, dissip, w
+    integer :: igp, p, nused
+    fc(1:ndof) = 0.0_dp
+    do igp = g0, g0 + ng - 1
+      p = sys%b_ptr(igp)
+      w = sys%wt(igp)
+      ! eps = B ue (B stored column-major, nstr x ndof)
+      call b_times(nstr, ndof, sys%bmat(p), ue, sys%eps_t(1, igp))
+      deps(1:nstr) = sys%eps_t(1:nstr, igp) - sys%eps(1:nstr, igp)
+      call update_point(mv%nsub)
+      if (mv%nsub <= 0) then
+        ! SUBSTEPS AUTO: the count may only grow during the iterations of a step; a count
+        ! that changes back and forth makes the residual of eq (9) jump and cycle.
+        if (nused < sys%nsub_pt(igp)) then
+          call update_point(sys%nsub_pt(igp))
+        else
+          sys%nsub_pt(igp) = nused
+        end if
+      end if
+      if (tangent) call add_btdb(nstr, ndof, sys%bmat(p), dt, w, ke)
+      if (mv%linear) then
+        esum = esum + 0.5_dp * w * dot_product(sys%sig_t(1:nstr, igp), sys%eps_t(1:nstr, igp))
+      else
+        wsum = wsum + w * work
+        dsum = dsum + w * dissip
+      end if
+      call add_btsig(nstr, ndof, sys%bmat(p), sys%sig_t(1, igp), w, fe)
+      ! Eq (9): the correction stress, only where the law was sub-incremented.
+      if (nused > 0 .and. correct) then
+        any_c = .true.
+        call correction_stress(sbar(1:nstr), sys%sig(1:nstr, igp), sys%sig_t(1:nstr, igp), sc(1:nstr))
+        call add_btsig(nstr, ndof, sys%bmat(p), sc, w, fc)
+      end if
+    end do
+
+  contains
+
+    !> The law at point igp over the step, in n sub-increments (0: AUTO).
+    subroutine update_point(n)
+      integer, intent(in) :: n
+      associate (mat => scn%materials(mv%mat), sec => scn%models(mv%im)%sec, pk => sys%pk(mv%im), nq => mv%nq)
+        if (tangent) then
+          call law_update(mat, sec, pk, sys%dmat(1:nstr, 1:nstr, mv%im), n, sys%eps(1:nstr, igp), deps(1:nstr), &
+            sys%sig(1:nstr, igp), sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, &
+            dissip, nused, dt(1:nstr, 1:nstr))
+        else
+          call law_update(mat, sec, pk, sys%dmat(1:nstr, 1:nstr, mv%im), n, sys%eps(1:nstr, igp), deps(1:nstr), &
+            sys%sig(1:nstr, igp), sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, &
+            dissip, nused)
+        end if
+      end associate
+    end subroutine update_point
+  end subroutine nonlinear_element
+
+  !> Linear elastic QUAD points of one element: eps = B ue, sigma = D eps, fe += w B'sigma,
+  !> esum += w sigma.eps / 2. b: the ng consecutive B (4 x ndof); eps, sig: trial state columns.
+  pure subroutine linear_points_4(ndof, ng, b, w, ue, d, eps, sig, fe, esum)
+    integer, intent(in) :: ndof, ng
+    real(dp), intent(in) :: b(4, ndof, ng), w(ng), ue(ndof), d(MAX_NSTRAIN, MAX_NSTRAIN)
+    real(dp), intent(inout) :: eps(MAX_NSTRAIN, ng), sig(MAX_NSTRAIN, ng), fe(ndof), esum
+    integer :: ig, k
+    real(dp) :: e1, e2, e3, e4, s1, s2, s3, s4
+    do ig = 1, ng
+      e1 = 0.0_dp
+      e2 = 0.0_dp
+      e3 = 0.0_dp
+      e4 = 0.0_dp
+      do k = 1, ndof
+        e1 = e1 + b(1, k, ig) * ue(k)
+        e2 = e2 + b(2, k, ig) * ue(k)
+        e3 = e3 + b(3, k, ig) * ue(k)
+        e4 = e4 + b(4, k, ig) * ue(k)
+      end do
+      s1 = d(1, 1) * e1 + d(1, 2) * e2 + d(1, 3) * e3 + d(1, 4) * e4
+      s2 = d(2, 1) * e1 + d(2, 2) * e2 + d(2, 3) * e3 + d(2, 4) * e4
+      s3 = d(3, 1) * e1 + d(3, 2) * e2 + d(3, 3) * e3 + d(3, 4) * e4
+      s4 = d(4, 1) * e1 + d(4, 2) * e2 + d(4, 3) * e3 + d(4, 4) * e4
+      eps(1, ig) = e1
+      eps(2, ig) = e2
+      eps(3, ig) = e3
+      eps(4, ig) = e4
+      sig(1, ig) = s1
+      sig(2, ig) = s2
+      sig(3, ig) = s3
+      sig(4, ig) = s4
+      esum = esum + 0.5_dp * w(ig) * (s1 * e1 + s2 * e2 + s3 * e3 + s4 * e4)
+      s1 = w(ig) * s1
+      s2 = w(ig) * s2
+      s3 = w(ig) * s3
+      s4 = w(ig) * s4
+      do k = 1, ndof
+        fe(k) = fe(k) + (b(1, k, ig) * s1 + b(2, k, ig) * s2 + b(3, k, ig) * s3 + b(4, k, ig) * s4)
+      end do
+    end do
+  end subroutine linear_points_4
+
+  !> linear_points_4 for beams (axial strain, curvature).
+  pure subroutine linear_points_2(ndof, ng, b, w, ue, d, eps, sig, fe, esum)
+    integer, intent(in) :: ndof, ng
+    real(dp), intent(in) :: b(2, ndof, ng), w(ng), ue(ndof), d(MAX_NSTRAIN, MAX_NSTRAIN)
+    real(dp), intent(inout) :: eps(MAX_NSTRAIN, ng), sig(MAX_NSTRAIN, ng), fe(ndof), esum
+    integer :: ig, k
+    real(dp) :: e1, e2, s1, s2
+    do ig = 1, ng
+      e1 = 0.0_dp
+      e2 = 0.0_dp
+      do k = 1, ndof
+        e1 = e1 + b(1, k, ig) * ue(k)
+        e2 = e2 + b(2, k, ig) * ue(k)
+      end do
+      s1 = d(1, 1) * e1 + d(1, 2) * e2
+      s2 = d(2, 1) * e1 + d(2, 2) * e2
+      eps(1, ig) = e1
+      eps(2, ig) = e2
+      sig(1, ig) = s1
+      sig(2, ig) = s2
+      esum = esum + 0.5_dp * w(ig) * (s1 * e1 + s2 * e2)
+      s1 = w(ig) * s1
+      s2 = w(ig) * s2
+      do k = 1, ndof
+        fe(k) = fe(k) + (b(1, k, ig) * s1 + b(2, k, ig) * s2)
+      end do
+    end do
+  end subroutine linear_points_2
+
+  !> linear_points_4 for springs and bars (one strain component).
+  pure subroutine linear_points_1(ndof, ng, b, w, ue, d, eps, sig, fe, esum)
+    integer, intent(in) :: ndof, ng
+    real(dp), intent(in) :: b(ndof, ng), w(ng), ue(ndof), d(MAX_NSTRAIN, MAX_NSTRAIN)
+    real(dp), intent(inout) :: eps(MAX_NSTRAIN, ng), sig(MAX_NSTRAIN, ng), fe(ndof), esum
+    integer :: ig, k
+    real(dp) :: e1, s1
+    do ig = 1, ng
+      e1 = 0.0_dp
+      do k = 1, ndof
+        e1 = e1 + b(k, ig) * ue(k)
+      end do
+      s1 = d(1, 1) * e1
+      eps(1, ig) = e1
+      sig(1, ig) = s1
+      esum = esum + 0.5_dp * w(ig) * (s1 * e1)
+      s1 = w(ig) * s1
+      do k = 1, ndof
+        fe(k) = fe(k) + b(k, ig) * s1
+      end do
+    end do
+  end subroutine linear_points_1
+
+  !> eps(1:nstr) = B ue, B nstr x ndof.
+  pure subroutine b_times(nstr, ndof, b, ue, eps)
+    integer, intent(in) :: nstr, ndof
+    real(dp), intent(in) :: b(nstr, ndof), ue(ndof)
+    real(dp), intent(out) :: eps(nstr)
+    integer :: k
+    eps = 0.0_dp
+    do k = 1, ndof
+      eps = eps + b(:, k) * ue(k)
+    end do
+  end subroutine b_times
+
+  !> fe += w B's, B nstr x ndof.
+  pure subroutine add_btsig(nstr, ndof, b, s, w, fe)
+    integer, intent(in) :: nstr, ndof
+    real(dp), intent(in) :: b(nstr, ndof), s(nstr), w
+    real(dp), intent(inout) :: fe(ndof)
+    integer :: k
+    do k = 1, ndof
+      fe(k) = fe(k) + w * dot_product(b(:, k), s)
+    end do
+  end subroutine add_btsig
+
+  !> ke(1:ndof, 1:ndof) += w B' D B, B nstr x ndof, D the leading nstr x nstr block of d.
+  pure subroutine add_btdb(nstr, ndof, b, d, w, ke)
+    integer, intent(in) :: nstr, ndof
+    real(dp), intent(in) :: b(nstr, ndof), d(MAX_NSTRAIN, MAX_NSTRAIN), w
+    real(dp), intent(inout) :: ke(MAX_EDOF, MAX_EDOF)
+    real(dp) :: db(MAX_NSTRAIN, MAX_EDOF)
+    integer :: k, m
+    do k = 1, ndof
+      db(1:nstr, k) = matmul(d(1:nstr, 1:nstr), b(:, k))
+    end do
+    do k = 1, ndof
+      do m = 1, ndof
+        ke(m, k) = ke(m, k) + w * dot_product(b(:, m), db(1:nstr, k))
+      end do
+    end do
+  end subroutine add_btdb
+end module internal_forces
