@@ -87,18 +87,46 @@ contains
     type(system_t), intent(out) :: sys
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: e, et, im, nen, ndof, nstr, ngp, ig, igp, nb, k, a, d, n, i, nmodel
-    logical :: mask(3)
-    real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), w, ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF)
-    real(dp) :: g(MAX_EDOF), rho
-    integer, allocatable :: eptr(:), edofs(:)
-
     stat = STAT_OK
     call build_dof_map(scn, sys%eqn, sys%neq)
     if (sys%neq == 0) then
       call set_error(stat, errmsg, STAT_INPUT, scn%path // ':1: every degree of freedom is fixed: nothing moves')
       return
     end if
+    call model_data(scn, sys)
+    call element_table(scn, sys)
+    call assemble_operators(scn, sys)
+    call check_operators(scn, sys, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call build_loads(scn, sys, stat, errmsg)
+    if (stat /= STAT_OK) return
+    allocate (sys%eps(MAX_NSTRAIN, sys%ngp), sys%sig(MAX_NSTRAIN, sys%ngp))
+    sys%eps = 0.0_dp
+    sys%sig = 0.0_dp
+    allocate (sys%eps_t, source=sys%eps)
+    allocate (sys%sig_t, source=sys%sig)
+    allocate (sys%nsub_pt(sys%ngp))
+    sys%nsub_pt = 0
+    allocate (sys%q(sys%nq, sys%ngp))
+    sys%q = 0.0_dp
+    allocate (sys%q_t, source=sys%q)
+    sys%extended = scn%extended
+    if (sys%extended) then
+      allocate (sys%fint_q(sys%neq))
+      sys%fint_q = 0.0_qp
+    end if
+    if (scn%tangent .and. .not. sys%linear) then
+      allocate (sys%tval(sys%pat%nnz))
+      sys%tval = sys%kval
+    end if
+  end subroutine build_system
+
+  !> Per model: the elastic matrix D (K0 uses it, and the laws), the point kind, linearity and
+  !> the number of internal variables.
+  subroutine model_data(scn, sys)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    integer :: im, nstr, nmodel
     nmodel = size(scn%models)
     allocate (sys%dmat(MAX_NSTRAIN, MAX_NSTRAIN, nmodel), sys%pk(nmodel), sys%model_linear(nmodel))
     sys%dmat = 0.0_dp
@@ -121,8 +149,16 @@ contains
         end if
       end associate
     end do
+  end subroutine model_data
 
-    ! Element DOFs and integration-point counts.
+  !> The element table: equations of each element's DOFs, its integration points, their B
+  !> matrices and weights (computed once).
+  subroutine element_table(scn, sys)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    integer :: e, et, im, nen, ndof, nstr, ngp, ig, igp, nb, k, a, d, n
+    logical :: mask(3)
+    real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), w
     allocate (sys%edof_ptr(scn%mesh%nelem + 1), sys%gp_ptr(scn%mesh%nelem + 1))
     sys%edof_ptr(1) = 1
     sys%gp_ptr(1) = 1
@@ -142,9 +178,6 @@ contains
     end do
     sys%ngp = sys%gp_ptr(scn%mesh%nelem + 1) - 1
     allocate (sys%edof(sys%edof_ptr(scn%mesh%nelem + 1) - 1), sys%b_ptr(sys%ngp + 1), sys%bmat(nb), sys%wt(sys%ngp))
-    allocate (sys%eps(MAX_NSTRAIN, sys%ngp), sys%sig(MAX_NSTRAIN, sys%ngp))
-    sys%eps = 0.0_dp
-    sys%sig = 0.0_dp
     sys%b_ptr(1) = 1
     do e = 1, scn%mesh%nelem
       im = scn%elem_model(e)
@@ -172,8 +205,17 @@ contains
         sys%b_ptr(igp + 1) = sys%b_ptr(igp) + nstr * ndof
       end do
     end do
+  end subroutine element_table
 
-    ! One pattern for K0, M and K0 + c M.
+  !> One pattern for K0, M and K0 + c M; K0 = Σ B'DB w, M (consistent or lumped per model) and
+  !> the gravity load M g (g on the translations: the consistent body force of each element).
+  subroutine assemble_operators(scn, sys)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    integer :: e, et, im, nen, ndof, nstr, igp, k, a, d
+    logical :: mask(3)
+    real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho
+    integer, allocatable :: eptr(:), edofs(:)
     allocate (eptr(scn%mesh%nelem + 1))
     eptr = sys%edof_ptr
     edofs = sys%edof
@@ -202,7 +244,6 @@ contains
         if (scn%models(im)%material > 0) rho = scn%materials(scn%models(im)%material)%density
         call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, scn%models(im)%lumped, me(1:ndof, 1:ndof))
         call sys%pat%add_element(sys%mval, dofs, me(1:ndof, 1:ndof))
-        ! Gravity: M g with g on the translations, the consistent body force of the element.
         mask = elem_dof_mask(et)
         k = 0
         do a = 1, nen
@@ -219,49 +260,36 @@ contains
         end do
       end associate
     end do
+  end subroutine assemble_operators
 
-    ! A DOF with neither mass nor stiffness makes K0 + 4M/h2 singular.
-    block
-      real(dp), allocatable :: dk(:), dm(:)
-      allocate (dk(sys%neq), dm(sys%neq))
-      call sys%pat%diagonal(sys%kval, dk)
-      call sys%pat%diagonal(sys%mval, dm)
-      do i = 1, sys%neq
-        if (dk(i) <= 0.0_dp .and. dm(i) <= 0.0_dp) then
-          call set_error(stat, errmsg, STAT_INPUT, dof_origin(scn, sys, i) // ': singular system: ' // &
-            dof_label(scn, sys, i) // &
-            ' has neither mass nor stiffness (fix it, or give it a mass or an element)')
-          return
-        end if
-      end do
-      sys%mass_diagonal = .true.
-      do k = 1, sys%pat%nnz
-        if (sys%mval(k) /= 0.0_dp) then
-          if (.not. is_diagonal_position(sys%pat, k)) sys%mass_diagonal = .false.
-        end if
-      end do
-      if (sys%mass_diagonal) sys%mdiag = dm
-    end block
-
-    call build_loads(scn, sys, stat, errmsg)
-    if (stat /= STAT_OK) return
-    allocate (sys%eps_t, source=sys%eps)
-    allocate (sys%sig_t, source=sys%sig)
-    allocate (sys%nsub_pt(sys%ngp))
-    sys%nsub_pt = 0
-    allocate (sys%q(sys%nq, sys%ngp))
-    sys%q = 0.0_dp
-    allocate (sys%q_t, source=sys%q)
-    sys%extended = scn%extended
-    if (sys%extended) then
-      allocate (sys%fint_q(sys%neq))
-      sys%fint_q = 0.0_qp
-    end if
-    if (scn%tangent .and. .not. sys%linear) then
-      allocate (sys%tval(sys%pat%nnz))
-      sys%tval = sys%kval
-    end if
-  end subroutine build_system
+  !> A DOF with neither mass nor stiffness makes K0 + 4M/h2 singular: refused, named. A mass
+  !> matrix with no off-diagonal entry is kept as its diagonal (lumped).
+  subroutine check_operators(scn, sys, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp), allocatable :: dk(:), dm(:)
+    integer :: i, k
+    stat = STAT_OK
+    allocate (dk(sys%neq), dm(sys%neq))
+    call sys%pat%diagonal(sys%kval, dk)
+    call sys%pat%diagonal(sys%mval, dm)
+    do i = 1, sys%neq
+      if (dk(i) <= 0.0_dp .and. dm(i) <= 0.0_dp) then
+        call set_error(stat, errmsg, STAT_INPUT, dof_origin(scn, sys, i) // ': singular system: ' // &
+          dof_label(scn, sys, i) // ' has neither mass nor stiffness (fix it, or give it a mass or an element)')
+        return
+      end if
+    end do
+    sys%mass_diagonal = .true.
+    do k = 1, sys%pat%nnz
+      if (sys%mval(k) /= 0.0_dp) then
+        if (.not. is_diagonal_position(sys%pat, k)) sys%mass_diagonal = .false.
+      end if
+    end do
+    if (sys%mass_diagonal) sys%mdiag = dm
+  end subroutine check_operators
 
   !> True when position k of the pattern is a diagonal entry.
   pure logical function is_diagonal_position(pat, k)
