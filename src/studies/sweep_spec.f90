@@ -157,11 +157,9 @@ contains
     type(sweep_case_t), allocatable :: named(:)
     type(text_t), allocatable :: vvals(:, :)
     integer, allocatable :: nvals(:)
-    character(len=:), allocatable :: w, dir
-    integer :: i, j, k, nv, ng, ip
+    integer :: i
     logical :: zip
 
-    w = ''
     if (.not. path_exists(path)) then
       call set_error(stat, errmsg, STAT_INPUT, 'cannot open sweep file ' // path)
       return
@@ -171,79 +169,135 @@ contains
     if (stat /= STAT_OK) return
     sw%path = path
     sw%name = path_stem(path)
-    dir = path(1:index(path, '/', back=.true.))
     allocate (gsets(0), vkeys(0), named(0), nvals(0), sw%metrics(0))
     allocate (vvals(0, 0))
     zip = .false.
     sw%outdir = 'results/' // sw%name
-
     do i = 1, size(st)
-      select case (st(i)%keyword)
-      case ('SCENE')
-        w = st(i)%lead(1)%text
-        if (len(w) == 0) then
-          call err_at('empty scene path', st(i)%lead(1))
-          return
-        end if
-        if (w(1:1) == '/') then
-          sw%scene = w
-        else
-          sw%scene = dir // w
-        end if
-      case ('OUTPUT')
-        sw%outdir = st(i)%lead(1)%text
-        if (len(sw%outdir) == 0) then
-          call err_at('empty output directory', st(i)%lead(1))
-          return
-        end if
-      case ('SET')
-        do j = 1, size(st(i)%lead)
-          call check_assignment(st(i), st(i)%lead(j), stat, errmsg)
-          if (stat /= STAT_OK) return
-          call push(gsets, st(i)%lead(j)%text)
-        end do
-      case ('VARY')
-        associate (key => st(i)%lead(1))
-          if (index(key%text, '.') < 2 .or. index(key%text, '=') > 0) then
-            call err_at('expected STATEMENT.PARAM (no value) as the first word', key)
-            return
-          end if
-          do j = 1, size(vkeys)
-            if (vkeys(j)%s == key%text) then
-              call err_at('parameter varied twice', key)
-              return
-            end if
-          end do
-          call push(vkeys, key%text)
-        end associate
-        nv = size(st(i)%lead) - 1
-        call grow_values(vvals, nvals, nv)
-        do j = 1, nv
-          vvals(j, size(nvals))%s = st(i)%lead(j + 1)%text
-        end do
-      case ('COMBINE')
-        select case (upper(st(i)%lead(1)%text))
-        case ('GRID')
-          zip = .false.
-        case ('ZIP')
-          zip = .true.
-        case default
-          call err_at('expected GRID or ZIP', st(i)%lead(1))
-          return
-        end select
-      case ('CASE')
-        call add_named_case(st(i), stat, errmsg)
-        if (stat /= STAT_OK) return
-      case ('METRIC')
-        call add_metric(st(i), stat, errmsg)
-        if (stat /= STAT_OK) return
-      case ('REFERENCE')
-      end select
+      call sweep_statement(st(i), path(1:index(path, '/', back=.true.)), sw, gsets, vkeys, vvals, nvals, named, zip, &
+        stat, errmsg)
+      if (stat /= STAT_OK) return
     end do
     call check_required(st, sch, path, stat, errmsg)
     if (stat /= STAT_OK) return
+    call vary_grid(path, zip, vvals, nvals, grid, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (size(named) == 0) then
+      deallocate (named)
+      allocate (named(1))
+      named(1)%name = ''
+      allocate (named(1)%sets(0))
+    end if
+    call build_cases(sw, named, gsets, vkeys, grid, extra)
+    call metric_columns(sw)
+    allocate (sw%ref_values(size(sw%columns)), sw%ref_given(size(sw%columns)))
+    sw%ref_values = 0.0_dp
+    sw%ref_given = .false.
+    do i = 1, size(st)
+      if (st(i)%keyword == 'REFERENCE') then
+        call read_reference(sw, st(i), stat, errmsg)
+        if (stat /= STAT_OK) return
+      end if
+    end do
+  end subroutine parse_sweep
 
-    ! The grid (or the zipped lists) of the VARY statements.
+  !> One statement of the sweep file, in file order (REFERENCE is read last, parse_sweep).
+  subroutine sweep_statement(st, dir, sw, gsets, vkeys, vvals, nvals, named, zip, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: dir
+    type(sweep_t), intent(inout) :: sw
+    type(text_t), allocatable, intent(inout) :: gsets(:), vkeys(:), vvals(:, :)
+    integer, allocatable, intent(inout) :: nvals(:)
+    type(sweep_case_t), allocatable, intent(inout) :: named(:)
+    logical, intent(inout) :: zip
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: w
+    integer :: j, nv
+    stat = STAT_OK
+    select case (st%keyword)
+    case ('SCENE')
+      w = st%lead(1)%text
+      if (len(w) == 0) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'empty scene path', st%lead(1)))
+      else if (w(1:1) == '/') then
+        sw%scene = w
+      else
+        sw%scene = dir // w
+      end if
+    case ('OUTPUT')
+      sw%outdir = st%lead(1)%text
+      if (len(sw%outdir) == 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'empty output directory', &
+        st%lead(1)))
+    case ('SET')
+      do j = 1, size(st%lead)
+        call check_assignment(st, st%lead(j), stat, errmsg)
+        if (stat /= STAT_OK) return
+        call push(gsets, st%lead(j)%text)
+      end do
+    case ('VARY')
+      associate (key => st%lead(1))
+        if (index(key%text, '.') < 2 .or. index(key%text, '=') > 0) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected STATEMENT.PARAM (no value) as the first ' // &
+            'word', key))
+          return
+        end if
+        if (find_text(vkeys, key%text) > 0) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'parameter varied twice', key))
+          return
+        end if
+        call push(vkeys, key%text)
+      end associate
+      nv = size(st%lead) - 1
+      call grow_values(vvals, nvals, nv)
+      do j = 1, nv
+        vvals(j, size(nvals))%s = st%lead(j + 1)%text
+      end do
+    case ('COMBINE')
+      select case (upper(st%lead(1)%text))
+      case ('GRID')
+        zip = .false.
+      case ('ZIP')
+        zip = .true.
+      case default
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected GRID or ZIP', st%lead(1)))
+      end select
+    case ('CASE')
+      call add_named_case(named, st, stat, errmsg)
+    case ('METRIC')
+      call add_metric(sw, st, stat, errmsg)
+    end select
+  end subroutine sweep_statement
+
+  !> A new column of VARY values (nnew of them).
+  subroutine grow_values(vv, nn, nnew)
+    type(text_t), allocatable, intent(inout) :: vv(:, :)
+    integer, allocatable, intent(inout) :: nn(:)
+    integer, intent(in) :: nnew
+    type(text_t), allocatable :: tmp(:, :)
+    integer :: a, b
+    allocate (tmp(max(size(vv, 1), nnew), size(nn) + 1))
+    do b = 1, size(nn)
+      do a = 1, nn(b)
+        tmp(a, b) = vv(a, b)
+      end do
+    end do
+    call move_alloc(tmp, vv)
+    nn = [nn, nnew]
+  end subroutine grow_values
+
+  !> The points of the VARY grid, grid(param, point): every combination (the last VARY
+  !> varying fastest) or, COMBINE ZIP, the lists side by side.
+  subroutine vary_grid(path, zip, vvals, nvals, grid, stat, errmsg)
+    character(len=*), intent(in) :: path
+    logical, intent(in) :: zip
+    type(text_t), intent(in) :: vvals(:, :)
+    integer, intent(in) :: nvals(:)
+    type(text_t), allocatable, intent(out) :: grid(:, :)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, j, ng, r, q, a
+    stat = STAT_OK
     if (zip .and. size(nvals) > 0) then
       if (any(nvals /= nvals(1))) then
         call set_error(stat, errmsg, STAT_INPUT, path // ': COMBINE ZIP needs VARY lists of equal length')
@@ -260,17 +314,27 @@ contains
       ng = product(nvals)
       allocate (grid(size(nvals), ng))
       do k = 1, ng
-        call grid_point(k, grid(:, k))
+        r = k - 1
+        do a = size(nvals), 1, -1
+          q = mod(r, nvals(a))
+          r = r / nvals(a)
+          grid(a, k) = vvals(q + 1, a)
+        end do
       end do
     end if
-    if (size(named) == 0) then
-      deallocate (named)
-      allocate (named(1))
-      named(1)%name = ''
-      allocate (named(1)%sets(0))
-    end if
+  end subroutine vary_grid
 
-    ! Parameter columns: VARY keys, then the keys the CASE statements set.
+  !> The parameter columns (VARY keys, then the keys the CASE statements set) and the cases:
+  !> CASE statements (outer) times the grid (first VARY outermost), each with its assignments
+  !> (global SET, the case's SET, the grid point's, the command line's).
+  subroutine build_cases(sw, named, gsets, vkeys, grid, extra)
+    type(sweep_t), intent(inout) :: sw
+    type(sweep_case_t), intent(in) :: named(:)
+    type(text_t), intent(in) :: gsets(:), vkeys(:), grid(:, :)
+    character(len=*), intent(in) :: extra(:)
+    character(len=:), allocatable :: w
+    integer :: i, j, k, nv, ip, ng
+    ng = size(grid, 2)
     allocate (sw%params(0))
     do i = 1, size(vkeys)
       call push(sw%params, vkeys(i)%s)
@@ -281,8 +345,6 @@ contains
         if (find_text(sw%params, w) == 0) call push(sw%params, w)
       end do
     end do
-
-    ! Cases: CASE statements (outer) times the grid (first VARY outermost).
     allocate (sw%cases(size(named) * ng))
     k = 0
     do i = 1, size(named)
@@ -315,249 +377,207 @@ contains
         end do
       end do
     end do
+  end subroutine build_cases
 
-    call metric_columns(sw)
-    allocate (sw%ref_values(size(sw%columns)), sw%ref_given(size(sw%columns)))
-    sw%ref_values = 0.0_dp
-    sw%ref_given = .false.
-    do i = 1, size(st)
-      if (st(i)%keyword == 'REFERENCE') then
-        call read_reference(st(i), stat, errmsg)
-        if (stat /= STAT_OK) return
+  !> A CASE statement: a named variant with its SET assignments.
+  subroutine add_named_case(named, s, stat2, msg2)
+    type(sweep_case_t), allocatable, intent(inout) :: named(:)
+    type(statement_t), intent(in) :: s
+    integer, intent(out) :: stat2
+    character(len=:), allocatable, intent(out) :: msg2
+    type(sweep_case_t) :: c
+    integer :: p, m
+    stat2 = STAT_OK
+    msg2 = ''
+    c%name = s%lead(1)%text
+    do p = 1, size(named)
+      if (named(p)%name == c%name) then
+        call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'case name used twice', s%lead(1)))
+        return
       end if
     end do
-
-  contains
-
-    subroutine err_at(msg, tok)
-      character(len=*), intent(in) :: msg
-      type(token_t), intent(in) :: tok
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st(i), msg, tok))
-    end subroutine err_at
-
-    subroutine grow_values(vv, nn, nnew)
-      type(text_t), allocatable, intent(inout) :: vv(:, :)
-      integer, allocatable, intent(inout) :: nn(:)
-      integer, intent(in) :: nnew
-      type(text_t), allocatable :: tmp(:, :)
-      integer :: a, b
-      allocate (tmp(max(size(vv, 1), nnew), size(nn) + 1))
-      do b = 1, size(nn)
-        do a = 1, nn(b)
-          tmp(a, b) = vv(a, b)
-        end do
-      end do
-      call move_alloc(tmp, vv)
-      nn = [nn, nnew]
-    end subroutine grow_values
-
-    !> Values of grid point k (1-based), the last VARY varying fastest.
-    subroutine grid_point(kk, vals)
-      integer, intent(in) :: kk
-      type(text_t), intent(out) :: vals(:)
-      integer :: r, q, a
-      r = kk - 1
-      do a = size(nvals), 1, -1
-        q = mod(r, nvals(a))
-        r = r / nvals(a)
-        vals(a) = vvals(q + 1, a)
-      end do
-    end subroutine grid_point
-
-    subroutine add_named_case(s, stat2, msg2)
-      type(statement_t), intent(in) :: s
-      integer, intent(out) :: stat2
-      character(len=:), allocatable, intent(out) :: msg2
-      type(sweep_case_t) :: c
-      integer :: p, m
-      stat2 = STAT_OK
-      msg2 = ''
-      c%name = s%lead(1)%text
-      do p = 1, size(named)
-        if (named(p)%name == c%name) then
-          call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'case name used twice', s%lead(1)))
-          return
-        end if
-      end do
-      allocate (c%sets(0))
-      do m = 1, count_param(s, 'SET')
-        p = find_param(s, 'SET', m)
-        call check_assignment(s, s%params(p)%values(1), stat2, msg2)
-        if (stat2 /= STAT_OK) return
-        call push(c%sets, s%params(p)%values(1)%text)
-      end do
-      block
-        type(sweep_case_t), allocatable :: tmp(:)
-        allocate (tmp(size(named) + 1))
-        do p = 1, size(named)
-          call move_alloc(named(p)%name, tmp(p)%name)
-          call move_alloc(named(p)%sets, tmp(p)%sets)
-        end do
-        call move_alloc(c%name, tmp(size(tmp))%name)
-        call move_alloc(c%sets, tmp(size(tmp))%sets)
-        call move_alloc(tmp, named)
-      end block
-    end subroutine add_named_case
-
-    subroutine add_metric(s, stat2, msg2)
-      type(statement_t), intent(in) :: s
-      integer, intent(out) :: stat2
-      character(len=:), allocatable, intent(out) :: msg2
-      type(metric_t) :: m
-      character(len=:), allocatable :: kind
-      stat2 = STAT_OK
-      msg2 = ''
-      ! `METRIC probe g.DOF AT t` reads as the parameter PROBE without a lead word.
-      if (size(s%lead) > 0) then
-        kind = upper(s%lead(1)%text)
-      else if (find_param(s, 'PROBE') > 0) then
-        kind = 'PROBE'
-      else
-        call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, &
-          'expected BALANCE, APEX, CONTACT_DURATION, ONSETS or PROBE', s%kwtok))
-        return
-      end if
-      call get_real(s, 'SCALE', m%scale, stat2, msg2, default=0.0_dp, lower=0.0_dp)
+    allocate (c%sets(0))
+    do m = 1, count_param(s, 'SET')
+      p = find_param(s, 'SET', m)
+      call check_assignment(s, s%params(p)%values(1), stat2, msg2)
       if (stat2 /= STAT_OK) return
-      select case (kind)
-      case ('BALANCE')
-        if (size(s%params) > 0) then
-          call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'BALANCE takes no parameter', s%params(1)%keytok))
-        end if
-        return               ! max_rel_balance is always a column
-      case ('APEX')
-        m%kind = MK_APEX
-        call get_word(s, 'PROBE', m%probe, stat2, msg2)
-        if (stat2 /= STAT_OK) return
+      call push(c%sets, s%params(p)%values(1)%text)
+    end do
+    block
+      type(sweep_case_t), allocatable :: tmp(:)
+      allocate (tmp(size(named) + 1))
+      do p = 1, size(named)
+        call move_alloc(named(p)%name, tmp(p)%name)
+        call move_alloc(named(p)%sets, tmp(p)%sets)
+      end do
+      call move_alloc(c%name, tmp(size(tmp))%name)
+      call move_alloc(c%sets, tmp(size(tmp))%sets)
+      call move_alloc(tmp, named)
+    end block
+  end subroutine add_named_case
+
+  !> A METRIC statement.
+  subroutine add_metric(sw, s, stat2, msg2)
+    type(sweep_t), intent(inout) :: sw
+    type(statement_t), intent(in) :: s
+    integer, intent(out) :: stat2
+    character(len=:), allocatable, intent(out) :: msg2
+    type(metric_t) :: m
+    character(len=:), allocatable :: kind
+    stat2 = STAT_OK
+    msg2 = ''
+    ! `METRIC probe g.DOF AT t` reads as the parameter PROBE without a lead word.
+    if (size(s%lead) > 0) then
+      kind = upper(s%lead(1)%text)
+    else if (find_param(s, 'PROBE') > 0) then
+      kind = 'PROBE'
+    else
+      call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, &
+        'expected BALANCE, APEX, CONTACT_DURATION, ONSETS or PROBE', s%kwtok))
+      return
+    end if
+    call get_real(s, 'SCALE', m%scale, stat2, msg2, default=0.0_dp, lower=0.0_dp)
+    if (stat2 /= STAT_OK) return
+    select case (kind)
+    case ('BALANCE')
+      if (size(s%params) > 0) then
+        call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'BALANCE takes no parameter', s%params(1)%keytok))
+      end if
+      return               ! max_rel_balance is always a column
+    case ('APEX')
+      m%kind = MK_APEX
+      call get_word(s, 'PROBE', m%probe, stat2, msg2)
+      if (stat2 /= STAT_OK) return
+      call get_int(s, 'COUNT', m%count, stat2, msg2, default=1, lower=1, lower_inclusive=.true.)
+      if (stat2 /= STAT_OK) return
+      call only(s, ['PROBE', 'COUNT', 'SCALE'], stat2, msg2)
+    case ('CONTACT_DURATION', 'ONSETS')
+      if (kind == 'ONSETS') then
+        m%kind = MK_ONSETS
         call get_int(s, 'COUNT', m%count, stat2, msg2, default=1, lower=1, lower_inclusive=.true.)
         if (stat2 /= STAT_OK) return
-        call only(s, ['PROBE', 'COUNT', 'SCALE'], stat2, msg2)
-      case ('CONTACT_DURATION', 'ONSETS')
-        if (kind == 'ONSETS') then
-          m%kind = MK_ONSETS
-          call get_int(s, 'COUNT', m%count, stat2, msg2, default=1, lower=1, lower_inclusive=.true.)
-          if (stat2 /= STAT_OK) return
-          call only(s, ['COUNT', 'GAP  ', 'SCALE'], stat2, msg2)
-        else
-          m%kind = MK_CONTACT_DURATION
-          call only(s, ['GAP  ', 'SCALE'], stat2, msg2)
-        end if
-        if (stat2 /= STAT_OK) return
-        call get_real(s, 'GAP', m%gap, stat2, msg2, default=-1.0_dp)
-        if (stat2 /= STAT_OK) return
-        if (find_param(s, 'GAP') > 0 .and. m%gap <= 0.0_dp) then
-          call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'GAP must be > 0', s%params(find_param(s, 'GAP'))%keytok))
-          return
-        end if
-      case ('PROBE')
-        m%kind = MK_PROBE
-        if (size(s%lead) > 0) then
-          call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'write METRIC PROBE group.DOF AT t', s%lead(1)))
-          return
-        end if
-        call get_word(s, 'PROBE', m%probe, stat2, msg2)
-        if (stat2 /= STAT_OK) return
-        call get_real(s, 'AT', m%at, stat2, msg2)
-        if (stat2 /= STAT_OK) return
-        call get_word(s, 'AT', m%at_text, stat2, msg2)
-        if (stat2 /= STAT_OK) return
-        call only(s, ['PROBE', 'AT   ', 'SCALE'], stat2, msg2)
-      case default
-        call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, &
-          'unknown metric (BALANCE, APEX, CONTACT_DURATION, ONSETS, PROBE)', s%lead(1)))
-        return
-      end select
-      if (stat2 /= STAT_OK) return
-      if (m%kind == MK_APEX .or. m%kind == MK_PROBE) then
-        if (index(m%probe, '.') < 2) then
-          call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'expected a probe group.DOF', &
-            s%params(find_param(s, 'PROBE'))%values(1)))
-          return
-        end if
+        call only(s, ['COUNT', 'GAP  ', 'SCALE'], stat2, msg2)
+      else
+        m%kind = MK_CONTACT_DURATION
+        call only(s, ['GAP  ', 'SCALE'], stat2, msg2)
       end if
-      block
-        type(metric_t), allocatable :: tmp(:)
-        allocate (tmp(size(sw%metrics) + 1))
-        tmp(1:size(sw%metrics)) = sw%metrics
-        tmp(size(tmp)) = m
-        call move_alloc(tmp, sw%metrics)
-      end block
-    end subroutine add_metric
+      if (stat2 /= STAT_OK) return
+      call get_real(s, 'GAP', m%gap, stat2, msg2, default=-1.0_dp)
+      if (stat2 /= STAT_OK) return
+      if (find_param(s, 'GAP') > 0 .and. m%gap <= 0.0_dp) then
+        call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'GAP must be > 0', s%params(find_param(s, 'GAP'))%keytok))
+        return
+      end if
+    case ('PROBE')
+      m%kind = MK_PROBE
+      if (size(s%lead) > 0) then
+        call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'write METRIC PROBE group.DOF AT t', s%lead(1)))
+        return
+      end if
+      call get_word(s, 'PROBE', m%probe, stat2, msg2)
+      if (stat2 /= STAT_OK) return
+      call get_real(s, 'AT', m%at, stat2, msg2)
+      if (stat2 /= STAT_OK) return
+      call get_word(s, 'AT', m%at_text, stat2, msg2)
+      if (stat2 /= STAT_OK) return
+      call only(s, ['PROBE', 'AT   ', 'SCALE'], stat2, msg2)
+    case default
+      call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, &
+        'unknown metric (BALANCE, APEX, CONTACT_DURATION, ONSETS, PROBE)', s%lead(1)))
+      return
+    end select
+    if (stat2 /= STAT_OK) return
+    if (m%kind == MK_APEX .or. m%kind == MK_PROBE) then
+      if (index(m%probe, '.') < 2) then
+        call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'expected a probe group.DOF', &
+          s%params(find_param(s, 'PROBE'))%values(1)))
+        return
+      end if
+    end if
+    block
+      type(metric_t), allocatable :: tmp(:)
+      allocate (tmp(size(sw%metrics) + 1))
+      tmp(1:size(sw%metrics)) = sw%metrics
+      tmp(size(tmp)) = m
+      call move_alloc(tmp, sw%metrics)
+    end block
+  end subroutine add_metric
 
-    !> Error on any parameter of s not in `allowed`.
-    subroutine only(s, allowed, stat2, msg2)
-      type(statement_t), intent(in) :: s
-      character(len=*), intent(in) :: allowed(:)
-      integer, intent(out) :: stat2
-      character(len=:), allocatable, intent(out) :: msg2
-      integer :: p
-      stat2 = STAT_OK
-      msg2 = ''
-      do p = 1, size(s%params)
-        if (.not. any(allowed == s%params(p)%key)) then
-          call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, s%params(p)%key // ' does not apply to this METRIC', &
-            s%params(p)%keytok))
-          return
-        end if
+  !> Error on any parameter of s not in `allowed`.
+  subroutine only(s, allowed, stat2, msg2)
+    type(statement_t), intent(in) :: s
+    character(len=*), intent(in) :: allowed(:)
+    integer, intent(out) :: stat2
+    character(len=:), allocatable, intent(out) :: msg2
+    integer :: p
+    stat2 = STAT_OK
+    msg2 = ''
+    do p = 1, size(s%params)
+      if (.not. any(allowed == s%params(p)%key)) then
+        call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, s%params(p)%key // ' does not apply to this METRIC', &
+          s%params(p)%keytok))
+        return
+      end if
+    end do
+  end subroutine only
+
+  !> The REFERENCE statement: FINEST, CASE name or VALUE column=value...
+  subroutine read_reference(sw, s, stat2, msg2)
+    type(sweep_t), intent(inout) :: sw
+    type(statement_t), intent(in) :: s
+    integer, intent(out) :: stat2
+    character(len=:), allocatable, intent(out) :: msg2
+    integer :: p, c, ierr, eq
+    real(dp) :: x
+    stat2 = STAT_OK
+    msg2 = ''
+    select case (upper(s%lead(1)%text))
+    case ('FINEST')
+      sw%ref_kind = REF_FINEST
+      if (size(s%lead) > 1) call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'FINEST takes nothing', s%lead(2)))
+    case ('CASE')
+      sw%ref_kind = REF_CASE
+      if (size(s%lead) /= 2) then
+        call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'expected REFERENCE CASE name', s%lead(1)))
+        return
+      end if
+      sw%ref_case = s%lead(2)%text
+      do p = 1, size(sw%cases)
+        if (sw%cases(p)%name == sw%ref_case) return
       end do
-    end subroutine only
-
-    subroutine read_reference(s, stat2, msg2)
-      type(statement_t), intent(in) :: s
-      integer, intent(out) :: stat2
-      character(len=:), allocatable, intent(out) :: msg2
-      integer :: p, c, ierr, eq
-      real(dp) :: x
-      stat2 = STAT_OK
-      msg2 = ''
-      select case (upper(s%lead(1)%text))
-      case ('FINEST')
-        sw%ref_kind = REF_FINEST
-        if (size(s%lead) > 1) call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'FINEST takes nothing', s%lead(2)))
-      case ('CASE')
-        sw%ref_kind = REF_CASE
-        if (size(s%lead) /= 2) then
-          call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'expected REFERENCE CASE name', s%lead(1)))
-          return
-        end if
-        sw%ref_case = s%lead(2)%text
-        do p = 1, size(sw%cases)
-          if (sw%cases(p)%name == sw%ref_case) return
-        end do
-        call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'no CASE of that name', s%lead(2)))
-      case ('VALUE')
-        sw%ref_kind = REF_VALUE
-        if (size(s%lead) < 2) then
-          call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'expected column=value after VALUE', s%lead(1)))
-          return
-        end if
-        do p = 2, size(s%lead)
-          associate (t => s%lead(p))
-            eq = index(t%text, '=')
-            if (eq < 2) then
-              call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'expected column=value', t))
-              return
-            end if
-            c = find_text(sw%columns, t%text(1:eq - 1))
-            if (c == 0) then
-              call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'no metric column ' // t%text(1:eq - 1) // &
-                ' (columns: ' // join(sw%columns) // ')', t))
-              return
-            end if
-            call parse_real_text(t%text(eq + 1:), x, ierr)
-            if (ierr /= NUM_OK) then
-              call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'expected a number after =', t))
-              return
-            end if
-            sw%ref_values(c) = x
-            sw%ref_given(c) = .true.
-          end associate
-        end do
-      case default
-        call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'expected FINEST, CASE or VALUE', s%lead(1)))
-      end select
-    end subroutine read_reference
-  end subroutine parse_sweep
+      call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'no CASE of that name', s%lead(2)))
+    case ('VALUE')
+      sw%ref_kind = REF_VALUE
+      if (size(s%lead) < 2) then
+        call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'expected column=value after VALUE', s%lead(1)))
+        return
+      end if
+      do p = 2, size(s%lead)
+        associate (t => s%lead(p))
+          eq = index(t%text, '=')
+          if (eq < 2) then
+            call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'expected column=value', t))
+            return
+          end if
+          c = find_text(sw%columns, t%text(1:eq - 1))
+          if (c == 0) then
+            call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'no metric column ' // t%text(1:eq - 1) // &
+              ' (columns: ' // join(sw%columns) // ')', t))
+            return
+          end if
+          call parse_real_text(t%text(eq + 1:), x, ierr)
+          if (ierr /= NUM_OK) then
+            call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'expected a number after =', t))
+            return
+          end if
+          sw%ref_values(c) = x
+          sw%ref_given(c) = .true.
+        end associate
+      end do
+    case default
+      call set_error(stat2, msg2, STAT_INPUT, stmt_error(s, 'expected FINEST, CASE or VALUE', s%lead(1)))
+    end select
+  end subroutine read_reference
 
   !> A `KEY=VALUE` override: KEY has a dot and comes before '='.
   subroutine check_assignment(s, t, stat, errmsg)
