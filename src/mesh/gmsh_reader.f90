@@ -14,15 +14,12 @@ module gmsh_reader
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use mesh, only: mesh_t
   use element_traits, only: etype_nen, etype_gmsh, etype_family
-  use number_text, only: parse_real_text, parse_int64_text, NUM_OK, NUM_MALFORMED, NUM_RANGE
+  use number_text, only: parse_real_text, NUM_OK
+  use array_utils, only: heap_sort, sort_by_key, grow
+  use line_reader, only: line_reader_t, next_line, get_int, get_reals, get_real_tok, fail, tok, clip
   implicit none
   private
   public :: read_gmsh
-
-  !> Longest line accepted. Gmsh 4.1 ASCII lines are short (an element line holds at most 9 numbers);
-  !> without a bound, a file with no newline that never ends (FILE /dev/zero) grew the line until
-  !> memory ran out (found by tests/fuzz/fuzz.py).
-  integer, parameter :: MAX_LINE = 1048576
 
   !> A $PhysicalNames entry.
   type :: pname_t
@@ -30,14 +27,9 @@ module gmsh_reader
     character(len=:), allocatable :: name
   end type pname_t
 
-  !> Parser state: the current line and its tokens, and everything read so far (local numbering).
-  type :: gmsh_t
-    character(len=:), allocatable :: path
-    integer :: unit = -1
-    integer :: lineno = 0
-    character(len=:), allocatable :: line
-    integer :: ntok = 0
-    integer, allocatable :: tb(:), te(:)          !< token bounds in line
+  !> Parser state: the current line and its tokens (line_reader_t), and everything read so far
+  !> (local numbering).
+  type, extends(line_reader_t) :: gmsh_t
     integer :: npn = 0
     type(pname_t), allocatable :: pn(:)            !< physical names
     integer :: nent = 0
@@ -820,107 +812,8 @@ contains
     end select
   end function gmsh_type_name
 
-  !> In-place ascending heap sort.
-  pure subroutine heap_sort(a)
-    integer, intent(inout) :: a(:)
-    integer :: dummy(size(a))
-    dummy = 0
-    call sort_by_key(a, dummy)
-  end subroutine heap_sort
-
-  !> In-place ascending heap sort of key, applying the same permutation to val. O(n log n).
-  pure subroutine sort_by_key(key, val)
-    integer, intent(inout) :: key(:), val(:)
-    integer :: n, i
-    n = size(key)
-    do i = n / 2, 1, -1
-      call sift(key, val, i, n)
-    end do
-    do i = n, 2, -1
-      call swap(key, val, 1, i)
-      call sift(key, val, 1, i - 1)
-    end do
-  end subroutine sort_by_key
-
-  pure subroutine sift(key, val, start, n)
-    integer, intent(inout) :: key(:), val(:)
-    integer, intent(in) :: start, n
-    integer :: root, child
-    root = start
-    do while (2 * root <= n)
-      child = 2 * root
-      if (child < n) then
-        if (key(child + 1) > key(child)) child = child + 1
-      end if
-      if (key(root) >= key(child)) return
-      call swap(key, val, root, child)
-      root = child
-    end do
-  end subroutine sift
-
-  pure subroutine swap(key, val, i, j)
-    integer, intent(inout) :: key(:), val(:)
-    integer, intent(in) :: i, j
-    integer :: t
-    t = key(i)
-    key(i) = key(j)
-    key(j) = t
-    t = val(i)
-    val(i) = val(j)
-    val(j) = t
-  end subroutine swap
-
-  pure subroutine grow(a, n)
-    integer, allocatable, intent(inout) :: a(:)
-    integer, intent(in) :: n
-    integer, allocatable :: tmp(:)
-    if (size(a) >= n) return
-    allocate (tmp(max(n, 2 * size(a))))
-    tmp(1:size(a)) = a
-    call move_alloc(tmp, a)
-  end subroutine grow
-
   ! ---------------------------------------------------------------------------------------------
   ! Lines and tokens.
-
-  !> Read the next non-blank line and split it into tokens; ok = .false. at end of file.
-  subroutine next_line(g, ok, stat, errmsg)
-    type(gmsh_t), intent(inout) :: g
-    logical, intent(out) :: ok
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    character(len=512) :: buf
-    integer :: ios, n
-
-    stat = STAT_OK
-    ok = .false.
-    do
-      g%line = ''
-      do
-        read (g%unit, '(a)', advance='no', iostat=ios, size=n) buf
-        if (ios == iostat_end) then
-          if (len(g%line) == 0) return
-          exit  ! last line without a newline
-        end if
-        if (ios /= 0 .and. ios /= iostat_eor) then
-          g%lineno = g%lineno + 1
-          call fail(g, stat, errmsg, 'read error (not a text file?)')
-          return
-        end if
-        g%line = g%line // buf(1:n)
-        if (ios == iostat_eor) exit
-        if (len(g%line) > MAX_LINE) then
-          g%lineno = g%lineno + 1
-          call fail(g, stat, errmsg, 'line longer than ' // str(MAX_LINE) // ' characters (not a Gmsh text file?)')
-          return
-        end if
-      end do
-      g%lineno = g%lineno + 1
-      call tokenize(g)
-      if (g%ntok > 0) exit
-    end do
-    ok = .true.
-  end subroutine next_line
 
   !> next_line where end of file is an error; what = what was expected.
   subroutine data_line(g, what, stat, errmsg)
@@ -978,127 +871,5 @@ contains
       call fail(g, stat, errmsg, 'expected ' // endname // ', found "' // clip(g%line) // '"')
     end if
   end subroutine end_section
-
-  !> Token k of the current line as an integer in [lo, hi].
-  subroutine get_int(g, k, lo, hi, what, val, stat, errmsg)
-    type(gmsh_t), intent(inout) :: g
-    integer, intent(in) :: k, lo, hi
-    character(len=*), intent(in) :: what
-    integer, intent(out) :: val
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer(int64) :: v
-    integer :: ierr
-    stat = STAT_OK
-    val = 0
-    call parse_int64_text(tok(g, k), v, ierr)
-    if (ierr == NUM_MALFORMED) then
-      call fail(g, stat, errmsg, 'expected ' // what // ', found "' // tok(g, k) // '"')
-    else if (ierr /= NUM_OK .or. v < lo .or. v > hi) then
-      call fail(g, stat, errmsg, 'expected ' // what // ', found ' // tok(g, k) // ' (out of range)')
-    else
-      val = int(v)
-    end if
-  end subroutine get_int
-
-  !> Tokens 1..n of the current line as reals.
-  subroutine get_reals(g, n, what, val, stat, errmsg)
-    type(gmsh_t), intent(inout) :: g
-    integer, intent(in) :: n
-    character(len=*), intent(in) :: what
-    real(dp), intent(out) :: val(n)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: k, ierr
-    stat = STAT_OK
-    do k = 1, n
-      call parse_real_text(tok(g, k), val(k), ierr)
-      if (ierr /= NUM_OK) then
-        call fail(g, stat, errmsg, 'expected ' // what // ' (a finite real number), found "' // tok(g, k) // '"' // &
-          trim(merge(' (out of range)', '               ', ierr == NUM_RANGE)))
-        return
-      end if
-    end do
-  end subroutine get_reals
-
-  !> Token k must be a real number (value unused).
-  subroutine get_real_tok(g, k, what, stat, errmsg)
-    type(gmsh_t), intent(inout) :: g
-    integer, intent(in) :: k
-    character(len=*), intent(in) :: what
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    real(dp) :: v
-    integer :: ierr
-    stat = STAT_OK
-    call parse_real_text(tok(g, k), v, ierr)
-    if (ierr /= NUM_OK) call fail(g, stat, errmsg, 'expected ' // what // ' (a real number), found "' // tok(g, k) // '"')
-  end subroutine get_real_tok
-
-  !> Error at the current line.
-  subroutine fail(g, stat, errmsg, msg)
-    type(gmsh_t), intent(in) :: g
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    character(len=*), intent(in) :: msg
-    call set_error(stat, errmsg, STAT_INPUT, g%path // ':' // str(g%lineno) // ': ' // msg)
-  end subroutine fail
-
-  !> Split the current line at blanks, tabs and carriage returns.
-  pure subroutine tokenize(g)
-    type(gmsh_t), intent(inout) :: g
-    integer :: i, n, start
-    logical :: in_tok
-    character :: ch
-    n = len(g%line)
-    g%ntok = 0
-    in_tok = .false.
-    start = 1
-    do i = 1, n + 1
-      if (i <= n) then
-        ch = g%line(i:i)
-        if (ch /= ' ' .and. ch /= achar(9) .and. ch /= achar(13)) then
-          if (.not. in_tok) then
-            in_tok = .true.
-            start = i
-          end if
-          cycle
-        end if
-      end if
-      if (in_tok) then
-        in_tok = .false.
-        if (g%ntok == size(g%tb)) then
-          call grow(g%tb, 2 * g%ntok)
-          call grow(g%te, 2 * g%ntok)
-        end if
-        g%ntok = g%ntok + 1
-        g%tb(g%ntok) = start
-        g%te(g%ntok) = i - 1
-      end if
-    end do
-  end subroutine tokenize
-
-  !> Token k of the current line ('' past the last one).
-  pure function tok(g, k) result(s)
-    type(gmsh_t), intent(in) :: g
-    integer, intent(in) :: k
-    character(len=:), allocatable :: s
-    if (k >= 1 .and. k <= g%ntok) then
-      s = g%line(g%tb(k):g%te(k))
-    else
-      s = ''
-    end if
-  end function tok
-
-  !> A line shortened for messages.
-  pure function clip(s) result(c)
-    character(len=*), intent(in) :: s
-    character(len=:), allocatable :: c
-    if (len_trim(s) > 60) then
-      c = s(1:57) // '...'
-    else
-      c = trim(s)
-    end if
-  end function clip
 
 end module gmsh_reader

@@ -1,0 +1,70 @@
+!> Small array helpers shared by the readers: an in-place heap sort (of keys, or of keys with
+!> values carried along, O(n log n) without allocation) and the doubling growth of an integer
+!> array.
+module array_utils
+  implicit none
+  private
+  public :: heap_sort, sort_by_key, grow
+
+contains
+
+  !> In-place ascending heap sort.
+  pure subroutine heap_sort(a)
+    integer, intent(inout) :: a(:)
+    integer :: dummy(size(a))
+    dummy = 0
+    call sort_by_key(a, dummy)
+  end subroutine heap_sort
+
+  !> In-place ascending heap sort of key, applying the same permutation to val. O(n log n).
+  pure subroutine sort_by_key(key, val)
+    integer, intent(inout) :: key(:), val(:)
+    integer :: n, i
+    n = size(key)
+    do i = n / 2, 1, -1
+      call sift(key, val, i, n)
+    end do
+    do i = n, 2, -1
+      call swap(key, val, 1, i)
+      call sift(key, val, 1, i - 1)
+    end do
+  end subroutine sort_by_key
+
+  pure subroutine sift(key, val, start, n)
+    integer, intent(inout) :: key(:), val(:)
+    integer, intent(in) :: start, n
+    integer :: root, child
+    root = start
+    do while (2 * root <= n)
+      child = 2 * root
+      if (child < n) then
+        if (key(child + 1) > key(child)) child = child + 1
+      end if
+      if (key(root) >= key(child)) return
+      call swap(key, val, root, child)
+      root = child
+    end do
+  end subroutine sift
+
+  pure subroutine swap(key, val, i, j)
+    integer, intent(inout) :: key(:), val(:)
+    integer, intent(in) :: i, j
+    integer :: t
+    t = key(i)
+    key(i) = key(j)
+    key(j) = t
+    t = val(i)
+    val(i) = val(j)
+    val(j) = t
+  end subroutine swap
+
+  pure subroutine grow(a, n)
+    integer, allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: n
+    integer, allocatable :: tmp(:)
+    if (size(a) >= n) return
+    allocate (tmp(max(n, 2 * size(a))))
+    tmp(1:size(a)) = a
+    call move_alloc(tmp, a)
+  end subroutine grow
+end module array_utils

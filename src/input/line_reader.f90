@@ -1,0 +1,208 @@
+!> Reading a data file line by line (Gmsh meshes): the next non-blank line, read in time linear
+!> in its length and bounded (MAX_LINE), split into blank-separated words (tok), and the typed
+!> reads of a word through the one number reader (number_text), with messages that name the
+!> file and the line. Extended by the readers (gmsh_reader's gmsh_t), which add their state.
+module line_reader
+  use, intrinsic :: iso_fortran_env, only: int64, iostat_end, iostat_eor
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str
+  use array_utils, only: grow
+  use number_text, only: parse_real_text, parse_int64_text, NUM_OK, NUM_MALFORMED, NUM_RANGE
+  implicit none
+  private
+  public :: line_reader_t, next_line, get_int, get_reals, get_real_tok, fail, tok, clip, MAX_LINE
+
+  !> Longest line accepted. Data lines are short (a Gmsh element line holds at most 9 numbers);
+  !> without a bound, a file with no newline that never ends (FILE /dev/zero) grew the line until
+  !> memory ran out (found by tests/fuzz/fuzz.py).
+  integer, parameter :: MAX_LINE = 1048576
+
+  !> The open file, the current line (line, lineno) and its words: tok(k) = line(tb(k):te(k)).
+  type :: line_reader_t
+    character(len=:), allocatable :: path
+    integer :: unit = -1
+    integer :: lineno = 0
+    character(len=:), allocatable :: line
+    integer :: ntok = 0
+    integer, allocatable :: tb(:), te(:)
+    character(len=:), allocatable :: buf      !< the line being read (grows by doubling)
+  end type line_reader_t
+
+contains
+
+  !> Read the next non-blank line and split it into tokens; ok = .false. at end of file.
+  subroutine next_line(g, ok, stat, errmsg)
+    class(line_reader_t), intent(inout) :: g
+    logical, intent(out) :: ok
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=4096) :: chunk
+    integer :: ios, n, nl
+
+    stat = STAT_OK
+    ok = .false.
+    if (.not. allocated(g%buf)) allocate (character(len=4096) :: g%buf)
+    do
+      nl = 0
+      do
+        read (g%unit, '(a)', advance='no', iostat=ios, size=n) chunk
+        if (ios == iostat_end) then
+          if (nl == 0) return
+          exit  ! last line without a newline
+        end if
+        if (ios /= 0 .and. ios /= iostat_eor) then
+          g%lineno = g%lineno + 1
+          call fail(g, stat, errmsg, 'read error (not a text file?)')
+          return
+        end if
+        if (nl + n > MAX_LINE) then
+          g%lineno = g%lineno + 1
+          call fail(g, stat, errmsg, 'line longer than ' // str(MAX_LINE) // ' characters (not a text file?)')
+          return
+        end if
+        ! The line grows in a buffer that doubles: reading is linear in the line's length.
+        if (nl + n > len(g%buf)) call grow_text(g%buf, nl + n)
+        g%buf(nl + 1:nl + n) = chunk(1:n)
+        nl = nl + n
+        if (ios == iostat_eor) exit
+      end do
+      g%lineno = g%lineno + 1
+      g%line = g%buf(1:nl)
+      call tokenize(g)
+      if (g%ntok > 0) exit
+    end do
+    ok = .true.
+  end subroutine next_line
+
+  !> Token k of the current line as an integer in [lo, hi].
+  subroutine get_int(g, k, lo, hi, what, val, stat, errmsg)
+    class(line_reader_t), intent(inout) :: g
+    integer, intent(in) :: k, lo, hi
+    character(len=*), intent(in) :: what
+    integer, intent(out) :: val
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer(int64) :: v
+    integer :: ierr
+    stat = STAT_OK
+    val = 0
+    call parse_int64_text(tok(g, k), v, ierr)
+    if (ierr == NUM_MALFORMED) then
+      call fail(g, stat, errmsg, 'expected ' // what // ', found "' // tok(g, k) // '"')
+    else if (ierr /= NUM_OK .or. v < lo .or. v > hi) then
+      call fail(g, stat, errmsg, 'expected ' // what // ', found ' // tok(g, k) // ' (out of range)')
+    else
+      val = int(v)
+    end if
+  end subroutine get_int
+
+  !> Tokens 1..n of the current line as reals.
+  subroutine get_reals(g, n, what, val, stat, errmsg)
+    class(line_reader_t), intent(inout) :: g
+    integer, intent(in) :: n
+    character(len=*), intent(in) :: what
+    real(dp), intent(out) :: val(n)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, ierr
+    stat = STAT_OK
+    do k = 1, n
+      call parse_real_text(tok(g, k), val(k), ierr)
+      if (ierr /= NUM_OK) then
+        call fail(g, stat, errmsg, 'expected ' // what // ' (a finite real number), found "' // tok(g, k) // '"' // &
+          trim(merge(' (out of range)', '               ', ierr == NUM_RANGE)))
+        return
+      end if
+    end do
+  end subroutine get_reals
+
+  !> Token k must be a real number (value unused).
+  subroutine get_real_tok(g, k, what, stat, errmsg)
+    class(line_reader_t), intent(inout) :: g
+    integer, intent(in) :: k
+    character(len=*), intent(in) :: what
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: v
+    integer :: ierr
+    stat = STAT_OK
+    call parse_real_text(tok(g, k), v, ierr)
+    if (ierr /= NUM_OK) call fail(g, stat, errmsg, 'expected ' // what // ' (a real number), found "' // tok(g, k) // '"')
+  end subroutine get_real_tok
+
+  !> Error at the current line.
+  subroutine fail(g, stat, errmsg, msg)
+    class(line_reader_t), intent(in) :: g
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=*), intent(in) :: msg
+    call set_error(stat, errmsg, STAT_INPUT, g%path // ':' // str(g%lineno) // ': ' // msg)
+  end subroutine fail
+
+  !> Split the current line at blanks, tabs and carriage returns.
+  pure subroutine tokenize(g)
+    class(line_reader_t), intent(inout) :: g
+    integer :: i, n, start
+    logical :: in_tok
+    character :: ch
+    n = len(g%line)
+    g%ntok = 0
+    in_tok = .false.
+    start = 1
+    do i = 1, n + 1
+      if (i <= n) then
+        ch = g%line(i:i)
+        if (ch /= ' ' .and. ch /= achar(9) .and. ch /= achar(13)) then
+          if (.not. in_tok) then
+            in_tok = .true.
+            start = i
+          end if
+          cycle
+        end if
+      end if
+      if (in_tok) then
+        in_tok = .false.
+        if (g%ntok == size(g%tb)) then
+          call grow(g%tb, 2 * g%ntok)
+          call grow(g%te, 2 * g%ntok)
+        end if
+        g%ntok = g%ntok + 1
+        g%tb(g%ntok) = start
+        g%te(g%ntok) = i - 1
+      end if
+    end do
+  end subroutine tokenize
+
+  !> Token k of the current line ('' past the last one).
+  pure function tok(g, k) result(s)
+    class(line_reader_t), intent(in) :: g
+    integer, intent(in) :: k
+    character(len=:), allocatable :: s
+    if (k >= 1 .and. k <= g%ntok) then
+      s = g%line(g%tb(k):g%te(k))
+    else
+      s = ''
+    end if
+  end function tok
+
+  !> A line shortened for messages.
+  pure function clip(s) result(c)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: c
+    if (len_trim(s) > 60) then
+      c = s(1:57) // '...'
+    else
+      c = trim(s)
+    end if
+  end function clip
+
+  !> Room for n characters in a (doubling), the content kept.
+  pure subroutine grow_text(a, n)
+    character(len=:), allocatable, intent(inout) :: a
+    integer, intent(in) :: n
+    character(len=:), allocatable :: tmp
+    allocate (character(len=max(n, 2 * len(a))) :: tmp)
+    tmp(1:len(a)) = a
+    call move_alloc(tmp, a)
+  end subroutine grow_text
+end module line_reader
