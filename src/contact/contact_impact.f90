@@ -15,16 +15,7 @@ contains
   !>   body(i) is the mesh-connected component of equation i (0: none), required by PERSIST.
   !>   energy_restored = kinetic energy added, measured (= Σ E_j to round-off). The events of
   !>   the step are cs%events(1:cs%n_events).
-  module subroutine contact_end_step(cs, mode, u_n, du, v, mv, energy_restored, stat, errmsg, body, report)
-    type(contact_set_t), intent(inout) :: cs
-    integer, intent(in) :: mode
-    real(dp), intent(in) :: u_n(:), du(:)
-    real(dp), intent(inout) :: v(:), mv(:)
-    real(dp), intent(out) :: energy_restored
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer, intent(in), optional :: body(:)
-    type(contact_report_t), intent(out), optional :: report
+  module procedure contact_end_step
     type(contact_report_t) :: rep
     real(dp) :: t_before
     integer :: j, k
@@ -101,7 +92,7 @@ contains
       cs%st%gap_n = gend
     end associate
     if (present(report)) report = rep
-  end subroutine contact_end_step
+  end procedure contact_end_step
 
   !> Dense workspaces amat and gmat at least n x n (they only grow).
   subroutine reserve_dense(cs, n)
@@ -192,18 +183,11 @@ contains
   !> mv is updated with v (mv <- mv - factor A'ν). rank: independent rows of A (dependent ones,
   !> e.g. duplicated conditions, get ν = 0). The dense hzero_reflection_dense of impact_kernels
   !> is its test oracle.
-  module subroutine hzero_reflection(cs, conds, factor, v, mv, rank, stat, errmsg)
-    type(contact_set_t), intent(inout) :: cs
-    integer, intent(in) :: conds(:)
-    real(dp), intent(in) :: factor
-    real(dp), intent(inout) :: v(:), mv(:)
-    integer, intent(out) :: rank
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
+  module procedure hzero_reflection
     call normal_multiplier_ws(cs, conds, v, rank, stat, errmsg)
     if (stat /= STAT_OK) return
     call add_minv_ct(cs, cs%mu, -factor, v, mv, stat, errmsg)
-  end subroutine hzero_reflection
+  end procedure hzero_reflection
 
   !> ν with (A M⁻¹A') ν = A v for the conditions A = conds, into cs%mu (0 elsewhere): the
   !> multiplier of the hzero step (16) and of the PERSIST projection. normal_multiplier in the

@@ -6,8 +6,7 @@ submodule (scene) scene_conditions
 
 contains
 
-  module subroutine conditions_schema(sch)
-    type(schema_t), intent(inout) :: sch
+  module procedure conditions_schema
     call sch%add_keyword('FIX', 1, 1)
     call sch%add_param('FIX', 'UX', 0, 0)
     call sch%add_param('FIX', 'UY', 0, 0)
@@ -26,15 +25,10 @@ contains
     call sch%add_param('LOAD', 'NODES', 1, 1)
     call sch%add_param('LOAD', 'FORCE', 2, 3)
     call sch%add_param('LOAD', 'FUNCTION', 1, 1)
-  end subroutine conditions_schema
+  end procedure conditions_schema
 
   !> One conditions statement (pass 2 of load_scene).
-  module subroutine conditions_statement(scn, st, path, stat, errmsg)
-    type(scene_t), intent(inout) :: scn
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: path
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
+  module procedure conditions_statement
     stat = STAT_OK
     select case (st%keyword)
     case ('FIX')
@@ -46,7 +40,7 @@ contains
     case ('LOAD')
       call do_load(scn, st, stat, errmsg)
     end select
-  end subroutine conditions_statement
+  end procedure conditions_statement
 
   subroutine do_fix(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn

@@ -6,8 +6,7 @@ submodule (scene) scene_contacts
 
 contains
 
-  module subroutine contacts_schema(sch)
-    type(schema_t), intent(inout) :: sch
+  module procedure contacts_schema
     call sch%add_keyword('OBSTACLE', 1, 1)
     call sch%add_param('OBSTACLE', 'NODES', 1, 1)
     call sch%add_param('OBSTACLE', 'POINT', 2, 2)
@@ -17,15 +16,10 @@ contains
     call sch%add_param('GAP', 'WITH', 1, 1)
     call sch%add_param('GAP', 'PAIRS', 2, -1)
     call sch%add_param('GAP', 'NORMAL', 2, 2)
-  end subroutine contacts_schema
+  end procedure contacts_schema
 
   !> One contacts statement (pass 2 of load_scene).
-  module subroutine contacts_statement(scn, st, path, stat, errmsg)
-    type(scene_t), intent(inout) :: scn
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: path
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
+  module procedure contacts_statement
     stat = STAT_OK
     select case (st%keyword)
     case ('OBSTACLE')
@@ -33,7 +27,7 @@ contains
     case ('GAP')
       call do_gap(scn, st, stat, errmsg)
     end select
-  end subroutine contacts_statement
+  end procedure contacts_statement
 
   !> Refuse an initial penetration beyond 1e-10 of the model size (a gap of zero is a contact
   !> at t = 0, legitimate).

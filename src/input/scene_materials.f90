@@ -6,8 +6,7 @@ submodule (scene) scene_materials
 
 contains
 
-  module subroutine materials_schema(sch)
-    type(schema_t), intent(inout) :: sch
+  module procedure materials_schema
     call sch%add_keyword('MATERIAL', 1, 1)
     call sch%add_param('MATERIAL', 'ELASTIC', 0, 0)
     call sch%add_param('MATERIAL', 'NONLINEAR_ELASTIC', 0, 0)
@@ -31,15 +30,10 @@ contains
     call sch%add_param('SECTION', 'LAYERS', 1, 1)
     call sch%add_keyword('FUNCTION', 1, 1)
     call sch%add_param('FUNCTION', 'POINTS', 2, -1)
-  end subroutine materials_schema
+  end procedure materials_schema
 
   !> One materials statement (pass 1 of load_scene).
-  module subroutine materials_statement(scn, st, path, stat, errmsg)
-    type(scene_t), intent(inout) :: scn
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: path
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
+  module procedure materials_statement
     stat = STAT_OK
     select case (st%keyword)
     case ('MATERIAL')
@@ -49,7 +43,7 @@ contains
     case ('FUNCTION')
       call do_function(scn, st, stat, errmsg)
     end select
-  end subroutine materials_statement
+  end procedure materials_statement
 
   subroutine do_material(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn

@@ -7,8 +7,7 @@ submodule (scene) scene_mesh
 
 contains
 
-  module subroutine mesh_schema(sch)
-    type(schema_t), intent(inout) :: sch
+  module procedure mesh_schema
     call sch%add_keyword('DIMENSION', 1, 1, once=.true.)
     call sch%add_keyword('NODE', 1, 1)
     call sch%add_param('NODE', 'AT', 2, 2)
@@ -31,15 +30,10 @@ contains
     call sch%add_param('RECTANGLE', 'ANGLE', 1, 1)
     call sch%add_keyword('GMSH', 1, 1)
     call sch%add_param('GMSH', 'FILE', 1, 1)
-  end subroutine mesh_schema
+  end procedure mesh_schema
 
   !> One mesh statement (pass 1 of load_scene).
-  module subroutine mesh_statement(scn, st, path, stat, errmsg)
-    type(scene_t), intent(inout) :: scn
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: path
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
+  module procedure mesh_statement
     stat = STAT_OK
     select case (st%keyword)
     case ('DIMENSION')
@@ -57,7 +51,7 @@ contains
     case ('GMSH')
       call do_gmsh(scn, st, path, stat, errmsg)
     end select
-  end subroutine mesh_statement
+  end procedure mesh_statement
 
   subroutine do_dimension(st, stat, errmsg)
     type(statement_t), intent(in) :: st

@@ -8,8 +8,7 @@ submodule (scene) scene_models
 
 contains
 
-  module subroutine models_schema(sch)
-    type(schema_t), intent(inout) :: sch
+  module procedure models_schema
     call sch%add_keyword('MODEL', 1, 1)
     call sch%add_param('MODEL', 'TYPE', 1, 1)
     call sch%add_param('MODEL', 'MATERIAL', 1, 1)
@@ -17,21 +16,16 @@ contains
     call sch%add_param('MODEL', 'MASS', 1, 1)
     call sch%add_param('MODEL', 'PLANE', 1, 1)
     call sch%add_param('MODEL', 'SUBSTEPS', 1, 1)
-  end subroutine models_schema
+  end procedure models_schema
 
   !> One models statement (pass 2 of load_scene).
-  module subroutine models_statement(scn, st, path, stat, errmsg)
-    type(scene_t), intent(inout) :: scn
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: path
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
+  module procedure models_statement
     stat = STAT_OK
     select case (st%keyword)
     case ('MODEL')
       call do_model(scn, st, stat, errmsg)
     end select
-  end subroutine models_statement
+  end procedure models_statement
 
   subroutine do_model(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn

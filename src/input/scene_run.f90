@@ -10,8 +10,7 @@ submodule (scene) scene_run
 
 contains
 
-  module subroutine run_schema(sch)
-    type(schema_t), intent(inout) :: sch
+  module procedure run_schema
     call sch%add_keyword('TIME', 0, 0, once=.true., required=.true., hint='TIME STEP h END t')
     call sch%add_param('TIME', 'STEP', 1, 1)
     call sch%add_param('TIME', 'END', 1, 1)
@@ -31,15 +30,10 @@ contains
     call sch%add_param('OUTPUT', 'FIELDS', 1, 2)
     call sch%add_param('OUTPUT', 'PROBE', 2, -1, repeatable=.true.)
     call sch%add_param('OUTPUT', 'CHECKPOINT', 1, 2)
-  end subroutine run_schema
+  end procedure run_schema
 
   !> One run statement (pass 2 of load_scene).
-  module subroutine run_statement(scn, st, path, stat, errmsg)
-    type(scene_t), intent(inout) :: scn
-    type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: path
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
+  module procedure run_statement
     stat = STAT_OK
     select case (st%keyword)
     case ('TIME')
@@ -49,7 +43,7 @@ contains
     case ('OUTPUT')
       call do_output(scn, st, stat, errmsg)
     end select
-  end subroutine run_statement
+  end procedure run_statement
 
   subroutine do_time(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn
