@@ -230,7 +230,7 @@ contains
     real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum, dsum, esum
     logical, intent(inout) :: any_c
     real(dp) :: deps(MAX_NSTRAIN), sbar(MAX_NSTRAIN), sc(MAX_NSTRAIN), dt(MAX_NSTRAIN, MAX_NSTRAIN), work, dissip, w
-    integer :: igp, p, nused
+    integer :: igp, p, nused, n, pass
     fc(1:ndof) = 0.0_dp
     do igp = g0, g0 + ng - 1
       p = sys%b_ptr(igp)
@@ -238,16 +238,28 @@ contains
       ! eps = B ue (B stored column-major, nstr x ndof)
       call b_times(nstr, ndof, sys%bmat(p), ue, sys%eps_t(1, igp))
       deps(1:nstr) = sys%eps_t(1:nstr, igp) - sys%eps(1:nstr, igp)
-      call update_point(mv%nsub)
-      if (mv%nsub <= 0) then
-        ! SUBSTEPS AUTO: the count may only grow during the iterations of a step; a count
-        ! that changes back and forth makes the residual of eq (9) jump and cycle.
-        if (nused < sys%nsub_pt(igp)) then
-          call update_point(sys%nsub_pt(igp))
+      ! SUBSTEPS AUTO (nsub <= 0): the count may only grow during the iterations of a step; a
+      ! count that changes back and forth makes the residual of eq (9) jump and cycle. So a
+      ! point that asks for fewer sub-increments than before in this step is redone with them.
+      n = mv%nsub
+      do pass = 1, 2
+        if (tangent) then
+          call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%pk(mv%im), &
+            sys%dmat(1:nstr, 1:nstr, mv%im), n, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
+            sys%q(1:mv%nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:mv%nq, igp), work, dissip, nused, &
+            dt(1:nstr, 1:nstr))
         else
-          sys%nsub_pt(igp) = nused
+          call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%pk(mv%im), &
+            sys%dmat(1:nstr, 1:nstr, mv%im), n, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
+            sys%q(1:mv%nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:mv%nq, igp), work, dissip, nused)
         end if
-      end if
+        if (mv%nsub > 0 .or. pass == 2) exit
+        if (nused >= sys%nsub_pt(igp)) then
+          sys%nsub_pt(igp) = nused
+          exit
+        end if
+        n = sys%nsub_pt(igp)
+      end do
       if (tangent) call add_btdb(nstr, ndof, sys%bmat(p), dt, w, ke)
       if (mv%linear) then
         esum = esum + 0.5_dp * w * dot_product(sys%sig_t(1:nstr, igp), sys%eps_t(1:nstr, igp))
@@ -264,23 +276,6 @@ contains
       end if
     end do
 
-  contains
-
-    !> The law at point igp over the step, in n sub-increments (0: AUTO).
-    subroutine update_point(n)
-      integer, intent(in) :: n
-      associate (mat => scn%materials(mv%mat), sec => scn%models(mv%im)%sec, pk => sys%pk(mv%im), nq => mv%nq)
-        if (tangent) then
-          call law_update(mat, sec, pk, sys%dmat(1:nstr, 1:nstr, mv%im), n, sys%eps(1:nstr, igp), deps(1:nstr), &
-            sys%sig(1:nstr, igp), sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, &
-            dissip, nused, dt(1:nstr, 1:nstr))
-        else
-          call law_update(mat, sec, pk, sys%dmat(1:nstr, 1:nstr, mv%im), n, sys%eps(1:nstr, igp), deps(1:nstr), &
-            sys%sig(1:nstr, igp), sys%q(1:nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:nq, igp), work, &
-            dissip, nused)
-        end if
-      end associate
-    end subroutine update_point
   end subroutine nonlinear_element
 
   !> Linear elastic QUAD points of one element: eps = B ue, sigma = D eps, fe += w B'sigma,

@@ -53,14 +53,18 @@ contains
     end if
   end function nle_auto_nsub
 
-  !> One sub-increment (return_map_t): sigma(e_end), no plastic strain, the exact tangent.
-  pure subroutine nle_step(self, e_end, de, s0, q0, s1, q1, dep, dtan)
+  !> One sub-increment (return_map_t): sigma of the strain at its end, no plastic strain, the
+  !> exact tangent.
+  pure subroutine nle_step(self, ns, nq, k, n, eps_n, deps, de, s0, q0, s1, q1, dep, dtan)
     class(nle_map_t), intent(in) :: self
-    real(dp), intent(in) :: e_end(:), de(:), s0(:), q0(:)
-    real(dp), intent(out) :: s1(:), q1(:), dep(:), dtan(:, :)
-    s1(1) = nle_stress(self%e, self%b, e_end(1))
+    integer, intent(in) :: ns, nq, k, n
+    real(dp), intent(in) :: eps_n(ns), deps(ns), de(ns), s0(ns), q0(nq)
+    real(dp), intent(out) :: s1(ns), q1(nq), dep(ns), dtan(ns, ns)
+    real(dp) :: e_end
+    e_end = eps_n(1) + deps(1) * (real(k, dp) / real(n, dp))
+    s1(1) = nle_stress(self%e, self%b, e_end)
     dep(1) = 0.0_dp
-    dtan(1, 1) = nle_tangent(self%e, self%b, e_end(1))
+    dtan(1, 1) = nle_tangent(self%e, self%b, e_end)
   end subroutine nle_step
 
   !> Straight path eps_n -> eps_n + deps in nsub >= 1 equal sub-increments (subincrement_path):

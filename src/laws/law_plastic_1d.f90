@@ -71,10 +71,11 @@ contains
   end subroutine plastic_1d_return
 
   !> One sub-increment (return_map_t): the closed-form return of plastic_1d_return.
-  pure subroutine plastic_1d_step(self, e_end, de, s0, q0, s1, q1, dep, dtan)
+  pure subroutine plastic_1d_step(self, ns, nq, k, n, eps_n, deps, de, s0, q0, s1, q1, dep, dtan)
     class(plastic_1d_map_t), intent(in) :: self
-    real(dp), intent(in) :: e_end(:), de(:), s0(:), q0(:)
-    real(dp), intent(out) :: s1(:), q1(:), dep(:), dtan(:, :)
+    integer, intent(in) :: ns, nq, k, n
+    real(dp), intent(in) :: eps_n(ns), deps(ns), de(ns), s0(ns), q0(nq)
+    real(dp), intent(out) :: s1(ns), q1(nq), dep(ns), dtan(ns, ns)
     call plastic_1d_return(self%e, self%sy, self%hi, self%hk, s0(1), q0, de(1), s1(1), q1, dep(1), dtan(1, 1))
   end subroutine plastic_1d_step
 
@@ -88,7 +89,7 @@ contains
     integer, intent(in) :: nsub
     real(dp), intent(out) :: sig, sigbar, q(:), dissip, et
     integer, intent(out) :: nused
-    real(dp) :: s(1), sb(1), t(1, 1)
+    real(dp) :: s(1), sb(1), t(1, 1), qn(P1D_NSTATE), qk(P1D_NSTATE)
     if (plastic_1d_inside(e, sy, hi, sig_n, q_n, deps)) then
       sig = sig_n + e * deps
       sigbar = 0.5_dp * (sig_n + sig)
@@ -99,8 +100,10 @@ contains
       return
     end if
     nused = max(1, nsub)
-    call subincrement_path(plastic_1d_map_t(e, sy, hi, hk), nused, [0.0_dp], [deps], [sig_n], q_n, s, sb, &
-      q(1:P1D_NSTATE), dissip, t)
+    qn = q_n(1:P1D_NSTATE)           ! contiguous locals: no temporary at the call
+    call subincrement_path(plastic_1d_map_t(e, sy, hi, hk), nused, [0.0_dp], [deps], [sig_n], qn, s, sb, qk, &
+      dissip, t)
+    q(1:P1D_NSTATE) = qk
     sig = s(1)
     sigbar = sb(1)
     et = t(1, 1)

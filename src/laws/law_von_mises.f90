@@ -168,10 +168,11 @@ contains
 
   !> One sub-increment (return_map_t): vm_return, or vm_return_ps in plane stress (whose
   !> through-thickness strain is an unknown: de(3) is not used).
-  pure subroutine vm_step(self, e_end, de, s0, q0, s1, q1, dep, dtan)
+  pure subroutine vm_step(self, ns, nq, k, n, eps_n, deps, de, s0, q0, s1, q1, dep, dtan)
     class(vm_map_t), intent(in) :: self
-    real(dp), intent(in) :: e_end(:), de(:), s0(:), q0(:)
-    real(dp), intent(out) :: s1(:), q1(:), dep(:), dtan(:, :)
+    integer, intent(in) :: ns, nq, k, n
+    real(dp), intent(in) :: eps_n(ns), deps(ns), de(ns), s0(ns), q0(nq)
+    real(dp), intent(out) :: s1(ns), q1(nq), dep(ns), dtan(ns, ns)
     real(dp) :: d(4)
     d = de(1:4)
     if (self%plane_stress) then
@@ -194,6 +195,7 @@ contains
     integer, intent(in) :: nsub
     real(dp), intent(out) :: sig(4), sigbar(4), q(:), dissip, dtan(4, 4)
     integer, intent(out) :: nused
+    real(dp) :: qn(VM_NSTATE), qk(VM_NSTATE)
     sig = sig_n + matmul(d_el, deps)
     if (sqrt(1.5_dp) * vm_norm(vm_dev(sig) - q_n(6:9)) - (sy + hi * q_n(5)) <= 0.0_dp) then
       sigbar = 0.5_dp * (sig_n + sig)
@@ -205,7 +207,9 @@ contains
       return
     end if
     nused = max(1, nsub)
+    qn = q_n(1:VM_NSTATE)            ! contiguous locals: no temporary at the call
     call subincrement_path(vm_map_t(e, nu, sy, hi, hk, plane_stress), nused, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
-      deps, sig_n, q_n, sig, sigbar, q(1:VM_NSTATE), dissip, dtan)
+      deps, sig_n, qn, sig, sigbar, qk, dissip, dtan)
+    q(1:VM_NSTATE) = qk
   end subroutine vm_path
 end module law_von_mises

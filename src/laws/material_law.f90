@@ -196,8 +196,8 @@ contains
   end subroutine law_check
 
   !> Integrate the law over one step (see the module header).
-  !> d: elastic matrix of the point (nstr x nstr); used by ELASTIC only, the other laws take
-  !> theirs from law_elastic_matrix (pass that one). nsub >= 1: N fixed sub-increments;
+  !> d: elastic matrix of the point (nstr x nstr), law_elastic_matrix's (ELASTIC and VON_MISES
+  !> use it; the 1D and fibre laws take E from the material). nsub >= 1: N fixed sub-increments;
   !> nsub <= 0: AUTO (docs/materials.md). q_n, q: law_nstate internal variables.
   !> work = sigbar . deps and dissip (trapezoid of sigma . deps_p over the sub-increments) are per
   !> unit weight. nused: sub-increments used, 0 when no sub-incrementation was needed (ELASTIC,
@@ -246,7 +246,7 @@ contains
         tl(1, 1) = et
       end if
     case (LAW_VON_MISES)
-      call law_elastic_matrix(mat, sec, pk, dl)
+      dl = d(1:4, 1:4)             ! the caller's D is law_elastic_matrix's (not rebuilt at every point)
       n = nsub
       if (n <= 0) n = plastic_auto_nsub(vm_trial_ratio(dl, deps(1:4), mat%yield))
       call vm_path(mat%young, mat%poisson, mat%yield, mat%h_iso, mat%h_kin, pk == PK_PSTRESS, n, dl, &

@@ -23,15 +23,19 @@ module subincrement
   end type return_map_t
 
   abstract interface
-    !> One sub-increment: from the stress s0 and internal variables q0 at its start and the
-    !> strain increment de (e_end = the total strain at its end, for laws whose stress is a
-    !> function of the strain), the stress s1 and variables q1 at its end, the plastic strain
-    !> increment dep and the consistent tangent dtan = dσ/dε of the sub-increment.
-    pure subroutine step_i(self, e_end, de, s0, q0, s1, q1, dep, dtan)
+    !> Sub-increment k of n along eps_n + s deps (ns stress components, nq internal variables;
+    !> explicit shapes: this runs at every sub-increment of every plastic point, descriptors
+    !> would cost more than the law): from the stress s0 and internal variables q0
+    !> at its start and its strain increment de = deps/n, the stress s1 and variables q1 at its
+    !> end, the plastic strain increment dep and the consistent tangent dtan = dσ/dε. A law
+    !> whose stress is a function of the strain takes the strain at the end of the
+    !> sub-increment as eps_n + deps (k/n) (exactly eps_n + deps at k = n).
+    pure subroutine step_i(self, ns, nq, k, n, eps_n, deps, de, s0, q0, s1, q1, dep, dtan)
       import :: return_map_t, dp
       class(return_map_t), intent(in) :: self
-      real(dp), intent(in) :: e_end(:), de(:), s0(:), q0(:)
-      real(dp), intent(out) :: s1(:), q1(:), dep(:), dtan(:, :)
+      integer, intent(in) :: ns, nq, k, n
+      real(dp), intent(in) :: eps_n(ns), deps(ns), de(ns), s0(ns), q0(nq)
+      real(dp), intent(out) :: s1(ns), q1(nq), dep(ns), dtan(ns, ns)
     end subroutine step_i
   end interface
 
@@ -39,15 +43,14 @@ contains
 
   !> The path of one step in n >= 1 sub-increments: end stress sig, internal variables q, the
   !> path-mean stress sigbar (trapezoid rule over σ0 = sig_n … σN = sig), the plastic work
-  !> dissip = Σ_k ½ (σ(k-1) + σk)·Δεp_k and the tangent of the last sub-increment. The total
-  !> strain at the end of sub-increment k is eps_n + (k/n) deps (exactly eps_n + deps at k = n).
+  !> dissip = Σ_k ½ (σ(k-1) + σk)·Δεp_k and the tangent of the last sub-increment.
   pure subroutine subincrement_path(map, n, eps_n, deps, sig_n, q_n, sig, sigbar, q, dissip, dtan)
     class(return_map_t), intent(in) :: map
     integer, intent(in) :: n
-    real(dp), intent(in) :: eps_n(:), deps(:), sig_n(:), q_n(:)
-    real(dp), intent(out) :: sig(:), sigbar(:), q(:), dissip, dtan(:, :)
-    real(dp) :: s0(MAX_COMPONENTS), acc(MAX_COMPONENTS), dep(MAX_COMPONENTS), de(MAX_COMPONENTS), &
-      ek(MAX_COMPONENTS), qk(MAX_STATE)
+    real(dp), intent(in), contiguous :: eps_n(:), deps(:), sig_n(:), q_n(:)
+    real(dp), intent(out), contiguous :: sig(:), sigbar(:), q(:), dtan(:, :)
+    real(dp), intent(out) :: dissip
+    real(dp) :: s0(MAX_COMPONENTS), acc(MAX_COMPONENTS), dep(MAX_COMPONENTS), de(MAX_COMPONENTS), qk(MAX_STATE)
     integer :: k, ns, nq
     ns = size(sig)
     nq = size(q)
@@ -57,8 +60,7 @@ contains
     acc(1:ns) = 0.5_dp * sig_n
     dissip = 0.0_dp
     do k = 1, n
-      ek(1:ns) = eps_n + deps * (real(k, dp) / real(n, dp))
-      call map%step(ek(1:ns), de(1:ns), s0(1:ns), qk(1:nq), sig, q, dep(1:ns), dtan)
+      call map%step(ns, nq, k, n, eps_n, deps, de, s0, qk, sig, q, dep, dtan)
       dissip = dissip + 0.5_dp * dot_product(s0(1:ns) + sig, dep(1:ns))
       if (k < n) acc(1:ns) = acc(1:ns) + sig
       s0(1:ns) = sig

@@ -8,6 +8,7 @@ opening) cancels. The standard is exactly zero, on:
 - cantilever_plastic: fibre beam, elastic iteration, the window N..2N = 60..120 steps holds
   the formation of the plastic hinge (first plastic step 85, ~10 iterations per step);
 - spring_plastic: SUBSTEPS 100, plastic flow during the window;
+- block_j2: VON_MISES quads (the law's path through subincrement_path), plastic from step 52;
 - mass_bounce: contact, the window 200..400 holds the first impact (step ~347), in IMPACT
   PAPER and PERSIST;
 - bar_impact: a free bar on a wall, PERSIST (projection and body scaling), window 100..200;
@@ -36,6 +37,7 @@ CASES = [  # scene, N, what the window must contain, --set arguments
     ('inputs/cantilever_release.dat', 20, None, []),
     ('inputs/cantilever_plastic.dat', 60, 'plastic', []),
     ('inputs/spring_plastic.dat', 10, 'plastic', []),
+    ('inputs/block_j2.dat', 60, 'plastic', []),
     ('inputs/mass_bounce.dat', 200, 'impact', []),
     ('inputs/mass_bounce.dat', 200, 'impact', ['SCHEME.IMPACT=PERSIST']),
     ('inputs/bar_impact.dat', 100, 'impact', ['SCHEME.IMPACT=PERSIST']),
