@@ -5,7 +5,8 @@
 !> the run (sweep: some case failed; the table is written all the same).
 program rebond
   use errors, only: STAT_OK, STAT_INPUT, STAT_RUN, str
-  use scene, only: scene_t, load_scene
+  use scene, only: scene_t
+  use scene_loader, only: load_scene
   use assembly, only: system_t, build_system
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
   use sweep, only: run_sweep

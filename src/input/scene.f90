@@ -3,26 +3,17 @@
 !> definitions and their uses does not matter, except inside the mesh (a GROUP or ELEMENT
 !> refers to groups defined above it).
 module scene
-  use kinds, only: dp, zero_tol
-  use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
-  use mesh, only: mesh_t, DOF_UX, DOF_UY, DOF_RZ
+  use kinds, only: dp
+  use errors, only: upper
+  use mesh, only: mesh_t
   use element_traits, only: etype_point_kind
   use section, only: section_t
-  use material_law, only: material_t, law_check, LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES, &
-    PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS
-  use statement, only: statement_t, token_t, stmt_error, find_param, count_param, get_real, get_int, get_word, &
-    to_real, to_int
-  use statement_schema, only: schema_t
-  use scene_parser, only: parse_file, apply_override, check_required
-  use mesh_generators, only: generate_line, generate_rectangle, MAX_GENERATED_ELEMENTS
-  use gmsh_reader, only: read_gmsh
-  use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, &
-    SWITCH_DEFAULT
-  use elements, only: elem_check_geometry
+  use material_law, only: material_t
+  use contact_modes, only: IMPACT_PAPER, SOLVER_AUTO, SWITCH_DEFAULT
   implicit none
   private
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
-  public :: load_scene, scene_schema, function_value, model_point_kind
+  public :: function_value, model_point_kind
   public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t
 
 
@@ -119,135 +110,8 @@ module scene
     integer :: augmented_above = SWITCH_DEFAULT       !< SCHEME AUGMENTED_ABOVE (AUTO's switch)
   end type scene_t
 
-  !> The statement families, each with its grammar and its handlers in a submodule
-  !> (scene_mesh, scene_materials, scene_models, scene_conditions, scene_contacts, scene_run):
-  !> <family>_schema adds its keywords to the schema, <family>_statement builds the scene from one
-  !> statement (and ignores the keywords of the other families).
-  interface
-    module subroutine mesh_schema(sch)
-      type(schema_t), intent(inout) :: sch
-    end subroutine mesh_schema
-    module subroutine mesh_statement(scn, st, path, stat, errmsg)
-      type(scene_t), intent(inout) :: scn
-      type(statement_t), intent(in) :: st
-      character(len=*), intent(in) :: path
-      integer, intent(out) :: stat
-      character(len=:), allocatable, intent(out) :: errmsg
-    end subroutine mesh_statement
-    module subroutine materials_schema(sch)
-      type(schema_t), intent(inout) :: sch
-    end subroutine materials_schema
-    module subroutine materials_statement(scn, st, path, stat, errmsg)
-      type(scene_t), intent(inout) :: scn
-      type(statement_t), intent(in) :: st
-      character(len=*), intent(in) :: path
-      integer, intent(out) :: stat
-      character(len=:), allocatable, intent(out) :: errmsg
-    end subroutine materials_statement
-    module subroutine models_schema(sch)
-      type(schema_t), intent(inout) :: sch
-    end subroutine models_schema
-    module subroutine models_statement(scn, st, path, stat, errmsg)
-      type(scene_t), intent(inout) :: scn
-      type(statement_t), intent(in) :: st
-      character(len=*), intent(in) :: path
-      integer, intent(out) :: stat
-      character(len=:), allocatable, intent(out) :: errmsg
-    end subroutine models_statement
-    module subroutine conditions_schema(sch)
-      type(schema_t), intent(inout) :: sch
-    end subroutine conditions_schema
-    module subroutine conditions_statement(scn, st, path, stat, errmsg)
-      type(scene_t), intent(inout) :: scn
-      type(statement_t), intent(in) :: st
-      character(len=*), intent(in) :: path
-      integer, intent(out) :: stat
-      character(len=:), allocatable, intent(out) :: errmsg
-    end subroutine conditions_statement
-    module subroutine contacts_schema(sch)
-      type(schema_t), intent(inout) :: sch
-    end subroutine contacts_schema
-    module subroutine contacts_statement(scn, st, path, stat, errmsg)
-      type(scene_t), intent(inout) :: scn
-      type(statement_t), intent(in) :: st
-      character(len=*), intent(in) :: path
-      integer, intent(out) :: stat
-      character(len=:), allocatable, intent(out) :: errmsg
-    end subroutine contacts_statement
-    module subroutine run_schema(sch)
-      type(schema_t), intent(inout) :: sch
-    end subroutine run_schema
-    module subroutine run_statement(scn, st, path, stat, errmsg)
-      type(scene_t), intent(inout) :: scn
-      type(statement_t), intent(in) :: st
-      character(len=*), intent(in) :: path
-      integer, intent(out) :: stat
-      character(len=:), allocatable, intent(out) :: errmsg
-    end subroutine run_statement
-  end interface
 
 contains
-
-  !> The grammar of a scene file: keywords, their leading tokens and parameters.
-  subroutine scene_schema(sch)
-    type(schema_t), intent(out) :: sch
-    call sch%add_keyword('TITLE', 1, 1, once=.true.)
-    call mesh_schema(sch)
-    call materials_schema(sch)
-    call models_schema(sch)
-    call conditions_schema(sch)
-    call contacts_schema(sch)
-    call run_schema(sch)
-  end subroutine scene_schema
-
-  !> Parse the scene file, apply the --set overrides, and build the scene.
-  subroutine load_scene(path, overrides, scn, stat, errmsg)
-    character(len=*), intent(in) :: path
-    character(len=*), intent(in) :: overrides(:)
-    type(scene_t), intent(out) :: scn
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    type(schema_t) :: sch
-    type(statement_t), allocatable :: st(:)
-    integer :: i, nn0
-
-    call scene_schema(sch)
-    call parse_file(path, sch, st, stat, errmsg)
-    if (stat /= STAT_OK) return
-    do i = 1, size(overrides)
-      call apply_override(st, sch, trim(overrides(i)), stat, errmsg)
-      if (stat /= STAT_OK) return
-    end do
-    scn%path = path
-    scn%title = ''
-    allocate (scn%materials(0), scn%sections(0), scn%models(0), scn%fixes(0), scn%initials(0), &
-      scn%functions(0), scn%loads(0), scn%probes(0), scn%conditions(0))
-    ! Pass 1: mesh and definitions, in file order.
-    allocate (scn%node_line(0))
-    do i = 1, size(st)
-      nn0 = scn%mesh%nnode
-      if (st(i)%keyword == 'TITLE') scn%title = st(i)%lead(1)%text
-      call mesh_statement(scn, st(i), path, stat, errmsg)
-      if (stat == STAT_OK) call materials_statement(scn, st(i), path, stat, errmsg)
-      if (stat /= STAT_OK) return
-      if (scn%mesh%nnode > nn0) scn%node_line = [scn%node_line, spread(st(i)%line, 1, scn%mesh%nnode - nn0)]
-    end do
-    ! Pass 2: what refers to the mesh and the definitions.
-    allocate (scn%elem_model(scn%mesh%nelem))
-    scn%elem_model = 0
-    do i = 1, size(st)
-      call models_statement(scn, st(i), path, stat, errmsg)
-      if (stat == STAT_OK) call conditions_statement(scn, st(i), path, stat, errmsg)
-      if (stat == STAT_OK) call contacts_statement(scn, st(i), path, stat, errmsg)
-      if (stat == STAT_OK) call run_statement(scn, st(i), path, stat, errmsg)
-      if (stat /= STAT_OK) return
-    end do
-    if (size(scn%models) == 0) then
-      call set_error(stat, errmsg, STAT_INPUT, path // ':1: no MODEL statement: nothing to compute')
-      return
-    end if
-    call check_required(st, sch, path, stat, errmsg)
-  end subroutine load_scene
 
   !> Material-point kind of a model's integration points (material_law PK_*; 0 for masses).
   pure integer function model_point_kind(md) result(pk)

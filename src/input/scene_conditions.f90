@@ -1,12 +1,20 @@
 !> Scene input: supports, initial state and loads (FIX, INITIAL, GRAVITY, LOAD).
-!> Their grammar (schema) and their handlers, a submodule of scene.
-submodule (scene) scene_conditions
+!> Their grammar (schema) and their handlers; scene_loader calls them.
+module scene_conditions
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_INPUT, set_error
+  use statement, only: statement_t, stmt_error, find_param, get_real, get_word, to_real
+  use statement_schema, only: schema_t
+  use scene, only: scene_t, fix_t, initial_t, load_t, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
   use scene_helpers, only: node_group
   implicit none
+  private
+  public :: conditions_schema, conditions_statement
 
 contains
 
-  module procedure conditions_schema
+  subroutine conditions_schema(sch)
+    type(schema_t), intent(inout) :: sch
     call sch%add_keyword('FIX', 1, 1)
     call sch%add_param('FIX', 'UX', 0, 0)
     call sch%add_param('FIX', 'UY', 0, 0)
@@ -25,10 +33,15 @@ contains
     call sch%add_param('LOAD', 'NODES', 1, 1)
     call sch%add_param('LOAD', 'FORCE', 2, 3)
     call sch%add_param('LOAD', 'FUNCTION', 1, 1)
-  end procedure conditions_schema
+  end subroutine conditions_schema
 
   !> One conditions statement (pass 2 of load_scene).
-  module procedure conditions_statement
+  subroutine conditions_statement(scn, st, path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
     select case (st%keyword)
     case ('FIX')
@@ -40,7 +53,7 @@ contains
     case ('LOAD')
       call do_load(scn, st, stat, errmsg)
     end select
-  end procedure conditions_statement
+  end subroutine conditions_statement
 
   subroutine do_fix(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn
@@ -179,4 +192,4 @@ contains
     if (stat /= STAT_OK) return
     scn%loads = [scn%loads, ld]
   end subroutine do_load
-end submodule scene_conditions
+end module scene_conditions

@@ -1,12 +1,20 @@
 !> Scene input: the unilateral contacts (OBSTACLE, GAP): one condition per node or node pair.
-!> Their grammar (schema) and their handlers, a submodule of scene.
-submodule (scene) scene_contacts
+!> Their grammar (schema) and their handlers; scene_loader calls them.
+module scene_contacts
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str
+  use statement, only: statement_t, token_t, stmt_error, find_param
+  use statement_schema, only: schema_t
+  use scene, only: scene_t, condition_t
   use scene_helpers, only: node_group, get_pair, model_size, get_unit
   implicit none
+  private
+  public :: contacts_schema, contacts_statement
 
 contains
 
-  module procedure contacts_schema
+  subroutine contacts_schema(sch)
+    type(schema_t), intent(inout) :: sch
     call sch%add_keyword('OBSTACLE', 1, 1)
     call sch%add_param('OBSTACLE', 'NODES', 1, 1)
     call sch%add_param('OBSTACLE', 'POINT', 2, 2)
@@ -16,10 +24,15 @@ contains
     call sch%add_param('GAP', 'WITH', 1, 1)
     call sch%add_param('GAP', 'PAIRS', 2, -1)
     call sch%add_param('GAP', 'NORMAL', 2, 2)
-  end procedure contacts_schema
+  end subroutine contacts_schema
 
   !> One contacts statement (pass 2 of load_scene).
-  module procedure contacts_statement
+  subroutine contacts_statement(scn, st, path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
     select case (st%keyword)
     case ('OBSTACLE')
@@ -27,7 +40,7 @@ contains
     case ('GAP')
       call do_gap(scn, st, stat, errmsg)
     end select
-  end procedure contacts_statement
+  end subroutine contacts_statement
 
   !> Refuse an initial penetration beyond 1e-10 of the model size (a gap of zero is a contact
   !> at t = 0, legitimate).
@@ -191,4 +204,4 @@ contains
       node = scn%mesh%ngroups(g)%items(1)
     end subroutine one_node
   end subroutine do_gap
-end submodule scene_contacts
+end module scene_contacts

@@ -1,12 +1,22 @@
 !> Scene input: materials, sections and functions (MATERIAL, SECTION, FUNCTION).
-!> Their grammar (schema) and their handlers, a submodule of scene.
-submodule (scene) scene_materials
+!> Their grammar (schema) and their handlers; scene_loader calls them.
+module scene_materials
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
+  use section, only: section_t
+  use material_law, only: material_t, LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES
+  use statement, only: statement_t, stmt_error, find_param, get_real, get_int, to_real
+  use statement_schema, only: schema_t
+  use scene, only: scene_t, function_t, MAX_LAYERS
   use scene_helpers, only: get_pair
   implicit none
+  private
+  public :: materials_schema, materials_statement
 
 contains
 
-  module procedure materials_schema
+  subroutine materials_schema(sch)
+    type(schema_t), intent(inout) :: sch
     call sch%add_keyword('MATERIAL', 1, 1)
     call sch%add_param('MATERIAL', 'ELASTIC', 0, 0)
     call sch%add_param('MATERIAL', 'NONLINEAR_ELASTIC', 0, 0)
@@ -30,10 +40,15 @@ contains
     call sch%add_param('SECTION', 'LAYERS', 1, 1)
     call sch%add_keyword('FUNCTION', 1, 1)
     call sch%add_param('FUNCTION', 'POINTS', 2, -1)
-  end procedure materials_schema
+  end subroutine materials_schema
 
   !> One materials statement (pass 1 of load_scene).
-  module procedure materials_statement
+  subroutine materials_statement(scn, st, path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
     select case (st%keyword)
     case ('MATERIAL')
@@ -43,7 +58,7 @@ contains
     case ('FUNCTION')
       call do_function(scn, st, stat, errmsg)
     end select
-  end procedure materials_statement
+  end subroutine materials_statement
 
   subroutine do_material(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn
@@ -215,4 +230,4 @@ contains
       end if
     end do
   end subroutine check_law_params
-end submodule scene_materials
+end module scene_materials

@@ -1,13 +1,23 @@
 !> Scene input: the mesh statements (DIMENSION, NODE, ELEMENT, GROUP, LINE, RECTANGLE, GMSH).
-!> Their grammar (schema) and their handlers, a submodule of scene.
-submodule (scene) scene_mesh
+!> Their grammar (schema) and their handlers; scene_loader calls them.
+module scene_mesh
+  use kinds, only: dp, zero_tol
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
+  use statement, only: statement_t, stmt_error, find_param, get_real, get_int, get_word, to_int
+  use statement_schema, only: schema_t
+  use mesh_generators, only: generate_line, generate_rectangle, MAX_GENERATED_ELEMENTS
+  use gmsh_reader, only: read_gmsh
+  use scene, only: scene_t
   use scene_helpers, only: get_etype, get_pair
   use element_traits, only: NUM_ETYPES, FAMILY_LINE, FAMILY_SURFACE, etypes_of_family, etype_nen, etype_name
   implicit none
+  private
+  public :: mesh_schema, mesh_statement
 
 contains
 
-  module procedure mesh_schema
+  subroutine mesh_schema(sch)
+    type(schema_t), intent(inout) :: sch
     call sch%add_keyword('DIMENSION', 1, 1, once=.true.)
     call sch%add_keyword('NODE', 1, 1)
     call sch%add_param('NODE', 'AT', 2, 2)
@@ -30,10 +40,15 @@ contains
     call sch%add_param('RECTANGLE', 'ANGLE', 1, 1)
     call sch%add_keyword('GMSH', 1, 1)
     call sch%add_param('GMSH', 'FILE', 1, 1)
-  end procedure mesh_schema
+  end subroutine mesh_schema
 
   !> One mesh statement (pass 1 of load_scene).
-  module procedure mesh_statement
+  subroutine mesh_statement(scn, st, path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
     select case (st%keyword)
     case ('DIMENSION')
@@ -51,7 +66,7 @@ contains
     case ('GMSH')
       call do_gmsh(scn, st, path, stat, errmsg)
     end select
-  end procedure mesh_statement
+  end subroutine mesh_statement
 
   subroutine do_dimension(st, stat, errmsg)
     type(statement_t), intent(in) :: st
@@ -280,4 +295,4 @@ contains
     k = index(scene_path, '/', back=.true.)
     full = scene_path(1:k) // file
   end function resolve_path
-end submodule scene_mesh
+end module scene_mesh

@@ -1,14 +1,24 @@
 !> Scene input: the models (MODEL): element group, formulation, material, section, mass, sub-increments.
-!> Their grammar (schema) and their handlers, a submodule of scene.
-submodule (scene) scene_models
+!> Their grammar (schema) and their handlers; scene_loader calls them.
+module scene_models
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
+  use material_law, only: material_t, law_check
+  use statement, only: statement_t, stmt_error, find_param, get_int, get_word
+  use statement_schema, only: schema_t
+  use elements, only: elem_check_geometry
+  use scene, only: scene_t, model_t, MAX_SUBSTEPS, model_point_kind
   use scene_helpers, only: get_etype, model_size
   use element_traits, only: FAMILY_LINE, etype_family, etypes_of_family, etype_needs_material, etype_section_needs, &
     etype_name, etype_nen
   implicit none
+  private
+  public :: models_schema, models_statement
 
 contains
 
-  module procedure models_schema
+  subroutine models_schema(sch)
+    type(schema_t), intent(inout) :: sch
     call sch%add_keyword('MODEL', 1, 1)
     call sch%add_param('MODEL', 'TYPE', 1, 1)
     call sch%add_param('MODEL', 'MATERIAL', 1, 1)
@@ -16,16 +26,21 @@ contains
     call sch%add_param('MODEL', 'MASS', 1, 1)
     call sch%add_param('MODEL', 'PLANE', 1, 1)
     call sch%add_param('MODEL', 'SUBSTEPS', 1, 1)
-  end procedure models_schema
+  end subroutine models_schema
 
   !> One models statement (pass 2 of load_scene).
-  module procedure models_statement
+  subroutine models_statement(scn, st, path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
     select case (st%keyword)
     case ('MODEL')
       call do_model(scn, st, stat, errmsg)
     end select
-  end procedure models_statement
+  end subroutine models_statement
 
   subroutine do_model(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn
@@ -214,4 +229,4 @@ contains
     if (stat /= STAT_OK) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'material ' // mat%name // ' on ' // &
       etype_name(md%etype) // ' elements: ' // msg, st%params(find_param(st, 'MATERIAL'))%values(1)))
   end subroutine check_model_law
-end submodule scene_models
+end module scene_models

@@ -1,8 +1,18 @@
 !> Scene input: the run: time, scheme and outputs (TIME, SCHEME, OUTPUT).
-!> Their grammar (schema) and their handlers, a submodule of scene.
-submodule (scene) scene_run
+!> Their grammar (schema) and their handlers; scene_loader calls them.
+module scene_run
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
+  use mesh, only: DOF_UX, DOF_UY, DOF_RZ
+  use statement, only: statement_t, stmt_error, find_param, count_param, get_real, get_int, to_int
+  use statement_schema, only: schema_t
+  use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, &
+    SWITCH_DEFAULT
+  use scene, only: scene_t, probe_t
   use scene_helpers, only: node_group, get_choice
   implicit none
+  private
+  public :: run_schema, run_statement
 
   !> SCHEME IMPACT and MULTIPLIERS: the codes of each word, in the words' order.
   integer, parameter :: IMPACT_MODES(3) = [IMPACT_PAPER, IMPACT_PERSIST, IMPACT_OFF]
@@ -10,7 +20,8 @@ submodule (scene) scene_run
 
 contains
 
-  module procedure run_schema
+  subroutine run_schema(sch)
+    type(schema_t), intent(inout) :: sch
     call sch%add_keyword('TIME', 0, 0, once=.true., required=.true., hint='TIME STEP h END t')
     call sch%add_param('TIME', 'STEP', 1, 1)
     call sch%add_param('TIME', 'END', 1, 1)
@@ -30,10 +41,15 @@ contains
     call sch%add_param('OUTPUT', 'FIELDS', 1, 2)
     call sch%add_param('OUTPUT', 'PROBE', 2, -1, repeatable=.true.)
     call sch%add_param('OUTPUT', 'CHECKPOINT', 1, 2)
-  end procedure run_schema
+  end subroutine run_schema
 
   !> One run statement (pass 2 of load_scene).
-  module procedure run_statement
+  subroutine run_statement(scn, st, path, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
     select case (st%keyword)
     case ('TIME')
@@ -43,7 +59,7 @@ contains
     case ('OUTPUT')
       call do_output(scn, st, stat, errmsg)
     end select
-  end procedure run_statement
+  end subroutine run_statement
 
   subroutine do_time(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn
@@ -171,4 +187,4 @@ contains
     end do
   end subroutine do_output
 
-end submodule scene_run
+end module scene_run

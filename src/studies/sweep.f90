@@ -18,7 +18,8 @@ module sweep
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, str
   use os_utils, only: make_directory
-  use scene, only: scene_t, load_scene
+  use scene, only: scene_t
+  use scene_loader, only: load_scene
   use assembly, only: system_t, build_system
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
   use contact, only: contact_destroy

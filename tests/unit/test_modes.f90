@@ -16,7 +16,8 @@
 program test_modes
   use kinds, only: dp
   use errors, only: STAT_OK
-  use scene, only: scene_t, load_scene
+  use scene, only: scene_t
+  use scene_loader, only: load_scene
   use assembly, only: system_t, build_system
   use sparse_matrix, only: to_dense
   use dense_solve, only: generalized_eigen

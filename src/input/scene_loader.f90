@@ -1,0 +1,83 @@
+!> Loading a scene: the grammar of the scene file (each statement family adds its keywords)
+!> and the two passes that build scene_t from the statements, after the --set overrides.
+!> Statements are interpreted in two passes so that the order of definitions and their uses
+!> does not matter, except inside the mesh (a GROUP or ELEMENT refers to groups defined above it).
+module scene_loader
+  use errors, only: STAT_OK, STAT_INPUT, set_error
+  use statement, only: statement_t
+  use statement_schema, only: schema_t
+  use scene_parser, only: parse_file, apply_override, check_required
+  use scene, only: scene_t
+  use scene_mesh, only: mesh_schema, mesh_statement
+  use scene_materials, only: materials_schema, materials_statement
+  use scene_models, only: models_schema, models_statement
+  use scene_conditions, only: conditions_schema, conditions_statement
+  use scene_contacts, only: contacts_schema, contacts_statement
+  use scene_run, only: run_schema, run_statement
+  implicit none
+  private
+  public :: load_scene, scene_schema
+
+contains
+
+  !> The grammar of a scene file: keywords, their leading tokens and parameters.
+  subroutine scene_schema(sch)
+    type(schema_t), intent(out) :: sch
+    call sch%add_keyword('TITLE', 1, 1, once=.true.)
+    call mesh_schema(sch)
+    call materials_schema(sch)
+    call models_schema(sch)
+    call conditions_schema(sch)
+    call contacts_schema(sch)
+    call run_schema(sch)
+  end subroutine scene_schema
+
+  !> Parse the scene file, apply the --set overrides, and build the scene.
+  subroutine load_scene(path, overrides, scn, stat, errmsg)
+    character(len=*), intent(in) :: path
+    character(len=*), intent(in) :: overrides(:)
+    type(scene_t), intent(out) :: scn
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(schema_t) :: sch
+    type(statement_t), allocatable :: st(:)
+    integer :: i, nn0
+
+    call scene_schema(sch)
+    call parse_file(path, sch, st, stat, errmsg)
+    if (stat /= STAT_OK) return
+    do i = 1, size(overrides)
+      call apply_override(st, sch, trim(overrides(i)), stat, errmsg)
+      if (stat /= STAT_OK) return
+    end do
+    scn%path = path
+    scn%title = ''
+    allocate (scn%materials(0), scn%sections(0), scn%models(0), scn%fixes(0), scn%initials(0), &
+      scn%functions(0), scn%loads(0), scn%probes(0), scn%conditions(0))
+    ! Pass 1: mesh and definitions, in file order.
+    allocate (scn%node_line(0))
+    do i = 1, size(st)
+      nn0 = scn%mesh%nnode
+      if (st(i)%keyword == 'TITLE') scn%title = st(i)%lead(1)%text
+      call mesh_statement(scn, st(i), path, stat, errmsg)
+      if (stat == STAT_OK) call materials_statement(scn, st(i), path, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (scn%mesh%nnode > nn0) scn%node_line = [scn%node_line, spread(st(i)%line, 1, scn%mesh%nnode - nn0)]
+    end do
+    ! Pass 2: what refers to the mesh and the definitions.
+    allocate (scn%elem_model(scn%mesh%nelem))
+    scn%elem_model = 0
+    do i = 1, size(st)
+      call models_statement(scn, st(i), path, stat, errmsg)
+      if (stat == STAT_OK) call conditions_statement(scn, st(i), path, stat, errmsg)
+      if (stat == STAT_OK) call contacts_statement(scn, st(i), path, stat, errmsg)
+      if (stat == STAT_OK) call run_statement(scn, st(i), path, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end do
+    if (size(scn%models) == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, path // ':1: no MODEL statement: nothing to compute')
+      return
+    end if
+    call check_required(st, sch, path, stat, errmsg)
+  end subroutine load_scene
+end module scene_loader
