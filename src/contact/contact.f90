@@ -94,7 +94,7 @@ module contact
     type(contact_event_t), allocatable :: ev(:)
     integer :: n_ev = 0
     ! Workspaces (sized at contact_finalize; the dense ones grow with the largest active set).
-    real(dp), allocatable :: wq(:), wdiag(:), gn(:), gend(:), e(:), y(:), r(:), mu(:)
+    real(dp), allocatable :: wq(:), wdiag(:), gn(:), gend(:), e(:), y(:), r(:), mu(:), tolj(:)
     logical, allocatable :: viol(:), now(:), est(:), rel(:), fallback(:), rows(:)
     integer, allocatable :: idx(:), cgroup(:), parent(:)
     real(dp), allocatable :: f(:), xw(:), vp(:), mvp(:), ct(:)
@@ -344,8 +344,8 @@ contains
     call cs%st%init(g0)
     if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%mu, cs%viol, cs%now, &
       cs%est, cs%rel, cs%fallback, cs%idx, cs%cgroup, cs%f, cs%xw, cs%vp, cs%mvp, cs%rows, cs%ev, cs%sv, cs%ct, &
-      cs%work2, cs%ipiv)
-    allocate (cs%wq(nc), cs%wdiag(nc), cs%gn(nc), cs%gend(nc), cs%e(nc), cs%y(nc), cs%r(nc), cs%mu(nc), cs%viol(nc), &
+      cs%work2, cs%ipiv, cs%tolj)
+    allocate (cs%tolj(nc), cs%wq(nc), cs%wdiag(nc), cs%gn(nc), cs%gend(nc), cs%e(nc), cs%y(nc), cs%r(nc), cs%mu(nc), cs%viol(nc), &
       cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%idx(nc), cs%cgroup(nc), cs%ev(nc), cs%sv(nc), &
       cs%ct(nc), cs%work2(2 * nc), cs%ipiv(nc))
     if (allocated(cs%parent)) deallocate (cs%parent)
@@ -652,13 +652,16 @@ contains
     ! A condition that starts the step slightly penetrated (within the input tolerance, or by
     ! the LCP tolerance at an earlier release) is held where it is, not pushed out: its target
     ! is g(n+1) >= g(n). Pushing it out would let the multiplier do the work ½ Λ |g(n)|, which
-    ! E_j = ½ Λ max(g(n), 0) of eq (10) cannot take back: energy created.
+    ! E_j = ½ Λ max(g(n), 0) of eq (10) cannot take back: energy created. Its tolerance is what
+    ! is left of the gap tolerance (tol + g(n), negative beyond it: then it is caught at once),
+    ! so that the penetration stays within the tolerance however slowly it creeps in.
     do j = 1, cs%nc
       cs%wq(j) = max(cs%st%gap_n(j), 0.0_dp) + cs%c%dot(j, du_free)
+      cs%tolj(j) = cs%settings%gap_rtol * cs%length_scale + min(cs%st%gap_n(j), 0.0_dp)
     end do
     call cs%ms%bind(cs%c, s)
     call lcp_pivot(cs%ms, cs%wq, cs%settings%gap_rtol * cs%length_scale, cs%st%lambda, cs%st%gap, &
-      cs%st%active_iter, cs%wdiag, cs%viol, cs%lcp_iter, stat, errmsg)
+      cs%st%active_iter, cs%wdiag, cs%viol, cs%lcp_iter, stat, errmsg, tol_free=cs%tolj)
     if (stat /= STAT_OK) then
       call cs%ms%unbind()
       errmsg = errmsg // ' (' // str(count(cs%st%active_iter)) // ' conditions in the last active set)'

@@ -90,8 +90,11 @@ contains
   !> on entry (the previous active set) and the solution set on exit; lam < 0 within tolerance
   !> is returned as 0 (the system then recomputes g). wdiag and viol are workspaces of size n.
   !> Failure (no complementary solution within max_iter pivots: infeasible or inconsistent
-  !> dependent constraints) returns stat = STAT_RUN with the violations left.
-  subroutine lcp_pivot(sys, q, tol, lam, g, active, wdiag, viol, iterations, stat, errmsg, max_iter)
+  !> dependent constraints) returns stat = STAT_RUN with the violations left. tol_free(j), when
+  !> given, replaces tol in the test of an inactive j (g_j < -tol_free(j)): contact passes the
+  !> tolerance left to a condition that starts the step already inside it, so that a slow
+  !> approach cannot creep in by tol at every step.
+  subroutine lcp_pivot(sys, q, tol, lam, g, active, wdiag, viol, iterations, stat, errmsg, max_iter, tol_free)
     class(active_system_t), intent(inout) :: sys
     real(dp), intent(in) :: q(:), tol
     real(dp), intent(out) :: lam(:), g(:)
@@ -102,6 +105,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer, intent(in), optional :: max_iter
+    real(dp), intent(in), optional :: tol_free(:)
     integer :: n, it, maxit, nv, nbest, tries, j
 
     stat = STAT_OK
@@ -123,6 +127,8 @@ contains
       do j = 1, n
         if (active(j)) then
           viol(j) = lam(j) * wdiag(j) < -tol
+        else if (present(tol_free)) then
+          viol(j) = g(j) < -tol_free(j)
         else
           viol(j) = g(j) < -tol
         end if
