@@ -10,7 +10,7 @@ module newmark
   use contact_modes, only: IMPACT_OFF
   use dof_map, only: equation_bodies
   use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
-    contact_prepare, contact_set_rigid_modes
+    contact_prepare, contact_set_rigid_modes, contact_gaps
   use assembly, only: system_t, external_force, mass_times, initial_state, dof_label, dof_origin, save_points, &
     load_points
   use energy, only: energy_t
@@ -143,6 +143,8 @@ contains
     rs%cs%settings%switch_size = scn%augmented_above
     call contact_finalize(rs%cs, sys%neq, lscale, stat, errmsg)
     if (stat /= STAT_OK) return
+    call check_initial_gaps(scn, rs%cs, rs%st%u, lscale, stat, errmsg)
+    if (stat /= STAT_OK) return
     if (scn%impact /= IMPACT_OFF) then
       ! The impulse (12) and the reflection (16) need M^-1: every DOF must carry mass.
       if (sys%mass_diagonal) then
@@ -175,6 +177,44 @@ contains
     allocate (rs%lam(size(scn%conditions)))
     rs%lam = 0.0_dp
   end subroutine setup_contact
+
+  !> The initial state (INITIAL DISPLACEMENT, STATIC) must not put a node inside an obstacle or
+  !> two nodes of a GAP through each other (the mesh itself is checked by the scene): bad input,
+  !> naming the statement and the nodes (at most 5 of them).
+  subroutine check_initial_gaps(scn, cs, u, lscale, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(contact_set_t), intent(in) :: cs
+    real(dp), intent(in) :: u(:), lscale
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp), allocatable :: g(:)
+    character(len=:), allocatable :: list
+    integer :: j, nbad, first
+    stat = STAT_OK
+    allocate (g(size(scn%conditions)))
+    call contact_gaps(cs, u, g)
+    nbad = 0
+    first = 0
+    list = ''
+    do j = 1, size(g)
+      if (.not. g(j) < -1.0e-10_dp * lscale) cycle
+      nbad = nbad + 1
+      if (first == 0) first = j
+      if (nbad > 5) cycle
+      associate (c => scn%conditions(j))
+        if (c%node_a > 0) list = list // merge('; ', '  ', nbad > 1) // 'node ' // str(c%node_a) // ' and'
+        list = list // merge('; ', '  ', nbad > 1 .and. c%node_a == 0) // ' node ' // str(c%node_b) // ' (x = ' // &
+          str(scn%mesh%x(1, c%node_b)) // ', y = ' // str(scn%mesh%x(2, c%node_b)) // ') by ' // str(-g(j))
+      end associate
+    end do
+    if (nbad == 0) return
+    associate (c => scn%conditions(first))
+      call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(c%line) // ': ' // &
+        trim(merge('OBSTACLE', 'GAP     ', c%node_a == 0)) // ' ' // c%source // ': the initial displacement puts ' // &
+        str(nbad) // ' contact node(s) inside: ' // trim(adjustl(list)) // trim(merge(' ...', '    ', nbad > 5)) // &
+        ", at '" // c%source // "'")
+    end associate
+  end subroutine check_initial_gaps
 
   !> Integrate from START to END, writing history, probes and fields under opts%outdir.
   subroutine run_newmark(scn, sys, rs, opts, summary, stat, errmsg)

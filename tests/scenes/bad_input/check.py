@@ -110,6 +110,8 @@ CASES = [
     ('unknown MULTIPLIERS choice', BASE + ['SCHEME MULTIPLIERS DENSE'], None, [], 15, 'SCHEME', 'DENSE'),
     ('negative AUGMENTED_ABOVE', BASE + ['SCHEME AUGMENTED_ABOVE -3'], None, [], 15, 'SCHEME', '-3'),
     ('continuation at end of file', edit(BASE, 14, 'OUTPUT PROBE b UX &'), None, [], 14, 'OUTPUT', '&'),
+    ('initial displacement inside an obstacle', BASE + ['OBSTACLE wall NODES b POINT 1.05 0 NORMAL -1 0'], None, [],
+     15, 'OBSTACLE wall', 'wall'),
     ('bad --set value', BASE, None, ['TIME.STEP=abc'], 13, 'TIME', 'abc'),
     ('non-positive --set TIME.STEP', BASE, None, ['TIME.STEP=-1'], 13, 'TIME', '-1'),
     ('--set unknown keyword', BASE, None, ['TIMES.STEP=1'], None, '--set', 'TIMES'),
