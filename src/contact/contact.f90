@@ -90,6 +90,10 @@ module contact
     logical :: finalized = .false., prepared = .false., mass_set = .false.
     type(multiplier_system_t) :: ms          !< W = C S⁻¹C' for the LCP (Schur columns or augmented)
     class(inverse_op_t), allocatable :: minv !< M⁻¹
+    ! Impulses of the end-of-step correction in the last step (docs/contact.md, "Contact
+    ! force"): cimp(j) along c_j (the impulse (12), the reflection (16), PERSIST's projection),
+    ! bimp(:, j) the momentum PERSIST's scaling gave the group of condition j (x, y).
+    real(dp), allocatable :: cimp(:), bimp(:, :)
     ! Events of the last contact_end_step: ev(1:n_ev).
     type(contact_event_t), allocatable :: ev(:)
     integer :: n_ev = 0
@@ -111,6 +115,9 @@ module contact
     procedure :: event => cs_event
     procedure :: reaction => cs_reaction
     procedure :: multiplier => cs_multiplier
+    procedure :: correction_impulse => cs_correction_impulse
+    procedure :: body_impulse => cs_body_impulse
+    procedure :: gap => cs_gap
     procedure :: is_active => cs_is_active
     procedure :: nodes => cs_nodes
     procedure :: label => cs_label
@@ -226,6 +233,28 @@ contains
     integer, intent(in) :: j
     cs_multiplier = self%st%lambda(j)
   end function cs_multiplier
+
+  !> Impulse of the end-of-step correction of the last step along c_j (0 without one).
+  pure real(dp) function cs_correction_impulse(self, j)
+    class(contact_set_t), intent(in) :: self
+    integer, intent(in) :: j
+    cs_correction_impulse = self%cimp(j)
+  end function cs_correction_impulse
+
+  !> Momentum (x, y) that PERSIST's scaling gave the group of condition j in the last step.
+  pure function cs_body_impulse(self, j) result(p)
+    class(contact_set_t), intent(in) :: self
+    integer, intent(in) :: j
+    real(dp) :: p(2)
+    p = self%bimp(:, j)
+  end function cs_body_impulse
+
+  !> Gap g_j(n+1) at the end of the last step.
+  pure real(dp) function cs_gap(self, j)
+    class(contact_set_t), intent(in) :: self
+    integer, intent(in) :: j
+    cs_gap = self%st%gap_n(j)
+  end function cs_gap
 
   pure logical function cs_is_active(self, j)
     class(contact_set_t), intent(in) :: self
@@ -344,8 +373,9 @@ contains
     call cs%st%init(g0)
     if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%mu, cs%viol, cs%now, &
       cs%est, cs%rel, cs%fallback, cs%idx, cs%cgroup, cs%f, cs%xw, cs%vp, cs%mvp, cs%rows, cs%ev, cs%sv, cs%ct, &
-      cs%work2, cs%ipiv, cs%tolj)
-    allocate (cs%tolj(nc), cs%wq(nc), cs%wdiag(nc), cs%gn(nc), cs%gend(nc), cs%e(nc), cs%y(nc), cs%r(nc), cs%mu(nc), cs%viol(nc), &
+      cs%work2, cs%ipiv, cs%tolj, cs%cimp, cs%bimp)
+    allocate (cs%cimp(nc), cs%bimp(2, nc), cs%tolj(nc), cs%wq(nc), cs%wdiag(nc), cs%gn(nc), cs%gend(nc), cs%e(nc), &
+      cs%y(nc), cs%r(nc), cs%mu(nc), cs%viol(nc), &
       cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%idx(nc), cs%cgroup(nc), cs%ev(nc), cs%sv(nc), &
       cs%ct(nc), cs%work2(2 * nc), cs%ipiv(nc))
     if (allocated(cs%parent)) deallocate (cs%parent)
@@ -355,6 +385,8 @@ contains
     ! Dense blocks for up to 64 conditions established together; they grow beyond (rarely).
     allocate (cs%amat(min(nc, 64), min(nc, 64)), cs%gmat(min(nc, 64), min(nc, 64)))
     cs%wdiag = 1.0_dp
+    cs%cimp = 0.0_dp
+    cs%bimp = 0.0_dp
     cs%n_ev = 0
     cs%ms%mode = cs%settings%solver
     cs%ms%switch_size = cs%settings%switch_size

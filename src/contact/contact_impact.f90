@@ -52,6 +52,8 @@ contains
       rep%energy_error = sum(e)
       rep%scheme_work = 0.5_dp * dot_product(cs%st%lambda, gend - gn)
       t_before = 0.5_dp * dot_product(v, mv)
+      cs%cimp = 0.0_dp
+      cs%bimp = 0.0_dp
 
       if (rep%n_establish > 0) then
         select case (mode)
@@ -125,6 +127,7 @@ contains
     end do
     call hzero_reflection(cs, cs%idx(1:n), 2.0_dp, v, mv, rank, stat, errmsg)
     rep%reflection_rank = rank
+    cs%cimp = cs%cimp - 2.0_dp * cs%mu
   end subroutine paper_correction
 
   !> (12)-(15) for the conditions sel established in the step with Λ_j > 0: E_j (cs%e, eq 10)
@@ -171,6 +174,7 @@ contains
         end do
       end associate
       call add_minv_ct(cs, cs%mu, 1.0_dp, v, mv, stat, errmsg)          ! (12)
+      cs%cimp = cs%cimp + cs%mu
     end if
   end subroutine impulse_eq12_15
 
@@ -227,7 +231,7 @@ contains
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: nb, j, p, bj, i, grp, rank, n
+    integer :: nb, j, p, bj, i, grp, rank, n, j0
     real(dp) :: t1, tp, tstar, s, acm(2), tcm, vcm, mvcm
 
     stat = STAT_OK
@@ -298,6 +302,8 @@ contains
           cycle
         end if
         s = persist_scale(tstar, tcm, tp - tcm)
+        cs%cimp = cs%cimp - cs%mu                  ! the projection's impulses along c_j
+        j0 = findloc(est .and. cgroup == grp, .true., 1)
         do i = 1, cs%neq                           ! (a loop: a WHERE block allocates its mask)
           if (.not. rows(i)) cycle
           if (cs%has_rigid) then
@@ -309,6 +315,9 @@ contains
           end if
           v(i) = vcm + s * (cs%vp(i) - vcm)
           mv(i) = mvcm + s * (cs%mvp(i) - mvcm)
+          ! The momentum the scaling gives the group (0 about its centre of mass), booked on its
+          ! first established condition.
+          if (cs%has_rigid) cs%bimp(:, j0) = cs%bimp(:, j0) + cs%rig(i, :) * (mv(i) - cs%mvp(i))
         end do
       end do
     end associate

@@ -14,24 +14,32 @@ module run_outputs
   use text_format, only: put_es, put_int, put_text
   implicit none
   private
-  public :: output_set_t, HISTORY_HEADER, EVENTS_HEADER
+  public :: output_set_t, HISTORY_HEADER, EVENTS_HEADER, CONTACTS_HEADER
 
   character(len=*), parameter :: HISTORY_HEADER = &
     'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored'
   character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored'
+  character(len=*), parameter :: CONTACTS_HEADER = 'step,time,contact,active,force_x,force_y,impulse_x,impulse_y,min_gap'
 
   type :: output_set_t
     private
-    type(csv_file_t) :: hist, probes, ev
+    type(csv_file_t) :: hist, probes, ev, contacts
     type(fields_writer_t) :: fields
     logical :: with_events = .false., with_fields = .false.
     integer :: last_step = 0                 !< the run's last step: always written
+    ! contacts.csv: the contact statements (names, in order of appearance), the statement of
+    ! each condition, the impulse each gave its NODES group since the last row, that row's time.
+    real(dp) :: h = 0.0_dp, t_row = 0.0_dp
+    character(len=:), allocatable :: cnames(:)
+    integer, allocatable :: cstat(:)
+    real(dp), allocatable :: cimp(:, :), cforce(:, :)
     real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), reaction(:, :)
     real(dp), allocatable :: preals(:), hreals(:), htail(:)
   contains
     procedure :: open => outputs_open
     procedure :: write_step => outputs_write_step
     procedure :: write_events => outputs_write_events
+    procedure :: add_contact_impulses => outputs_add_contact_impulses
     procedure :: close => outputs_close
   end type output_set_t
 
@@ -61,15 +69,22 @@ contains
     allocate (self%nodal_u(3, scn%mesh%nnode), self%nodal_v(3, scn%mesh%nnode), self%estress(4, scn%mesh%nelem), &
       self%reaction(3, scn%mesh%nnode), self%preals(1 + size(scn%probes)), self%hreals(6), self%htail(2))
     self%reaction = 0.0_dp
+    self%h = scn%dt
+    self%t_row = scn%t_start + step0 * scn%dt
+    if (with_events) call contact_statements(self, scn)
     if (step0 > 0) then
       call self%hist%resume(outdir // '/history.csv', HISTORY_HEADER, step0, stat, errmsg)
       if (stat == STAT_OK) call self%probes%resume(outdir // '/probes.csv', header, step0, stat, errmsg)
       if (stat == STAT_OK .and. with_events) &
         call self%ev%resume(outdir // '/events.csv', EVENTS_HEADER, step0, stat, errmsg)
+      if (stat == STAT_OK .and. with_events) &
+        call self%contacts%resume(outdir // '/contacts.csv', CONTACTS_HEADER, step0, stat, errmsg)
     else
       call self%hist%open(outdir // '/history.csv', HISTORY_HEADER, stat, errmsg)
       if (stat == STAT_OK) call self%probes%open(outdir // '/probes.csv', header, stat, errmsg)
       if (stat == STAT_OK .and. with_events) call self%ev%open(outdir // '/events.csv', EVENTS_HEADER, stat, errmsg)
+      if (stat == STAT_OK .and. with_events) &
+        call self%contacts%open(outdir // '/contacts.csv', CONTACTS_HEADER, stat, errmsg)
     end if
     if (stat /= STAT_OK .or. .not. self%with_fields) return
     if (step0 > 0) then
@@ -116,6 +131,7 @@ contains
         end do
         call self%probes%write_row(step, self%preals, [integer ::], stat, errmsg)
         if (stat /= STAT_OK) return
+        if (present(cs)) call write_contacts(self, step, t, cs)
       end if
     end if
     if (.not. self%with_fields) return
@@ -133,21 +149,122 @@ contains
     end if
   end subroutine outputs_write_step
 
-  !> Nodal reactions R(n+1) = Λ - R(n) of the contact conditions (R on node b along n, its
-  !> opposite on node a).
+  !> The contact force of a step on each node (docs/contact.md, "Contact force"): its impulse
+  !> over the step, h/2 Λ_j (the step multiplier stands for R(n) + R(n+1)) plus the impulse of
+  !> the end-of-step correction along c_j, divided by h; on node b along n, its opposite on a.
   subroutine contact_reactions(self, scn, cs)
     type(output_set_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     type(contact_set_t), intent(in) :: cs
     integer :: j
+    real(dp) :: f
     self%reaction = 0.0_dp
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j))
-        self%reaction(1:2, c%node_b) = self%reaction(1:2, c%node_b) + cs%reaction(j) * c%normal
-        if (c%node_a > 0) self%reaction(1:2, c%node_a) = self%reaction(1:2, c%node_a) - cs%reaction(j) * c%normal
+        f = step_impulse(self, cs, j) / self%h
+        self%reaction(1:2, c%node_b) = self%reaction(1:2, c%node_b) + f * c%normal
+        if (c%node_a > 0) self%reaction(1:2, c%node_a) = self%reaction(1:2, c%node_a) - f * c%normal
       end associate
     end do
   end subroutine contact_reactions
+
+  !> Impulse of condition j over the last step along its normal, on node b: h/2 Λ_j plus the
+  !> correction's impulse.
+  pure real(dp) function step_impulse(self, cs, j)
+    type(output_set_t), intent(in) :: self
+    type(contact_set_t), intent(in) :: cs
+    integer, intent(in) :: j
+    step_impulse = 0.5_dp * self%h * cs%multiplier(j) + cs%correction_impulse(j)
+  end function step_impulse
+
+  !> The contact statements (OBSTACLE, GAP names) in order of appearance, and each condition's.
+  subroutine contact_statements(self, scn)
+    type(output_set_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    integer :: i, j, k, n, w
+    n = size(scn%conditions)
+    w = 1
+    do j = 1, n
+      w = max(w, len(scn%conditions(j)%source))
+    end do
+    allocate (character(len=w) :: self%cnames(n))
+    allocate (self%cstat(n))
+    k = 0
+    do j = 1, n
+      self%cstat(j) = 0
+      do i = 1, k
+        if (trim(self%cnames(i)) == scn%conditions(j)%source) self%cstat(j) = i
+      end do
+      if (self%cstat(j) == 0) then
+        k = k + 1
+        self%cnames(k) = scn%conditions(j)%source
+        self%cstat(j) = k
+      end if
+    end do
+    self%cnames = self%cnames(1:k)
+    allocate (self%cimp(2, k), self%cforce(2, k))
+    self%cimp = 0.0_dp
+  end subroutine contact_statements
+
+  !> After each step: the impulse each contact statement gave its NODES group (for a GAP the
+  !> nodes a, opposite to the normal; PERSIST's scaling of the body counted where it is booked).
+  subroutine outputs_add_contact_impulses(self, scn, cs)
+    class(output_set_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    type(contact_set_t), intent(in) :: cs
+    integer :: j
+    do j = 1, size(scn%conditions)
+      associate (c => scn%conditions(j), s => self%cstat(j))
+        self%cimp(:, s) = self%cimp(:, s) + merge(1.0_dp, -1.0_dp, c%node_a == 0) * step_impulse(self, cs, j) * &
+          c%normal + cs%body_impulse(j)
+      end associate
+    end do
+  end subroutine outputs_add_contact_impulses
+
+  !> contacts.csv: one row per contact statement: its active conditions, the mean force and the
+  !> impulse since the previous row, its smallest gap.
+  subroutine write_contacts(self, step, t, cs)
+    type(output_set_t), intent(inout) :: self
+    integer, intent(in) :: step
+    real(dp), intent(in) :: t
+    type(contact_set_t), intent(in) :: cs
+    integer :: k, j, pos, nact
+    real(dp) :: gmin
+    character(len=256) :: line
+    do k = 1, size(self%cnames)
+      nact = 0
+      gmin = huge(1.0_dp)
+      do j = 1, size(self%cstat)
+        if (self%cstat(j) /= k) cycle
+        if (cs%is_active(j)) nact = nact + 1
+        gmin = min(gmin, cs%gap(j))
+      end do
+      self%cforce(:, k) = 0.0_dp
+      if (t > self%t_row) self%cforce(:, k) = self%cimp(:, k) / (t - self%t_row)
+      pos = 0
+      call put_int(line, pos, step)
+      call put_text(line, pos, ',')
+      call put_es(line, pos, t)
+      call put_text(line, pos, ',')
+      call put_text(line, pos, trim(self%cnames(k)))
+      call put_text(line, pos, ',')
+      call put_int(line, pos, nact)
+      call put_text(line, pos, ',')
+      call put_es(line, pos, self%cforce(1, k))
+      call put_text(line, pos, ',')
+      call put_es(line, pos, self%cforce(2, k))
+      call put_text(line, pos, ',')
+      call put_es(line, pos, self%cimp(1, k))
+      call put_text(line, pos, ',')
+      call put_es(line, pos, self%cimp(2, k))
+      call put_text(line, pos, ',')
+      call put_es(line, pos, gmin)
+      write (self%contacts%unit, '(a)') line(1:pos)
+    end do
+    flush (self%contacts%unit)
+    self%cimp = 0.0_dp
+    self%t_row = t
+  end subroutine write_contacts
 
   !> events.csv: one line per contact established or released in the step, built with
   !> text_format in a fixed buffer (no internal WRITE, no allocation: these are in the loop).
@@ -194,6 +311,7 @@ contains
   subroutine outputs_close(self)
     class(output_set_t), intent(inout) :: self
     if (self%with_events) call self%ev%close()
+    if (self%with_events) call self%contacts%close()
     call self%hist%close()
     call self%probes%close()
     if (self%with_fields) call self%fields%close()

@@ -275,6 +275,7 @@ contains
           'the coupled impulses (14) have no all-negative solution; decoupled roots of (13) scaled to restore ' // &
           'the lost energy exactly'
         call outs%write_events(scn, step, t, rs%cs)
+        call outs%add_contact_impulses(scn, rs%cs)
       else
         call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg)
       end if

@@ -54,6 +54,18 @@ def read_csv(path):
     return {n: data[:, i] for i, n in enumerate(names)}
 
 
+def contacts(outdir):
+    """contacts.csv as a dict column -> array (the contact name column as strings)."""
+    import csv
+    with open(os.path.join(outdir, 'contacts.csv')) as f:
+        rows = list(csv.DictReader(f))
+    cols = {}
+    for k in (rows[0].keys() if rows else []):
+        vals = [r[k] for r in rows]
+        cols[k] = np.array(vals) if k == 'contact' else np.array([float(x) for x in vals])
+    return cols
+
+
 def history(outdir):
     return read_csv(os.path.join(outdir, 'history.csv'))
 
