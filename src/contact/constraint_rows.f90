@@ -20,6 +20,7 @@ module constraint_rows
     logical :: final = .false.
     integer, allocatable :: ptr(:), eq(:)    !< c_j = Σ_{p = ptr(j)}^{ptr(j+1)-1} coef(p) e_eq(p)
     real(dp), allocatable :: coef(:), g0(:)
+    real(dp), allocatable :: rest(:)         !< restitution coefficient e of each condition (1: elastic)
     integer, allocatable :: node(:, :)       !< (2, nc) node_a, node_b (0: rigid obstacle)
     character(len=LABEL_LEN), allocatable :: name(:)
   contains
@@ -32,6 +33,7 @@ module constraint_rows
     procedure :: eq_at => rows_eq_at
     procedure :: coef_at => rows_coef_at
     procedure :: gap0 => rows_gap0
+    procedure :: restitution => rows_restitution
     procedure :: nodes => rows_nodes
     procedure :: label => rows_label
     procedure :: dot => rows_dot
@@ -47,13 +49,14 @@ contains
   !> Append the condition g0 + Σ coefs(k) u(eqs(k)) >= 0. Entries with eqs(k) <= 0 (supported
   !> or absent DOFs) or a zero coefficient are skipped. nodes = [node_a, node_b] and label name
   !> it in messages and results. Storage grows geometrically.
-  pure subroutine rows_add(self, g0, eqs, coefs, nodes, label)
+  pure subroutine rows_add(self, g0, eqs, coefs, nodes, label, restitution)
     class(constraint_rows_t), intent(inout) :: self
     real(dp), intent(in) :: g0
     integer, intent(in) :: eqs(:)
     real(dp), intent(in) :: coefs(:)
     integer, intent(in), optional :: nodes(2)
     character(len=*), intent(in), optional :: label
+    real(dp), intent(in), optional :: restitution
     integer :: k, nz, nc
     if (.not. allocated(self%ptr)) call reserve(self, 16, 64)
     nc = self%nc + 1
@@ -69,6 +72,8 @@ contains
     self%nc = nc
     self%ptr(nc + 1) = nz
     self%g0(nc) = g0
+    self%rest(nc) = 1.0_dp
+    if (present(restitution)) self%rest(nc) = restitution
     self%node(:, nc) = 0
     if (present(nodes)) self%node(:, nc) = nodes
     self%name(nc) = 'condition ' // str(nc)
@@ -85,7 +90,8 @@ contains
     character(len=LABEL_LEN), allocatable :: l1(:)
     integer :: m
     if (.not. allocated(self%ptr)) then
-      allocate (self%ptr(nc + 1), self%g0(nc), self%node(2, nc), self%name(nc), self%eq(nz), self%coef(nz))
+      allocate (self%ptr(nc + 1), self%g0(nc), self%rest(nc), self%node(2, nc), self%name(nc), self%eq(nz), &
+        self%coef(nz))
       self%ptr(1) = 1
       return
     end if
@@ -98,6 +104,9 @@ contains
       l1(1:self%nc) = self%name(1:self%nc)
       call move_alloc(i1, self%ptr)
       call move_alloc(r1, self%g0)
+      allocate (r1(m))
+      r1(1:self%nc) = self%rest(1:self%nc)
+      call move_alloc(r1, self%rest)
       call move_alloc(i2, self%node)
       call move_alloc(l1, self%name)
     end if
@@ -124,6 +133,7 @@ contains
     nz = self%ptr(self%nc + 1) - 1
     self%ptr = self%ptr(1:self%nc + 1)
     self%g0 = self%g0(1:self%nc)
+    self%rest = self%rest(1:self%nc)
     self%node = self%node(:, 1:self%nc)
     self%name = self%name(1:self%nc)
     self%eq = self%eq(1:nz)
@@ -221,6 +231,12 @@ contains
     integer, intent(in) :: j
     rows_gap0 = self%g0(j)
   end function rows_gap0
+
+  pure real(dp) function rows_restitution(self, j)
+    class(constraint_rows_t), intent(in) :: self
+    integer, intent(in) :: j
+    rows_restitution = self%rest(j)
+  end function rows_restitution
 
   !> [node_a, node_b] of condition j (node_a = 0: a rigid obstacle).
   pure function rows_nodes(self, j) result(nodes)

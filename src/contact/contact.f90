@@ -98,10 +98,10 @@ module contact
     type(contact_event_t), allocatable :: ev(:)
     integer :: n_ev = 0
     ! Workspaces (sized at contact_finalize; the dense ones grow with the largest active set).
-    real(dp), allocatable :: wq(:), wdiag(:), gn(:), gend(:), e(:), y(:), r(:), mu(:), tolj(:)
+    real(dp), allocatable :: wq(:), wdiag(:), gn(:), gend(:), e(:), y(:), r(:), mu(:), tolj(:), gain(:)
     logical, allocatable :: viol(:), now(:), est(:), rel(:), fallback(:), rows(:)
     integer, allocatable :: idx(:), cgroup(:), parent(:)
-    real(dp), allocatable :: f(:), xw(:), vp(:), mvp(:), ct(:)
+    real(dp), allocatable :: f(:), xw(:), vp(:), mvp(:), ct(:), vn(:), mvn(:)
     real(dp), allocatable :: amat(:, :), gmat(:, :), sv(:), work2(:)
     ! Rigid translations t_k (neq, 2) on the free equations and M t_k (contact_set_rigid_modes):
     ! PERSIST scales node-to-node groups about their centre-of-mass velocity.
@@ -140,6 +140,7 @@ module contact
     integer :: fp_failures = 0               !< 1 if (14) had no all-negative solution (see impulse_fixed_point)
     integer :: persist_groups = 0, persist_fallbacks = 0
     integer :: reflection_rank = 0           !< rank of A M⁻¹A' in (16) (< rows: dependent rows)
+    real(dp) :: impact_dissipated = 0.0_dp   !< kinetic energy removed by RESTITUTION e < 1
   end type contact_report_t
 
   interface
@@ -156,12 +157,12 @@ module contact
       type(contact_report_t), intent(out), optional :: report
     end subroutine contact_end_step
 
-    !> (16) The hzero step about the conditions conds, factor 2 (reflection) or 1 (PERSIST's
-    !> projection) (contact_impact).
-    module subroutine hzero_reflection(cs, conds, factor, v, mv, rank, stat, errmsg)
+    !> (16) The hzero step about the conditions conds with the gains 1 + e (2: the reflection;
+    !> 1: PERSIST's projection; RESTITUTION e: Newton's law) (contact_impact).
+    module subroutine hzero_reflection(cs, conds, gain, v, mv, rank, stat, errmsg)
       type(contact_set_t), intent(inout) :: cs
       integer, intent(in) :: conds(:)
-      real(dp), intent(in) :: factor
+      real(dp), intent(in) :: gain(:)
       real(dp), intent(inout) :: v(:), mv(:)
       integer, intent(out) :: rank
       integer, intent(out) :: stat
@@ -332,14 +333,15 @@ contains
   !> Append the condition g0 + Σ coefs(k) u(eqs(k)) >= 0 (see constraint_rows: entries with
   !> eqs(k) <= 0 are skipped). nodes = [node_a, node_b] (0 for a rigid obstacle) and label
   !> name it in messages and events.
-  pure subroutine contact_add(cs, g0, eqs, coefs, nodes, label)
+  pure subroutine contact_add(cs, g0, eqs, coefs, nodes, label, restitution)
     type(contact_set_t), intent(inout) :: cs
     real(dp), intent(in) :: g0
     integer, intent(in) :: eqs(:)
     real(dp), intent(in) :: coefs(:)
     integer, intent(in), optional :: nodes(2)
     character(len=*), intent(in), optional :: label
-    call cs%c%add(g0, eqs, coefs, nodes, label)
+    real(dp), intent(in), optional :: restitution   !< e in [0, 1] (default 1: elastic)
+    call cs%c%add(g0, eqs, coefs, nodes, label, restitution)
     cs%nc = cs%c%n()
     cs%finalized = .false.
   end subroutine contact_add
@@ -354,7 +356,7 @@ contains
     real(dp), intent(in) :: length_scale
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: nc, g0j
+    integer :: nc, g0j, j
     real(dp), allocatable :: g0(:)
     call cs%c%finalize(neq, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -373,14 +375,16 @@ contains
     call cs%st%init(g0)
     if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%mu, cs%viol, cs%now, &
       cs%est, cs%rel, cs%fallback, cs%idx, cs%cgroup, cs%f, cs%xw, cs%vp, cs%mvp, cs%rows, cs%ev, cs%sv, cs%ct, &
-      cs%work2, cs%ipiv, cs%tolj, cs%cimp, cs%bimp)
-    allocate (cs%cimp(nc), cs%bimp(2, nc), cs%tolj(nc), cs%wq(nc), cs%wdiag(nc), cs%gn(nc), cs%gend(nc), cs%e(nc), &
+      cs%work2, cs%ipiv, cs%tolj, cs%cimp, cs%bimp, cs%gain)
+    allocate (cs%gain(nc), cs%cimp(nc), cs%bimp(2, nc), cs%tolj(nc), cs%wq(nc), cs%wdiag(nc), cs%gn(nc), cs%gend(nc), cs%e(nc), &
       cs%y(nc), cs%r(nc), cs%mu(nc), cs%viol(nc), &
       cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%idx(nc), cs%cgroup(nc), cs%ev(nc), cs%sv(nc), &
       cs%ct(nc), cs%work2(2 * nc), cs%ipiv(nc))
     if (allocated(cs%parent)) deallocate (cs%parent)
     cs%has_rigid = .false.
+    if (allocated(cs%vn)) deallocate (cs%vn, cs%mvn)
     allocate (cs%f(neq), cs%xw(neq), cs%vp(neq), cs%mvp(neq), cs%rows(neq), cs%parent(neq))  ! bodies <= neq
+    if (any([(cs%c%restitution(j) < 1.0_dp, j = 1, nc)])) allocate (cs%vn(neq), cs%mvn(neq))
     if (allocated(cs%amat)) deallocate (cs%amat, cs%gmat)
     ! Dense blocks for up to 64 conditions established together; they grow beyond (rarely).
     allocate (cs%amat(min(nc, 64), min(nc, 64)), cs%gmat(min(nc, 64), min(nc, 64)))

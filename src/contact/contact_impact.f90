@@ -117,17 +117,25 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: j, n, rank
+    real(dp) :: t_elastic
+    logical :: inelastic
     call impulse_eq12_15(cs, sel, v, mv, rep, stat, errmsg)
     if (stat /= STAT_OK) return
     n = 0
+    inelastic = .false.
     do j = 1, cs%nc
       if (.not. sel(j)) cycle
       n = n + 1
       cs%idx(n) = j
+      cs%gain(n) = 1.0_dp + cs%c%restitution(j)
+      inelastic = inelastic .or. cs%c%restitution(j) < 1.0_dp
     end do
-    call hzero_reflection(cs, cs%idx(1:n), 2.0_dp, v, mv, rank, stat, errmsg)
+    if (inelastic) t_elastic = 0.5_dp * dot_product(v, mv)
+    call hzero_reflection(cs, cs%idx(1:n), cs%gain(1:n), v, mv, rank, stat, errmsg)
     rep%reflection_rank = rank
-    cs%cimp = cs%cimp - 2.0_dp * cs%mu
+    cs%cimp = cs%cimp - cs%mu
+    ! RESTITUTION e < 1: Newton's law took (1 - e²) of the normal kinetic energy (measured).
+    if (inelastic) rep%impact_dissipated = rep%impact_dissipated + (t_elastic - 0.5_dp * dot_product(v, mv))
   end subroutine paper_correction
 
   !> (12)-(15) for the conditions sel established in the step with Λ_j > 0: E_j (cs%e, eq 10)
@@ -182,23 +190,26 @@ contains
   !> h0 -> 0 with A held as equalities leaves only the mass terms,
   !>     M w + A'ν = M v,  A w = 0,   then v <- 2 w - v by (3),
   !> i.e. v <- v - 2 M⁻¹A'ν with (A M⁻¹A') ν = A v: the M-orthogonal reflection of v about the
-  !> tangent space of A (normal velocities reversed, v'Mv kept). factor = 2 is (16); factor = 1
-  !> stops at w, the M-orthogonal projection on A v = 0 that PERSIST uses (method.md section 6).
-  !> mv is updated with v (mv <- mv - factor A'ν). rank: independent rows of A (dependent ones,
-  !> e.g. duplicated conditions, get ν = 0). The dense hzero_reflection_dense of impact_kernels
-  !> is its test oracle.
+  !> tangent space of A (normal velocities reversed, v'Mv kept). With the gains g_k = 1 + e_k,
+  !> (A M⁻¹A') ν = diag(g) A v and v <- v - M⁻¹A'ν give A v <- -diag(e) A v: g = 2 (e = 1) is
+  !> (16); g = 1 (e = 0) stops at w, the M-orthogonal projection on A v = 0 that PERSIST uses
+  !> (method.md section 6); 0 <= e < 1 is Newton's law of restitution (RESTITUTION e) in the
+  !> M-metric. mv is updated with v (mv <- mv - A'ν). rank: independent rows of A (dependent
+  !> ones, e.g. duplicated conditions, get ν = 0). The dense hzero_reflection_dense of
+  !> impact_kernels is its test oracle.
   module procedure hzero_reflection
-    call normal_multiplier_ws(cs, conds, v, rank, stat, errmsg)
+    call normal_multiplier_ws(cs, conds, gain, v, rank, stat, errmsg)
     if (stat /= STAT_OK) return
-    call add_minv_ct(cs, cs%mu, -factor, v, mv, stat, errmsg)
+    call add_minv_ct(cs, cs%mu, -1.0_dp, v, mv, stat, errmsg)
   end procedure hzero_reflection
 
-  !> ν with (A M⁻¹A') ν = A v for the conditions A = conds, into cs%mu (0 elsewhere): the
+  !> ν with (A M⁻¹A') ν = diag(gain) A v for the conditions A = conds, into cs%mu (0 elsewhere): the
   !> multiplier of the hzero step (16) and of the PERSIST projection. normal_multiplier in the
   !> workspaces of cs (no allocation), with A M⁻¹A' from contact_am_block.
-  subroutine normal_multiplier_ws(cs, conds, v, rank, stat, errmsg)
+  subroutine normal_multiplier_ws(cs, conds, gain, v, rank, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(in) :: conds(:)
+    real(dp), intent(in) :: gain(:)
     real(dp), intent(in) :: v(:)
     integer, intent(out) :: rank
     integer, intent(out) :: stat
@@ -210,7 +221,7 @@ contains
     call contact_am_block(cs, conds, n, cs%amat(1:n, 1:n), stat, errmsg)
     if (stat /= STAT_OK) return
     do k = 1, n
-      cs%sv(k) = cs%c%dot(conds(k), v)
+      cs%sv(k) = gain(k) * cs%c%dot(conds(k), v)
     end do
     call spsd_solve_ws(n, cs%amat, cs%sv, rank, cs%ipiv, cs%work2)
     cs%mu = 0.0_dp
@@ -231,8 +242,8 @@ contains
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: nb, j, p, bj, i, grp, rank, n, j0
-    real(dp) :: t1, tp, tstar, s, acm(2), tcm, vcm, mvcm
+    integer :: nb, j, p, bj, i, grp, rank, n, j0, k
+    real(dp) :: t1, tp, tstar, s, acm(2), tcm, vcm, mvcm, dis
 
     stat = STAT_OK
     cs%fallback = .false.
@@ -285,13 +296,30 @@ contains
           n = n + 1
           cs%idx(n) = j
         end do
+        t1 = 0.5_dp * sum(v * mv, mask=rows)
+        ! RESTITUTION e < 1 on established conditions: Newton's law (gains 1 + e, maintained
+        ! contacts 1) tells the kinetic energy the impact keeps; the rest is dissipated.
+        dis = 0.0_dp
+        if (allocated(cs%vn)) then
+          do k = 1, n
+            cs%gain(k) = 1.0_dp
+            if (est(cs%idx(k))) cs%gain(k) = 1.0_dp + cs%c%restitution(cs%idx(k))
+          end do
+          if (any(cs%gain(1:n) < 2.0_dp .and. est(cs%idx(1:n)))) then
+            cs%vn = v
+            cs%mvn = mv
+            call hzero_reflection(cs, cs%idx(1:n), cs%gain(1:n), cs%vn, cs%mvn, rank, stat, errmsg)
+            if (stat /= STAT_OK) return
+            dis = t1 - 0.5_dp * sum(cs%vn * cs%mvn, mask=rows)
+          end if
+        end if
         cs%vp = v
         cs%mvp = mv
-        call hzero_reflection(cs, cs%idx(1:n), 1.0_dp, cs%vp, cs%mvp, rank, stat, errmsg)
+        cs%gain(1:n) = 1.0_dp
+        call hzero_reflection(cs, cs%idx(1:n), cs%gain(1:n), cs%vp, cs%mvp, rank, stat, errmsg)
         if (stat /= STAT_OK) return
-        t1 = 0.5_dp * sum(v * mv, mask=rows)
         tp = 0.5_dp * sum(cs%vp * cs%mvp, mask=rows)
-        tstar = t1 + sum(cs%e, mask=est .and. cgroup == grp)
+        tstar = t1 + sum(cs%e, mask=est .and. cgroup == grp) - dis
         ! Scale about the centre-of-mass velocity a_k t_k when the group's conditions are all
         ! invariant under its translations (node-to-node, no obstacle, no support): momentum and
         ! the zero normal velocities are kept; otherwise about zero.
@@ -303,6 +331,7 @@ contains
         end if
         s = persist_scale(tstar, tcm, tp - tcm)
         cs%cimp = cs%cimp - cs%mu                  ! the projection's impulses along c_j
+        rep%impact_dissipated = rep%impact_dissipated + dis
         j0 = findloc(est .and. cgroup == grp, .true., 1)
         do i = 1, cs%neq                           ! (a loop: a WHERE block allocates its mask)
           if (.not. rows(i)) cycle

@@ -28,6 +28,7 @@ module scene
     integer :: node_a = 0, node_b = 0
     real(dp) :: normal(2) = 0.0_dp
     real(dp) :: g0 = 0.0_dp
+    real(dp) :: restitution = 1.0_dp          !< RESTITUTION e: normal velocity after an impact = -e x before
     integer :: line = 0
   end type condition_t
 

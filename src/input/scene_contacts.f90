@@ -3,7 +3,7 @@
 module scene_contacts
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use statement, only: statement_t, token_t, stmt_error, find_param
+  use statement, only: statement_t, token_t, stmt_error, find_param, get
   use statement_schema, only: schema_t
   use scene, only: scene_t, condition_t
   use scene_helpers, only: node_group, get_pair, model_size, get_unit
@@ -19,11 +19,13 @@ contains
     call sch%add_param('OBSTACLE', 'NODES', 1, 1)
     call sch%add_param('OBSTACLE', 'POINT', 2, 2)
     call sch%add_param('OBSTACLE', 'NORMAL', 2, 2)
+    call sch%add_param('OBSTACLE', 'RESTITUTION', 1, 1)
     call sch%add_keyword('GAP', 1, 1)
     call sch%add_param('GAP', 'NODES', 1, 1)
     call sch%add_param('GAP', 'WITH', 1, 1)
     call sch%add_param('GAP', 'PAIRS', 2, -1)
     call sch%add_param('GAP', 'NORMAL', 2, 2)
+    call sch%add_param('GAP', 'RESTITUTION', 1, 1)
   end subroutine contacts_schema
 
   !> One contacts statement (pass 2 of load_scene).
@@ -84,6 +86,9 @@ contains
     if (stat /= STAT_OK) return
     call get_unit(st, 'NORMAL', n, stat, errmsg)
     if (stat /= STAT_OK) return
+    call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
+      upper=1.0_dp, upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
     do i = 1, size(scn%mesh%ngroups(ig)%items)
       c%source = st%lead(1)%text
       c%node_a = 0
@@ -119,6 +124,9 @@ contains
       call get_unit(st, 'NORMAL', n, stat, errmsg)
       if (stat /= STAT_OK) return
     end if
+    call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
+      upper=1.0_dp, upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
     if (kp > 0 .and. kn == 0 .and. kw == 0) then
       associate (vals => st%params(kp)%values)
         if (mod(size(vals), 2) /= 0) then

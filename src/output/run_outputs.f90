@@ -17,7 +17,8 @@ module run_outputs
   public :: output_set_t, HISTORY_HEADER, EVENTS_HEADER, CONTACTS_HEADER
 
   character(len=*), parameter :: HISTORY_HEADER = &
-    'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored'
+    'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored,' // &
+    'impact_dissipated'
   character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored'
   character(len=*), parameter :: CONTACTS_HEADER = 'step,time,contact,active,force_x,force_y,impulse_x,impulse_y,min_gap'
 
@@ -34,7 +35,7 @@ module run_outputs
     integer, allocatable :: cstat(:)
     real(dp), allocatable :: cimp(:, :), cforce(:, :)
     real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), reaction(:, :)
-    real(dp), allocatable :: preals(:), hreals(:), htail(:)
+    real(dp), allocatable :: preals(:), hreals(:), htail(:)   !< htail: dissipated, stored, impact_dissipated
   contains
     procedure :: open => outputs_open
     procedure :: write_step => outputs_write_step
@@ -67,7 +68,7 @@ contains
       header = header // ',' // scn%probes(i)%label
     end do
     allocate (self%nodal_u(3, scn%mesh%nnode), self%nodal_v(3, scn%mesh%nnode), self%estress(4, scn%mesh%nelem), &
-      self%reaction(3, scn%mesh%nnode), self%preals(1 + size(scn%probes)), self%hreals(6), self%htail(2))
+      self%reaction(3, scn%mesh%nnode), self%preals(1 + size(scn%probes)), self%hreals(6), self%htail(3))
     self%reaction = 0.0_dp
     self%h = scn%dt
     self%t_row = scn%t_start + step0 * scn%dt
@@ -116,9 +117,9 @@ contains
       if (mod(step, scn%history_every) == 0 .or. last) then
         self%hreals = [t, en%kinetic, en%internal(), en%external(), en%correction(), en%balance()]
         if (sys%linear) then
-          self%htail = [0.0_dp, en%elastic]
+          self%htail = [0.0_dp, en%elastic, en%impact_dissipated()]
         else
-          self%htail = [en%dissipated(), stored_energy(scn, sys)]
+          self%htail = [en%dissipated(), stored_energy(scn, sys), en%impact_dissipated()]
         end if
         call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail)
         if (stat /= STAT_OK) return

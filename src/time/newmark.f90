@@ -132,7 +132,7 @@ contains
         coefs(3:4) = -c%normal
         eqs(1:2) = max(sys%eqn(1:2, b), 0)
         if (a > 0) eqs(3:4) = max(sys%eqn(1:2, a), 0)
-        call contact_add(rs%cs, c%g0, eqs, coefs, nodes=[a, b], label=c%source)
+        call contact_add(rs%cs, c%g0, eqs, coefs, nodes=[a, b], label=c%source, restitution=c%restitution)
       end associate
     end do
     associate (x => scn%mesh%x(:, 1:scn%mesh%nnode))
@@ -271,6 +271,12 @@ contains
           exit
         end if
         nactive = crep%n_active
+        ! RESTITUTION e < 1: the kinetic energy the impact removed is dissipated, not lost by the
+        ! scheme; the correction is what was given back (the measured change plus that).
+        if (crep%impact_dissipated /= 0.0_dp) then
+          call rs%en%add_impact(crep%impact_dissipated)
+          e_rest = e_rest + crep%impact_dissipated
+        end if
         if (crep%fp_failures > 0) write (0, '(a)') 'rebond: warning: ' // at_step(step, t) // &
           'the coupled impulses (14) have no all-negative solution; decoupled roots of (13) scaled to restore ' // &
           'the lost energy exactly'

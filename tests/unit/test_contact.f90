@@ -324,7 +324,7 @@ contains
         factor = real(f, dp)
         v = v0
         mv = matmul(m, v0)
-        call hzero_reflection(cs, [1, 2, 3], factor, v, mv, rank, stat, errmsg)
+        call hzero_reflection(cs, [1, 2, 3], [factor, factor, factor], v, mv, rank, stat, errmsg)
         vd = v0
         if (f == 2) then
           call hzero_reflection_dense(minv_at, amat, matmul(a, v0), vd)
