@@ -116,7 +116,7 @@ contains
       else
         write (*, '(a)') 'rebond ' // VERSION // ': ' // scene_path
       end if
-      write (*, '(a,i0,a,i0,a,i0,a)') '  ', scn%mesh%nnode, ' nodes, ', scn%mesh%nelem, ' elements, ', sys%neq, ' equations'
+      write (*, '(a,i0,a,i0,a,i0,a)') '  ', scn%mesh%nnode, ' nodes, ', scn%mesh%nelem, ' elements, ', sys%dofs%neq, ' equations'
     end if
     call run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
     if (stat /= STAT_OK) then

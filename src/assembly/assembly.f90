@@ -26,34 +26,59 @@ module assembly
     integer :: func = 0
   end type load_vector_t
 
-  type :: system_t
+  !> The DOF map: equations of the free DOFs (supports eliminated).
+  type :: dof_table_t
     integer :: neq = 0                       !< free equations
-    integer :: ngp = 0                       !< integration points
     integer, allocatable :: eqn(:, :)        !< (3, nnode) equation of each node DOF (>0), fixed (-1), absent (0)
-    type(sym_csc_t) :: pat                   !< shared pattern of K0, M and the iteration matrix
-    real(dp), allocatable :: kval(:), mval(:)
-    logical :: mass_diagonal = .false.       !< every model lumped: M is its diagonal
-    real(dp), allocatable :: mdiag(:)
-    logical :: linear = .true.               !< every law linear: one solve per step, no iteration
-    ! Element data (for every mesh element; empty ranges for unmodelled ones).
+  end type dof_table_t
+
+  !> The element table: every element's equations and integration points (B, weights), per model
+  !> the elastic matrix, the point kind and the linearity of its law. Computed once.
+  type :: element_table_t
+    integer :: ngp = 0                       !< integration points
     integer, allocatable :: edof_ptr(:), edof(:)  !< equations of the element DOFs (0: fixed or absent)
     integer, allocatable :: gp_ptr(:)        !< (nelem+1) integration points of each element
     integer, allocatable :: b_ptr(:)         !< (ngp+1) offsets of each B in bmat
     real(dp), allocatable :: bmat(:), wt(:)
     real(dp), allocatable :: dmat(:, :, :)   !< (MAX_NSTRAIN, MAX_NSTRAIN, nmodel) elastic matrices
     integer, allocatable :: pk(:)            !< (nmodel) material-point kind
-    ! Integration-point state: committed (end of the last step) and trial; q internal variables.
+    logical, allocatable :: model_linear(:)  !< (nmodel) law linear: no sub-increments, sigma_c = 0
+    logical :: linear = .true.               !< every law linear: one solve per step, no iteration
+  end type element_table_t
+
+  !> The integration-point states: committed (end of the last step) and trial; q internal
+  !> variables. Saved and loaded with the checkpoints (save_points, load_points).
+  type :: point_states_t
     real(dp), allocatable :: eps(:, :), sig(:, :), eps_t(:, :), sig_t(:, :), q(:, :), q_t(:, :)
     integer :: nq = 0                        !< internal variables per point (largest over models)
-    logical, allocatable :: model_linear(:)  !< (nmodel) law linear: no sub-increments, sigma_c = 0
     integer, allocatable :: nsub_pt(:)       !< SUBSTEPS AUTO: largest count chosen so far in the step
+  end type point_states_t
+
+  !> The operators on one sparse pattern: K0, M (and its diagonal when lumped), the tangent.
+  type :: operators_t
+    type(sym_csc_t) :: pat                   !< shared pattern of K0, M and the iteration matrix
+    real(dp), allocatable :: kval(:), mval(:)
+    logical :: mass_diagonal = .false.       !< every model lumped: M is its diagonal
+    real(dp), allocatable :: mdiag(:)
     real(dp), allocatable :: tval(:)         !< tangent stiffness on the pattern (ITERATION TANGENT)
+  end type operators_t
+
+  !> The external forces: M g, and the LOAD statements' nodal vectors.
+  type :: load_set_t
+    real(dp), allocatable :: fgrav(:)        !< M g on the free DOFs
+    type(load_vector_t), allocatable :: vectors(:)
+  end type load_set_t
+
+  !> The discrete system of a scene, by role.
+  type :: system_t
+    type(dof_table_t) :: dofs
+    type(element_table_t) :: elems
+    type(point_states_t) :: pts
+    type(operators_t) :: ops
+    type(load_set_t) :: loads
     ! SCHEME PRECISION EXTENDED: linear elastic points evaluated in quadruple precision.
     logical :: extended = .false.
     real(qp), allocatable :: fint_q(:)       !< internal forces of the last evaluation, unrounded
-    ! External forces.
-    real(dp), allocatable :: fgrav(:)        !< M g on the free DOFs
-    type(load_vector_t), allocatable :: loads(:)
   end type system_t
 
 contains
@@ -65,7 +90,7 @@ contains
     integer, intent(in) :: ieq
     character(len=:), allocatable :: s
     integer :: loc(2)
-    loc = findloc(sys%eqn, ieq)
+    loc = findloc(sys%dofs%eqn, ieq)
     s = scn%path // ':' // str(scn%node_line(loc(2)))
   end function dof_origin
 
@@ -76,7 +101,7 @@ contains
     integer, intent(in) :: ieq
     character(len=:), allocatable :: s
     integer :: loc(2)
-    loc = findloc(sys%eqn, ieq)
+    loc = findloc(sys%dofs%eqn, ieq)
     s = 'node ' // str(loc(2)) // ' (x = ' // str(scn%mesh%x(1, loc(2))) // ', y = ' // str(scn%mesh%x(2, loc(2))) // &
       ') DOF ' // trim(DOF_NAMES(loc(1)))
   end function dof_label
@@ -88,8 +113,8 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
-    call build_dof_map(scn, sys%eqn, sys%neq)
-    if (sys%neq == 0) then
+    call build_dof_map(scn, sys%dofs%eqn, sys%dofs%neq)
+    if (sys%dofs%neq == 0) then
       call set_error(stat, errmsg, STAT_INPUT, scn%path // ':1: every degree of freedom is fixed: nothing moves')
       return
     end if
@@ -100,24 +125,24 @@ contains
     if (stat /= STAT_OK) return
     call build_loads(scn, sys, stat, errmsg)
     if (stat /= STAT_OK) return
-    allocate (sys%eps(MAX_NSTRAIN, sys%ngp), sys%sig(MAX_NSTRAIN, sys%ngp))
-    sys%eps = 0.0_dp
-    sys%sig = 0.0_dp
-    allocate (sys%eps_t, source=sys%eps)
-    allocate (sys%sig_t, source=sys%sig)
-    allocate (sys%nsub_pt(sys%ngp))
-    sys%nsub_pt = 0
-    allocate (sys%q(sys%nq, sys%ngp))
-    sys%q = 0.0_dp
-    allocate (sys%q_t, source=sys%q)
+    allocate (sys%pts%eps(MAX_NSTRAIN, sys%elems%ngp), sys%pts%sig(MAX_NSTRAIN, sys%elems%ngp))
+    sys%pts%eps = 0.0_dp
+    sys%pts%sig = 0.0_dp
+    allocate (sys%pts%eps_t, source=sys%pts%eps)
+    allocate (sys%pts%sig_t, source=sys%pts%sig)
+    allocate (sys%pts%nsub_pt(sys%elems%ngp))
+    sys%pts%nsub_pt = 0
+    allocate (sys%pts%q(sys%pts%nq, sys%elems%ngp))
+    sys%pts%q = 0.0_dp
+    allocate (sys%pts%q_t, source=sys%pts%q)
     sys%extended = scn%extended
     if (sys%extended) then
-      allocate (sys%fint_q(sys%neq))
+      allocate (sys%fint_q(sys%dofs%neq))
       sys%fint_q = 0.0_qp
     end if
-    if (scn%tangent .and. .not. sys%linear) then
-      allocate (sys%tval(sys%pat%nnz))
-      sys%tval = sys%kval
+    if (scn%tangent .and. .not. sys%elems%linear) then
+      allocate (sys%ops%tval(sys%ops%pat%nnz))
+      sys%ops%tval = sys%ops%kval
     end if
   end subroutine build_system
 
@@ -128,24 +153,24 @@ contains
     type(system_t), intent(inout) :: sys
     integer :: im, nstr, nmodel
     nmodel = size(scn%models)
-    allocate (sys%dmat(MAX_NSTRAIN, MAX_NSTRAIN, nmodel), sys%pk(nmodel), sys%model_linear(nmodel))
-    sys%dmat = 0.0_dp
+    allocate (sys%elems%dmat(MAX_NSTRAIN, MAX_NSTRAIN, nmodel), sys%elems%pk(nmodel), sys%elems%model_linear(nmodel))
+    sys%elems%dmat = 0.0_dp
     do im = 1, nmodel
       associate (md => scn%models(im))
-        sys%pk(im) = model_point_kind(md)
-        sys%model_linear(im) = .true.
+        sys%elems%pk(im) = model_point_kind(md)
+        sys%elems%model_linear(im) = .true.
         if (md%material > 0 .and. etype_needs_material(md%etype)) then
           nstr = elem_nstrain(md%etype)
           if (md%etype == ET_BEAM2 .and. md%sec%layers > 0) then
             ! Fibre section: the elastic matrix of the layers, as the fibre laws see it.
-            call law_elastic_matrix(scn%materials(md%material), md%sec, sys%pk(im), sys%dmat(1:nstr, 1:nstr, im))
+            call law_elastic_matrix(scn%materials(md%material), md%sec, sys%elems%pk(im), sys%elems%dmat(1:nstr, 1:nstr, im))
           else
             call elem_elastic_d(md%etype, scn%materials(md%material)%young, scn%materials(md%material)%poisson, &
-              md%sec, sys%dmat(1:nstr, 1:nstr, im))
+              md%sec, sys%elems%dmat(1:nstr, 1:nstr, im))
           end if
-          sys%model_linear(im) = law_is_linear(scn%materials(md%material))
-          sys%linear = sys%linear .and. sys%model_linear(im)
-          sys%nq = max(sys%nq, law_nstate(scn%materials(md%material), sys%pk(im), md%sec))
+          sys%elems%model_linear(im) = law_is_linear(scn%materials(md%material))
+          sys%elems%linear = sys%elems%linear .and. sys%elems%model_linear(im)
+          sys%pts%nq = max(sys%pts%nq, law_nstate(scn%materials(md%material), sys%elems%pk(im), md%sec))
         end if
       end associate
     end do
@@ -159,9 +184,9 @@ contains
     integer :: e, et, im, nen, ndof, nstr, ngp, ig, igp, nb, k, a, d, n
     logical :: mask(3)
     real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), w
-    allocate (sys%edof_ptr(scn%mesh%nelem + 1), sys%gp_ptr(scn%mesh%nelem + 1))
-    sys%edof_ptr(1) = 1
-    sys%gp_ptr(1) = 1
+    allocate (sys%elems%edof_ptr(scn%mesh%nelem + 1), sys%elems%gp_ptr(scn%mesh%nelem + 1))
+    sys%elems%edof_ptr(1) = 1
+    sys%elems%gp_ptr(1) = 1
     nb = 0
     do e = 1, scn%mesh%nelem
       ndof = 0
@@ -173,36 +198,37 @@ contains
         ngp = elem_ngauss(et, scn%models(im)%sec)
         nb = nb + ngp * elem_nstrain(et) * ndof
       end if
-      sys%edof_ptr(e + 1) = sys%edof_ptr(e) + ndof
-      sys%gp_ptr(e + 1) = sys%gp_ptr(e) + ngp
+      sys%elems%edof_ptr(e + 1) = sys%elems%edof_ptr(e) + ndof
+      sys%elems%gp_ptr(e + 1) = sys%elems%gp_ptr(e) + ngp
     end do
-    sys%ngp = sys%gp_ptr(scn%mesh%nelem + 1) - 1
-    allocate (sys%edof(sys%edof_ptr(scn%mesh%nelem + 1) - 1), sys%b_ptr(sys%ngp + 1), sys%bmat(nb), sys%wt(sys%ngp))
-    sys%b_ptr(1) = 1
+    sys%elems%ngp = sys%elems%gp_ptr(scn%mesh%nelem + 1) - 1
+    allocate (sys%elems%edof(sys%elems%edof_ptr(scn%mesh%nelem + 1) - 1), sys%elems%b_ptr(sys%elems%ngp + 1), &
+      sys%elems%bmat(nb), sys%elems%wt(sys%elems%ngp))
+    sys%elems%b_ptr(1) = 1
     do e = 1, scn%mesh%nelem
       im = scn%elem_model(e)
       if (im == 0) cycle
       et = scn%mesh%etype(e)
       nen = scn%mesh%nen(e)
       mask = elem_dof_mask(et)
-      k = sys%edof_ptr(e)
+      k = sys%elems%edof_ptr(e)
       do a = 1, nen
         n = scn%mesh%conn(a, e)
         do d = 1, 3
           if (.not. mask(d)) cycle
-          sys%edof(k) = max(sys%eqn(d, n), 0)
+          sys%elems%edof(k) = max(sys%dofs%eqn(d, n), 0)
           k = k + 1
         end do
       end do
       x(:, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
       ndof = elem_ndof(et)
       nstr = elem_nstrain(et)
-      do ig = 1, sys%gp_ptr(e + 1) - sys%gp_ptr(e)
-        igp = sys%gp_ptr(e) + ig - 1
+      do ig = 1, sys%elems%gp_ptr(e + 1) - sys%elems%gp_ptr(e)
+        igp = sys%elems%gp_ptr(e) + ig - 1
         call elem_gauss_b(et, x(:, 1:nen), scn%models(im)%sec, ig, b(1:nstr, 1:ndof), w)
-        sys%bmat(sys%b_ptr(igp):sys%b_ptr(igp) + nstr * ndof - 1) = reshape(b(1:nstr, 1:ndof), [nstr * ndof])
-        sys%wt(igp) = w
-        sys%b_ptr(igp + 1) = sys%b_ptr(igp) + nstr * ndof
+        sys%elems%bmat(sys%elems%b_ptr(igp):sys%elems%b_ptr(igp) + nstr * ndof - 1) = reshape(b(1:nstr, 1:ndof), [nstr * ndof])
+        sys%elems%wt(igp) = w
+        sys%elems%b_ptr(igp + 1) = sys%elems%b_ptr(igp) + nstr * ndof
       end do
     end do
   end subroutine element_table
@@ -217,13 +243,13 @@ contains
     real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho
     integer, allocatable :: eptr(:), edofs(:)
     allocate (eptr(scn%mesh%nelem + 1))
-    eptr = sys%edof_ptr
-    edofs = sys%edof
-    call sys%pat%build(sys%neq, eptr, edofs)
-    allocate (sys%kval(sys%pat%nnz), sys%mval(sys%pat%nnz), sys%fgrav(sys%neq))
-    sys%kval = 0.0_dp
-    sys%mval = 0.0_dp
-    sys%fgrav = 0.0_dp
+    eptr = sys%elems%edof_ptr
+    edofs = sys%elems%edof
+    call sys%ops%pat%build(sys%dofs%neq, eptr, edofs)
+    allocate (sys%ops%kval(sys%ops%pat%nnz), sys%ops%mval(sys%ops%pat%nnz), sys%loads%fgrav(sys%dofs%neq))
+    sys%ops%kval = 0.0_dp
+    sys%ops%mval = 0.0_dp
+    sys%loads%fgrav = 0.0_dp
     do e = 1, scn%mesh%nelem
       im = scn%elem_model(e)
       if (im == 0) cycle
@@ -231,19 +257,19 @@ contains
       nen = scn%mesh%nen(e)
       ndof = elem_ndof(et)
       nstr = elem_nstrain(et)
-      associate (dofs => sys%edof(sys%edof_ptr(e):sys%edof_ptr(e + 1) - 1))
+      associate (dofs => sys%elems%edof(sys%elems%edof_ptr(e):sys%elems%edof_ptr(e + 1) - 1))
         ke(1:ndof, 1:ndof) = 0.0_dp
-        do igp = sys%gp_ptr(e), sys%gp_ptr(e + 1) - 1
-          b(1:nstr, 1:ndof) = reshape(sys%bmat(sys%b_ptr(igp):sys%b_ptr(igp + 1) - 1), [nstr, ndof])
-          ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + sys%wt(igp) * &
-            matmul(transpose(b(1:nstr, 1:ndof)), matmul(sys%dmat(1:nstr, 1:nstr, im), b(1:nstr, 1:ndof)))
+        do igp = sys%elems%gp_ptr(e), sys%elems%gp_ptr(e + 1) - 1
+          b(1:nstr, 1:ndof) = reshape(sys%elems%bmat(sys%elems%b_ptr(igp):sys%elems%b_ptr(igp + 1) - 1), [nstr, ndof])
+          ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + sys%elems%wt(igp) * &
+            matmul(transpose(b(1:nstr, 1:ndof)), matmul(sys%elems%dmat(1:nstr, 1:nstr, im), b(1:nstr, 1:ndof)))
         end do
-        if (nstr > 0) call sys%pat%add_element(sys%kval, dofs, ke(1:ndof, 1:ndof))
+        if (nstr > 0) call sys%ops%pat%add_element(sys%ops%kval, dofs, ke(1:ndof, 1:ndof))
         x(:, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
         rho = 0.0_dp
         if (scn%models(im)%material > 0) rho = scn%materials(scn%models(im)%material)%density
         call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, scn%models(im)%lumped, me(1:ndof, 1:ndof))
-        call sys%pat%add_element(sys%mval, dofs, me(1:ndof, 1:ndof))
+        call sys%ops%pat%add_element(sys%ops%mval, dofs, me(1:ndof, 1:ndof))
         mask = elem_dof_mask(et)
         k = 0
         do a = 1, nen
@@ -256,7 +282,7 @@ contains
         end do
         g(1:ndof) = matmul(me(1:ndof, 1:ndof), g(1:ndof))
         do k = 1, ndof
-          if (dofs(k) > 0) sys%fgrav(dofs(k)) = sys%fgrav(dofs(k)) + g(k)
+          if (dofs(k) > 0) sys%loads%fgrav(dofs(k)) = sys%loads%fgrav(dofs(k)) + g(k)
         end do
       end associate
     end do
@@ -272,23 +298,23 @@ contains
     real(dp), allocatable :: dk(:), dm(:)
     integer :: i, k
     stat = STAT_OK
-    allocate (dk(sys%neq), dm(sys%neq))
-    call sys%pat%diagonal(sys%kval, dk)
-    call sys%pat%diagonal(sys%mval, dm)
-    do i = 1, sys%neq
+    allocate (dk(sys%dofs%neq), dm(sys%dofs%neq))
+    call sys%ops%pat%diagonal(sys%ops%kval, dk)
+    call sys%ops%pat%diagonal(sys%ops%mval, dm)
+    do i = 1, sys%dofs%neq
       if (dk(i) <= 0.0_dp .and. dm(i) <= 0.0_dp) then
         call set_error(stat, errmsg, STAT_INPUT, dof_origin(scn, sys, i) // ': singular system: ' // &
           dof_label(scn, sys, i) // ' has neither mass nor stiffness (fix it, or give it a mass or an element)')
         return
       end if
     end do
-    sys%mass_diagonal = .true.
-    do k = 1, sys%pat%nnz
-      if (sys%mval(k) /= 0.0_dp) then
-        if (.not. is_diagonal_position(sys%pat, k)) sys%mass_diagonal = .false.
+    sys%ops%mass_diagonal = .true.
+    do k = 1, sys%ops%pat%nnz
+      if (sys%ops%mval(k) /= 0.0_dp) then
+        if (.not. is_diagonal_position(sys%ops%pat, k)) sys%ops%mass_diagonal = .false.
       end if
     end do
-    if (sys%mass_diagonal) sys%mdiag = dm
+    if (sys%ops%mass_diagonal) sys%ops%mdiag = dm
   end subroutine check_operators
 
   !> True when position k of the pattern is a diagonal entry.
@@ -317,28 +343,28 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: il, i, n, d, k, cnt
     stat = STAT_OK
-    allocate (sys%loads(size(scn%loads)))
+    allocate (sys%loads%vectors(size(scn%loads)))
     do il = 1, size(scn%loads)
       associate (ld => scn%loads(il), nodes => scn%mesh%ngroups(scn%loads(il)%ngroup)%items)
         cnt = 0
         do i = 1, size(nodes)
           do d = 1, 3
-            if (ld%force(d) /= 0.0_dp .and. sys%eqn(d, nodes(i)) > 0) cnt = cnt + 1
+            if (ld%force(d) /= 0.0_dp .and. sys%dofs%eqn(d, nodes(i)) > 0) cnt = cnt + 1
           end do
         end do
-        allocate (sys%loads(il)%eq(cnt), sys%loads(il)%f(cnt))
+        allocate (sys%loads%vectors(il)%eq(cnt), sys%loads%vectors(il)%f(cnt))
         k = 0
         do i = 1, size(nodes)
           n = nodes(i)
           do d = 1, 3
-            if (ld%force(d) /= 0.0_dp .and. sys%eqn(d, n) > 0) then
+            if (ld%force(d) /= 0.0_dp .and. sys%dofs%eqn(d, n) > 0) then
               k = k + 1
-              sys%loads(il)%eq(k) = sys%eqn(d, n)
-              sys%loads(il)%f(k) = ld%force(d)
+              sys%loads%vectors(il)%eq(k) = sys%dofs%eqn(d, n)
+              sys%loads%vectors(il)%f(k) = ld%force(d)
             end if
           end do
         end do
-        sys%loads(il)%func = ld%func
+        sys%loads%vectors(il)%func = ld%func
       end associate
     end do
   end subroutine build_loads
@@ -351,12 +377,12 @@ contains
     real(dp), intent(out) :: f(:)
     integer :: il, k
     real(dp) :: s
-    f = function_value(scn%functions, scn%gravity_func, t) * sys%fgrav
-    do il = 1, size(sys%loads)
-      s = function_value(scn%functions, sys%loads(il)%func, t)
+    f = function_value(scn%functions, scn%gravity_func, t) * sys%loads%fgrav
+    do il = 1, size(sys%loads%vectors)
+      s = function_value(scn%functions, sys%loads%vectors(il)%func, t)
       ! An explicit loop: the vector-subscript form allocated temporaries at every step.
-      do k = 1, size(sys%loads(il)%eq)
-        f(sys%loads(il)%eq(k)) = f(sys%loads(il)%eq(k)) + s * sys%loads(il)%f(k)
+      do k = 1, size(sys%loads%vectors(il)%eq)
+        f(sys%loads%vectors(il)%eq(k)) = f(sys%loads%vectors(il)%eq(k)) + s * sys%loads%vectors(il)%f(k)
       end do
     end do
   end subroutine external_force
@@ -366,10 +392,10 @@ contains
     type(system_t), intent(in) :: sys
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: y(:)
-    if (sys%mass_diagonal) then
-      y = sys%mdiag * x
+    if (sys%ops%mass_diagonal) then
+      y = sys%ops%mdiag * x
     else
-      call sys%pat%matvec(sys%mval, x, y)
+      call sys%ops%pat%matvec(sys%ops%mval, x, y)
     end if
   end subroutine mass_times
 
@@ -379,16 +405,16 @@ contains
     real(qp), intent(in) :: x(:)
     real(qp), intent(out) :: y(:)
     integer :: j, k, i
-    if (sys%mass_diagonal) then
-      y = real(sys%mdiag, qp) * x
+    if (sys%ops%mass_diagonal) then
+      y = real(sys%ops%mdiag, qp) * x
       return
     end if
     y = 0.0_qp
-    do j = 1, sys%pat%n
-      do k = sys%pat%colptr(j), sys%pat%colptr(j + 1) - 1
-        i = sys%pat%rowind(k)
-        y(i) = y(i) + real(sys%mval(k), qp) * x(j)
-        if (i /= j) y(j) = y(j) + real(sys%mval(k), qp) * x(i)
+    do j = 1, sys%ops%pat%n
+      do k = sys%ops%pat%colptr(j), sys%ops%pat%colptr(j + 1) - 1
+        i = sys%ops%pat%rowind(k)
+        y(i) = y(i) + real(sys%ops%mval(k), qp) * x(j)
+        if (i /= j) y(j) = y(j) + real(sys%ops%mval(k), qp) * x(i)
       end do
     end do
   end subroutine mass_times_q
@@ -402,12 +428,12 @@ contains
     do e = 1, scn%mesh%nelem
       im = scn%elem_model(e)
       if (im == 0) cycle
-      if (sys%gp_ptr(e + 1) == sys%gp_ptr(e)) cycle
+      if (sys%elems%gp_ptr(e + 1) == sys%elems%gp_ptr(e)) cycle
       nstr = elem_nstrain(scn%mesh%etype(e))
-      nq = law_nstate(scn%materials(scn%models(im)%material), sys%pk(im), scn%models(im)%sec)
-      do igp = sys%gp_ptr(e), sys%gp_ptr(e + 1) - 1
-        w = w + sys%wt(igp) * law_stored(scn%materials(scn%models(im)%material), scn%models(im)%sec, sys%pk(im), &
-          sys%dmat(1:nstr, 1:nstr, im), sys%eps(1:nstr, igp), sys%sig(1:nstr, igp), sys%q(1:nq, igp))
+      nq = law_nstate(scn%materials(scn%models(im)%material), sys%elems%pk(im), scn%models(im)%sec)
+      do igp = sys%elems%gp_ptr(e), sys%elems%gp_ptr(e + 1) - 1
+        w = w + sys%elems%wt(igp) * law_stored(scn%materials(scn%models(im)%material), scn%models(im)%sec, sys%elems%pk(im), &
+          sys%elems%dmat(1:nstr, 1:nstr, im), sys%pts%eps(1:nstr, igp), sys%pts%sig(1:nstr, igp), sys%pts%q(1:nq, igp))
       end do
     end do
   end function stored_energy
@@ -418,17 +444,17 @@ contains
   subroutine commit_state(sys)
     type(system_t), intent(inout) :: sys
     real(dp), allocatable :: tmp(:, :)
-    sys%nsub_pt = 0
-    call move_alloc(sys%eps, tmp)
-    call move_alloc(sys%eps_t, sys%eps)
-    call move_alloc(tmp, sys%eps_t)
-    call move_alloc(sys%sig, tmp)
-    call move_alloc(sys%sig_t, sys%sig)
-    call move_alloc(tmp, sys%sig_t)
-    if (sys%nq > 0) then
-      call move_alloc(sys%q, tmp)
-      call move_alloc(sys%q_t, sys%q)
-      call move_alloc(tmp, sys%q_t)
+    sys%pts%nsub_pt = 0
+    call move_alloc(sys%pts%eps, tmp)
+    call move_alloc(sys%pts%eps_t, sys%pts%eps)
+    call move_alloc(tmp, sys%pts%eps_t)
+    call move_alloc(sys%pts%sig, tmp)
+    call move_alloc(sys%pts%sig_t, sys%pts%sig)
+    call move_alloc(tmp, sys%pts%sig_t)
+    if (sys%pts%nq > 0) then
+      call move_alloc(sys%pts%q, tmp)
+      call move_alloc(sys%pts%q_t, sys%pts%q)
+      call move_alloc(tmp, sys%pts%q_t)
     end if
   end subroutine commit_state
 
@@ -439,9 +465,9 @@ contains
     type(ckpt_file_t), intent(inout) :: ck
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
-    call ck%put('eps', sys%eps, stat, errmsg)
-    call ck%put('sig', sys%sig, stat, errmsg)
-    if (sys%nq > 0) call ck%put('q', sys%q, stat, errmsg)
+    call ck%put('eps', sys%pts%eps, stat, errmsg)
+    call ck%put('sig', sys%pts%sig, stat, errmsg)
+    if (sys%pts%nq > 0) call ck%put('q', sys%pts%q, stat, errmsg)
   end subroutine save_points
 
   subroutine load_points(sys, ck, stat, errmsg)
@@ -449,9 +475,9 @@ contains
     type(ckpt_file_t), intent(inout) :: ck
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
-    call ck%get('eps', sys%eps, stat, errmsg)
-    call ck%get('sig', sys%sig, stat, errmsg)
-    if (sys%nq > 0) call ck%get('q', sys%q, stat, errmsg)
+    call ck%get('eps', sys%pts%eps, stat, errmsg)
+    call ck%get('sig', sys%pts%sig, stat, errmsg)
+    if (sys%pts%nq > 0) call ck%get('q', sys%pts%q, stat, errmsg)
   end subroutine load_points
 
   !> Element means of the integration-point stresses, (MAX_NSTRAIN, nelem).
@@ -460,11 +486,11 @@ contains
     real(dp), intent(out) :: s(:, :)
     integer :: e, n
     do e = 1, size(s, 2)
-      n = sys%gp_ptr(e + 1) - sys%gp_ptr(e)
+      n = sys%elems%gp_ptr(e + 1) - sys%elems%gp_ptr(e)
       if (n == 0) then
         s(:, e) = 0.0_dp
       else
-        s(:, e) = sum(sys%sig(:, sys%gp_ptr(e):sys%gp_ptr(e + 1) - 1), dim=2) / n
+        s(:, e) = sum(sys%pts%sig(:, sys%elems%gp_ptr(e):sys%elems%gp_ptr(e + 1) - 1), dim=2) / n
       end if
     end do
   end subroutine element_stress
@@ -478,7 +504,7 @@ contains
     do n = 1, size(out, 2)
       do d = 1, 3
         out(d, n) = 0.0_dp
-        if (sys%eqn(d, n) > 0) out(d, n) = u(sys%eqn(d, n))
+        if (sys%dofs%eqn(d, n) > 0) out(d, n) = u(sys%dofs%eqn(d, n))
       end do
     end do
   end subroutine nodal_values
@@ -505,7 +531,7 @@ contains
           n = nodes(i)
           do d = 1, 3
             if (.not. c%mask(d)) cycle
-            j = sys%eqn(d, n)
+            j = sys%dofs%eqn(d, n)
             ! Supports win over initial values: a fixed (or absent) DOF keeps zero.
             if (j <= 0) cycle
             select case (c%kind)

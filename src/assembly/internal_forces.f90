@@ -35,7 +35,7 @@ contains
   !> eq (9), sigma_c = 2 sigma_bar - (sigma(n) + sigma(n+1)); with correct = .false., or at
   !> points whose step stayed elastic, sigma_c is not formed (it is exactly zero), and the
   !> energies of the increment in inc. With tangent = .true. the consistent tangent is
-  !> assembled into sys%tval. Every trial point (eps_t, sig_t, q_t) is written before it is
+  !> assembled into sys%ops%tval. Every trial point (eps_t, sig_t, q_t) is written before it is
   !> read, so commit_state may swap the trial and committed arrays. uq: u unrounded
   !> (PRECISION EXTENDED: the linear elastic points are then evaluated in quadruple precision).
   subroutine internal_force(scn, sys, u, fint, fcorr, correct, tangent, inc, uq)
@@ -58,19 +58,19 @@ contains
     wsum = 0.0_dp
     esum = 0.0_dp
     dsum = 0.0_dp
-    if (tangent) sys%tval = 0.0_dp
+    if (tangent) sys%ops%tval = 0.0_dp
     do e = 1, scn%mesh%nelem
       if (scn%elem_model(e) == 0) cycle
-      g0 = sys%gp_ptr(e)
-      ng = sys%gp_ptr(e + 1) - g0
+      g0 = sys%elems%gp_ptr(e)
+      ng = sys%elems%gp_ptr(e + 1) - g0
       if (ng == 0) cycle
-      e0 = sys%edof_ptr(e)
-      ndof = sys%edof_ptr(e + 1) - e0
-      nstr = (sys%b_ptr(g0 + 1) - sys%b_ptr(g0)) / ndof
+      e0 = sys%elems%edof_ptr(e)
+      ndof = sys%elems%edof_ptr(e + 1) - e0
+      nstr = (sys%elems%b_ptr(g0 + 1) - sys%elems%b_ptr(g0)) / ndof
       ! Per-model data, looked up once per run of elements of the same model.
       if (scn%elem_model(e) /= mv%im) call view_model(scn, sys, scn%elem_model(e), mv)
       do k = 1, ndof
-        j = sys%edof(e0 + k - 1)
+        j = sys%elems%edof(e0 + k - 1)
         ue(k) = 0.0_dp
         if (j > 0) ue(k) = u(j)
       end do
@@ -87,7 +87,7 @@ contains
         call nonlinear_element(scn, sys, mv, g0, ng, ndof, nstr, ue, correct, tangent, fe, fc, ke, any_c, wsum, dsum, &
           esum)
       end if
-      associate (dofs => sys%edof(e0:e0 + ndof - 1))
+      associate (dofs => sys%elems%edof(e0:e0 + ndof - 1))
         do k = 1, ndof
           j = dofs(k)
           if (j <= 0) cycle
@@ -98,7 +98,7 @@ contains
           end if
           if (any_c) fcorr(j) = fcorr(j) + fc(k)
         end do
-        if (tangent) call sys%pat%add_element(sys%tval, dofs, ke(1:ndof, 1:ndof))
+        if (tangent) call sys%ops%pat%add_element(sys%ops%tval, dofs, ke(1:ndof, 1:ndof))
       end associate
     end do
     if (sys%extended) then
@@ -114,11 +114,11 @@ contains
     integer, intent(in) :: im
     type(model_view_t), intent(out) :: mv
     mv%im = im
-    mv%linear = sys%model_linear(im)
+    mv%linear = sys%elems%model_linear(im)
     mv%nsub = scn%models(im)%substeps
     mv%mat = scn%models(im)%material
     mv%nq = 0
-    if (mv%mat > 0) mv%nq = law_nstate(scn%materials(mv%mat), sys%pk(im), scn%models(im)%sec)
+    if (mv%mat > 0) mv%nq = law_nstate(scn%materials(mv%mat), sys%elems%pk(im), scn%models(im)%sec)
   end subroutine view_model
 
   !> Linear elastic points of one element: fixed-size kernels over the element's points (B,
@@ -131,21 +131,21 @@ contains
     logical, intent(in) :: tangent
     real(dp), intent(inout) :: fe(:), ke(:, :), esum
     integer :: p, igp
-    p = sys%b_ptr(g0)
+    p = sys%elems%b_ptr(g0)
     select case (nstr)
     case (4)
-      call linear_points_4(ndof, ng, sys%bmat(p), sys%wt(g0), ue, sys%dmat(1, 1, im), &
-        sys%eps_t(1, g0), sys%sig_t(1, g0), fe, esum)
+      call linear_points_4(ndof, ng, sys%elems%bmat(p), sys%elems%wt(g0), ue, sys%elems%dmat(1, 1, im), &
+        sys%pts%eps_t(1, g0), sys%pts%sig_t(1, g0), fe, esum)
     case (2)
-      call linear_points_2(ndof, ng, sys%bmat(p), sys%wt(g0), ue, sys%dmat(1, 1, im), &
-        sys%eps_t(1, g0), sys%sig_t(1, g0), fe, esum)
+      call linear_points_2(ndof, ng, sys%elems%bmat(p), sys%elems%wt(g0), ue, sys%elems%dmat(1, 1, im), &
+        sys%pts%eps_t(1, g0), sys%pts%sig_t(1, g0), fe, esum)
     case default
-      call linear_points_1(ndof, ng, sys%bmat(p), sys%wt(g0), ue, sys%dmat(1, 1, im), &
-        sys%eps_t(1, g0), sys%sig_t(1, g0), fe, esum)
+      call linear_points_1(ndof, ng, sys%elems%bmat(p), sys%elems%wt(g0), ue, sys%elems%dmat(1, 1, im), &
+        sys%pts%eps_t(1, g0), sys%pts%sig_t(1, g0), fe, esum)
     end select
     if (tangent) then
       do igp = g0, g0 + ng - 1
-        call add_btdb(nstr, ndof, sys%bmat(sys%b_ptr(igp)), sys%dmat(1, 1, im), sys%wt(igp), ke)
+        call add_btdb(nstr, ndof, sys%elems%bmat(sys%elems%b_ptr(igp)), sys%elems%dmat(1, 1, im), sys%elems%wt(igp), ke)
       end do
     end if
   end subroutine linear_element
@@ -163,14 +163,14 @@ contains
     real(qp), intent(in), optional :: uq(:)
     real(qp) :: ueq(MAX_EDOF), feq(MAX_EDOF), epsq(MAX_NSTRAIN), sigq(MAX_NSTRAIN), dq(MAX_NSTRAIN, MAX_NSTRAIN), wq
     integer :: e0, g0, ng, ndof, nstr, k, j, a, b2, igp, p
-    g0 = sys%gp_ptr(e)
-    ng = sys%gp_ptr(e + 1) - g0
-    e0 = sys%edof_ptr(e)
-    ndof = sys%edof_ptr(e + 1) - e0
-    nstr = (sys%b_ptr(g0 + 1) - sys%b_ptr(g0)) / ndof
+    g0 = sys%elems%gp_ptr(e)
+    ng = sys%elems%gp_ptr(e + 1) - g0
+    e0 = sys%elems%edof_ptr(e)
+    ndof = sys%elems%edof_ptr(e + 1) - e0
+    nstr = (sys%elems%b_ptr(g0 + 1) - sys%elems%b_ptr(g0)) / ndof
     if (present(uq)) then
       do k = 1, ndof
-        j = sys%edof(e0 + k - 1)
+        j = sys%elems%edof(e0 + k - 1)
         ueq(k) = 0.0_qp
         if (j > 0) ueq(k) = uq(j)
       end do
@@ -180,18 +180,18 @@ contains
     feq(1:ndof) = 0.0_qp
     do a = 1, nstr
       do b2 = 1, nstr
-        dq(a, b2) = real(sys%dmat(a, b2, im), qp)
+        dq(a, b2) = real(sys%elems%dmat(a, b2, im), qp)
       end do
     end do
     do igp = g0, g0 + ng - 1
-      p = sys%b_ptr(igp) - 1
-      wq = real(sys%wt(igp), qp)
+      p = sys%elems%b_ptr(igp) - 1
+      wq = real(sys%elems%wt(igp), qp)
       epsq(1:nstr) = 0.0_qp
       do k = 1, ndof
         if (ueq(k) == 0.0_qp) cycle
         do a = 1, nstr
-          if (sys%bmat(p + (k - 1) * nstr + a) /= 0.0_dp) &
-            epsq(a) = epsq(a) + real(sys%bmat(p + (k - 1) * nstr + a), qp) * ueq(k)
+          if (sys%elems%bmat(p + (k - 1) * nstr + a) /= 0.0_dp) &
+            epsq(a) = epsq(a) + real(sys%elems%bmat(p + (k - 1) * nstr + a), qp) * ueq(k)
         end do
       end do
       do a = 1, nstr
@@ -202,16 +202,16 @@ contains
       end do
       do k = 1, ndof
         do a = 1, nstr
-          if (sys%bmat(p + (k - 1) * nstr + a) /= 0.0_dp) &
-            feq(k) = feq(k) + wq * (real(sys%bmat(p + (k - 1) * nstr + a), qp) * sigq(a))
+          if (sys%elems%bmat(p + (k - 1) * nstr + a) /= 0.0_dp) &
+            feq(k) = feq(k) + wq * (real(sys%elems%bmat(p + (k - 1) * nstr + a), qp) * sigq(a))
         end do
       end do
       esumq = esumq + 0.5_qp * wq * sum(sigq(1:nstr) * epsq(1:nstr))
-      sys%eps_t(1:nstr, igp) = real(epsq(1:nstr), dp)
-      sys%sig_t(1:nstr, igp) = real(sigq(1:nstr), dp)
+      sys%pts%eps_t(1:nstr, igp) = real(epsq(1:nstr), dp)
+      sys%pts%sig_t(1:nstr, igp) = real(sigq(1:nstr), dp)
     end do
     do k = 1, ndof
-      j = sys%edof(e0 + k - 1)
+      j = sys%elems%edof(e0 + k - 1)
       if (j > 0) sys%fint_q(j) = sys%fint_q(j) + feq(k)
     end do
   end subroutine linear_element_q
@@ -233,46 +233,46 @@ contains
     integer :: igp, p, nused, n, pass
     fc(1:ndof) = 0.0_dp
     do igp = g0, g0 + ng - 1
-      p = sys%b_ptr(igp)
-      w = sys%wt(igp)
+      p = sys%elems%b_ptr(igp)
+      w = sys%elems%wt(igp)
       ! eps = B ue (B stored column-major, nstr x ndof)
-      call b_times(nstr, ndof, sys%bmat(p), ue, sys%eps_t(1, igp))
-      deps(1:nstr) = sys%eps_t(1:nstr, igp) - sys%eps(1:nstr, igp)
+      call b_times(nstr, ndof, sys%elems%bmat(p), ue, sys%pts%eps_t(1, igp))
+      deps(1:nstr) = sys%pts%eps_t(1:nstr, igp) - sys%pts%eps(1:nstr, igp)
       ! SUBSTEPS AUTO (nsub <= 0): the count may only grow during the iterations of a step; a
       ! count that changes back and forth makes the residual of eq (9) jump and cycle. So a
       ! point that asks for fewer sub-increments than before in this step is redone with them.
       n = mv%nsub
       do pass = 1, 2
         if (tangent) then
-          call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%pk(mv%im), &
-            sys%dmat(1:nstr, 1:nstr, mv%im), n, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
-            sys%q(1:mv%nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:mv%nq, igp), work, dissip, nused, &
+          call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%elems%pk(mv%im), &
+            sys%elems%dmat(1:nstr, 1:nstr, mv%im), n, sys%pts%eps(1:nstr, igp), deps(1:nstr), sys%pts%sig(1:nstr, igp), &
+            sys%pts%q(1:mv%nq, igp), sys%pts%sig_t(1:nstr, igp), sbar(1:nstr), sys%pts%q_t(1:mv%nq, igp), work, dissip, nused, &
             dt(1:nstr, 1:nstr))
         else
-          call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%pk(mv%im), &
-            sys%dmat(1:nstr, 1:nstr, mv%im), n, sys%eps(1:nstr, igp), deps(1:nstr), sys%sig(1:nstr, igp), &
-            sys%q(1:mv%nq, igp), sys%sig_t(1:nstr, igp), sbar(1:nstr), sys%q_t(1:mv%nq, igp), work, dissip, nused)
+          call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%elems%pk(mv%im), &
+            sys%elems%dmat(1:nstr, 1:nstr, mv%im), n, sys%pts%eps(1:nstr, igp), deps(1:nstr), sys%pts%sig(1:nstr, igp), &
+            sys%pts%q(1:mv%nq, igp), sys%pts%sig_t(1:nstr, igp), sbar(1:nstr), sys%pts%q_t(1:mv%nq, igp), work, dissip, nused)
         end if
         if (mv%nsub > 0 .or. pass == 2) exit
-        if (nused >= sys%nsub_pt(igp)) then
-          sys%nsub_pt(igp) = nused
+        if (nused >= sys%pts%nsub_pt(igp)) then
+          sys%pts%nsub_pt(igp) = nused
           exit
         end if
-        n = sys%nsub_pt(igp)
+        n = sys%pts%nsub_pt(igp)
       end do
-      if (tangent) call add_btdb(nstr, ndof, sys%bmat(p), dt, w, ke)
+      if (tangent) call add_btdb(nstr, ndof, sys%elems%bmat(p), dt, w, ke)
       if (mv%linear) then
-        esum = esum + 0.5_dp * w * dot_product(sys%sig_t(1:nstr, igp), sys%eps_t(1:nstr, igp))
+        esum = esum + 0.5_dp * w * dot_product(sys%pts%sig_t(1:nstr, igp), sys%pts%eps_t(1:nstr, igp))
       else
         wsum = wsum + w * work
         dsum = dsum + w * dissip
       end if
-      call add_btsig(nstr, ndof, sys%bmat(p), sys%sig_t(1, igp), w, fe)
+      call add_btsig(nstr, ndof, sys%elems%bmat(p), sys%pts%sig_t(1, igp), w, fe)
       ! Eq (9): the correction stress, only where the law was sub-incremented.
       if (nused > 0 .and. correct) then
         any_c = .true.
-        call correction_stress(sbar(1:nstr), sys%sig(1:nstr, igp), sys%sig_t(1:nstr, igp), sc(1:nstr))
-        call add_btsig(nstr, ndof, sys%bmat(p), sc, w, fc)
+        call correction_stress(sbar(1:nstr), sys%pts%sig(1:nstr, igp), sys%pts%sig_t(1:nstr, igp), sc(1:nstr))
+        call add_btsig(nstr, ndof, sys%elems%bmat(p), sc, w, fc)
       end if
     end do
 

@@ -116,7 +116,7 @@ contains
     if (scn%history_every > 0) then
       if (mod(step, scn%history_every) == 0 .or. last) then
         self%hreals = [t, en%kinetic, en%internal(), en%external(), en%correction(), en%balance()]
-        if (sys%linear) then
+        if (sys%elems%linear) then
           self%htail = [0.0_dp, en%elastic, en%impact_dissipated()]
         else
           self%htail = [en%dissipated(), stored_energy(scn, sys), en%impact_dissipated()]
@@ -126,7 +126,7 @@ contains
         self%preals(1) = t
         do k = 1, size(scn%probes)
           self%preals(k + 1) = 0.0_dp
-          associate (j => sys%eqn(scn%probes(k)%dof, scn%probes(k)%node))
+          associate (j => sys%dofs%eqn(scn%probes(k)%dof, scn%probes(k)%node))
             if (j > 0) self%preals(k + 1) = u(j)
           end associate
         end do

@@ -40,10 +40,10 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     integer, intent(out) :: minor
     self%c4 = 4.0_dp / h**2
-    self%tangent = allocated(sys%tval)
+    self%tangent = allocated(sys%ops%tval)
     self%fallback = .false.
-    self%sval = sys%kval + (4.0_dp / h**2) * sys%mval
-    call self%factor%factorize(sys%pat, self%sval, stat, errmsg, minor)
+    self%sval = sys%ops%kval + (4.0_dp / h**2) * sys%ops%mval
+    call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg, minor)
   end subroutine mat_setup
 
   pure subroutine mat_begin_step(self)
@@ -62,8 +62,8 @@ contains
     stat = STAT_OK
     refactored = self%tangent .and. .not. self%fallback
     if (.not. refactored) return
-    self%sval = sys%tval + self%c4 * sys%mval
-    call self%factor%factorize(sys%pat, self%sval, stat, errmsg)
+    self%sval = sys%ops%tval + self%c4 * sys%ops%mval
+    call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg)
   end subroutine mat_update
 
   !> After the residual of iteration iter (res(1:iter) the norms so far): the TANGENT fallback.
@@ -84,8 +84,8 @@ contains
     if (res(iter) >= 0.99_dp * res(iter - 1) .and. res(iter - 1) >= 0.99_dp * res(iter - 2)) then
       self%fallback = .true.
       refactored = .true.
-      self%sval = sys%kval + self%c4 * sys%mval
-      call self%factor%factorize(sys%pat, self%sval, stat, errmsg)
+      self%sval = sys%ops%kval + self%c4 * sys%ops%mval
+      call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg)
     end if
   end subroutine mat_check_stall
 

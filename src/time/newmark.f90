@@ -71,7 +71,7 @@ contains
     real(dp), allocatable :: fstatic(:), ustatic(:)
     logical :: has_static
 
-    n = sys%neq
+    n = sys%dofs%neq
     rs%h = scn%dt
     span = scn%t_end - scn%t_start
     rs%nsteps = nint(span / rs%h)
@@ -83,7 +83,7 @@ contains
     if (stat /= STAT_OK) return
     if (has_static) then
       ! Static preload: K0 u = f, released at t = 0.
-      call rs%mat%factor%factorize(sys%pat, sys%kval, stat, errmsg, minor)
+      call rs%mat%factor%factorize(sys%ops%pat, sys%ops%kval, stat, errmsg, minor)
       if (stat /= STAT_OK) then
         call set_error(stat, errmsg, STAT_INPUT, dof_origin(scn, sys, minor) // &
           ': INITIAL STATIC: the stiffness is singular at ' // &
@@ -130,8 +130,8 @@ contains
         eqs = 0
         coefs(1:2) = c%normal
         coefs(3:4) = -c%normal
-        eqs(1:2) = max(sys%eqn(1:2, b), 0)
-        if (a > 0) eqs(3:4) = max(sys%eqn(1:2, a), 0)
+        eqs(1:2) = max(sys%dofs%eqn(1:2, b), 0)
+        if (a > 0) eqs(3:4) = max(sys%dofs%eqn(1:2, a), 0)
         call contact_add(rs%cs, c%g0, eqs, coefs, nodes=[a, b], label=c%source, restitution=c%restitution)
       end associate
     end do
@@ -141,16 +141,16 @@ contains
     if (lscale <= 0.0_dp) lscale = 1.0_dp
     rs%cs%settings%solver = scn%multipliers
     rs%cs%settings%switch_size = scn%augmented_above
-    call contact_finalize(rs%cs, sys%neq, lscale, stat, errmsg)
+    call contact_finalize(rs%cs, sys%dofs%neq, lscale, stat, errmsg)
     if (stat /= STAT_OK) return
     call check_initial_gaps(scn, rs%cs, rs%st%u, lscale, stat, errmsg)
     if (stat /= STAT_OK) return
     if (scn%impact /= IMPACT_OFF) then
       ! The impulse (12) and the reflection (16) need M^-1: every DOF must carry mass.
-      if (sys%mass_diagonal) then
-        call contact_set_mass(rs%cs, sys%mdiag, stat, msg)
+      if (sys%ops%mass_diagonal) then
+        call contact_set_mass(rs%cs, sys%ops%mdiag, stat, msg)
       else
-        call contact_set_mass(rs%cs, sys%pat, sys%mval, stat, msg)
+        call contact_set_mass(rs%cs, sys%ops%pat, sys%ops%mval, stat, msg)
       end if
       if (stat /= STAT_OK) then
         call set_error(stat, errmsg, STAT_INPUT, scn%path // ': SCHEME IMPACT PAPER/PERSIST needs a mass on every ' // &
@@ -158,14 +158,14 @@ contains
         return
       end if
     end if
-    call contact_prepare(rs%cs, rs%mat%factor, stat, errmsg, sys%pat, rs%mat%sval)
+    call contact_prepare(rs%cs, rs%mat%factor, stat, errmsg, sys%ops%pat, rs%mat%sval)
     if (stat /= STAT_OK) return
     ! Rigid translations on the free equations, for PERSIST's momentum-keeping scaling.
-    allocate (trig(sys%neq, 2), mtrig(sys%neq, 2))
+    allocate (trig(sys%dofs%neq, 2), mtrig(sys%dofs%neq, 2))
     trig = 0.0_dp
     do j = 1, scn%mesh%nnode
       do k = 1, 2
-        if (sys%eqn(k, j) > 0) trig(sys%eqn(k, j), k) = 1.0_dp
+        if (sys%dofs%eqn(k, j) > 0) trig(sys%dofs%eqn(k, j), k) = 1.0_dp
       end do
     end do
     do k = 1, 2
@@ -173,7 +173,7 @@ contains
     end do
     call contact_set_rigid_modes(rs%cs, trig, mtrig, stat, errmsg)
     if (stat /= STAT_OK) return
-    call equation_bodies(scn, sys%eqn, sys%neq, rs%body)
+    call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, rs%body)
     allocate (rs%lam(size(scn%conditions)))
     rs%lam = 0.0_dp
   end subroutine setup_contact
@@ -417,7 +417,7 @@ contains
     call ck%put('step', step, stat, errmsg)
     call ck%put('time', t, stat, errmsg)
     call ck%put('iterations', iters, stat, errmsg)
-    call ck%put('neq', sys%neq, stat, errmsg)
+    call ck%put('neq', sys%dofs%neq, stat, errmsg)
     call rs%st%save(ck, stat, errmsg)
     call save_points(sys, ck, stat, errmsg)
     call rs%en%save(ck, stat, errmsg)
@@ -444,9 +444,9 @@ contains
     call ck%get('time', tck, stat, errmsg)
     call ck%get('iterations', iters, stat, errmsg)
     call ck%get('neq', neq, stat, errmsg)
-    if (stat == STAT_OK .and. (neq /= sys%neq .or. step < 0 .or. step > rs%nsteps)) then
+    if (stat == STAT_OK .and. (neq /= sys%dofs%neq .or. step < 0 .or. step > rs%nsteps)) then
       call set_error(stat, errmsg, STAT_INPUT, 'checkpoint ' // path // ': step ' // str(step) // ' of a system of ' // &
-        str(neq) // ' equations does not fit this scene (' // str(sys%neq) // ' equations, ' // str(rs%nsteps) // &
+        str(neq) // ' equations does not fit this scene (' // str(sys%dofs%neq) // ' equations, ' // str(rs%nsteps) // &
         ' steps)')
     end if
     call rs%st%load(ck, stat, errmsg)

@@ -55,7 +55,7 @@ contains
       call mat%update(sys, refactored, stat, errmsg)
       if (stat /= STAT_OK) errmsg = 'tangent matrix: ' // errmsg
       if (stat == STAT_OK .and. refactored .and. present(cs)) &
-        call contact_prepare(cs, mat%factor, stat, errmsg, sys%pat, mat%sval)
+        call contact_prepare(cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
       if (stat /= STAT_OK) return
       call mat%solve(st%r, st%ddu, stat, errmsg)
       if (stat /= STAT_OK) return
@@ -72,7 +72,7 @@ contains
         st%du = st%du + st%ddu
       end if
       call st%trial(scn, sys, scn%energy_correction)
-      if (sys%linear .and. .not. st%extended) exit
+      if (sys%elems%linear .and. .not. st%extended) exit
       call st%residual(sys)
       ! st%r is the residual without the contact forces: the next unconstrained iterate is
       ! du + S^-1 r and contact_solve_step adds S^-1 C' Lambda with the total multiplier.
@@ -89,7 +89,7 @@ contains
         rep%bad_equation = max(first_nonfinite(st%r), 1)
         return
       end if
-      if (sys%linear) then
+      if (sys%elems%linear) then
         ! Refinement of a linear step: on until the residual stops falling (round-off).
         if (iter >= 2) then
           if (st%res_hist(iter) >= 0.5_dp * st%res_hist(iter - 1)) exit
@@ -102,7 +102,7 @@ contains
       if (st%res_hist(iter) <= scn%tolerance * force_scale(st)) exit
       call mat%check_stall(sys, st%res_hist, iter, refactored, stat, errmsg)
       if (stat == STAT_OK .and. refactored .and. present(cs)) &
-        call contact_prepare(cs, mat%factor, stat, errmsg, sys%pat, mat%sval)
+        call contact_prepare(cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
       if (stat /= STAT_OK) return
       if (iter == scn%max_iterations) then
         rep%outcome = STEP_NOT_CONVERGED

@@ -66,7 +66,7 @@ contains
     class(step_state_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
-    call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%tval), self%inc)
+    call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%ops%tval), self%inc)
     call commit_state(sys)
     call mass_times(sys, self%v, self%mv)
     self%kinetic = 0.5_dp * dot_product(self%v, self%mv)
@@ -75,7 +75,7 @@ contains
       ! the energy by a fraction of eps per step (docs/precision.md).
       self%u_q = real(self%u, qp)
       self%v_q = real(self%v, qp)
-      call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%tval), self%inc, &
+      call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%ops%tval), self%inc, &
         uq=self%u_q)
       self%fint_n_q = sys%fint_q
       call mass_times_q(sys, self%v_q, self%mv_q)
@@ -106,11 +106,11 @@ contains
     if (self%extended) then
       self%utrial_q = self%u_q + real(self%du, qp)
       self%utrial = real(self%utrial_q, dp)
-      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, allocated(sys%tval), self%inc, &
+      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, allocated(sys%ops%tval), self%inc, &
         uq=self%utrial_q)
     else
       self%utrial = self%u + self%du
-      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, allocated(sys%tval), self%inc)
+      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, allocated(sys%ops%tval), self%inc)
     end if
   end subroutine state_trial
 

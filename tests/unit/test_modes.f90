@@ -71,10 +71,10 @@ contains
     call check(stat == STAT_OK, tag // ': build_system', errmsg)
     if (stat /= STAT_OK) return
     ! The clamped node eliminated: 3 equations (UX, UY, RZ) per remaining node.
-    call check(sys%neq == 3 * (scn%mesh%nnode - 1), tag // ': 3 equations per free node')
-    allocate (k(sys%neq, sys%neq), m(sys%neq, sys%neq), w(sys%neq))
-    call to_dense(sys%pat, sys%kval, k)
-    call to_dense(sys%pat, sys%mval, m)
+    call check(sys%dofs%neq == 3 * (scn%mesh%nnode - 1), tag // ': 3 equations per free node')
+    allocate (k(sys%dofs%neq, sys%dofs%neq), m(sys%dofs%neq, sys%dofs%neq), w(sys%dofs%neq))
+    call to_dense(sys%ops%pat, sys%ops%kval, k)
+    call to_dense(sys%ops%pat, sys%ops%mval, m)
     call generalized_eigen(k, m, w, stat=stat, errmsg=errmsg)
     call check(stat == STAT_OK, tag // ': eigenproblem', errmsg)
     if (stat /= STAT_OK) return
