@@ -631,9 +631,10 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
-    if (.not. cs%finalized .or. size(t, 1) /= cs%neq .or. any(shape(mt) /= shape(t)) .or. size(t, 2) /= 2) then
+    if (.not. cs%finalized .or. size(t, 1) /= cs%neq .or. any(shape(mt) /= shape(t)) .or. size(t, 2) < 2 .or. &
+      size(t, 2) > 3) then
       call set_error(stat, errmsg, STAT_INPUT, 'contact_set_rigid_modes: call contact_finalize first; t and M t ' // &
-        'must be (neq, 2)')
+        'must be (neq, 2) or (neq, 3)')
       return
     end if
     cs%rig = t

@@ -243,7 +243,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: nb, j, p, bj, i, grp, rank, n, j0, k
-    real(dp) :: t1, tp, tstar, s, acm(2), tcm, vcm, mvcm, dis
+    real(dp) :: t1, tp, tstar, s, acm(3), tcm, vcm, mvcm, dis
 
     stat = STAT_OK
     cs%fallback = .false.
@@ -338,6 +338,10 @@ contains
           if (cs%has_rigid) then
             vcm = acm(1) * cs%rig(i, 1) + acm(2) * cs%rig(i, 2)
             mvcm = acm(1) * cs%mrig(i, 1) + acm(2) * cs%mrig(i, 2)
+            if (acm(3) /= 0.0_dp) then
+              vcm = vcm + acm(3) * cs%rig(i, 3)
+              mvcm = mvcm + acm(3) * cs%mrig(i, 3)
+            end if
           else
             vcm = 0.0_dp
             mvcm = 0.0_dp
@@ -352,19 +356,22 @@ contains
     end associate
   end subroutine persist_correction
 
-  !> The centre-of-mass velocity v_cm = a_1 t_1 + a_2 t_2 of the group (rows) after the
-  !> projection (cs%vp, cs%mvp): the M-orthogonal projection on its translations, G a = P with
-  !> G_kl = t_k'M t_l and P_k = t_k'M v over the group, and its kinetic energy tcm = ½ a'P.
-  !> a = 0, tcm = 0 (scale about zero) without rigid modes, when an active condition of the
-  !> group, cs%idx(1:n), is not invariant under the translations (c_j't_k /= 0: an obstacle
-  !> or a supported node), or when G is singular.
+  !> The rigid motion v_r = Σ a_k t_k of the group (rows) after the projection (cs%vp, cs%mvp):
+  !> the M-orthogonal projection on the rigid modes t_k its active conditions cs%idx(1:n) leave
+  !> invariant, G a = P with G_kl = t_k'M t_l and P_k = t_k'M v over the group, and its kinetic
+  !> energy tcm = ½ a'P. The translations count when every condition is exactly invariant under
+  !> them (c_j't_k = 0: node-to-node, no obstacle, no support), the rotation (third mode, when
+  !> given) when also c_j'r = 0 to round-off (a pair along the line of its nodes). Scaling about
+  !> v_r keeps the group's linear (and angular) momentum and the zero normal velocities. a = 0,
+  !> tcm = 0 (scale about zero) without rigid modes, with an obstacle or a support, or when G is
+  !> singular.
   subroutine group_translation(cs, rows, n, a, tcm)
     type(contact_set_t), intent(in) :: cs
     logical, intent(in) :: rows(:)
     integer, intent(in) :: n
-    real(dp), intent(out) :: a(2), tcm
-    real(dp) :: g(2, 2), pk(2), det
-    integer :: k, l, j
+    real(dp), intent(out) :: a(3), tcm
+    real(dp) :: g(3, 3), pk(3), det, cr, cn, rn
+    integer :: k, l, j, nm
     a = 0.0_dp
     tcm = 0.0_dp
     if (.not. cs%has_rigid) return
@@ -373,17 +380,39 @@ contains
         if (cs%c%dot(cs%idx(j), cs%rig(:, k)) /= 0.0_dp) return
       end do
     end do
-    do k = 1, 2
+    nm = 2
+    if (size(cs%rig, 2) >= 3) then
+      nm = 3
+      do j = 1, n
+        cr = cs%c%dot(cs%idx(j), cs%rig(:, 3))
+        cn = sqrt(cs%c%norm2_sq(cs%idx(j)))
+        rn = maxval(abs(cs%rig(:, 3)), mask=rows)
+        if (abs(cr) > 1.0e-12_dp * cn * max(rn, tiny(1.0_dp))) nm = 2
+      end do
+    end if
+    do k = 1, nm
       pk(k) = sum(cs%rig(:, k) * cs%mvp, mask=rows)
-      do l = 1, 2
+      do l = 1, nm
         g(k, l) = sum(cs%rig(:, k) * cs%mrig(:, l), mask=rows)
       end do
     end do
-    det = g(1, 1) * g(2, 2) - g(1, 2) * g(2, 1)
-    if (.not. (det > 0.0_dp)) return
-    a(1) = (g(2, 2) * pk(1) - g(1, 2) * pk(2)) / det     ! 2 x 2 by Cramer's rule
-    a(2) = (g(1, 1) * pk(2) - g(2, 1) * pk(1)) / det
-    tcm = 0.5_dp * (a(1) * pk(1) + a(2) * pk(2))
+    if (nm == 2) then
+      det = g(1, 1) * g(2, 2) - g(1, 2) * g(2, 1)
+      if (.not. (det > 0.0_dp)) return
+      a(1) = (g(2, 2) * pk(1) - g(1, 2) * pk(2)) / det     ! 2 x 2 by Cramer's rule
+      a(2) = (g(1, 1) * pk(2) - g(2, 1) * pk(1)) / det
+    else
+      det = g(1, 1) * (g(2, 2) * g(3, 3) - g(2, 3) * g(3, 2)) - g(1, 2) * (g(2, 1) * g(3, 3) - g(2, 3) * g(3, 1)) + &
+        g(1, 3) * (g(2, 1) * g(3, 2) - g(2, 2) * g(3, 1))
+      if (.not. (det > 1.0e-14_dp * abs(g(1, 1) * g(2, 2) * g(3, 3)))) return
+      a(1) = (pk(1) * (g(2, 2) * g(3, 3) - g(2, 3) * g(3, 2)) - g(1, 2) * (pk(2) * g(3, 3) - g(2, 3) * pk(3)) + &
+        g(1, 3) * (pk(2) * g(3, 2) - g(2, 2) * pk(3))) / det              ! 3 x 3 by Cramer's rule
+      a(2) = (g(1, 1) * (pk(2) * g(3, 3) - g(2, 3) * pk(3)) - pk(1) * (g(2, 1) * g(3, 3) - g(2, 3) * g(3, 1)) + &
+        g(1, 3) * (g(2, 1) * pk(3) - pk(2) * g(3, 1))) / det
+      a(3) = (g(1, 1) * (g(2, 2) * pk(3) - pk(2) * g(3, 2)) - g(1, 2) * (g(2, 1) * pk(3) - pk(2) * g(3, 1)) + &
+        pk(1) * (g(2, 1) * g(3, 2) - g(2, 2) * g(3, 1))) / det
+    end if
+    tcm = 0.5_dp * dot_product(a(1:nm), pk(1:nm))
   end subroutine group_translation
 
   pure recursive integer function find(parent, i) result(r)

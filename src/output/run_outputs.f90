@@ -18,7 +18,7 @@ module run_outputs
 
   character(len=*), parameter :: HISTORY_HEADER = &
     'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored,' // &
-    'impact_dissipated'
+    'impact_dissipated,momentum_x,momentum_y,angular_momentum'
   character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored'
   character(len=*), parameter :: CONTACTS_HEADER = 'step,time,contact,active,force_x,force_y,impulse_x,impulse_y,min_gap'
 
@@ -35,7 +35,7 @@ module run_outputs
     integer, allocatable :: cstat(:)
     real(dp), allocatable :: cimp(:, :), cforce(:, :)
     real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), reaction(:, :)
-    real(dp), allocatable :: preals(:), hreals(:), htail(:)   !< htail: dissipated, stored, impact_dissipated
+    real(dp), allocatable :: preals(:), hreals(:), htail(:)   !< htail: dissipated, stored, impact_dissipated, momenta
   contains
     procedure :: open => outputs_open
     procedure :: write_step => outputs_write_step
@@ -68,7 +68,7 @@ contains
       header = header // ',' // scn%probes(i)%label
     end do
     allocate (self%nodal_u(3, scn%mesh%nnode), self%nodal_v(3, scn%mesh%nnode), self%estress(4, scn%mesh%nelem), &
-      self%reaction(3, scn%mesh%nnode), self%preals(1 + size(scn%probes)), self%hreals(6), self%htail(3))
+      self%reaction(3, scn%mesh%nnode), self%preals(1 + size(scn%probes)), self%hreals(6), self%htail(6))
     self%reaction = 0.0_dp
     self%h = scn%dt
     self%t_row = scn%t_start + step0 * scn%dt
@@ -98,7 +98,7 @@ contains
 
   !> The history and probe lines of a step (every HISTORY EVERY steps and the last one) and its
   !> fields (every FIELDS EVERY steps, the first and the last).
-  subroutine outputs_write_step(self, scn, sys, step, t, iter, nactive, en, u, v, stat, errmsg, cs)
+  subroutine outputs_write_step(self, scn, sys, step, t, iter, nactive, en, u, v, mv, rig, stat, errmsg, cs)
     class(output_set_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
@@ -106,6 +106,7 @@ contains
     real(dp), intent(in) :: t
     type(energy_t), intent(in) :: en
     real(dp), intent(in) :: u(:), v(:)
+    real(dp), intent(in) :: mv(:), rig(:, :)   !< M v and the rigid modes: the momenta t_k'M v
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(contact_set_t), intent(in), optional :: cs
@@ -117,10 +118,13 @@ contains
       if (mod(step, scn%history_every) == 0 .or. last) then
         self%hreals = [t, en%kinetic, en%internal(), en%external(), en%correction(), en%balance()]
         if (sys%elems%linear) then
-          self%htail = [0.0_dp, en%elastic, en%impact_dissipated()]
+          self%htail(1:3) = [0.0_dp, en%elastic, en%impact_dissipated()]
         else
-          self%htail = [en%dissipated(), stored_energy(scn, sys), en%impact_dissipated()]
+          self%htail(1:3) = [en%dissipated(), stored_energy(scn, sys), en%impact_dissipated()]
         end if
+        do k = 1, 3
+          self%htail(3 + k) = dot_product(rig(:, k), mv)
+        end do
         call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail)
         if (stat /= STAT_OK) return
         self%preals(1) = t

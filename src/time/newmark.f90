@@ -53,6 +53,9 @@ module newmark
     logical :: has_contact = .false.
     type(contact_set_t) :: cs
     integer, allocatable :: body(:)          !< mesh-connected component of each equation (PERSIST)
+    ! Rigid modes on the free equations (translations x, y and the rotation about the origin in
+    ! the reference configuration) and M times them: the momenta of history.csv, PERSIST.
+    real(dp), allocatable :: rig(:, :), mrig(:, :)
     real(dp), allocatable :: lam(:)          !< step multipliers of the last iterate
   end type run_state_t
 
@@ -100,6 +103,7 @@ contains
         dof_label(scn, sys, minor) // ' (no mass and no stiffness on this mode)')
       return
     end if
+    call rigid_modes(scn, sys, rs)
     if (size(scn%conditions) > 0) then
       call setup_contact(scn, sys, rs, stat, errmsg)
       if (stat /= STAT_OK) return
@@ -118,9 +122,8 @@ contains
     type(run_state_t), intent(inout) :: rs
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, k, a, b, eqs(4)
+    integer :: j, a, b, eqs(4)
     real(dp) :: coefs(4), lscale
-    real(dp), allocatable :: trig(:, :), mtrig(:, :)
     character(len=:), allocatable :: msg
     rs%has_contact = .true.
     do j = 1, size(scn%conditions)
@@ -161,22 +164,37 @@ contains
     call contact_prepare(rs%cs, rs%mat%factor, stat, errmsg, sys%ops%pat, rs%mat%sval)
     if (stat /= STAT_OK) return
     ! Rigid translations on the free equations, for PERSIST's momentum-keeping scaling.
-    allocate (trig(sys%dofs%neq, 2), mtrig(sys%dofs%neq, 2))
-    trig = 0.0_dp
-    do j = 1, scn%mesh%nnode
-      do k = 1, 2
-        if (sys%dofs%eqn(k, j) > 0) trig(sys%dofs%eqn(k, j), k) = 1.0_dp
-      end do
-    end do
-    do k = 1, 2
-      call mass_times(sys, trig(:, k), mtrig(:, k))
-    end do
-    call contact_set_rigid_modes(rs%cs, trig, mtrig, stat, errmsg)
+    call contact_set_rigid_modes(rs%cs, rs%rig, rs%mrig, stat, errmsg)
     if (stat /= STAT_OK) return
     call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, rs%body)
     allocate (rs%lam(size(scn%conditions)))
     rs%lam = 0.0_dp
   end subroutine setup_contact
+
+  !> The rigid modes of the model on the free equations: translations x and y, and the rotation
+  !> about the origin (-y, x on the translations, 1 on RZ; reference configuration: the
+  !> kinematics are linearized), with M times them. Their products with M v are the linear and
+  !> angular momenta (history.csv); PERSIST scales a group about its rigid motion.
+  subroutine rigid_modes(scn, sys, rs)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    type(run_state_t), intent(inout) :: rs
+    integer :: j, k
+    allocate (rs%rig(sys%dofs%neq, 3), rs%mrig(sys%dofs%neq, 3))
+    rs%rig = 0.0_dp
+    do j = 1, scn%mesh%nnode
+      associate (e => sys%dofs%eqn(:, j), x => scn%mesh%x(:, j))
+        if (e(1) > 0) rs%rig(e(1), 1) = 1.0_dp
+        if (e(2) > 0) rs%rig(e(2), 2) = 1.0_dp
+        if (e(1) > 0) rs%rig(e(1), 3) = -x(2)
+        if (e(2) > 0) rs%rig(e(2), 3) = x(1)
+        if (e(3) > 0) rs%rig(e(3), 3) = 1.0_dp
+      end associate
+    end do
+    do k = 1, 3
+      call mass_times(sys, rs%rig(:, k), rs%mrig(:, k))
+    end do
+  end subroutine rigid_modes
 
   !> The initial state (INITIAL DISPLACEMENT, STATIC) must not put a node inside an obstacle or
   !> two nodes of a GAP through each other (the mesh itself is checked by the scene): bad input,
@@ -395,9 +413,10 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     if (rs%has_contact) then
-      call outs%write_step(scn, sys, step, t, iter, nactive, rs%en, rs%st%u, rs%st%v, stat, errmsg, rs%cs)
+      call outs%write_step(scn, sys, step, t, iter, nactive, rs%en, rs%st%u, rs%st%v, rs%st%mv, rs%rig, stat, errmsg, &
+        rs%cs)
     else
-      call outs%write_step(scn, sys, step, t, iter, nactive, rs%en, rs%st%u, rs%st%v, stat, errmsg)
+      call outs%write_step(scn, sys, step, t, iter, nactive, rs%en, rs%st%u, rs%st%v, rs%st%mv, rs%rig, stat, errmsg)
     end if
   end subroutine write_outputs
 
