@@ -6,6 +6,7 @@ module assembly
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use mesh, only: DOF_NAMES
   use element_traits, only: ET_BEAM2, etype_needs_material
+  use contact_modes, only: IMPACT_MASSLESS
   use scene, only: scene_t, function_value, model_point_kind, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
   use dof_map, only: build_dof_map
   use sparse_matrix, only: sym_csc_t
@@ -242,6 +243,8 @@ contains
     logical :: mask(3)
     real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho
     integer, allocatable :: eptr(:), edofs(:)
+    logical, allocatable :: massless(:)
+    if (scn%impact == IMPACT_MASSLESS) call contact_nodes(scn, massless)
     allocate (eptr(scn%mesh%nelem + 1))
     eptr = sys%elems%edof_ptr
     edofs = sys%elems%edof
@@ -269,6 +272,8 @@ contains
         rho = 0.0_dp
         if (scn%models(im)%material > 0) rho = scn%materials(scn%models(im)%material)%density
         call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, scn%models(im)%lumped, me(1:ndof, 1:ndof))
+        if (allocated(massless)) call move_contact_mass(scn%mesh%conn(1:nen, e), elem_dof_mask(et), massless, &
+          me(1:ndof, 1:ndof))
         call sys%ops%pat%add_element(sys%ops%mval, dofs, me(1:ndof, 1:ndof))
         mask = elem_dof_mask(et)
         k = 0
@@ -287,6 +292,50 @@ contains
       end associate
     end do
   end subroutine assemble_operators
+
+  !> The nodes of the contact conditions (both sides of a GAP): massless under IMPACT MASSLESS.
+  subroutine contact_nodes(scn, mark)
+    type(scene_t), intent(in) :: scn
+    logical, allocatable, intent(out) :: mark(:)
+    integer :: j
+    allocate (mark(scn%mesh%nnode))
+    mark = .false.
+    do j = 1, size(scn%conditions)
+      mark(scn%conditions(j)%node_b) = .true.
+      if (scn%conditions(j)%node_a > 0) mark(scn%conditions(j)%node_a) = .true.
+    end do
+  end subroutine contact_nodes
+
+  !> IMPACT MASSLESS (docs/contact.md): the translational mass of the element's contact nodes
+  !> moved to its other nodes (Khenous, Laborde and Renard's mass redistribution): rows and
+  !> columns of a contact node's UX, UY zeroed, the mass they held in each direction (2 r - m_cc,
+  !> r the row sum) added to the diagonal of the other nodes' same DOF in equal parts, so that
+  !> the element's total mass and its gravity load keep their values. An element whose nodes
+  !> are all contact nodes keeps its mass.
+  pure subroutine move_contact_mass(nodes, mask, massless, me)
+    integer, intent(in) :: nodes(:)
+    logical, intent(in) :: mask(3), massless(:)
+    real(dp), intent(inout) :: me(:, :)
+    integer :: a, b, d, ia, ib, nper, nfree
+    real(dp) :: moved
+    nper = count(mask)
+    nfree = count(.not. massless(nodes))
+    if (nfree == 0 .or. nfree == size(nodes)) return
+    do a = 1, size(nodes)
+      if (.not. massless(nodes(a))) cycle
+      do d = 1, 2
+        ia = (a - 1) * nper + d
+        moved = 2.0_dp * sum(me(ia, :)) - me(ia, ia)
+        me(ia, :) = 0.0_dp
+        me(:, ia) = 0.0_dp
+        do b = 1, size(nodes)
+          if (massless(nodes(b))) cycle
+          ib = (b - 1) * nper + d
+          me(ib, ib) = me(ib, ib) + moved / real(nfree, dp)
+        end do
+      end do
+    end do
+  end subroutine move_contact_mass
 
   !> A DOF with neither mass nor stiffness makes K0 + 4M/h2 singular: refused, named. A mass
   !> matrix with no off-diagonal entry is kept as its diagonal (lumped).

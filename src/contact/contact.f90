@@ -34,7 +34,8 @@ module contact
   use constraint_rows, only: constraint_rows_t, LABEL_LEN
   use contact_state, only: contact_state_t
   use contact_multipliers, only: multiplier_system_t
-  use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, &
+  use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, SOLVER_AUTO, SOLVER_SCHUR, &
+    SOLVER_AUGMENTED, &
     SWITCH_DEFAULT
   use impact_kernels, only: impact_energy_error, impulse_fixed_point, persist_scale
   implicit none

@@ -31,7 +31,7 @@ contains
       if (present(report)) report = rep
       return
     end if
-    if (mode /= IMPACT_OFF .and. .not. cs%mass_set) then
+    if ((mode == IMPACT_PAPER .or. mode == IMPACT_PERSIST) .and. .not. cs%mass_set) then
       call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: call contact_set_mass first')
       return
     end if
@@ -70,6 +70,15 @@ contains
             call paper_correction(cs, cs%est, v, mv, rep, stat, errmsg)
             cs%est = now .and. .not. cs%st%active
           end if
+        case (IMPACT_MASSLESS)
+          ! Massless contact nodes: no velocity to reflect or project; the energy the step lost
+          ! at establishment goes back to the body by scaling (groups without kinetic energy
+          ! are left, reported in persist_fallbacks: the balance shows it).
+          if (.not. present(body)) then
+            call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: IMPACT MASSLESS needs body(:)')
+            return
+          end if
+          call persist_correction(cs, body, v, mv, rep, stat, errmsg, project=.false.)
         case (IMPACT_OFF)
         case default
           call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: unknown impact mode ' // str(mode))
@@ -235,18 +244,22 @@ contains
   !> scale its velocity so that its kinetic energy is T1_group + Σ E_j. Groups whose projected
   !> kinetic energy is below persist_min_fraction of that target, or conditions on equations
   !> without body, are left untouched and returned in cs%fallback (their established conditions).
-  subroutine persist_correction(cs, body, v, mv, rep, stat, errmsg)
+  subroutine persist_correction(cs, body, v, mv, rep, stat, errmsg, project)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(in) :: body(:)
     real(dp), intent(inout) :: v(:), mv(:)
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    logical, intent(in), optional :: project     !< .false.: scale only (IMPACT MASSLESS)
     integer :: nb, j, p, bj, i, grp, rank, n, j0, k
     real(dp) :: t1, tp, tstar, s, acm(3), tcm, vcm, mvcm, dis
+    logical :: proj
 
     stat = STAT_OK
     cs%fallback = .false.
+    proj = .true.
+    if (present(project)) proj = project
     if (size(body) /= cs%neq) then
       call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: body(:) must have one entry per equation')
       return
@@ -297,27 +310,30 @@ contains
           cs%idx(n) = j
         end do
         t1 = 0.5_dp * sum(v * mv, mask=rows)
-        ! RESTITUTION e < 1 on established conditions: Newton's law (gains 1 + e, maintained
-        ! contacts 1) tells the kinetic energy the impact keeps; the rest is dissipated.
         dis = 0.0_dp
-        if (allocated(cs%vn)) then
-          do k = 1, n
-            cs%gain(k) = 1.0_dp
-            if (est(cs%idx(k))) cs%gain(k) = 1.0_dp + cs%c%restitution(cs%idx(k))
-          end do
-          if (any(cs%gain(1:n) < 2.0_dp .and. est(cs%idx(1:n)))) then
-            cs%vn = v
-            cs%mvn = mv
-            call hzero_reflection(cs, cs%idx(1:n), cs%gain(1:n), cs%vn, cs%mvn, rank, stat, errmsg)
-            if (stat /= STAT_OK) return
-            dis = t1 - 0.5_dp * sum(cs%vn * cs%mvn, mask=rows)
-          end if
-        end if
         cs%vp = v
         cs%mvp = mv
-        cs%gain(1:n) = 1.0_dp
-        call hzero_reflection(cs, cs%idx(1:n), cs%gain(1:n), cs%vp, cs%mvp, rank, stat, errmsg)
-        if (stat /= STAT_OK) return
+        cs%mu = 0.0_dp
+        if (proj) then                           ! (massless contact nodes: nothing to project)
+          ! RESTITUTION e < 1 on established conditions: Newton's law (gains 1 + e, maintained
+          ! contacts 1) tells the kinetic energy the impact keeps; the rest is dissipated.
+          if (allocated(cs%vn)) then
+            do k = 1, n
+              cs%gain(k) = 1.0_dp
+              if (est(cs%idx(k))) cs%gain(k) = 1.0_dp + cs%c%restitution(cs%idx(k))
+            end do
+            if (any(cs%gain(1:n) < 2.0_dp .and. est(cs%idx(1:n)))) then
+              cs%vn = v
+              cs%mvn = mv
+              call hzero_reflection(cs, cs%idx(1:n), cs%gain(1:n), cs%vn, cs%mvn, rank, stat, errmsg)
+              if (stat /= STAT_OK) return
+              dis = t1 - 0.5_dp * sum(cs%vn * cs%mvn, mask=rows)
+            end if
+          end if
+          cs%gain(1:n) = 1.0_dp
+          call hzero_reflection(cs, cs%idx(1:n), cs%gain(1:n), cs%vp, cs%mvp, rank, stat, errmsg)
+          if (stat /= STAT_OK) return
+        end if
         tp = 0.5_dp * sum(cs%vp * cs%mvp, mask=rows)
         tstar = t1 + sum(cs%e, mask=est .and. cgroup == grp) - dis
         ! Scale about the centre-of-mass velocity a_k t_k when the group's conditions are all

@@ -7,7 +7,7 @@ module newmark
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use scene, only: scene_t
-  use contact_modes, only: IMPACT_OFF
+  use contact_modes, only: IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS
   use dof_map, only: equation_bodies
   use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
     contact_prepare, contact_set_rigid_modes, contact_gaps
@@ -148,7 +148,7 @@ contains
     if (stat /= STAT_OK) return
     call check_initial_gaps(scn, rs%cs, rs%st%u, lscale, stat, errmsg)
     if (stat /= STAT_OK) return
-    if (scn%impact /= IMPACT_OFF) then
+    if (scn%impact == IMPACT_PAPER .or. scn%impact == IMPACT_PERSIST) then
       ! The impulse (12) and the reflection (16) need M^-1: every DOF must carry mass.
       if (sys%ops%mass_diagonal) then
         call contact_set_mass(rs%cs, sys%ops%mdiag, stat, msg)
@@ -161,9 +161,13 @@ contains
         return
       end if
     end if
+    if (scn%impact == IMPACT_MASSLESS) then
+      call check_massless(scn, sys, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
     call contact_prepare(rs%cs, rs%mat%factor, stat, errmsg, sys%ops%pat, rs%mat%sval)
     if (stat /= STAT_OK) return
-    ! Rigid translations on the free equations, for PERSIST's momentum-keeping scaling.
+    ! The rigid modes, for the momentum-keeping scaling of PERSIST and MASSLESS.
     call contact_set_rigid_modes(rs%cs, rs%rig, rs%mrig, stat, errmsg)
     if (stat /= STAT_OK) return
     call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, rs%body)
@@ -195,6 +199,36 @@ contains
       call mass_times(sys, rs%rig(:, k), rs%mrig(:, k))
     end do
   end subroutine rigid_modes
+
+  !> IMPACT MASSLESS moves the contact nodes' mass to their neighbours: a contact node whose
+  !> elements have contact nodes only (a point mass, a body touching with every node) keeps it,
+  !> and would then need a velocity correction MASSLESS does not make: bad input, named.
+  subroutine check_massless(scn, sys, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp), allocatable :: dm(:)
+    integer :: j, n, k
+    stat = STAT_OK
+    allocate (dm(sys%dofs%neq))
+    call sys%ops%pat%diagonal(sys%ops%mval, dm)
+    do j = 1, size(scn%conditions)
+      associate (c => scn%conditions(j))
+        do k = 1, 2
+          n = merge(c%node_b, c%node_a, k == 1)
+          if (n <= 0) cycle
+          if (any(dm(pack(sys%dofs%eqn(1:2, n), sys%dofs%eqn(1:2, n) > 0)) > 0.0_dp)) then
+            call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(c%line) // ': ' // &
+              trim(merge('OBSTACLE', 'GAP     ', c%node_a == 0)) // ' ' // c%source // ': SCHEME IMPACT MASSLESS ' // &
+              'cannot move the mass of node ' // str(n) // ' (its elements have contact nodes only: a point mass, or ' // &
+              'a body touching with all its nodes); use IMPACT PAPER or PERSIST' // ", at '" // c%source // "'")
+            return
+          end if
+        end do
+      end associate
+    end do
+  end subroutine check_massless
 
   !> The initial state (INITIAL DISPLACEMENT, STATIC) must not put a node inside an obstacle or
   !> two nodes of a GAP through each other (the mesh itself is checked by the scene): bad input,

@@ -115,6 +115,8 @@ CASES = [
     ('RESTITUTION above 1', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0 RESTITUTION 1.5'], None, [], 15,
      'OBSTACLE wall', '1.5'),
     ('negative RESTITUTION', BASE + ['GAP g PAIRS a b RESTITUTION -0.1'], None, [], 15, 'GAP g', '-0.1'),
+    ('MASSLESS on a point mass', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0', 'SCHEME IMPACT MASSLESS'], None,
+     [], 15, 'OBSTACLE wall', 'wall'),
     ('bad --set value', BASE, None, ['TIME.STEP=abc'], 13, 'TIME', 'abc'),
     ('non-positive --set TIME.STEP', BASE, None, ['TIME.STEP=-1'], 13, 'TIME', '-1'),
     ('--set unknown keyword', BASE, None, ['TIMES.STEP=1'], None, '--set', 'TIMES'),
