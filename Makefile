@@ -47,6 +47,8 @@ help:
 	@echo "make studies run every studies/*.sweep under mpirun (results/studies/, docs/sweep.md)"
 	@echo "make check-debug  unit tests and every scene with -fcheck=all and FPE traps (build-debug/)"
 	@echo "make valgrind     memcheck of two short scenes with bin/rebond (docs/reliability.md)"
+	@echo "make validation   the paper's beam drops and the contact table (docs/validation.md, docs/contact-table.md)"
+	@echo "make contact-table  the impact modes on three exact benchmarks (docs/contact-table.md)"
 
 # Dependencies: installed once by `make deps`, checked by every build.
 deps:
@@ -105,6 +107,13 @@ clean:
 .PHONY: validation
 validation: bin/rebond
 	@bash tools/make_validation.sh
+	@/usr/bin/python3 tools/contact_table.py
+
+# The contact comparison (docs/contact-table.md): three impact benchmarks with exact solutions,
+# every impact mode at every mesh size.
+.PHONY: contact-table
+contact-table: bin/rebond
+	@/usr/bin/python3 tools/contact_table.py
 
 # Reliability (docs/reliability.md). check-debug builds a separate tree (build-debug/,
 # bin/rebond-debug) with run-time checks and FPE traps, then runs every unit suite and every

@@ -366,7 +366,7 @@ contains
           mv(i) = mvcm + s * (cs%mvp(i) - mvcm)
           ! The momentum the scaling gives the group (0 about its centre of mass), booked on its
           ! first established condition.
-          if (cs%has_rigid) cs%bimp(:, j0) = cs%bimp(:, j0) + cs%rig(i, :) * (mv(i) - cs%mvp(i))
+          if (cs%has_rigid) cs%bimp(:, j0) = cs%bimp(:, j0) + cs%rig(i, 1:2) * (mv(i) - cs%mvp(i))
         end do
       end do
     end associate

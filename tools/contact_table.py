@@ -1,0 +1,196 @@
+#!/usr/bin/python3
+"""The contact comparison table of docs/contact.md (issue 11), by `make validation`.
+
+    tools/contact_table.py [--out results/contact_table] [--doc docs/contact-table.md]
+                           [--sizes 20 40 80 160 320] [--modes PAPER PERSIST MASSLESS OFF]
+                           [--cfl 0.1]
+
+Three impact benchmarks with exact solutions, generated here, each run in every impact mode
+at every mesh size with h = cfl x dx/c:
+- bar: code_aster SDNV100's free bar on a rigid wall (L 0.2 m, 0.02 x 0.02 m, E 2e11, nu 0,
+  rho 8000, v0 -100 m/s, gap 2 mm, consistent mass). Exact: contact [2e-5, 1e-4] s, force
+  rho c v0 A = 1.6e6 N, rebound +100 m/s.
+- clamped: a 1D bar (L = E = rho = A = 1) clamped at x = 1, released from u0 = 1/2 - x/2 with
+  the contact u(0) >= 0. Exact: energy 1/8, contact on [1, 2] (then [3k+1, 3k+2]), contact
+  stress -1/2, v(0) = +1/2 after release.
+- two bars: bar a (L 0.2 m, steel as above) at +10 m/s hits bar b at rest end to end (GAP).
+  Exact: contact 2L/c = 8e-5 s, a stops, b leaves at +10 m/s.
+Columns: max |balance| / energy, contact onsets (one physical impact), force std/mean while
+the contact holds (its inner 80 %), rebound error (momentum after release against the exact
+one), release error in steps, CPU time (user + system of the run).
+"""
+import argparse
+import csv
+import os
+import resource
+import subprocess
+import sys
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+REBOND = os.path.join(ROOT, 'bin', 'rebond')
+
+
+def bar_scene(n, cfl, mode):
+    c = (2e11 / 8000) ** 0.5
+    h = cfl * 0.2 / n / c
+    return h, f"""LINE bar FROM 0.002 0 TO 0.202 0 ELEMENTS {n} TYPE BAR2
+MATERIAL steel ELASTIC YOUNG 2e11 POISSON 0 DENSITY 8000
+SECTION rod AREA 4e-4
+MODEL bar MATERIAL steel SECTION rod MASS CONSISTENT
+FIX bar UY
+INITIAL bar VELOCITY -100 0
+OBSTACLE wall NODES bar.start POINT 0 0 NORMAL 1 0
+TIME STEP {h!r} END 1.3e-4
+SCHEME IMPACT {mode}
+OUTPUT HISTORY EVERY 1 FIELDS EVERY 0
+"""
+
+
+def clamped_scene(n, cfl, mode):
+    h = cfl / n
+    lines = []
+    for i in range(n + 1):
+        x = i / n
+        lines.append(f'NODE p{i} AT {x!r} 0')
+        lines.append(f'INITIAL p{i} DISPLACEMENT {0.5 - x / 2!r} 0')
+    for i in range(n):
+        lines.append(f'ELEMENT e{i} TYPE BAR2 NODES p{i} p{i + 1}')
+    lines.append('GROUP bar ELEMENTS ' + ' '.join(f'e{i}' for i in range(n)))
+    lines.append('GROUP every NODES ' + ' '.join(f'p{i}' for i in range(n + 1)))
+    lines += ['MATERIAL m ELASTIC YOUNG 1 POISSON 0 DENSITY 1', 'SECTION s AREA 1',
+              'MODEL bar MATERIAL m SECTION s MASS CONSISTENT', 'FIX every UY', f'FIX p{n} UX',
+              'OBSTACLE wall NODES p0 POINT 0 0 NORMAL 1 0', f'TIME STEP {h!r} END 2.8',
+              f'SCHEME IMPACT {mode}', 'OUTPUT HISTORY EVERY 1 FIELDS EVERY 0 PROBE p0 UX']
+    return h, '\n'.join(lines) + '\n'
+
+
+def two_bars_scene(n, cfl, mode):
+    c = (2e11 / 8000) ** 0.5
+    h = cfl * 0.2 / n / c
+    return h, f"""LINE a FROM 0 0 TO 0.2 0 ELEMENTS {n} TYPE BAR2
+LINE b FROM 0.2001 0 TO 0.4001 0 ELEMENTS {n} TYPE BAR2
+MATERIAL steel ELASTIC YOUNG 2e11 POISSON 0 DENSITY 8000
+SECTION rod AREA 4e-4
+MODEL a MATERIAL steel SECTION rod MASS CONSISTENT
+MODEL b MATERIAL steel SECTION rod MASS CONSISTENT
+FIX a UY
+FIX b UY
+INITIAL a VELOCITY 10 0
+GAP touch PAIRS a.end b.start
+TIME STEP {h!r} END 1.2e-4
+SCHEME IMPACT {mode}
+OUTPUT HISTORY EVERY 1 FIELDS EVERY 0
+"""
+
+
+def read(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    out = {}
+    for k in (rows[0].keys() if rows else []):
+        vals = [r[k] for r in rows]
+        try:
+            out[k] = np.array([float(v) for v in vals])
+        except ValueError:
+            out[k] = np.array(vals)
+    return out
+
+
+def run(name, scene, outdir):
+    os.makedirs(outdir, exist_ok=True)
+    path = os.path.join(outdir, name + '.dat')
+    with open(path, 'w') as f:
+        f.write(scene)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    p = subprocess.run([REBOND, path, '-o', os.path.join(outdir, name), '--quiet'], capture_output=True, text=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return p.returncode, p.stderr.strip(), os.path.join(outdir, name), cpu
+
+
+def measures(kind, out, h, n):
+    hist = read(os.path.join(out, 'history.csv'))
+    con = read(os.path.join(out, 'contacts.csv'))
+    energy = np.max(hist['kinetic'] + hist['internal'])
+    bal = np.max(np.abs(hist['balance'])) / energy
+    onsets = 0
+    with open(os.path.join(out, 'events.csv')) as f:
+        onsets = sum(1 for line in f if ',establish,' in line)
+    on = np.nonzero(np.abs(con['force_x']) > 0)[0]
+    std = np.nan
+    rel_err = np.nan
+    if len(on) >= 5:
+        k0, k1 = on[0] + (on[-1] - on[0]) // 10, on[-1] - (on[-1] - on[0]) // 10
+        held = con['force_x'][k0:k1 + 1]
+        std = held.std() / abs(held.mean()) if held.size and held.mean() != 0 else np.nan
+    if kind == 'bar':
+        mass = 8000 * 4e-4 * 0.2
+        reb = (hist['momentum_x'][-1] / mass - 100.0) / 100.0
+        if len(on):
+            rel_err = (con['time'][on[-1]] - 1e-4) / h
+    elif kind == 'clamped':
+        p = read(os.path.join(out, 'probes.csv'))
+        t, u = p['time'], p['p0.UX']
+        late = (t > 2.2) & (t < 2.7)
+        v = np.polyfit(t[late], u[late], 1)[0] if np.count_nonzero(late) > 2 else np.nan
+        reb = (v - 0.5) / 0.5
+        first = on[(con['time'][on] < 2.5)] if len(on) else on
+        if len(first):
+            rel_err = (con['time'][first[-1]] - 2.0) / h
+    else:
+        mass = 8000 * 4e-4 * 0.2
+        # b's momentum after release: the total minus a's; exact 10 m/s.
+        reb = np.nan
+        imp = np.sum(-con['impulse_x'])      # the impulse on b (the WITH side) = minus that on a
+        reb = (imp / mass - 10.0) / 10.0
+        if len(on):
+            rel_err = (con['time'][on[-1]] - (1e-5 + 8e-5)) / h
+    return bal, onsets, std, reb, rel_err
+
+
+SCENES = {'bar': bar_scene, 'clamped': clamped_scene, 'two bars': two_bars_scene}
+if os.environ.get('CONTACT_TABLE_ONLY'):
+    SCENES = {k: v for k, v in SCENES.items() if k == os.environ['CONTACT_TABLE_ONLY']}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('--out', default=os.path.join(ROOT, 'results', 'contact_table'))
+    ap.add_argument('--doc', default=os.path.join(ROOT, 'docs', 'contact-table.md'))
+    ap.add_argument('--sizes', type=int, nargs='+', default=[20, 40, 80, 160, 320])
+    ap.add_argument('--modes', nargs='+', default=['PAPER', 'PERSIST', 'MASSLESS', 'OFF'])
+    ap.add_argument('--cfl', type=float, default=0.1)
+    a = ap.parse_args()
+    if not os.access(REBOND, os.X_OK):
+        sys.exit('contact_table: bin/rebond not found (make first)')
+    lines = ['# Contact benchmarks: impact modes against exact solutions', '',
+             'Generated by `make validation` (`tools/contact_table.py --cfl %g`): h = %g dx/c, consistent mass. '
+             'Rebound: the momentum after release against the exact one (bar: +100 m/s; clamped bar: v(0) = +1/2; '
+             'two bars: b leaves at +10 m/s), relative. Release: last step with a contact force minus the exact '
+             'release time, in steps. Force std/mean over the inner 80 %% of the contact. CPU: user + system '
+             'time of the run.' % (a.cfl, a.cfl), '']
+    for kind, make in SCENES.items():
+        lines += ['## ' + kind, '', '| elements | mode | max\\|balance\\|/E | onsets | force std/mean | rebound error '
+                  '| release error (steps) | CPU s |', '|---|---|---|---|---|---|---|---|']
+        for n in a.sizes:
+            for mode in a.modes:
+                h, scene = make(n, a.cfl, mode)
+                name = '%s_%d_%s' % (kind.replace(' ', '_'), n, mode)
+                rc, err, out, cpu = run(name, scene, a.out)
+                if rc != 0:
+                    lines.append('| %d | %s | failed (exit %d): %s | | | | | %.2f |' % (n, mode, rc, err[-80:], cpu))
+                    continue
+                bal, onsets, std, reb, rel = measures(kind.split()[0] if kind != 'two bars' else 'two', out, h, n)
+                lines.append('| %d | %s | %.1e | %d | %.3f | %+.3f %% | %+.1f | %.2f |'
+                             % (n, mode, bal, onsets, std, 100 * reb, rel, cpu))
+                print(lines[-1], flush=True)
+        lines.append('')
+    with open(a.doc, 'w') as f:
+        f.write('\n'.join(lines))
+    print('wrote', a.doc)
+
+
+if __name__ == '__main__':
+    main()
