@@ -168,6 +168,8 @@ contains
           pa(i) = na(i)
           pb(i) = best
         end do
+        call check_matching(scn, st, st%params(kw)%values(1), pa, pb, nb, given, n, stat, errmsg)
+        if (stat /= STAT_OK) return
       end associate
     else
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give NODES ga WITH gb, or PAIRS a1 b1 …', st%lead(1)))
@@ -212,4 +214,62 @@ contains
       node = scn%mesh%ngroups(g)%items(1)
     end subroutine one_node
   end subroutine do_gap
+
+  !> GAP NODES ga WITH gb pairs nodes one to one, which is right only for matching meshes
+  !> (node-to-segment contact is not available): refused when a node of gb is the nearest to two
+  !> nodes of ga (ga the finer side), or when a node of gb left unpaired lies on the contact
+  !> surface between paired ones (gb the finer side: it would go through ga's edges). The surface
+  !> is the band the paired nodes of gb span along the tangent of the normal (NORMAL, or the mean
+  !> direction from a to b; not checked when the pairs point every way).
+  subroutine check_matching(scn, st, tok, pa, pb, nb, given, ngiven, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    type(token_t), intent(in) :: tok
+    integer, intent(in) :: pa(:), pb(:), nb(:)
+    logical, intent(in) :: given
+    real(dp), intent(in) :: ngiven(2)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=*), parameter :: hint = ': GAP NODES … WITH pairs the nodes of matching meshes ' // &
+      '(node-to-segment contact is not available; PAIRS lists pairs explicitly)'
+    real(dp) :: n(2), t(2), tol, smin, smax, qmin, qmax, s, q
+    integer :: i, j
+    stat = STAT_OK
+    do i = 2, size(pb)
+      do j = 1, i - 1
+        if (pb(j) == pb(i)) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'non-matching meshes: node ' // str(pb(i)) // &
+            ' is the nearest to nodes ' // str(pa(j)) // ' and ' // str(pa(i)) // hint, tok))
+          return
+        end if
+      end do
+    end do
+    if (given) then
+      n = ngiven
+    else
+      n = 0.0_dp
+      do i = 1, size(pa)
+        n = n + (scn%mesh%x(:, pb(i)) - scn%mesh%x(:, pa(i))) / norm2(scn%mesh%x(:, pb(i)) - scn%mesh%x(:, pa(i)))
+      end do
+      n = n / size(pa)
+      if (norm2(n) < 0.5_dp) return
+      n = n / norm2(n)
+    end if
+    t = [-n(2), n(1)]
+    tol = 1.0e-6_dp * model_size(scn%mesh)
+    smin = minval([(dot_product(t, scn%mesh%x(:, pb(i))), i = 1, size(pb))])
+    smax = maxval([(dot_product(t, scn%mesh%x(:, pb(i))), i = 1, size(pb))])
+    qmin = minval([(dot_product(n, scn%mesh%x(:, pb(i))), i = 1, size(pb))])
+    qmax = maxval([(dot_product(n, scn%mesh%x(:, pb(i))), i = 1, size(pb))])
+    do j = 1, size(nb)
+      if (any(pb == nb(j)) .or. any(pa == nb(j))) cycle
+      s = dot_product(t, scn%mesh%x(:, nb(j)))
+      q = dot_product(n, scn%mesh%x(:, nb(j)))
+      if (s > smin + tol .and. s < smax - tol .and. q > qmin - tol .and. q < qmax + tol) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'non-matching meshes: node ' // str(nb(j)) // &
+          ' lies between paired nodes and faces none' // hint, tok))
+        return
+      end if
+    end do
+  end subroutine check_matching
 end module scene_contacts

@@ -33,6 +33,18 @@ BASE = [
     'OUTPUT PROBE b UX',                       # 14
 ]
 
+BLOCKS = [                                     # two blocks, 7 and 4 elements along the contact
+    'RECTANGLE lo ORIGIN 0 0 SIZE 1 0.2 ELEMENTS 7 1 TYPE QUAD4',
+    'RECTANGLE up ORIGIN 0 0.21 SIZE 1 0.2 ELEMENTS 4 1 TYPE QUAD4',
+    'MATERIAL st ELASTIC YOUNG 2e11 DENSITY 7800',
+    'SECTION sl THICKNESS 0.1',
+    'MODEL lo MATERIAL st SECTION sl',
+    'MODEL up MATERIAL st SECTION sl',
+    'FIX lo.bottom ALL',
+    'INITIAL up VELOCITY 0 -1',
+    'TIME STEP 1e-5 END 1e-3',
+]
+
 QUAD = [
     'NODE p1 AT 0 0',
     'NODE p2 AT 1 0',
@@ -117,6 +129,10 @@ CASES = [
     ('negative RESTITUTION', BASE + ['GAP g PAIRS a b RESTITUTION -0.1'], None, [], 15, 'GAP g', '-0.1'),
     ('MASSLESS on a point mass', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0', 'SCHEME IMPACT MASSLESS'], None,
      [], 15, 'OBSTACLE wall', 'wall'),
+    ('GAP on non-matching meshes, ga finer', BLOCKS + ['GAP g NODES lo.top WITH up.bottom NORMAL 0 1'], None, [], 10,
+     'GAP g', 'up.bottom'),
+    ('GAP on non-matching meshes, gb finer', BLOCKS + ['GAP g NODES up.bottom WITH lo.top'], None, [], 10, 'GAP g',
+     'lo.top'),
     ('bad --set value', BASE, None, ['TIME.STEP=abc'], 13, 'TIME', 'abc'),
     ('non-positive --set TIME.STEP', BASE, None, ['TIME.STEP=-1'], 13, 'TIME', '-1'),
     ('--set unknown keyword', BASE, None, ['TIMES.STEP=1'], None, '--set', 'TIMES'),
