@@ -232,7 +232,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     character(len=*), parameter :: hint = ': GAP NODES … WITH pairs the nodes of matching meshes ' // &
       '(node-to-segment contact is not available; PAIRS lists pairs explicitly)'
-    real(dp) :: n(2), t(2), tol, smin, smax, qmin, qmax, s, q
+    real(dp) :: n(2), t(2), tol, smin, smax, qmin, qmax, s, q, d
     integer :: i, j
     stat = STAT_OK
     do i = 2, size(pb)
@@ -248,8 +248,9 @@ contains
       n = ngiven
     else
       n = 0.0_dp
-      do i = 1, size(pa)
-        n = n + (scn%mesh%x(:, pb(i)) - scn%mesh%x(:, pa(i))) / norm2(scn%mesh%x(:, pb(i)) - scn%mesh%x(:, pa(i)))
+      do i = 1, size(pa)                         ! (coincident pairs are reported by the caller)
+        d = norm2(scn%mesh%x(:, pb(i)) - scn%mesh%x(:, pa(i)))
+        if (d > 0.0_dp) n = n + (scn%mesh%x(:, pb(i)) - scn%mesh%x(:, pa(i))) / d
       end do
       n = n / size(pa)
       if (norm2(n) < 0.5_dp) return
