@@ -136,20 +136,29 @@ contains
     end do
   end function count_param
 
-  !> Locate value `iv` of the first occurrence of `key`. found = .false. when the parameter or
-  !> that value is missing (ip tells which: 0 = parameter missing).
-  subroutine locate(st, key, iv, ip, found)
+  !> The value `index` (default 1) of the first occurrence of `key`: its parameter ip and value
+  !> iv. found = .false. when the parameter (ip = 0) or that value is missing, an error then
+  !> unless the getter has a default. One preamble for every getter.
+  subroutine find_value(st, key, index, has_default, iv, ip, found, stat, errmsg)
     type(statement_t), intent(in) :: st
     character(len=*), intent(in) :: key
-    integer, intent(in) :: iv
-    integer, intent(out) :: ip
+    integer, intent(in), optional :: index
+    logical, intent(in) :: has_default
+    integer, intent(out) :: iv, ip
     logical, intent(out) :: found
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    errmsg = ''
+    iv = 1
+    if (present(index)) iv = index
     ip = find_param(st, key)
     found = .false.
-    if (ip == 0) return
-    if (.not. allocated(st%params(ip)%values)) return
-    found = iv >= 1 .and. iv <= size(st%params(ip)%values)
-  end subroutine locate
+    if (ip > 0) then
+      if (allocated(st%params(ip)%values)) found = iv >= 1 .and. iv <= size(st%params(ip)%values)
+    end if
+    if (.not. (found .or. has_default)) call set_error(stat, errmsg, STAT_INPUT, missing_text(st, key, ip, iv))
+  end subroutine find_value
 
   !> Error for a missing parameter or value (no default given).
   function missing_text(st, key, ip, iv) result(s)
@@ -177,18 +186,10 @@ contains
     logical, intent(in), optional :: lower_inclusive, upper_inclusive
     integer :: iv, ip
     logical :: found
-    stat = STAT_OK
-    errmsg = ''
     x = 0.0_dp
-    iv = 1
-    if (present(index)) iv = index
-    call locate(st, key, iv, ip, found)
+    call find_value(st, key, index, present(default), iv, ip, found, stat, errmsg)
     if (.not. found) then
-      if (present(default)) then
-        x = default
-      else
-        call set_error(stat, errmsg, STAT_INPUT, missing_text(st, key, ip, iv))
-      end if
+      if (present(default)) x = default
       return
     end if
     associate (t => st%params(ip)%values(iv))
@@ -212,18 +213,10 @@ contains
     logical, intent(in), optional :: lower_inclusive, upper_inclusive
     integer :: iv, ip
     logical :: found
-    stat = STAT_OK
-    errmsg = ''
     n = 0
-    iv = 1
-    if (present(index)) iv = index
-    call locate(st, key, iv, ip, found)
+    call find_value(st, key, index, present(default), iv, ip, found, stat, errmsg)
     if (.not. found) then
-      if (present(default)) then
-        n = default
-      else
-        call set_error(stat, errmsg, STAT_INPUT, missing_text(st, key, ip, iv))
-      end if
+      if (present(default)) n = default
       return
     end if
     associate (t => st%params(ip)%values(iv))
@@ -264,18 +257,13 @@ contains
     integer, intent(in), optional :: index
     integer :: iv, ip
     logical :: found
-    stat = STAT_OK
-    errmsg = ''
-    iv = 1
-    if (present(index)) iv = index
-    call locate(st, key, iv, ip, found)
+    call find_value(st, key, index, present(default), iv, ip, found, stat, errmsg)
     if (found) then
       w = st%params(ip)%values(iv)%text
     else if (present(default)) then
       w = default
     else
       w = ''
-      call set_error(stat, errmsg, STAT_INPUT, missing_text(st, key, ip, iv))
     end if
   end subroutine get_word
 
