@@ -92,7 +92,9 @@ test: bin/rebond $(TEST_BIN)
 
 run: bin/rebond
 	@bin/rebond inputs/beam_drop_vertical.dat
-	@echo "results are in results/beam_drop_vertical/ (history.csv, probes.csv, events.csv, fields.h5, fields.xmf)"
+	@echo "results are in results/beam_drop_vertical/ (history.csv, probes.csv, events.csv, contacts.csv, fields.h5, fields.xmf)"
+	@echo "look at them: /usr/bin/python3 tools/plot_energy.py results/beam_drop_vertical --scene inputs/beam_drop_vertical.dat -o energy.png"
+	@echo "              (energy, balance, rebound heights); fields.xmf opens in ParaView (displacement, stress, reaction)"
 
 bench: bin/rebond
 	@bash tools/bench.sh
