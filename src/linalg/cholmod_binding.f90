@@ -53,9 +53,8 @@ module cholmod_binding
     final :: umfpack_factor_final
   end type umfpack_factor_t
 
-  ! Return codes of the shim.
-  integer(c_int), parameter :: RB_OK = 0, RB_NOT_POSDEF = 1, RB_FAIL = 2, RB_BADARG = 3
-  integer(c_int), parameter :: RB_UMF_OK = 0, RB_UMF_SINGULAR = 1, RB_UMF_FAIL = 2, RB_UMF_BADARG = 3
+  ! Return codes of both shims (cholmod_shim.c, umfpack_shim.c), translated by shim_status.
+  integer(c_int), parameter :: RB_OK = 0, RB_NOT_POSDEF = 1, RB_SINGULAR = 1, RB_BADARG = 3
   integer, parameter :: MSGLEN = 320
 
 contains
@@ -95,15 +94,8 @@ contains
     cmsg(1) = c_null_char
     rc = rb_chol_factorize(self%handle, int(pat%n, c_int), int(pat%nnz, c_int), pat%colptr, pat%rowind, &
                            values, cminor, cmsg, int(MSGLEN, c_int))
-    if (rc == RB_OK) return
-    if (rc == RB_NOT_POSDEF) then
-      if (present(minor)) minor = int(cminor)
-      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
-    else if (rc == RB_BADARG) then
-      call set_error(stat, errmsg, STAT_INPUT, c_to_f(cmsg))
-    else
-      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
-    end if
+    if (rc == RB_NOT_POSDEF .and. present(minor)) minor = int(cminor)
+    call shim_status(rc, cmsg, stat, errmsg)
   end subroutine factorize
 
   !> x = A^{-1} b with the current factor. No allocation after the first call on success.
@@ -116,24 +108,41 @@ contains
     character(kind=c_char) :: cmsg(MSGLEN)
     integer(c_int) :: rc
 
-    stat = STAT_OK
-    if (.not. c_associated(self%handle)) then
-      call set_error(stat, errmsg, STAT_INPUT, 'CHOLMOD solve: matrix not factorized')
-      return
-    end if
-    if (size(x) /= size(b)) then
-      call set_error(stat, errmsg, STAT_INPUT, 'CHOLMOD solve: size(x) = ' // str(size(x)) // &
-                     ' differs from size(b) = ' // str(size(b)))
-      return
-    end if
+    call check_solve('CHOLMOD', self%handle, size(b), size(x), stat, errmsg)
+    if (stat /= STAT_OK) return
+    cmsg(1) = c_null_char
     rc = rb_chol_solve(self%handle, int(size(b), c_int), b, x, cmsg, int(MSGLEN, c_int))
-    if (rc == RB_OK) return
-    if (rc == RB_BADARG) then
-      call set_error(stat, errmsg, STAT_INPUT, c_to_f(cmsg))
-    else
-      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
-    end if
+    call shim_status(rc, cmsg, stat, errmsg)
   end subroutine solve
+
+  !> The shims' return code in rebond's terms, in one place: RB_OK nothing, RB_BADARG a caller's
+  !> error (STAT_INPUT), anything else (not positive definite, singular, failure) STAT_RUN; the
+  !> message is the shim's.
+  subroutine shim_status(rc, cmsg, stat, errmsg)
+    integer(c_int), intent(in) :: rc
+    character(kind=c_char), intent(in) :: cmsg(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (rc == RB_OK) return
+    call set_error(stat, errmsg, merge(STAT_INPUT, STAT_RUN, rc == RB_BADARG), c_to_f(cmsg))
+  end subroutine shim_status
+
+  !> A solve needs a factor and matching sizes (lib names the library in the message).
+  subroutine check_solve(lib, handle, nb, nx, stat, errmsg)
+    character(len=*), intent(in) :: lib
+    type(c_ptr), intent(in) :: handle
+    integer, intent(in) :: nb, nx
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (.not. c_associated(handle)) then
+      call set_error(stat, errmsg, STAT_INPUT, lib // ' solve: matrix not factorized')
+    else if (nx /= nb) then
+      call set_error(stat, errmsg, STAT_INPUT, lib // ' solve: size(x) = ' // str(nx) // ' differs from size(b) = ' // &
+                     str(nb))
+    end if
+  end subroutine check_solve
 
   !> True when the last factorize succeeded and destroy has not been called since.
   logical function is_factored(self)
@@ -200,12 +209,7 @@ contains
     cmsg(1) = c_null_char
     rc = rb_umf_analyze(self%handle, int(n, c_int), int(size(rowind), c_int), colptr0, rowind0, cmsg, &
                         int(MSGLEN, c_int))
-    if (rc == RB_UMF_OK) return
-    if (rc == RB_UMF_BADARG) then
-      call set_error(stat, errmsg, STAT_INPUT, c_to_f(cmsg))
-    else
-      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
-    end if
+    call shim_status(rc, cmsg, stat, errmsg)
   end subroutine umf_analyze
 
   !> Numeric LU of values(nnz), in the analyzed pattern's order; frees the previous factor.
@@ -228,15 +232,8 @@ contains
     end if
     cmsg(1) = c_null_char
     rc = rb_umf_factorize(self%handle, int(size(values), c_int), values, cmsg, int(MSGLEN, c_int))
-    if (rc == RB_UMF_OK) return
-    if (rc == RB_UMF_SINGULAR) then
-      singular = .true.
-      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
-    else if (rc == RB_UMF_BADARG) then
-      call set_error(stat, errmsg, STAT_INPUT, c_to_f(cmsg))
-    else
-      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
-    end if
+    singular = rc == RB_SINGULAR
+    call shim_status(rc, cmsg, stat, errmsg)
   end subroutine umf_factorize
 
   !> x = A^{-1} b with the current LU factor (UMFPACK's iterative refinement included).
@@ -250,24 +247,11 @@ contains
     character(kind=c_char) :: cmsg(MSGLEN)
     integer(c_int) :: rc
 
-    stat = STAT_OK
-    if (.not. c_associated(self%handle)) then
-      call set_error(stat, errmsg, STAT_INPUT, 'UMFPACK solve: matrix not factorized')
-      return
-    end if
-    if (size(x) /= size(b)) then
-      call set_error(stat, errmsg, STAT_INPUT, 'UMFPACK solve: size(x) = ' // str(size(x)) // &
-                     ' differs from size(b) = ' // str(size(b)))
-      return
-    end if
+    call check_solve('UMFPACK', self%handle, size(b), size(x), stat, errmsg)
+    if (stat /= STAT_OK) return
     cmsg(1) = c_null_char
     rc = rb_umf_solve(self%handle, int(size(b), c_int), b, x, cmsg, int(MSGLEN, c_int))
-    if (rc == RB_UMF_OK) return
-    if (rc == RB_UMF_BADARG) then
-      call set_error(stat, errmsg, STAT_INPUT, c_to_f(cmsg))
-    else
-      call set_error(stat, errmsg, STAT_RUN, c_to_f(cmsg))
-    end if
+    call shim_status(rc, cmsg, stat, errmsg)
   end subroutine umf_solve
 
   !> True when the last factorize succeeded (nonsingular) and destroy has not been called since.
