@@ -141,6 +141,7 @@ contains
     end do
     if (inelastic) t_elastic = 0.5_dp * dot_product(v, mv)
     call hzero_reflection(cs, cs%idx(1:n), cs%gain(1:n), v, mv, rank, stat, errmsg)
+    if (stat /= STAT_OK) return
     rep%reflection_rank = rank
     cs%cimp = cs%cimp - cs%mu
     ! RESTITUTION e < 1: Newton's law took (1 - e²) of the normal kinetic energy (measured).
