@@ -11,11 +11,12 @@ program rebond
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
   use sweep, only: run_sweep
   use os_utils, only: path_stem, exit_with
+  use hdf5_file, only: hdf5_failed
   implicit none
 
   character(len=*), parameter :: VERSION = '0.1.0'
   character(len=:), allocatable :: scene_path, outdir, errmsg, arg, restart
-  character(len=512), allocatable :: overrides(:)
+  character(len=:), allocatable :: overrides(:)   !< --set values, as long as the longest
   type(scene_t) :: scn
   type(system_t) :: sys
   type(run_state_t) :: rs
@@ -27,7 +28,7 @@ program rebond
   ! on the stack of MAIN__, and the strings they hold at exit show up as leaks in valgrind.
   save
 
-  allocate (overrides(0))
+  allocate (character(len=1) :: overrides(0))
   scene_path = ''
   outdir = ''
   restart = ''
@@ -59,7 +60,7 @@ program rebond
     case ('--set')
       if (i == n) call fail_usage('option --set needs STATEMENT.PARAM=VALUE')
       i = i + 1
-      overrides = [character(len=512) :: overrides, get_arg(i)]
+      call push_override(overrides, get_arg(i))
     case ('--quiet', '-q')
       quiet = .true.
     case ('--restart')
@@ -69,7 +70,7 @@ program rebond
     case default
       if (len(arg) > 6) then
         if (arg(1:6) == '--set=') then
-          overrides = [character(len=512) :: overrides, arg(7:)]
+          call push_override(overrides, arg(7:))
           i = i + 1
           cycle
         end if
@@ -170,6 +171,20 @@ contains
     write (*, '(a)') 'Exit status: 0 success, 2 bad input, 1 failure during the run (sweep: a case failed).'
   end subroutine usage
 
+  !> Append s to list, widened to the longest value: nothing the user typed is cut.
+  subroutine push_override(list, s)
+    character(len=:), allocatable, intent(inout) :: list(:)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: tmp(:)
+    integer :: k
+    allocate (character(len=max(len(list), len(s))) :: tmp(size(list) + 1))
+    do k = 1, size(list)
+      tmp(k) = list(k)
+    end do
+    tmp(size(list) + 1) = s
+    call move_alloc(tmp, list)
+  end subroutine push_override
+
   subroutine fail_usage(msg)
     character(len=*), intent(in) :: msg
     write (0, '(a)') 'rebond: ' // msg
@@ -181,7 +196,7 @@ contains
     integer, intent(in) :: code
     character(len=*), intent(in) :: msg
     write (0, '(a)') 'rebond: error: ' // msg
-    if (code == STAT_INPUT) call exit_with(2)
-    call exit_with(1)
+    if (code == STAT_INPUT) call exit_with(2, now=hdf5_failed())
+    call exit_with(1, now=hdf5_failed())
   end subroutine fail
 end program rebond

@@ -1,16 +1,19 @@
 !> Every C function rebond calls, in one place: the few POSIX calls Fortran 2008 lacks (libc),
-!> and rebond's own C (src/core/os_shim.c: signals, exit; src/core/format_shim.c: the digits of
-!> ES24.16E3; src/linalg/cholmod_shim.c and umfpack_shim.c: the SuiteSparse handles). The
-!> modules that wrap them (os_utils, text_format, cholmod_binding, sweep) translate their
+!> and rebond's own C (src/core/os_shim.c: signals, exit; src/core/file_shim.c: checked
+!> writes; src/core/format_shim.c: the digits of ES24.16E3; src/linalg/cholmod_shim.c and
+!> umfpack_shim.c: the SuiteSparse handles). The modules that wrap them (os_utils, text_file,
+!> text_format, cholmod_binding, sweep) translate their
 !> status codes; nothing else calls C.
 module c_interfaces
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_int, c_double, c_char
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_int, c_double, c_char, c_size_t
   implicit none
   private
   public :: c_rename, c_mkdir, c_access, c_opendir, c_closedir, c_rmdir, c_install_signals, &
     c_signal_received, c_exit, c_remove, rb_format_es, rb_chol_new, rb_chol_free, rb_chol_is_factored, &
     rb_chol_version, rb_chol_factorize, rb_chol_solve, rb_umf_new, rb_umf_free, rb_umf_is_factored, &
-    rb_umf_version, rb_umf_analyze, rb_umf_factorize, rb_umf_solve, c_usleep
+    rb_umf_version, rb_umf_analyze, rb_umf_factorize, rb_umf_solve, c_usleep, &
+    rb_file_open, rb_file_write, rb_file_close, rb_strerror, rb_room, c_exit_now, &
+    rb_take_errno
 
   interface
     ! libc and os_shim.c (os_utils)
@@ -183,5 +186,52 @@ module c_interfaces
       integer(c_int), value :: usec
       integer(c_int) :: rc
     end function c_usleep
+
+    ! src/core/file_shim.c: result files written with every write(2) checked (text_file).
+    function rb_file_open(path, mode, err) bind(c, name='rebond_file_open') result(h)
+      import :: c_char, c_int, c_ptr
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: mode
+      integer(c_int), intent(out) :: err
+      type(c_ptr) :: h
+    end function rb_file_open
+
+    function rb_file_write(h, buf, n, newline) bind(c, name='rebond_file_write') result(err)
+      import :: c_char, c_int, c_ptr, c_size_t
+      type(c_ptr), value :: h
+      character(kind=c_char), intent(in) :: buf(*)
+      integer(c_size_t), value :: n
+      integer(c_int), value :: newline
+      integer(c_int) :: err
+    end function rb_file_write
+
+    function rb_file_close(h) bind(c, name='rebond_file_close') result(err)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: h
+      integer(c_int) :: err
+    end function rb_file_close
+
+    function rb_room(path, dir) bind(c, name='rebond_room') result(b)
+      import :: c_char, c_double
+      character(kind=c_char), intent(in) :: path(*), dir(*)
+      real(c_double) :: b
+    end function rb_room
+
+    function rb_take_errno() bind(c, name='rebond_take_errno') result(e)
+      import :: c_int
+      integer(c_int) :: e
+    end function rb_take_errno
+
+    subroutine c_exit_now(status) bind(c, name='rebond_exit_now')
+      import :: c_int
+      integer(c_int), value :: status
+    end subroutine c_exit_now
+
+    subroutine rb_strerror(err, buf, n) bind(c, name='rebond_strerror')
+      import :: c_char, c_int
+      integer(c_int), value :: err
+      character(kind=c_char), intent(out) :: buf(*)
+      integer(c_int), value :: n
+    end subroutine rb_strerror
   end interface
 end module c_interfaces

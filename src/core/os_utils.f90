@@ -2,13 +2,14 @@
 !> opendir, remove), through iso_c_binding. Paths are passed to C as NUL-terminated copies.
 module os_utils
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_ptr, c_null_char, c_associated
+  use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error
   use c_interfaces, only: c_rename, c_mkdir, c_access, c_opendir, c_closedir, c_rmdir, c_install_signals, &
-    c_signal_received, c_exit, c_remove
+    c_signal_received, c_exit, c_remove, c_exit_now, rb_room
   implicit none
   private
   public :: os_rename, make_directory, path_exists, is_directory, remove_file, remove_directory
-  public :: install_signal_handlers, signal_received, path_stem, exit_with
+  public :: install_signal_handlers, signal_received, path_stem, exit_with, room_for
 
 
   integer(c_int), parameter :: F_OK = 0_c_int
@@ -125,11 +126,29 @@ contains
     k = index(b, '.', back=.true.)
     if (k > 1) b = b(1:k - 1)
   end function path_stem
-  !> End the program with a status and no "STOP n" line (top of the program only).
-  subroutine exit_with(status)
+  !> End the program with a status and no "STOP n" line (top of the program only). now: skip
+  !> the libraries' exit handlers (after an HDF5 failure, see os_shim.c).
+  subroutine exit_with(status, now)
     integer, intent(in) :: status
+    logical, intent(in), optional :: now
     flush (6)
     flush (0)
+    if (present(now)) then
+      if (now) call c_exit_now(int(status, c_int))
+    end if
     call c_exit(int(status, c_int))
   end subroutine exit_with
+
+  !> Bytes that can still be added to the file at path: the space left on its file system,
+  !> capped by the file size limit (ulimit -f); -1 when unknown.
+  real(dp) function room_for(path)
+    character(len=*), intent(in) :: path
+    integer :: k
+    k = index(path, '/', back=.true.)
+    if (k == 0) then
+      room_for = real(rb_room(cstr(path), cstr('.')), dp)
+    else
+      room_for = real(rb_room(cstr(path), cstr(path(1:max(k - 1, 1)))), dp)
+    end if
+  end function room_for
 end module os_utils

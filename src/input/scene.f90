@@ -109,6 +109,7 @@ module scene
     integer :: impact = IMPACT_PAPER                  !< SCHEME IMPACT
     integer :: multipliers = SOLVER_AUTO              !< SCHEME MULTIPLIERS (contact_modes)
     integer :: augmented_above = SWITCH_DEFAULT       !< SCHEME AUGMENTED_ABOVE (AUTO's switch)
+    character(len=:), allocatable :: fingerprint      !< what a checkpoint's state means (scene_fingerprint)
   end type scene_t
 
 

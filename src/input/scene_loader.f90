@@ -14,6 +14,7 @@ module scene_loader
   use scene_conditions, only: conditions_schema, conditions_statement
   use scene_contacts, only: contacts_schema, contacts_statement
   use scene_run, only: run_schema, run_statement
+  use scene_fingerprint, only: fingerprint_text
   implicit none
   private
   public :: load_scene, scene_schema
@@ -79,5 +80,6 @@ contains
       return
     end if
     call check_required(st, sch, path, stat, errmsg)
+    if (stat == STAT_OK) scn%fingerprint = fingerprint_text(st, scn%mesh)
   end subroutine load_scene
 end module scene_loader

@@ -1,15 +1,18 @@
-!> Checkpoint files: the whole state of a run in one HDF5 file, written atomically (a new file
-!> under a temporary name, flushed and closed, then renamed over the old one) so that a run
-!> killed at any moment leaves either the previous checkpoint or the new one, never half of
-!> one. Each owner of state writes its own fields (newmark's save_checkpoint asks them); this
+!> Checkpoint files: the whole state of a run in one HDF5 file, written atomically so that a
+!> run killed at any moment leaves either the previous checkpoint or the new one, never half
+!> of one: the file is built in memory (HDF5's core driver), its bytes written under a
+!> temporary name with every write checked (text_file), read back and compared, and only then
+!> renamed over the old one. A full disk is an error and leaves the old checkpoint whole. Each owner of state writes its own fields (newmark's save_checkpoint asks them); this
 !> module stores named arrays and scalars through hdf5_file and, on reading, checks every
 !> shape. Quadruple-precision arrays are stored bit for bit as pairs of doubles (transfer), so
 !> that a restart continues exactly where the run stopped. stat and errmsg of put and get are
 !> sticky: after a failure the later calls do nothing and the first message stays.
 module checkpoint
   use kinds, only: dp, qp
-  use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use os_utils, only: os_rename, path_exists
+  use errors, only: STAT_OK, STAT_INPUT, STAT_RUN, set_error, str
+  use, intrinsic :: iso_c_binding, only: c_char
+  use os_utils, only: os_rename, path_exists, remove_file
+  use text_file, only: text_file_t
   use hdf5_file, only: h5_file_t
   implicit none
   private
@@ -25,15 +28,15 @@ module checkpoint
     procedure :: commit => ck_commit
     procedure :: open => ck_open
     procedure :: close => ck_close
-    generic :: put => put_r1, put_r2, put_i1, put_r0, put_i0, put_q1
-    generic :: get => get_r1, get_r2, get_i1, get_r0, get_i0, get_q1
-    procedure, private :: put_r1, put_r2, put_i1, put_r0, put_i0, put_q1
-    procedure, private :: get_r1, get_r2, get_i1, get_r0, get_i0, get_q1
+    generic :: put => put_r1, put_r2, put_i1, put_r0, put_i0, put_q1, put_text
+    generic :: get => get_r1, get_r2, get_i1, get_r0, get_i0, get_q1, get_text
+    procedure, private :: put_r1, put_r2, put_i1, put_r0, put_i0, put_q1, put_text
+    procedure, private :: get_r1, get_r2, get_i1, get_r0, get_i0, get_q1, get_text
   end type ckpt_file_t
 
 contains
 
-  !> Start a new checkpoint; it becomes `path` only at commit.
+  !> Start a new checkpoint (in memory); it becomes `path` only at commit.
   subroutine ck_create(self, path, stat, errmsg)
     class(ckpt_file_t), intent(inout) :: self
     character(len=*), intent(in) :: path
@@ -41,20 +44,68 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     self%path = path
     self%tmp = path // '.tmp'
-    call self%f%create(self%tmp, 'checkpoint', stat, errmsg)
+    call self%f%create(self%tmp, 'checkpoint', stat, errmsg, in_memory=.true.)
   end subroutine ck_create
 
-  !> Flush, close and rename the new checkpoint over the old one.
+  !> Write the file's bytes to path.tmp, read them back, rename over path. On failure path.tmp
+  !> is removed and path (the previous checkpoint) is untouched.
   subroutine ck_commit(self, stat, errmsg)
     class(ckpt_file_t), intent(inout) :: self
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
+    character(kind=c_char, len=1), allocatable :: bytes(:)
+    type(text_file_t) :: out
+    integer :: st2
+    character(len=:), allocatable :: msg2
     if (.not. self%f%is_open()) return
-    call self%f%flush(stat, errmsg)
+    call self%f%image(bytes, stat, errmsg)
     call self%f%close(stat, errmsg)
     if (stat /= STAT_OK) return
+    call out%create(self%tmp, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call out%write_bytes(bytes, stat, errmsg)
+    if (stat == STAT_OK) then
+      call out%close(stat, errmsg)
+    else
+      call out%close(st2, msg2)
+    end if
+    if (stat == STAT_OK) call read_back(self%tmp, bytes, stat, errmsg)
+    if (stat /= STAT_OK) then
+      call remove_file(self%tmp, st2, msg2)
+      return
+    end if
     call os_rename(self%tmp, self%path, stat, errmsg)
   end subroutine ck_commit
+
+  !> The file at path holds exactly bytes.
+  subroutine read_back(path, bytes, stat, errmsg)
+    character(len=*), intent(in) :: path
+    character(kind=c_char, len=1), intent(in) :: bytes(:)
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    character(kind=c_char, len=1), allocatable :: disk(:)
+    integer :: u, ios
+    integer(8) :: n
+    character(len=256) :: msg
+    open (newunit=u, file=path, status='old', access='stream', form='unformatted', action='read', &
+      iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call set_error(stat, errmsg, STAT_RUN, 'checkpoint ' // path // ': cannot read it back: ' // trim(msg))
+      return
+    end if
+    inquire (unit=u, size=n)
+    if (n == size(bytes, kind=8)) then
+      allocate (disk(size(bytes)))
+      read (u, iostat=ios, iomsg=msg) disk
+    end if
+    close (u)
+    if (n /= size(bytes, kind=8) .or. ios /= 0) then
+      call set_error(stat, errmsg, STAT_RUN, 'checkpoint ' // path // ': read back ' // str(int(n)) // ' bytes of ' // &
+        str(size(bytes)))
+    else if (any(disk /= bytes)) then
+      call set_error(stat, errmsg, STAT_RUN, 'checkpoint ' // path // ': the bytes read back differ from those written')
+    end if
+  end subroutine read_back
 
   !> Open an existing checkpoint for reading.
   subroutine ck_open(self, path, stat, errmsg)
@@ -137,7 +188,45 @@ contains
     call self%f%write(name, transfer(x, [0.0_dp], 2 * size(x)), stat, errmsg)
   end subroutine put_q1
 
+  !> Text of any length, as its character codes.
+  subroutine put_text(self, name, text, stat, errmsg)
+    class(ckpt_file_t), intent(inout) :: self
+    character(len=*), intent(in) :: name, text
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    integer :: i
+    call self%f%write(name, [(ichar(text(i:i)), i = 1, len(text))], stat, errmsg)
+  end subroutine put_text
+
   ! ---- reading ------------------------------------------------------------------------------
+
+  !> Text written by put_text (its length is the dataset's).
+  subroutine get_text(self, name, text, stat, errmsg)
+    class(ckpt_file_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable, intent(out) :: text
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    integer, allocatable :: codes(:)
+    integer :: ndims, n, i
+    text = ''
+    if (stat /= STAT_OK) return
+    if (.not. self%f%exists(name, stat, errmsg)) then
+      if (stat == STAT_OK) call set_error(stat, errmsg, STAT_INPUT, 'checkpoint ' // self%path // ': no dataset ' // &
+        name // ' (a checkpoint of another version?)')
+      return
+    end if
+    call self%f%extent(name, ndims, n, stat, errmsg)
+    if (stat /= STAT_OK) return
+    allocate (codes(max(n, 0)))
+    call get_i1(self, name, codes, stat, errmsg)
+    if (stat /= STAT_OK) return
+    deallocate (text)
+    allocate (character(len=size(codes)) :: text)
+    do i = 1, size(codes)
+      text(i:i) = achar(codes(i))
+    end do
+  end subroutine get_text
 
   !> Dataset `name` must exist and hold n values (rank 1).
   subroutine expect(self, name, n, stat, errmsg)

@@ -25,7 +25,7 @@ module fields_hdf5
   use element_traits, only: NUM_ETYPES, etype_nen, etype_xdmf_cell, XDMF_POLYVERTEX, XDMF_POLYLINE, &
     XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
   use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic
-  use os_utils, only: make_directory
+  use os_utils, only: make_directory, room_for
   use hdf5_file, only: h5_file_t
   implicit none
   private
@@ -34,6 +34,7 @@ module fields_hdf5
 
 
   character(len=*), parameter :: H5_NAME = 'fields.h5', XMF_NAME = 'fields.xmf'
+  real(dp), parameter :: ROOM_MARGIN = 65536.0_dp   !< bytes kept free besides a step's data (check_room)
 
   type :: fields_writer_t
     private
@@ -251,6 +252,8 @@ contains
       end if
     end if
 
+    call check_room(self, step, present(reaction), stat, errmsg)
+    if (stat /= STAT_OK) return
     grp = step_group_name(step)
     if (self%h5%exists(grp, stat, errmsg)) then
       call set_error(stat, errmsg, STAT_RUN, 'field output: step ' // str(step) // ' is already in "' // &
@@ -281,6 +284,27 @@ contains
     call append_grid(self, xdmf_step_grid(self%h5name, self%nnode, self%nelem, self%ntopo, self%steps(self%nsteps)))
     call write_text_atomic(self%xmfpath, self%xhead // self%grids(1:self%ngrids) // self%xtail, stat, errmsg)
   end subroutine fw_write_step
+
+  !> Refuse a step the disk (or the file size limit) cannot hold, before HDF5 tries: HDF5 1.10
+  !> does not recover from a write that fails (the file can no longer be closed, and may be
+  !> left unreadable). Needed: the step's arrays twice
+  !> (metadata, chunk growth) plus ROOM_MARGIN; the file keeps every complete step.
+  subroutine check_room(self, step, with_reaction, stat, errmsg)
+    type(fields_writer_t), intent(in) :: self
+    integer, intent(in) :: step
+    logical, intent(in) :: with_reaction
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: need, free
+    stat = STAT_OK
+    need = 8.0_dp * (4.0_dp * self%nnode * merge(3, 2, with_reaction) + 4.0_dp * self%nelem)
+    need = 2.0_dp * need + ROOM_MARGIN
+    free = room_for(self%h5path)
+    if (free >= 0.0_dp .and. free < need) call set_error(stat, errmsg, STAT_RUN, 'field output ' // self%h5path // &
+      ': no room left for step ' // str(step) // ' (needs about ' // str(nint(need / 1024)) // &
+      ' KiB, ' // str(nint(free / 1024)) // ' KiB left on the device or under the file size limit); ' // &
+      'the file holds the steps written before')
+  end subroutine check_room
 
   !> grids(1:ngrids) // text, the buffer doubled when full.
   pure subroutine append_grid(self, text)

@@ -6,9 +6,10 @@
 !> closed with the last. Used by fields_hdf5 (fields.h5), checkpoint (checkpoint.h5) and
 !> sweep_output (sweep.h5). Do not copy an open h5_file_t: pass it by reference.
 module hdf5_file
-  use, intrinsic :: iso_c_binding, only: c_char, c_loc, c_null_char, c_ptr
+  use, intrinsic :: iso_c_binding, only: c_char, c_loc, c_null_char, c_ptr, c_null_ptr
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN
+  use text_file, only: os_reason, clear_os_reason
   use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5close_f, h5eset_auto_f, &
     h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5F_SCOPE_GLOBAL_F, &
     h5gcreate_f, h5gopen_f, h5gclose_f, h5lexists_f, &
@@ -16,17 +17,21 @@ module hdf5_file
     h5sget_simple_extent_dims_f, H5S_SCALAR_F, H5S_UNLIMITED_F, H5S_SELECT_SET_F, &
     h5dcreate_f, h5dopen_f, h5dclose_f, h5dwrite_f, h5dread_f, h5dset_extent_f, h5dget_space_f, &
     h5acreate_f, h5awrite_f, h5aclose_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, &
-    h5pcreate_f, h5pclose_f, h5pset_chunk_f, h5pset_file_locking_f, &
+    h5pcreate_f, h5pclose_f, h5pset_chunk_f, h5pset_file_locking_f, h5pset_fapl_core_f, h5fget_file_image_f, &
     H5P_FILE_ACCESS_F, H5P_DATASET_CREATE_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, H5T_NATIVE_CHARACTER, &
     H5T_STR_NULLPAD_F
   implicit none
   private
-  public :: h5_file_t
+  public :: h5_file_t, hdf5_failed
 
   integer(hsize_t), parameter :: SERIES_CHUNK = 256   !< chunk length of the per-step series
+  integer(size_t), parameter :: MEMORY_INCREMENT = 1048576   !< growth step of an in-memory file
 
   !> Files open now: the library is opened by the first, closed by the last.
   integer, save :: h5_users = 0
+  !> An operation failed: HDF5 may hold a file it cannot close (the program must then end
+  !> without HDF5's exit handler, os_utils exit_with now).
+  logical, save :: any_failure = .false.
 
   type :: h5_file_t
     private
@@ -37,6 +42,7 @@ module hdf5_file
     procedure :: open_read => h5_open_read
     procedure :: close => h5_close
     procedure :: flush => h5_flush
+    procedure :: image => h5_image
     procedure :: is_open => h5_is_open
     procedure :: exists => h5_exists
     procedure :: create_group => h5_create_group
@@ -60,11 +66,23 @@ contains
     character(len=*), intent(in) :: op
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
-    if (hdferr < 0 .and. stat == STAT_OK) then
+    character(len=:), allocatable :: why
+    if (hdferr >= 0) then
+      call clear_os_reason()
+    else if (stat == STAT_OK) then
+      any_failure = .true.
       stat = STAT_RUN
       errmsg = self%what // ' ' // self%path // ': cannot ' // op
+      ! HDF5 does not say why; errno does (No space left on device, File too large, ...).
+      why = os_reason()
+      if (len(why) > 0) errmsg = errmsg // ': ' // why
     end if
   end subroutine check
+
+  !> True once any HDF5 operation failed in this process.
+  logical function hdf5_failed()
+    hdf5_failed = any_failure
+  end function hdf5_failed
 
   !> Open the library (first user), with HDF5's automatic error printing off.
   subroutine use_library(self, stat, errmsg)
@@ -95,12 +113,14 @@ contains
 
   !> A new file at path (an existing one is replaced); what names it in messages ("checkpoint",
   !> "field output", ...). unlocked: without HDF5 file locking (a viewer may read it meanwhile).
-  subroutine h5_create(self, path, what, stat, errmsg, unlocked)
+  !> in_memory: a file image in memory only (HDF5's core driver, nothing on disk; `image`
+  !> gives its bytes), so that the caller writes it with checked writes of its own.
+  subroutine h5_create(self, path, what, stat, errmsg, unlocked, in_memory)
     class(h5_file_t), intent(inout) :: self
     character(len=*), intent(in) :: path, what
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    logical, intent(in), optional :: unlocked
+    logical, intent(in), optional :: unlocked, in_memory
     integer(hid_t) :: fapl
     integer :: hdferr
     stat = STAT_OK
@@ -114,6 +134,12 @@ contains
       if (unlocked) then
         call h5pset_file_locking_f(fapl, .false., .true., hdferr)
         call check(self, hdferr, 'disable file locking', stat, errmsg)
+      end if
+    end if
+    if (stat == STAT_OK .and. present(in_memory)) then
+      if (in_memory) then
+        call h5pset_fapl_core_f(fapl, MEMORY_INCREMENT, .false., hdferr)
+        call check(self, hdferr, 'select the in-memory driver', stat, errmsg)
       end if
     end if
     if (stat == STAT_OK) then
@@ -169,6 +195,29 @@ contains
     call h5fflush_f(self%fid, H5F_SCOPE_GLOBAL_F, hdferr)
     call check(self, hdferr, 'flush the file', stat, errmsg)
   end subroutine h5_flush
+
+  !> The bytes of the whole file as it stands (an in-memory file: what would be on disk).
+  subroutine h5_image(self, bytes, stat, errmsg)
+    class(h5_file_t), intent(inout) :: self
+    character(kind=c_char, len=1), allocatable, target, intent(out) :: bytes(:)
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    integer(size_t) :: n
+    integer :: hdferr
+    type(c_ptr) :: p
+    if (stat /= STAT_OK) return
+    call h5fflush_f(self%fid, H5F_SCOPE_GLOBAL_F, hdferr)
+    call check(self, hdferr, 'flush the file', stat, errmsg)
+    if (stat /= STAT_OK) return
+    p = c_null_ptr
+    call h5fget_file_image_f(self%fid, p, 0_size_t, hdferr, n)
+    call check(self, hdferr, 'size the file image', stat, errmsg)
+    if (stat /= STAT_OK) return
+    allocate (bytes(n))
+    p = c_loc(bytes)
+    call h5fget_file_image_f(self%fid, p, n, hdferr)
+    call check(self, hdferr, 'copy the file image', stat, errmsg)
+  end subroutine h5_image
 
   pure logical function h5_is_open(self)
     class(h5_file_t), intent(in) :: self

@@ -1,21 +1,25 @@
-!> CSV result files (history.csv, probes.csv): a header row, then one line per output, each
-!> flushed as soon as it is written so that a run stopped at any moment leaves complete lines.
-!> Rows are formatted into a buffer sized at open: nothing is allocated per row (text_format).
+!> CSV result files (history.csv, probes.csv, events.csv, contacts.csv): a header row, then
+!> one line per output, each in the file as soon as it is written (text_file: one checked
+!> write(2) per line) so that a run stopped at any moment leaves complete lines, and a full
+!> disk stops the run with a message. Rows are formatted into a buffer sized at open: nothing
+!> is allocated per row (text_format).
 module history_writer
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error
   use text_format, only: put_es, put_int, put_text, ES_MAX_LEN
+  use text_file, only: text_file_t
   implicit none
   private
   public :: csv_file_t
 
   type :: csv_file_t
-    integer :: unit = -1
-    character(len=:), allocatable :: path
+    private
+    type(text_file_t) :: f
     character(len=:), allocatable :: buf
   contains
     procedure :: open => csv_open
     procedure :: write_row
+    procedure :: write_line => csv_write_line
     procedure :: resume => csv_resume
     procedure :: close => csv_close
   end type csv_file_t
@@ -28,34 +32,32 @@ contains
     character(len=*), intent(in) :: path, header
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: ios, ncol
-    character(len=256) :: msg
-    stat = STAT_OK
-    open (newunit=self%unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call set_error(stat, errmsg, STAT_RUN, 'cannot create ' // path // ': ' // trim(msg))
-      self%unit = -1
-      return
-    end if
-    self%path = path
-    ncol = count_commas(header) + 1
-    allocate (character(len=32 * ncol + 64) :: self%buf)
-    write (self%unit, '(a)') header
-    flush (self%unit)
+    call self%f%create(path, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call size_buffer(self, header)
+    call self%f%write_line(header, stat, errmsg)
   end subroutine csv_open
+
+  subroutine size_buffer(self, header)
+    type(csv_file_t), intent(inout) :: self
+    character(len=*), intent(in) :: header
+    if (allocated(self%buf)) deallocate (self%buf)
+    allocate (character(len=32 * (count_commas(header) + 1) + 64) :: self%buf)
+  end subroutine size_buffer
 
   !> Reopen a result file after a restart from step `last`: keep the header and the lines of
   !> steps <= last (a killed run may have written lines past its checkpoint), rewritten
   !> atomically, then append. A missing file is created with the header.
   subroutine csv_resume(self, path, header, last, stat, errmsg)
-    use os_utils, only: os_rename, path_exists
+    use os_utils, only: os_rename, path_exists, remove_file
     class(csv_file_t), intent(inout) :: self
     character(len=*), intent(in) :: path, header
     integer, intent(in) :: last
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: uin, uout, ios, k, step
-    character(len=:), allocatable :: line
+    type(text_file_t) :: out
+    integer :: uin, ios, k, step, st2
+    character(len=:), allocatable :: line, msg2
     character(len=256) :: msg
     stat = STAT_OK
     if (.not. path_exists(path)) then
@@ -67,35 +69,35 @@ contains
       call set_error(stat, errmsg, STAT_RUN, 'cannot read ' // path // ': ' // trim(msg))
       return
     end if
-    open (newunit=uout, file=path // '.tmp', status='replace', action='write', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      close (uin)
-      call set_error(stat, errmsg, STAT_RUN, 'cannot create ' // path // '.tmp: ' // trim(msg))
-      return
-    end if
-    write (uout, '(a)') header
+    ! The kept lines go to path.tmp, which replaces path only once complete: a failure
+    ! (a full disk) leaves the old file whole.
+    call out%create(path // '.tmp', stat, errmsg)
+    if (stat == STAT_OK) call out%write_line(header, stat, errmsg)
     call read_line(uin, line, ios)   ! the old header
-    do
+    do while (stat == STAT_OK)
       call read_line(uin, line, ios)
       if (ios /= 0) exit
       k = index(line, ',')
       if (k < 2) cycle
       read (line(1:k - 1), *, iostat=ios) step
       if (ios /= 0) cycle
-      if (step <= last) write (uout, '(a)') line
+      if (step <= last) call out%write_line(line, stat, errmsg)
     end do
     close (uin)
-    close (uout)
-    call os_rename(path // '.tmp', path, stat, errmsg)
-    if (stat /= STAT_OK) return
-    open (newunit=self%unit, file=path, status='old', position='append', action='write', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call set_error(stat, errmsg, STAT_RUN, 'cannot append to ' // path // ': ' // trim(msg))
-      self%unit = -1
+    if (stat == STAT_OK) then
+      call out%close(stat, errmsg)
+    else
+      call out%close(st2, msg2)
+    end if
+    if (stat /= STAT_OK) then
+      call remove_file(path // '.tmp', st2, msg2)
       return
     end if
-    self%path = path
-    allocate (character(len=32 * (count_commas(header) + 1) + 64) :: self%buf)
+    call os_rename(path // '.tmp', path, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call self%f%append(path, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call size_buffer(self, header)
   end subroutine csv_resume
 
   !> One line of any length.
@@ -134,7 +136,7 @@ contains
     real(dp), intent(in), optional :: tail(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: ios, pos, i, need
+    integer :: pos, i, need
     stat = STAT_OK
     need = 12 * (1 + size(ints)) + (ES_MAX_LEN + 1) * size(reals)
     if (present(tail)) need = need + (ES_MAX_LEN + 1) * size(tail)
@@ -159,15 +161,23 @@ contains
         call put_es(self%buf, pos, tail(i))
       end do
     end if
-    write (self%unit, '(a)', iostat=ios) self%buf(1:pos)
-    if (ios == 0) flush (self%unit, iostat=ios)
-    if (ios /= 0) call set_error(stat, errmsg, STAT_RUN, 'cannot write ' // self%path)
+    call self%f%write_line(self%buf(1:pos), stat, errmsg)
   end subroutine write_row
 
-  subroutine csv_close(self)
+  !> A line built by the caller (events.csv, contacts.csv).
+  subroutine csv_write_line(self, line, stat, errmsg)
     class(csv_file_t), intent(inout) :: self
-    ! newunit= numbers are negative: -1 alone means closed.
-    if (self%unit /= -1) close (self%unit)
-    self%unit = -1
+    character(len=*), intent(in) :: line
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call self%f%write_line(line, stat, errmsg)
+  end subroutine csv_write_line
+
+  !> Close; a failure to close (the last bytes not stored) is reported like a failed write.
+  subroutine csv_close(self, stat, errmsg)
+    class(csv_file_t), intent(inout) :: self
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call self%f%close(stat, errmsg)
   end subroutine csv_close
 end module history_writer

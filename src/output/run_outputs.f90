@@ -136,7 +136,8 @@ contains
         end do
         call self%probes%write_row(step, self%preals, [integer ::], stat, errmsg)
         if (stat /= STAT_OK) return
-        if (present(cs)) call write_contacts(self, step, t, cs)
+        if (present(cs)) call write_contacts(self, step, t, cs, stat, errmsg)
+        if (stat /= STAT_OK) return
       end if
     end if
     if (.not. self%with_fields) return
@@ -228,11 +229,13 @@ contains
 
   !> contacts.csv: one row per contact statement: its active conditions, the mean force and the
   !> impulse since the previous row, its smallest gap.
-  subroutine write_contacts(self, step, t, cs)
+  subroutine write_contacts(self, step, t, cs, stat, errmsg)
     type(output_set_t), intent(inout) :: self
     integer, intent(in) :: step
     real(dp), intent(in) :: t
     type(contact_set_t), intent(in) :: cs
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     integer :: k, j, pos, nact
     real(dp) :: gmin
     character(len=256) :: line
@@ -264,24 +267,27 @@ contains
       call put_es(line, pos, self%cimp(2, k))
       call put_text(line, pos, ',')
       call put_es(line, pos, gmin)
-      write (self%contacts%unit, '(a)') line(1:pos)
+      call self%contacts%write_line(line(1:pos), stat, errmsg)
+      if (stat /= STAT_OK) return
     end do
-    flush (self%contacts%unit)
     self%cimp = 0.0_dp
     self%t_row = t
   end subroutine write_contacts
 
   !> events.csv: one line per contact established or released in the step, built with
   !> text_format in a fixed buffer (no internal WRITE, no allocation: these are in the loop).
-  subroutine outputs_write_events(self, scn, step, t, cs)
+  subroutine outputs_write_events(self, scn, step, t, cs, stat, errmsg)
     class(output_set_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     integer, intent(in) :: step
     real(dp), intent(in) :: t
     type(contact_set_t), intent(in) :: cs
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     type(contact_event_t) :: event
     integer :: k, j, pos
     character(len=256) :: line
+    stat = STAT_OK
     do k = 1, cs%n_events()
       event = cs%event(k)
       j = event%index
@@ -307,18 +313,36 @@ contains
       call put_es(line, pos, event%multiplier)
       call put_text(line, pos, ',')
       call put_es(line, pos, merge(event%energy, 0.0_dp, event%kind == EVENT_ESTABLISH))
-      write (self%ev%unit, '(a)') line(1:pos)
+      call self%ev%write_line(line(1:pos), stat, errmsg)
+      if (stat /= STAT_OK) return
     end do
-    if (cs%n_events() > 0) flush (self%ev%unit)
   end subroutine outputs_write_events
 
-  !> Close every file (also after a failure: what was written stays).
-  subroutine outputs_close(self)
+  !> Close every file (also after a failure: what was written stays). stat: the first failure
+  !> to close; the caller keeps an earlier error of its own.
+  subroutine outputs_close(self, stat, errmsg)
     class(output_set_t), intent(inout) :: self
-    if (self%with_events) call self%ev%close()
-    if (self%with_events) call self%contacts%close()
-    call self%hist%close()
-    call self%probes%close()
-    if (self%with_fields) call self%fields%close()
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: st(5)
+    type :: msg_t
+      character(len=:), allocatable :: s
+    end type msg_t
+    type(msg_t) :: m(5)
+    integer :: k
+    st = STAT_OK
+    if (self%with_events) call self%ev%close(st(1), m(1)%s)
+    if (self%with_events) call self%contacts%close(st(2), m(2)%s)
+    call self%hist%close(st(3), m(3)%s)
+    call self%probes%close(st(4), m(4)%s)
+    if (self%with_fields) call self%fields%close(st(5), m(5)%s)
+    stat = STAT_OK
+    do k = 1, 5
+      if (st(k) /= STAT_OK) then
+        stat = st(k)
+        errmsg = m(k)%s
+        return
+      end if
+    end do
   end subroutine outputs_close
 end module run_outputs

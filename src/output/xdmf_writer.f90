@@ -14,7 +14,8 @@
 module xdmf_writer
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error, str
-  use os_utils, only: os_rename
+  use os_utils, only: os_rename, remove_file
+  use text_file, only: text_file_t
   implicit none
   private
   public :: xdmf_step_t, xdmf_document, step_group_name, write_text_atomic, xml_escape, xdmf_real
@@ -186,33 +187,27 @@ contains
     call put(tb, I3 // '</Attribute>' // NL)
   end subroutine node_attribute
 
-  !> Write text to path atomically: write path.tmp, close it, rename it over path.
+  !> Write text to path atomically: write path.tmp, close it, rename it over path (every
+  !> write checked: a failure leaves the previous path whole and no path.tmp).
   subroutine write_text_atomic(path, text, stat, errmsg)
     character(len=*), intent(in) :: path, text
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=:), allocatable :: tmp
-    character(len=256) :: iomsg
-    integer :: u, ios
-    stat = STAT_OK
-    tmp = path // '.tmp'
-    open (newunit=u, file=tmp, status='replace', access='stream', form='unformatted', &
-          action='write', iostat=ios, iomsg=iomsg)
-    if (ios /= 0) then
-      call set_error(stat, errmsg, STAT_RUN, 'cannot create "' // tmp // '": ' // trim(iomsg))
+    type(text_file_t) :: f
+    character(len=:), allocatable :: msg2
+    integer :: st2
+    call f%create(path // '.tmp', stat, errmsg)
+    if (stat /= STAT_OK) return
+    call f%write_text(text, stat, errmsg)
+    if (stat == STAT_OK) then
+      call f%close(stat, errmsg)
+    else
+      call f%close(st2, msg2)
+    end if
+    if (stat /= STAT_OK) then
+      call remove_file(path // '.tmp', st2, msg2)
       return
     end if
-    write (u, iostat=ios, iomsg=iomsg) text
-    if (ios /= 0) then
-      close (u, status='delete')
-      call set_error(stat, errmsg, STAT_RUN, 'cannot write "' // tmp // '": ' // trim(iomsg))
-      return
-    end if
-    close (u, iostat=ios, iomsg=iomsg)
-    if (ios /= 0) then
-      call set_error(stat, errmsg, STAT_RUN, 'cannot close "' // tmp // '": ' // trim(iomsg))
-      return
-    end if
-    call os_rename(tmp, path, stat, errmsg)
+    call os_rename(path // '.tmp', path, stat, errmsg)
   end subroutine write_text_atomic
 end module xdmf_writer

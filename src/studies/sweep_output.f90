@@ -17,6 +17,7 @@ module sweep_output
                         REF_FINEST, REF_CASE, REF_VALUE, CS_OK
   use sweep_metrics, only: metric_error, nan_value
   use hdf5_file, only: h5_file_t
+  use text_file, only: text_file_t
   implicit none
   private
   public :: apply_reference, write_sweep_csv, write_sweep_h5, real_text, seconds_text
@@ -164,24 +165,22 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(text_t), allocatable :: cols(:)
-    character(len=:), allocatable :: line
-    character(len=256) :: iom
-    integer :: u, ios, k, j
+    character(len=:), allocatable :: line, msg2
+    type(text_file_t) :: f
+    integer :: k, j, st2
     stat = STAT_OK
     errmsg = ''
-    open (newunit=u, file=path, status='replace', action='write', iostat=ios, iomsg=iom)
-    if (ios /= 0) then
-      call set_error(stat, errmsg, STAT_RUN, 'cannot write ' // path // ': ' // trim(iom))
-      return
-    end if
+    call f%create(path, stat, errmsg)
+    if (stat /= STAT_OK) return
     cols = column_names(sw)
     line = ''
     do j = 1, size(cols)
       if (j > 1) line = line // ','
       line = line // csv_field(cols(j)%s)
     end do
-    write (u, '(a)') line
+    call f%write_line(line, stat, errmsg)
     do k = 1, size(res)
+      if (stat /= STAT_OK) exit
       line = str(k) // ',' // csv_field(sw%cases(k)%name) // ',' // status_name(res(k)%status)
       do j = 1, size(sw%params)
         line = line // ',' // csv_field(sw%cases(k)%values(j)%s)
@@ -196,9 +195,13 @@ contains
       end do
       line = line // ',' // str(merge(1, 0, k == iref)) // ',' // case_dir_name(k, size(res)) // ',' // &
         csv_field(message_of(res(k)))
-      write (u, '(a)') line
+      call f%write_line(line, stat, errmsg)
     end do
-    close (u)
+    if (stat == STAT_OK) then
+      call f%close(stat, errmsg)
+    else
+      call f%close(st2, msg2)
+    end if
   end subroutine write_sweep_csv
 
   pure real(dp) function value_or_nan(a, j)

@@ -21,6 +21,7 @@ module newmark
   use run_outputs, only: output_set_t, HISTORY_HEADER, EVENTS_HEADER
   use os_utils, only: make_directory, install_signal_handlers, signal_received
   use checkpoint, only: ckpt_file_t
+  use scene_fingerprint, only: fingerprint_mismatch
   implicit none
   private
   public :: run_options_t, run_summary_t, prepare_run, run_newmark, run_state_t
@@ -280,22 +281,25 @@ contains
     type(output_set_t) :: outs
     type(step_report_t) :: rep
     type(contact_report_t) :: crep
-    integer :: step, step0, total_iter, nactive, done
+    integer :: step, step0, total_iter, nactive, done, st2
     integer(8) :: c0, crate, clast
     real(dp) :: t, dw_ext, dw_corr, e_rest
+    character(len=:), allocatable :: msg2
 
     call system_clock(c0, crate)
     clast = c0
     step0 = 0
     total_iter = 0
     done = 0
-    call make_directory(opts%outdir, stat, errmsg)
-    if (stat == STAT_OK .and. allocated(opts%restart)) call load_checkpoint(opts%restart, sys, rs, step0, total_iter, stat, errmsg)
+    ! A checkpoint that cannot be used is bad input: refused before anything is created.
+    stat = STAT_OK
+    if (allocated(opts%restart)) call load_checkpoint(scn, opts%restart, sys, rs, step0, total_iter, stat, errmsg)
+    if (stat == STAT_OK) call make_directory(opts%outdir, stat, errmsg)
     done = step0
+    if (stat == STAT_OK) call install_signal_handlers(stat, errmsg)
     if (stat == STAT_OK) call outs%open(scn, opts%outdir, step0, rs%nsteps, rs%has_contact, stat, errmsg)
     nactive = 0
     if (rs%has_contact) nactive = rs%cs%n_active()
-    if (stat == STAT_OK) call install_signal_handlers(stat, errmsg)
     if (stat == STAT_OK .and. step0 == 0) call write_outputs(outs, scn, sys, rs, 0, scn%t_start, 0, nactive, stat, errmsg)
 
     do step = step0 + 1, rs%nsteps
@@ -332,7 +336,8 @@ contains
         if (crep%fp_failures > 0) write (0, '(a)') 'rebond: warning: ' // at_step(step, t) // &
           'the coupled impulses (14) have no all-negative solution; decoupled roots of (13) scaled to restore ' // &
           'the lost energy exactly'
-        call outs%write_events(scn, step, t, rs%cs)
+        call outs%write_events(scn, step, t, rs%cs, stat, errmsg)
+        if (stat /= STAT_OK) exit
         call outs%add_contact_impulses(scn, rs%cs)
       else
         call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg)
@@ -350,13 +355,13 @@ contains
       if (stat /= STAT_OK) exit
       if (scn%checkpoint_every > 0) then
         if (mod(step, scn%checkpoint_every) == 0 .or. step == rs%nsteps) &
-          call save_checkpoint(opts%outdir, sys, rs, step, t, total_iter, stat, errmsg)
+          call save_checkpoint(scn, opts%outdir, sys, rs, step, t, total_iter, stat, errmsg)
         if (stat /= STAT_OK) exit
       end if
       done = step
       if (signal_received() /= 0) then
         ! SIGINT or SIGTERM: a checkpoint of this complete step, the summary, a non-zero exit.
-        call save_checkpoint(opts%outdir, sys, rs, step, t, total_iter, stat, errmsg)
+        call save_checkpoint(scn, opts%outdir, sys, rs, step, t, total_iter, stat, errmsg)
         if (stat == STAT_OK) call set_error(stat, errmsg, STAT_RUN, 'interrupted by signal ' // &
           str(signal_received()) // ' after step ' // str(step) // ' (t = ' // str(t) // '); continue with --restart ' &
           // opts%outdir // '/checkpoint.h5')
@@ -366,7 +371,11 @@ contains
     end do
     ! The one exit: files closed, summary filled (also on failure: a sweep records the steps and
     ! the balance of a case that stopped).
-    call outs%close()
+    if (stat == STAT_OK) then
+      call outs%close(stat, errmsg)
+    else
+      call outs%close(st2, msg2)
+    end if
     call fill_summary(rs, done, total_iter, c0, crate, summary)
     if (stat == STAT_OK .and. .not. opts%quiet) write (0, '(a)') ''
 
@@ -395,7 +404,7 @@ contains
     character(len=:), allocatable :: where
     where = ''
     if (rep%outcome == STEP_DIVERGED .or. rep%outcome == STEP_NONFINITE) then
-      call save_checkpoint(outdir, sys, rs, step - 1, t - rs%h, total_iter, stat, errmsg)
+      call save_checkpoint(scn, outdir, sys, rs, step - 1, t - rs%h, total_iter, stat, errmsg)
       where = '; the state of step ' // str(step - 1) // ' is in ' // outdir // '/checkpoint.h5'
     end if
     select case (rep%outcome)
@@ -456,7 +465,8 @@ contains
 
   !> The whole state at the end of step `step` in OUTDIR/checkpoint.h5, atomically: each
   !> owner writes its own fields.
-  subroutine save_checkpoint(outdir, sys, rs, step, t, iters, stat, errmsg)
+  subroutine save_checkpoint(scn, outdir, sys, rs, step, t, iters, stat, errmsg)
+    type(scene_t), intent(in) :: scn
     character(len=*), intent(in) :: outdir
     type(system_t), intent(in) :: sys
     type(run_state_t), intent(in) :: rs
@@ -467,6 +477,7 @@ contains
     type(ckpt_file_t) :: ck
     call ck%create(outdir // '/checkpoint.h5', stat, errmsg)
     if (stat /= STAT_OK) return
+    call ck%put('scene', scn%fingerprint, stat, errmsg)
     call ck%put('step', step, stat, errmsg)
     call ck%put('time', t, stat, errmsg)
     call ck%put('iterations', iters, stat, errmsg)
@@ -479,7 +490,8 @@ contains
   end subroutine save_checkpoint
 
   !> The state saved by save_checkpoint, checked against this scene's sizes.
-  subroutine load_checkpoint(path, sys, rs, step, iters, stat, errmsg)
+  subroutine load_checkpoint(scn, path, sys, rs, step, iters, stat, errmsg)
+    type(scene_t), intent(in) :: scn
     character(len=*), intent(in) :: path
     type(system_t), intent(inout) :: sys
     type(run_state_t), intent(inout) :: rs
@@ -489,10 +501,18 @@ contains
     type(ckpt_file_t) :: ck
     integer :: neq
     real(dp) :: tck
+    character(len=:), allocatable :: saved, why
     step = 0
     iters = 0
     call ck%open(path, stat, errmsg)
     if (stat /= STAT_OK) return
+    ! The state means something only under the scene that wrote it.
+    call ck%get('scene', saved, stat, errmsg)
+    if (stat == STAT_OK) then
+      why = fingerprint_mismatch(saved, scn%fingerprint)
+      if (len(why) > 0) call set_error(stat, errmsg, STAT_INPUT, 'checkpoint ' // path // &
+        ' belongs to another scene: ' // why // ' (only TIME END and OUTPUT may change for a restart)')
+    end if
     call ck%get('step', step, stat, errmsg)
     call ck%get('time', tck, stat, errmsg)
     call ck%get('iterations', iters, stat, errmsg)

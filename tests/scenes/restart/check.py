@@ -87,3 +87,41 @@ sc.report('blow-up: the history keeps its complete lines', lines_complete(os.pat
 sc.report('blow-up: names the first offending DOF', 'node 2' in err and 'DOF UX' in err, err.strip()[-300:])
 sc.report('blow-up: a checkpoint of the last good step', os.path.exists(os.path.join(out, 'checkpoint.h5')) and
           'state of step 0' in err, err.strip()[-200:])
+
+
+def fingerprint():
+    """A checkpoint belongs to its scene (issue 12, item 2): a restart under a changed TIME STEP,
+    GRAVITY, material or mesh is refused with exit 2 naming the first differing item; TIME END
+    and OUTPUT may change; a refused restart creates no output folder."""
+    sets = ['OUTPUT.CHECKPOINT=1000', 'TIME.END=2']
+    out = sc.run_ok('inputs/mass_bounce.dat', sets)
+    ck = os.path.join(out, 'checkpoint.h5')
+
+    def restart(extra, outdir=None):
+        cmd = [sc.REBOND, 'inputs/mass_bounce.dat', '-o', outdir or sc.new_dir('fp'), '--quiet', '--restart', ck]
+        for s in sets + extra:
+            cmd += ['--set', s]
+        return subprocess.run(cmd, cwd=sc.ROOT, capture_output=True, text=True)
+
+    for extra, words in ((['TIME.STEP=2.6e-3'], ['TIME', 'STEP']), (['GRAVITY.GY=-9.80'], ['GRAVITY', 'GY']),
+                         (['SECTION.m1.MASS=2'], ['SECTION m1', 'MASS']),
+                         (['SCHEME.IMPACT=PERSIST'], ['SCHEME', 'IMPACT'])):
+        fresh = sc.new_dir('never')
+        r = restart(extra, fresh)
+        msg = r.stderr.strip()
+        sc.report('restart with %s refused: exit 2 naming it' % extra[0],
+                  r.returncode == 2 and 'another scene' in msg and all(w in msg for w in words) and msg.count('\n') == 0,
+                  'exit %d: %r' % (r.returncode, msg))
+        sc.report('refused restart (%s) created no output folder' % extra[0], not os.path.exists(fresh), fresh)
+    # Numbers compare by value: 1.3e-3 written as 0.0013 is the same step.
+    r = restart(['TIME.STEP=0.0013', 'TIME.END=3', 'OUTPUT.HISTORY=2'])
+    sc.report('restart with the same step written otherwise, a later END and other outputs: accepted',
+              r.returncode == 0, 'exit %d: %r' % (r.returncode, r.stderr[-300:]))
+    fresh = sc.new_dir('never')
+    cmd = [sc.REBOND, 'inputs/mass_bounce.dat', '-o', fresh, '--quiet', '--restart', fresh + '/checkpoint.h5']
+    r = subprocess.run(cmd, cwd=sc.ROOT, capture_output=True, text=True)
+    sc.report('restart from a missing checkpoint: exit 2, no output folder',
+              r.returncode == 2 and not os.path.exists(fresh), 'exit %d, exists %s' % (r.returncode, os.path.exists(fresh)))
+
+
+fingerprint()
