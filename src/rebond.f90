@@ -22,13 +22,21 @@ program rebond
   type(run_state_t) :: rs
   type(run_options_t) :: opts
   type(run_summary_t) :: summary
-  integer :: i, n, stat, first
+  integer :: i, n, stat, first, w, l, nset
   logical :: quiet, sweep_mode
   ! Static storage, as the standard implies for main-program variables: gfortran keeps these
   ! on the stack of MAIN__, and the strings they hold at exit show up as leaks in valgrind.
   save
 
-  allocate (character(len=1) :: overrides(0))
+  ! --set values: at most one per argument, none longer than the longest argument.
+  n = command_argument_count()
+  w = 1
+  do i = 1, n
+    call get_command_argument(i, length=l)
+    w = max(w, l)
+  end do
+  allocate (character(len=w) :: overrides(n))
+  nset = 0
   scene_path = ''
   outdir = ''
   restart = ''
@@ -60,7 +68,7 @@ program rebond
     case ('--set')
       if (i == n) call fail_usage('option --set needs STATEMENT.PARAM=VALUE')
       i = i + 1
-      call push_override(overrides, get_arg(i))
+      call push_override(get_arg(i))
     case ('--quiet', '-q')
       quiet = .true.
     case ('--restart')
@@ -70,7 +78,7 @@ program rebond
     case default
       if (len(arg) > 6) then
         if (arg(1:6) == '--set=') then
-          call push_override(overrides, arg(7:))
+          call push_override(arg(7:))
           i = i + 1
           cycle
         end if
@@ -87,7 +95,7 @@ program rebond
   if (sweep_mode) then
     if (len(scene_path) == 0) call fail_usage('no sweep file given')
     if (len(restart) > 0) call fail_usage('--restart applies to a single scene, not to a sweep')
-    call run_sweep(scene_path, overrides, outdir, quiet, stat)
+    call run_sweep(scene_path, overrides(1:nset), outdir, quiet, stat)
     if (stat == STAT_INPUT) call exit_with(2)
     if (stat /= STAT_OK) call exit_with(1)
   else
@@ -101,7 +109,7 @@ contains
     if (len(scene_path) == 0) call fail_usage('no scene file given')
     if (len(outdir) == 0) outdir = 'results/' // path_stem(scene_path)
 
-    call load_scene(scene_path, overrides, scn, stat, errmsg)
+    call load_scene(scene_path, overrides(1:nset), scn, stat, errmsg)
     if (stat /= STAT_OK) call fail(stat, errmsg)
     call build_system(scn, sys, stat, errmsg)
     if (stat /= STAT_OK) call fail(stat, errmsg)
@@ -171,18 +179,11 @@ contains
     write (*, '(a)') 'Exit status: 0 success, 2 bad input, 1 failure during the run (sweep: a case failed).'
   end subroutine usage
 
-  !> Append s to list, widened to the longest value: nothing the user typed is cut.
-  subroutine push_override(list, s)
-    character(len=:), allocatable, intent(inout) :: list(:)
+  !> overrides(nset) = s (the array is as wide as the longest argument: nothing is cut).
+  subroutine push_override(s)
     character(len=*), intent(in) :: s
-    character(len=:), allocatable :: tmp(:)
-    integer :: k
-    allocate (character(len=max(len(list), len(s))) :: tmp(size(list) + 1))
-    do k = 1, size(list)
-      tmp(k) = list(k)
-    end do
-    tmp(size(list) + 1) = s
-    call move_alloc(tmp, list)
+    nset = nset + 1
+    overrides(nset) = s
   end subroutine push_override
 
   subroutine fail_usage(msg)

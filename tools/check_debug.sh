@@ -164,6 +164,15 @@ debug_mode() {
     REBOND="$DEBUG_BIN" /usr/bin/python3 tests/extremes/matrix.py --fast >"$log/mx.out" 2>&1
     verdict "tests/extremes/matrix.py --fast ($(grep -c '^PASS' "$log/mx.out") checks)" $? "$log/mx.out"
   fi
+  # Hostile input under the traps (issue 12): the bad-input, hostile-input, full-disk and fuzz
+  # regression checks on the debug binary; a trapped overflow in the input handling, a bounds
+  # error or a crash fails them.
+  echo "== hostile input, full disk and fuzz regression (tests/scenes/{bad_input,hostile,full_disk,fuzz})"
+  for c in bad_input hostile full_disk fuzz; do
+    [ -f "tests/scenes/$c/check.py" ] || continue
+    REBOND="$DEBUG_BIN" FUZZ_SKIP="$BLOWUP_SCENES" /usr/bin/python3 "tests/scenes/$c/check.py" >"$log/hi.out" 2>&1
+    verdict "tests/scenes/$c/check.py ($(grep -c '^PASS' "$log/hi.out") checks)" $? "$log/hi.out"
+  done
   # The sweep driver (docs/sweep.md), in one process and under mpirun: the bouncing-mass study,
   # cut to 1 s. The other studies/*.sweep include cases that diverge by design (e.g. ITERATION
   # ELASTIC at h = T): under -ffpe-trap their overflow stops the whole sweep (see reliability.md).

@@ -3,12 +3,12 @@
 !> the internal forces Bσ assembled from the element stresses.
 module assembly
   use kinds, only: dp, qp
-  use errors, only: STAT_OK, STAT_INPUT, set_error, str
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str, check_alloc
   use mesh, only: DOF_NAMES
   use element_traits, only: ET_BEAM2, etype_needs_material
   use contact_modes, only: IMPACT_MASSLESS
   use scene, only: scene_t, function_value, model_point_kind, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
-  use dof_map, only: build_dof_map
+  use dof_map, only: build_dof_map, DOF_ABSENT
   use sparse_matrix, only: sym_csc_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
@@ -113,29 +113,38 @@ contains
     type(system_t), intent(out) :: sys
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    integer :: ast
     stat = STAT_OK
     call build_dof_map(scn, sys%dofs%eqn, sys%dofs%neq)
+    call check_probes(scn, sys, stat, errmsg)
+    if (stat /= STAT_OK) return
     if (sys%dofs%neq == 0) then
       call set_error(stat, errmsg, STAT_INPUT, scn%path // ':1: every degree of freedom is fixed: nothing moves')
       return
     end if
     call model_data(scn, sys)
-    call element_table(scn, sys)
-    call assemble_operators(scn, sys)
+    call element_table(scn, sys, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call assemble_operators(scn, sys, stat, errmsg)
+    if (stat /= STAT_OK) return
     call check_operators(scn, sys, stat, errmsg)
     if (stat /= STAT_OK) return
     call build_loads(scn, sys, stat, errmsg)
     if (stat /= STAT_OK) return
-    allocate (sys%pts%eps(MAX_NSTRAIN, sys%elems%ngp), sys%pts%sig(MAX_NSTRAIN, sys%elems%ngp))
+    associate (ngp => sys%elems%ngp, nq => sys%pts%nq)
+      allocate (sys%pts%eps(MAX_NSTRAIN, ngp), sys%pts%sig(MAX_NSTRAIN, ngp), sys%pts%eps_t(MAX_NSTRAIN, ngp), &
+        sys%pts%sig_t(MAX_NSTRAIN, ngp), sys%pts%nsub_pt(ngp), sys%pts%q(nq, ngp), sys%pts%q_t(nq, ngp), stat=ast)
+      call check_alloc(ast, 'the states of ' // str(ngp) // ' integration points', &
+        8.0_dp * ngp * (4.0_dp * MAX_NSTRAIN + 2.0_dp * nq) + 4.0_dp * ngp, stat, errmsg)
+    end associate
+    if (stat /= STAT_OK) return
     sys%pts%eps = 0.0_dp
     sys%pts%sig = 0.0_dp
-    allocate (sys%pts%eps_t, source=sys%pts%eps)
-    allocate (sys%pts%sig_t, source=sys%pts%sig)
-    allocate (sys%pts%nsub_pt(sys%elems%ngp))
+    sys%pts%eps_t = 0.0_dp
+    sys%pts%sig_t = 0.0_dp
     sys%pts%nsub_pt = 0
-    allocate (sys%pts%q(sys%pts%nq, sys%elems%ngp))
     sys%pts%q = 0.0_dp
-    allocate (sys%pts%q_t, source=sys%pts%q)
+    sys%pts%q_t = 0.0_dp
     sys%extended = scn%extended
     if (sys%extended) then
       allocate (sys%fint_q(sys%dofs%neq))
@@ -179,10 +188,12 @@ contains
 
   !> The element table: equations of each element's DOFs, its integration points, their B
   !> matrices and weights (computed once).
-  subroutine element_table(scn, sys)
+  subroutine element_table(scn, sys, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
-    integer :: e, et, im, nen, ndof, nstr, ngp, ig, igp, nb, k, a, d, n
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: e, et, im, nen, ndof, nstr, ngp, ig, igp, nb, k, a, d, n, ast
     logical :: mask(3)
     real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), w
     allocate (sys%elems%edof_ptr(scn%mesh%nelem + 1), sys%elems%gp_ptr(scn%mesh%nelem + 1))
@@ -203,8 +214,12 @@ contains
       sys%elems%gp_ptr(e + 1) = sys%elems%gp_ptr(e) + ngp
     end do
     sys%elems%ngp = sys%elems%gp_ptr(scn%mesh%nelem + 1) - 1
+    stat = STAT_OK
     allocate (sys%elems%edof(sys%elems%edof_ptr(scn%mesh%nelem + 1) - 1), sys%elems%b_ptr(sys%elems%ngp + 1), &
-      sys%elems%bmat(nb), sys%elems%wt(sys%elems%ngp))
+      sys%elems%bmat(nb), sys%elems%wt(sys%elems%ngp), stat=ast)
+    call check_alloc(ast, 'the element table of ' // str(scn%mesh%nelem) // ' elements', &
+      8.0_dp * nb + 12.0_dp * sys%elems%ngp + 4.0_dp * sys%elems%edof_ptr(scn%mesh%nelem + 1), stat, errmsg)
+    if (stat /= STAT_OK) return
     sys%elems%b_ptr(1) = 1
     do e = 1, scn%mesh%nelem
       im = scn%elem_model(e)
@@ -236,20 +251,22 @@ contains
 
   !> One pattern for K0, M and K0 + c M; K0 = Σ B'DB w, M (consistent or lumped per model) and
   !> the gravity load M g (g on the translations: the consistent body force of each element).
-  subroutine assemble_operators(scn, sys)
+  subroutine assemble_operators(scn, sys, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
-    integer :: e, et, im, nen, ndof, nstr, igp, k, a, d
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: e, et, im, nen, ndof, nstr, igp, k, a, d, ast
     logical :: mask(3)
     real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho
-    integer, allocatable :: eptr(:), edofs(:)
     logical, allocatable :: massless(:)
     if (scn%impact == IMPACT_MASSLESS) call contact_nodes(scn, massless)
-    allocate (eptr(scn%mesh%nelem + 1))
-    eptr = sys%elems%edof_ptr
-    edofs = sys%elems%edof
-    call sys%ops%pat%build(sys%dofs%neq, eptr, edofs)
-    allocate (sys%ops%kval(sys%ops%pat%nnz), sys%ops%mval(sys%ops%pat%nnz), sys%loads%fgrav(sys%dofs%neq))
+    call sys%ops%pat%build(sys%dofs%neq, sys%elems%edof_ptr, sys%elems%edof, stat, errmsg)
+    if (stat /= STAT_OK) return
+    allocate (sys%ops%kval(sys%ops%pat%nnz), sys%ops%mval(sys%ops%pat%nnz), sys%loads%fgrav(sys%dofs%neq), stat=ast)
+    call check_alloc(ast, 'K0 and M (' // str(sys%ops%pat%nnz) // ' entries each)', &
+      16.0_dp * sys%ops%pat%nnz + 8.0_dp * sys%dofs%neq, stat, errmsg)
+    if (stat /= STAT_OK) return
     sys%ops%kval = 0.0_dp
     sys%ops%mval = 0.0_dp
     sys%loads%fgrav = 0.0_dp
@@ -357,6 +374,8 @@ contains
         return
       end if
     end do
+    call check_inertia(scn, sys, dm, stat, errmsg)
+    if (stat /= STAT_OK) return
     sys%ops%mass_diagonal = .true.
     do k = 1, sys%ops%pat%nnz
       if (sys%ops%mval(k) /= 0.0_dp) then
@@ -365,6 +384,55 @@ contains
     end do
     if (sys%ops%mass_diagonal) sys%ops%mdiag = dm
   end subroutine check_operators
+
+  !> A probe reads a DOF its node carries (a fixed one reads 0); a DOF no element of the node
+  !> has (RZ of a point mass) is an input error, not a column of zeros.
+  subroutine check_probes(scn, sys, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k
+    stat = STAT_OK
+    do k = 1, size(scn%probes)
+      associate (p => scn%probes(k))
+        if (sys%dofs%eqn(p%dof, p%node) /= DOF_ABSENT) cycle
+        call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(p%line) // ': OUTPUT: PROBE ' // p%label // &
+          ': no element at this node has the DOF ' // trim(DOF_NAMES(p%dof)) // ", at '" // trim(DOF_NAMES(p%dof)) // "'")
+        return
+      end associate
+    end do
+  end subroutine check_probes
+
+  !> Every free DOF needs inertia: on a DOF without mass the trapezoid rule of eq (3) holds the
+  !> force balance only on average over a step, so a DOF out of equilibrium (an initial
+  !> displacement) alternates ±u every step. Refused, except the contact nodes IMPACT MASSLESS
+  !> makes massless on purpose (their rows are handled by the contact).
+  subroutine check_inertia(scn, sys, dm, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: dm(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    logical, allocatable :: massless(:)
+    integer :: n, d, i
+    stat = STAT_OK
+    if (scn%impact == IMPACT_MASSLESS) call contact_nodes(scn, massless)
+    do n = 1, scn%mesh%nnode
+      do d = 1, size(sys%dofs%eqn, 1)
+        i = sys%dofs%eqn(d, n)
+        if (i <= 0) cycle
+        if (dm(i) > 0.0_dp) cycle
+        if (allocated(massless)) then
+          if (massless(n)) cycle
+        end if
+        call set_error(stat, errmsg, STAT_INPUT, dof_origin(scn, sys, i) // ': ' // dof_label(scn, sys, i) // &
+          ' has stiffness but no mass: the scheme needs inertia on every free DOF (give its elements a DENSITY, ' // &
+          'add a MASS element, or FIX it)')
+        return
+      end do
+    end do
+  end subroutine check_inertia
 
   !> True when position k of the pattern is a diagonal entry.
   pure logical function is_diagonal_position(pat, k)

@@ -13,7 +13,7 @@ module c_interfaces
     rb_chol_version, rb_chol_factorize, rb_chol_solve, rb_umf_new, rb_umf_free, rb_umf_is_factored, &
     rb_umf_version, rb_umf_analyze, rb_umf_factorize, rb_umf_solve, c_usleep, &
     rb_file_open, rb_file_write, rb_file_close, rb_strerror, rb_room, c_exit_now, &
-    rb_take_errno
+    rb_take_errno, rb_unlink_symlink, rb_file_replace_tail
 
   interface
     ! libc and os_shim.c (os_utils)
@@ -205,6 +205,14 @@ module c_interfaces
       integer(c_int) :: err
     end function rb_file_write
 
+    function rb_file_replace_tail(h, buf, n, tail) bind(c, name='rebond_file_replace_tail') result(err)
+      import :: c_char, c_int, c_ptr, c_size_t
+      type(c_ptr), value :: h
+      character(kind=c_char), intent(in) :: buf(*)
+      integer(c_size_t), value :: n, tail
+      integer(c_int) :: err
+    end function rb_file_replace_tail
+
     function rb_file_close(h) bind(c, name='rebond_file_close') result(err)
       import :: c_int, c_ptr
       type(c_ptr), value :: h
@@ -216,6 +224,12 @@ module c_interfaces
       character(kind=c_char), intent(in) :: path(*), dir(*)
       real(c_double) :: b
     end function rb_room
+
+    function rb_unlink_symlink(path) bind(c, name='rebond_unlink_symlink') result(e)
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: e
+    end function rb_unlink_symlink
 
     function rb_take_errno() bind(c, name='rebond_take_errno') result(e)
       import :: c_int

@@ -25,7 +25,7 @@ typedef struct {
 } rebond_file;
 
 /* Open path for writing: mode 0 creates (an existing file or link is replaced), mode 1
- * appends to an existing regular file. NULL with *err = errno on failure. */
+ * writes at the end of an existing regular file. NULL with *err = errno on failure. */
 void *rebond_file_open(const char *path, int mode, int *err)
 {
     struct stat st;
@@ -38,8 +38,8 @@ void *rebond_file_open(const char *path, int mode, int *err)
     }
     if (mode == 0)
         fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW, 0644);
-    else
-        fd = open(path, O_WRONLY | O_APPEND | O_NOFOLLOW);
+    else /* not O_APPEND: pwrite(2) must honour its offset (replace_tail) */
+        fd = open(path, O_WRONLY | O_NOFOLLOW);
     if (fd < 0) {
         *err = errno;
         return NULL;
@@ -57,6 +57,12 @@ void *rebond_file_open(const char *path, int mode, int *err)
     }
     f->fd = fd;
     f->good = st.st_size;
+    if (mode != 0 && lseek(fd, 0, SEEK_END) < 0) {
+        *err = errno;
+        close(fd);
+        free(f);
+        return NULL;
+    }
     return f;
 }
 
@@ -97,6 +103,31 @@ int rebond_file_write(void *handle, const char *buf, size_t n, int newline)
     }
     f->good += (off_t)(n + (newline ? 1 : 0));
     return 0;
+}
+
+/* Overwrite the last tail_len bytes of the file with buf (n >= tail_len bytes, ending with the
+ * same tail) in one pwrite(2), so that the file is complete before and after: fields.xmf
+ * gains a step without being rewritten. On failure the old tail (the end of buf) is put back
+ * and the file cut to its old length. Returns 0 or errno. */
+int rebond_file_replace_tail(void *handle, const char *buf, size_t n, size_t tail_len)
+{
+    rebond_file *f = handle;
+    off_t at = f->good - (off_t)tail_len;
+    ssize_t w;
+    int err;
+    if (at < 0 || tail_len > n) return EINVAL;
+    do {
+        w = pwrite(f->fd, buf, n, at);
+    } while (w < 0 && errno == EINTR);
+    if (w == (ssize_t)n) {
+        f->good = at + (off_t)n;
+        (void)lseek(f->fd, f->good, SEEK_SET);
+        return 0;
+    }
+    err = (w < 0) ? errno : ENOSPC;
+    (void)pwrite(f->fd, buf + (n - tail_len), tail_len, at);
+    (void)ftruncate(f->fd, f->good);
+    return err;
 }
 
 /* Close; returns 0 or errno (the handle is freed either way). */
@@ -144,4 +175,12 @@ int rebond_take_errno(void)
     int e = errno;
     errno = 0;
     return e;
+}
+
+/* If path is a symbolic link, remove the link (not its target). Returns 0 or errno. */
+int rebond_unlink_symlink(const char *path)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0 || !S_ISLNK(st.st_mode)) return 0;
+    return unlink(path) == 0 ? 0 : errno;
 }

@@ -5,11 +5,11 @@ module os_utils
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error
   use c_interfaces, only: c_rename, c_mkdir, c_access, c_opendir, c_closedir, c_rmdir, c_install_signals, &
-    c_signal_received, c_exit, c_remove, c_exit_now, rb_room
+    c_signal_received, c_exit, c_remove, c_exit_now, rb_room, rb_unlink_symlink
   implicit none
   private
   public :: os_rename, make_directory, path_exists, is_directory, remove_file, remove_directory
-  public :: install_signal_handlers, signal_received, path_stem, exit_with, room_for
+  public :: install_signal_handlers, signal_received, path_stem, exit_with, room_for, drop_symlink
 
 
   integer(c_int), parameter :: F_OK = 0_c_int
@@ -138,6 +138,17 @@ contains
     end if
     call c_exit(int(status, c_int))
   end subroutine exit_with
+
+  !> A result file is never written through a symbolic link planted at its path: the link is
+  !> removed (its target untouched) and the file created in its place.
+  subroutine drop_symlink(path, stat, errmsg)
+    character(len=*), intent(in) :: path
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (rb_unlink_symlink(cstr(path)) /= 0) call set_error(stat, errmsg, STAT_RUN, 'cannot replace the symbolic link "' &
+      // path // '"')
+  end subroutine drop_symlink
 
   !> Bytes that can still be added to the file at path: the space left on its file system,
   !> capped by the file size limit (ulimit -f); -1 when unknown.

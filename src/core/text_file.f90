@@ -5,7 +5,7 @@
 module text_file
   use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_int, c_char, c_size_t, c_null_char
   use errors, only: STAT_OK, STAT_RUN, set_error
-  use c_interfaces, only: rb_file_open, rb_file_write, rb_file_close, rb_strerror, rb_take_errno
+  use c_interfaces, only: rb_file_open, rb_file_write, rb_file_close, rb_strerror, rb_take_errno, rb_file_replace_tail
   implicit none
   private
   public :: text_file_t, os_reason, clear_os_reason
@@ -20,6 +20,7 @@ module text_file
     procedure :: write_line => tf_write_line
     procedure :: write_text => tf_write_text
     procedure :: write_bytes => tf_write_bytes
+    procedure :: replace_tail => tf_replace_tail
     procedure :: close => tf_close
     procedure :: is_open => tf_is_open
     procedure :: name => tf_name
@@ -121,14 +122,24 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer(c_int) :: err
-    stat = STAT_OK
-    if (.not. c_associated(self%h)) then
-      call set_error(stat, errmsg, STAT_RUN, 'cannot write ' // tf_name(self) // ': the file is not open')
-      return
-    end if
+    if (not_open(self, stat, errmsg)) return
     err = rb_file_write(self%h, bytes, size(bytes, kind=c_size_t), 0_c_int)
     if (err /= 0) call os_error(stat, errmsg, 'cannot write', self%path, err)
   end subroutine tf_write_bytes
+
+  !> Replace the last tail_len characters of the file by text (which ends with them again), in
+  !> one write: the file is a complete document before and after (fields.xmf gains a step).
+  subroutine tf_replace_tail(self, text, tail_len, stat, errmsg)
+    class(text_file_t), intent(inout) :: self
+    character(len=*), intent(in) :: text
+    integer, intent(in) :: tail_len
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer(c_int) :: err
+    if (not_open(self, stat, errmsg)) return
+    err = rb_file_replace_tail(self%h, text, len(text, kind=c_size_t), int(tail_len, c_size_t))
+    if (err /= 0) call os_error(stat, errmsg, 'cannot write', self%path, err)
+  end subroutine tf_replace_tail
 
   subroutine put(self, text, newline, stat, errmsg)
     type(text_file_t), intent(inout) :: self
@@ -137,14 +148,20 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer(c_int) :: err
-    stat = STAT_OK
-    if (.not. c_associated(self%h)) then
-      call set_error(stat, errmsg, STAT_RUN, 'cannot write ' // tf_name(self) // ': the file is not open')
-      return
-    end if
+    if (not_open(self, stat, errmsg)) return
     err = rb_file_write(self%h, text, len(text, kind=c_size_t), newline)
     if (err /= 0) call os_error(stat, errmsg, 'cannot write', self%path, err)
   end subroutine put
+
+  !> stat = STAT_OK, or the error of writing to a file that is not open.
+  logical function not_open(self, stat, errmsg)
+    type(text_file_t), intent(in) :: self
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    not_open = .not. c_associated(self%h)
+    if (not_open) call set_error(stat, errmsg, STAT_RUN, 'cannot write ' // tf_name(self) // ': the file is not open')
+  end function not_open
 
   !> Close (a closed file: nothing to do).
   subroutine tf_close(self, stat, errmsg)

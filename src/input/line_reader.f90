@@ -5,7 +5,7 @@
 module line_reader
   use, intrinsic :: iso_fortran_env, only: int64, iostat_end, iostat_eor
   use kinds, only: dp
-  use errors, only: STAT_OK, STAT_INPUT, set_error, str
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str, shown
   use array_utils, only: grow
   use number_text, only: parse_real_text, parse_int64_text, NUM_OK, NUM_MALFORMED, NUM_RANGE
   implicit none
@@ -26,53 +26,110 @@ module line_reader
     integer :: ntok = 0
     integer, allocatable :: tb(:), te(:)
     character(len=:), allocatable :: buf      !< the line being read (grows by doubling)
+    character(len=:), allocatable :: pending  !< the rest of a record after a lone CR
+    logical :: pending_eor = .false.          !< that rest ends its record
   end type line_reader_t
+
+  character(len=*), parameter :: CR = achar(13), BOM = char(239) // char(187) // char(191)
 
 contains
 
   !> Read the next non-blank line and split it into tokens; ok = .false. at end of file.
+  !> Lines end at LF, CR LF or a lone CR (old Mac files); a UTF-8 byte order mark is skipped.
   subroutine next_line(g, ok, stat, errmsg)
     class(line_reader_t), intent(inout) :: g
     logical, intent(out) :: ok
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=4096) :: chunk
-    integer :: ios, n, nl
+    integer :: nl
+    logical :: got
 
     stat = STAT_OK
     ok = .false.
     if (.not. allocated(g%buf)) allocate (character(len=4096) :: g%buf)
+    if (.not. allocated(g%pending)) g%pending = ''
     do
-      nl = 0
-      do
-        read (g%unit, '(a)', advance='no', iostat=ios, size=n) chunk
-        if (ios == iostat_end) then
-          if (nl == 0) return
-          exit  ! last line without a newline
-        end if
-        if (ios /= 0 .and. ios /= iostat_eor) then
-          g%lineno = g%lineno + 1
-          call fail(g, stat, errmsg, 'read error (not a text file?)')
-          return
-        end if
-        if (nl + n > MAX_LINE) then
-          g%lineno = g%lineno + 1
-          call fail(g, stat, errmsg, 'line longer than ' // str(MAX_LINE) // ' characters (not a text file?)')
-          return
-        end if
-        ! The line grows in a buffer that doubles: reading is linear in the line's length.
-        if (nl + n > len(g%buf)) call grow_text(g%buf, nl + n)
-        g%buf(nl + 1:nl + n) = chunk(1:n)
-        nl = nl + n
-        if (ios == iostat_eor) exit
-      end do
+      call physical_piece(g, nl, got, stat, errmsg)
+      if (stat /= STAT_OK .or. .not. got) return
       g%lineno = g%lineno + 1
       g%line = g%buf(1:nl)
+      if (g%lineno == 1 .and. nl >= 3) then
+        if (g%line(1:3) == BOM) g%line = g%line(4:)
+      end if
       call tokenize(g)
       if (g%ntok > 0) exit
     end do
     ok = .true.
   end subroutine next_line
+
+  !> The next line into buf(1:nl): what is left of a record after a lone CR (pending), then the
+  !> record read on, up to its end or the next CR. got = .false. at the end of the file.
+  subroutine physical_piece(g, nl, got, stat, errmsg)
+    type(line_reader_t), intent(inout) :: g
+    integer, intent(out) :: nl
+    logical, intent(out) :: got
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=4096) :: chunk
+    integer :: ios, n, c
+    logical :: done
+    stat = STAT_OK
+    nl = 0
+    got = .false.
+    done = .false.
+    if (len(g%pending) > 0 .or. g%pending_eor) then
+      got = .true.
+      c = index(g%pending, CR)
+      if (c > 0) then
+        call take(g%pending(1:c - 1))
+        g%pending = g%pending(c + 1:)
+        return
+      end if
+      call take(g%pending)
+      g%pending = ''
+      if (g%pending_eor) then
+        g%pending_eor = .false.
+        return
+      end if
+    end if
+    do while (.not. done)
+      read (g%unit, '(a)', advance='no', iostat=ios, size=n) chunk
+      if (ios == iostat_end) return   ! got: the last line had no newline
+      if (ios /= 0 .and. ios /= iostat_eor) then
+        g%lineno = g%lineno + 1
+        call fail(g, stat, errmsg, 'read error (not a text file?)')
+        return
+      end if
+      got = .true.
+      done = ios == iostat_eor
+      c = index(chunk(1:n), CR)
+      if (c > 0 .and. c < n) then
+        ! A lone CR ends the line; the rest of the chunk waits for the next call.
+        g%pending = chunk(c + 1:n)
+        g%pending_eor = done
+        n = c - 1
+        done = .true.
+      else if (c == n .and. c > 0) then
+        n = c - 1                     ! CR LF, or a CR at the end of a chunk
+        if (.not. done) done = .true.
+      end if
+      call take(chunk(1:n))
+      if (stat /= STAT_OK) return
+    end do
+  contains
+    subroutine take(piece)
+      character(len=*), intent(in) :: piece
+      if (nl + len(piece) > MAX_LINE) then
+        g%lineno = g%lineno + 1
+        call fail(g, stat, errmsg, 'line longer than ' // str(MAX_LINE) // ' characters (not a text file?)')
+        return
+      end if
+      ! The line grows in a buffer that doubles: reading is linear in the line's length.
+      if (nl + len(piece) > len(g%buf)) call grow_text(g%buf, nl + len(piece))
+      g%buf(nl + 1:nl + len(piece)) = piece
+      nl = nl + len(piece)
+    end subroutine take
+  end subroutine physical_piece
 
   !> Token k of the current line as an integer in [lo, hi].
   subroutine get_int(g, k, lo, hi, what, val, stat, errmsg)
@@ -88,9 +145,9 @@ contains
     val = 0
     call parse_int64_text(tok(g, k), v, ierr)
     if (ierr == NUM_MALFORMED) then
-      call fail(g, stat, errmsg, 'expected ' // what // ', found "' // tok(g, k) // '"')
+      call fail(g, stat, errmsg, 'expected ' // what // ', found "' // clip(tok(g, k)) // '"')
     else if (ierr /= NUM_OK .or. v < lo .or. v > hi) then
-      call fail(g, stat, errmsg, 'expected ' // what // ', found ' // tok(g, k) // ' (out of range)')
+      call fail(g, stat, errmsg, 'expected ' // what // ', found ' // clip(tok(g, k)) // ' (out of range)')
     else
       val = int(v)
     end if
@@ -109,7 +166,7 @@ contains
     do k = 1, n
       call parse_real_text(tok(g, k), val(k), ierr)
       if (ierr /= NUM_OK) then
-        call fail(g, stat, errmsg, 'expected ' // what // ' (a finite real number), found "' // tok(g, k) // '"' // &
+        call fail(g, stat, errmsg, 'expected ' // what // ' (a finite real number), found "' // clip(tok(g, k)) // '"' // &
           trim(merge(' (out of range)', '               ', ierr == NUM_RANGE)))
         return
       end if
@@ -127,7 +184,7 @@ contains
     integer :: ierr
     stat = STAT_OK
     call parse_real_text(tok(g, k), v, ierr)
-    if (ierr /= NUM_OK) call fail(g, stat, errmsg, 'expected ' // what // ' (a real number), found "' // tok(g, k) // '"')
+    if (ierr /= NUM_OK) call fail(g, stat, errmsg, 'expected ' // what // ' (a real number), found "' // clip(tok(g, k)) // '"')
   end subroutine get_real_tok
 
   !> Error at the current line.
@@ -185,10 +242,13 @@ contains
     end if
   end function tok
 
-  !> A line shortened for messages.
+  !> A line or a word for messages: shortened, and described instead of quoted when it is not
+  !> text (a binary file is never echoed).
   pure function clip(s) result(c)
     character(len=*), intent(in) :: s
     character(len=:), allocatable :: c
+    c = shown(s)
+    if (c /= s) return
     if (len_trim(s) > 60) then
       c = s(1:57) // '...'
     else

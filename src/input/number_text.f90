@@ -7,9 +7,11 @@ module number_text
   use, intrinsic :: ieee_exceptions, only: ieee_get_flag, ieee_set_flag, ieee_flag_type, ieee_overflow, ieee_underflow
   use kinds, only: dp
   use errors, only: str
+  use, intrinsic :: ieee_exceptions, only: ieee_get_halting_mode, ieee_set_halting_mode, ieee_get_flag, ieee_set_flag, &
+    ieee_overflow
   implicit none
   private
-  public :: parse_real_text, parse_int_text, parse_int64_text, real_text
+  public :: parse_real_text, parse_int_text, parse_int64_text, real_text, shortest_es
   public :: NUM_OK, NUM_MALFORMED, NUM_RANGE
 
   !> Result codes of the parsers.
@@ -181,20 +183,65 @@ contains
     ierr = NUM_OK
   end subroutine parse_int64_text
 
-  !> Shortest readable text of a bound for messages: "0", "0.5", "1.5E+300".
-  pure function real_text(x) result(s)
+  !> The fewest digits after the point of an ES form of x that reads back to x exactly, and
+  !> that form (buf). Near huge(x) a short candidate rounds above it (1.8E+308) and reads back
+  !> as +Inf, which only rejects it: no trap under -ffpe-trap=overflow, the flag unchanged.
+  subroutine shortest_es(x, d, buf)
+    real(dp), intent(in) :: x
+    integer, intent(out) :: d
+    character(len=*), intent(out) :: buf
+    character(len=16) :: fmt
+    real(dp) :: y
+    integer :: ios
+    logical :: halt, flag
+    call ieee_get_halting_mode(ieee_overflow, halt)
+    call ieee_get_flag(ieee_overflow, flag)
+    call ieee_set_halting_mode(ieee_overflow, .false.)
+    do d = 0, 16
+      write (fmt, '(a,i0,a,i0,a)') '(es', d + 10, '.', d, 'e3)'
+      write (buf, fmt) x
+      read (buf, *, iostat=ios) y
+      if (ios == 0 .and. y == x) exit
+    end do
+    d = min(d, 16)
+    call ieee_set_flag(ieee_overflow, flag)
+    call ieee_set_halting_mode(ieee_overflow, halt)
+  end subroutine shortest_es
+
+  !> The shortest text that reads back to x exactly: "0", "0.5", "-12.25", "1.3E-3", "1E+100"
+  !> (plain decimals for exponents -4..14, else E notation without padding).
+  function real_text(x) result(s)
     real(dp), intent(in) :: x
     character(len=:), allocatable :: s
-    integer :: e, m
-    s = str(x)
-    e = scan(s, 'eE')
-    if (e == 0) e = len(s) + 1
-    if (index(s(1:e - 1), '.') == 0) return
-    m = e - 1
-    do while (s(m:m) == '0')
-      m = m - 1
-    end do
-    if (s(m:m) == '.') m = m - 1
-    s = s(1:m) // s(e:)
+    character(len=48) :: buf
+    character(len=16) :: fmt
+    integer :: d, e, k
+    if (x == 0.0_dp) then
+      s = '0'
+      return
+    end if
+    call shortest_es(x, d, buf)
+    k = scan(buf, 'E')
+    read (buf(k + 1:), *) e
+    if (e >= -4 .and. e <= 14) then
+      write (fmt, '(a,i0,a)') '(f0.', max(d - e, 0), ')'
+      write (buf, fmt) x
+      s = trim(adjustl(buf))
+      if (index(s, '.') > 0) then
+        do while (s(len(s):len(s)) == '0')
+          s = s(1:len(s) - 1)
+        end do
+        if (s(len(s):len(s)) == '.') s = s(1:len(s) - 1)
+      end if
+      if (s(1:1) == '.') s = '0' // s
+      if (len(s) > 1) then
+        if (s(1:2) == '-.') s = '-0' // s(2:)
+      end if
+    else
+      s = trim(adjustl(buf(1:k - 1)))
+      if (s(len(s):len(s)) == '.') s = s(1:len(s) - 1)
+      write (buf, '(i0)') abs(e)
+      s = s // 'E' // merge('-', '+', e < 0) // trim(buf)
+    end if
   end function real_text
 end module number_text

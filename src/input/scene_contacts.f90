@@ -6,7 +6,7 @@ module scene_contacts
   use statement, only: statement_t, token_t, stmt_error, find_param, get
   use statement_schema, only: schema_t
   use scene, only: scene_t, condition_t
-  use scene_helpers, only: node_group, get_pair, model_size, get_unit
+  use scene_helpers, only: node_group, get_point, model_size, get_unit
   implicit none
   private
   public :: contacts_schema, contacts_statement
@@ -82,7 +82,7 @@ contains
     end if
     call node_group(scn, st, st%params(k)%values(1), ig, stat, errmsg)
     if (stat /= STAT_OK) return
-    call get_pair(st, 'POINT', p, stat, errmsg)
+    call get_point(st, 'POINT', p, stat, errmsg)
     if (stat /= STAT_OK) return
     call get_unit(st, 'NORMAL', n, stat, errmsg)
     if (stat /= STAT_OK) return

@@ -7,7 +7,7 @@ module scene_fingerprint
   use kinds, only: dp
   use errors, only: upper, str
   use statement, only: statement_t, token_t
-  use number_text, only: parse_real_text, NUM_OK
+  use number_text, only: parse_real_text, real_text, NUM_OK
   use mesh, only: mesh_t
   implicit none
   private
@@ -45,32 +45,16 @@ contains
     end do
   end function fingerprint_text
 
-  !> A number as the shortest ES text that reads back to the same double (equal texts: equal
-  !> values; 0.0013 and 1.3e-3 both give 1.3E-3); a word in upper case.
+  !> A number as the shortest text that reads back to it (equal texts: equal values; 0.0013
+  !> and 1.3e-3 both give 0.0013); a quoted word as it is; a word in upper case.
   function canonical(tok) result(s)
     type(token_t), intent(in) :: tok
     character(len=:), allocatable :: s
-    real(dp) :: x, y
-    integer :: ierr, d, k
-    character(len=40) :: buf
-    character(len=16) :: fmt
+    real(dp) :: x
+    integer :: ierr
     call parse_real_text(tok%text, x, ierr)
     if (ierr == NUM_OK .and. .not. tok%quoted) then
-      do d = 0, 16
-        write (fmt, '(a,i0,a,i0,a)') '(es', d + 10, '.', d, 'e3)'
-        write (buf, fmt) x
-        read (buf, *) y
-        if (y == x) exit
-      end do
-      s = trim(adjustl(buf))
-      k = index(s, '.E')
-      if (k > 0) s = s(1:k - 1) // s(k + 1:)   ! 2.E+0 -> 2E+0
-      ! E-003 -> E-3, E+000 -> E+0
-      k = scan(s, 'E')
-      do while (k > 0 .and. k + 2 < len(s))
-        if (s(k + 2:k + 2) /= '0') exit
-        s = s(1:k + 1) // s(k + 3:)
-      end do
+      s = real_text(x)
     else if (tok%quoted) then
       s = '"' // tok%text // '"'
     else

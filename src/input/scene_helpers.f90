@@ -3,13 +3,13 @@
 module scene_helpers
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
-  use mesh, only: mesh_t
+  use mesh, only: mesh_t, MAX_COORD
   use element_traits, only: etype_from_name, etype_name
   use statement, only: statement_t, token_t, stmt_error, find_param, get_real, get_word
   use scene, only: scene_t
   implicit none
   private
-  public :: get_etype, node_group, get_choice, get_pair, model_size, get_unit
+  public :: get_etype, node_group, get_choice, get_pair, get_point, model_size, get_unit
 
 contains
 
@@ -83,6 +83,21 @@ contains
     if (stat /= STAT_OK) return
     call get_real(st, key, p(2), stat, errmsg, index=2)
   end subroutine get_pair
+
+  !> A point (x y) of parameter key, each coordinate within ±MAX_COORD.
+  subroutine get_point(st, key, p, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: key
+    real(dp), intent(out) :: p(2)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k
+    do k = 1, 2
+      call get_real(st, key, p(k), stat, errmsg, index=k, lower=-MAX_COORD, lower_inclusive=.true., upper=MAX_COORD, &
+        upper_inclusive=.true.)
+      if (stat /= STAT_OK) return
+    end do
+  end subroutine get_point
 
   !> Largest extent of the mesh, the length scale of the gap tolerance.
   pure real(dp) function model_size(m)

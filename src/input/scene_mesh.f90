@@ -6,9 +6,10 @@ module scene_mesh
   use statement, only: statement_t, stmt_error, find_param, get_real, get_int, get_word, to_int
   use statement_schema, only: schema_t
   use mesh_generators, only: generate_line, generate_rectangle, MAX_GENERATED_ELEMENTS
+  use mesh, only: MAX_COORD
   use gmsh_reader, only: read_gmsh
   use scene, only: scene_t
-  use scene_helpers, only: get_etype, get_pair
+  use scene_helpers, only: get_etype, get_point
   use element_traits, only: NUM_ETYPES, FAMILY_LINE, FAMILY_SURFACE, etypes_of_family, etype_nen, etype_name
   implicit none
   private
@@ -87,9 +88,7 @@ contains
     integer :: id
     call check_new_group_name(scn, st, stat, errmsg)
     if (stat /= STAT_OK) return
-    call get_real(st, 'AT', xy(1), stat, errmsg, index=1)
-    if (stat /= STAT_OK) return
-    call get_real(st, 'AT', xy(2), stat, errmsg, index=2)
+    call get_point(st, 'AT', xy, stat, errmsg)
     if (stat /= STAT_OK) return
     call scn%mesh%add_node(xy, id)
     call scn%mesh%add_node_group(st%lead(1)%text, [id])
@@ -207,9 +206,9 @@ contains
     integer :: nel, et
     call check_new_group_name(scn, st, stat, errmsg)
     if (stat /= STAT_OK) return
-    call get_pair(st, 'FROM', p0, stat, errmsg)
+    call get_point(st, 'FROM', p0, stat, errmsg)
     if (stat /= STAT_OK) return
-    call get_pair(st, 'TO', p1, stat, errmsg)
+    call get_point(st, 'TO', p1, stat, errmsg)
     if (stat /= STAT_OK) return
     ! Upper bound: an absurd count must be an input error, not an allocation failure (fuzz).
     call get_int(st, 'ELEMENTS', nel, stat, errmsg, lower=1, lower_inclusive=.true., upper=MAX_GENERATED_ELEMENTS, &
@@ -236,11 +235,11 @@ contains
     real(dp), parameter :: pi = acos(-1.0_dp)
     call check_new_group_name(scn, st, stat, errmsg)
     if (stat /= STAT_OK) return
-    call get_pair(st, 'ORIGIN', origin, stat, errmsg)
+    call get_point(st, 'ORIGIN', origin, stat, errmsg)
     if (stat /= STAT_OK) return
-    call get_real(st, 'SIZE', lxy(1), stat, errmsg, index=1, lower=0.0_dp, lower_inclusive=.false.)
+    call get_real(st, 'SIZE', lxy(1), stat, errmsg, index=1, lower=0.0_dp, lower_inclusive=.false., upper=MAX_COORD)
     if (stat /= STAT_OK) return
-    call get_real(st, 'SIZE', lxy(2), stat, errmsg, index=2, lower=0.0_dp, lower_inclusive=.false.)
+    call get_real(st, 'SIZE', lxy(2), stat, errmsg, index=2, lower=0.0_dp, lower_inclusive=.false., upper=MAX_COORD)
     if (stat /= STAT_OK) return
     call get_int(st, 'ELEMENTS', nx, stat, errmsg, index=1, lower=1, lower_inclusive=.true.)
     if (stat /= STAT_OK) return

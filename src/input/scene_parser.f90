@@ -34,8 +34,26 @@ contains
       allocate (stmts(0))
       return
     end if
+    call normalize_lines(text)
     call parse_string(text, path, sch, stmts, stat, errmsg)
   end subroutine parse_file
+
+  !> A UTF-8 byte order mark dropped; a lone CR (old Mac line end) made LF (CR LF stays: the CR
+  !> is a blank to the tokenizer). Same length or shorter, in place, linear.
+  pure subroutine normalize_lines(text)
+    character(len=:), allocatable, intent(inout) :: text
+    integer :: i
+    if (len(text) >= 3) then
+      if (text(1:3) == char(239) // char(187) // char(191)) text = text(4:)
+    end if
+    do i = 1, len(text)
+      if (text(i:i) /= CR) cycle
+      if (i < len(text)) then
+        if (text(i + 1:i + 1) == LF) cycle
+      end if
+      text(i:i) = LF
+    end do
+  end subroutine normalize_lines
 
   !> Whole file as one string, lines separated by LF. Regular files are read in one unformatted
   !> stream read (O(size), any line length, any byte); files of unknown size (pipes) or

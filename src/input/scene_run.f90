@@ -67,18 +67,24 @@ contains
     type(statement_t), intent(in) :: st
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    call get_real(st, 'STEP', scn%dt, stat, errmsg, lower=0.0_dp, lower_inclusive=.false.)
+    real(dp) :: half_span
+    ! 4M/h² must be a number: h at most 1e150 (any physical step is far below).
+    call get_real(st, 'STEP', scn%dt, stat, errmsg, lower=0.0_dp, lower_inclusive=.false., upper=1.0e150_dp, &
+      upper_inclusive=.true.)
     if (stat /= STAT_OK) return
     call get_real(st, 'START', scn%t_start, stat, errmsg, default=0.0_dp)
     if (stat /= STAT_OK) return
     call get_real(st, 'END', scn%t_end, stat, errmsg)
     if (stat /= STAT_OK) return
+    ! Halves and products that cannot overflow (END 1e308, START -1e308, STEP 4.9e-324).
+    half_span = 0.5_dp * scn%t_end - 0.5_dp * scn%t_start
     if (scn%t_end <= scn%t_start) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'END must be after START (' // str(scn%t_start) // ')', &
         st%params(find_param(st, 'END'))%values(1)))
       return
     end if
-    if ((scn%t_end - scn%t_start) / scn%dt > 2.0e9_dp) then
+    if (scn%dt >= huge(1.0_dp) / 2.0e9_dp) return
+    if (half_span > 1.0e9_dp * scn%dt) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'more than 2e9 steps', &
         st%params(find_param(st, 'STEP'))%values(1)))
     end if

@@ -6,7 +6,7 @@
 !> K, M and S = K + c*M; each matrix is just a separate values(nnz) array.
 module sparse_matrix
   use kinds, only: dp
-  use errors, only: STAT_OK, STAT_INPUT, set_error, str
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str, check_alloc
   implicit none
   private
   public :: sym_csc_t, element_positions, scatter_add, to_dense
@@ -36,29 +36,30 @@ contains
     integer, intent(in) :: n
     integer, intent(in) :: eptr(:)
     integer, intent(in) :: edofs(:)
-    integer, intent(out), optional :: stat
-    character(len=:), allocatable, intent(out), optional :: errmsg
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     integer, allocatable :: dptr(:), delem(:), mark(:)
-    integer :: nel, e, p, q, i, j, cnt, pos
+    integer :: nel, e, p, q, i, j, cnt, pos, ast
     character(len=:), allocatable :: msg
 
     self%n = 0
     self%nnz = 0
     if (allocated(self%colptr)) deallocate (self%colptr)
     if (allocated(self%rowind)) deallocate (self%rowind)
-    if (present(stat)) stat = STAT_OK
+    stat = STAT_OK
 
     nel = max(size(eptr) - 1, 0)
     msg = check_input(n, nel, eptr, edofs)
     if (len(msg) > 0) then
-      if (present(stat)) stat = STAT_INPUT
-      if (present(errmsg)) errmsg = msg
+      stat = STAT_INPUT
+      errmsg = msg
       return
     end if
 
     ! Equation -> elements incidence (CSR); an element appears twice for a duplicated DOF,
     ! which the per-column marker below makes harmless.
-    allocate (dptr(n + 1), mark(n))
+    allocate (dptr(n + 1), mark(n), stat=ast)
+    if (out_of_memory(ast, 8.0_dp * n)) return
     dptr = 0
     do e = 1, nel
       do p = eptr(e), eptr(e + 1) - 1
@@ -67,7 +68,8 @@ contains
       end do
     end do
     call counts_to_starts(dptr)
-    allocate (delem(dptr(n + 1) - 1))
+    allocate (delem(dptr(n + 1) - 1), stat=ast)
+    if (out_of_memory(ast, 4.0_dp * dptr(n + 1))) return
     mark(1:n) = dptr(1:n)           ! fill cursor
     do e = 1, nel
       do p = eptr(e), eptr(e + 1) - 1
@@ -80,7 +82,8 @@ contains
     end do
 
     ! Pass 1: count the distinct rows i <= j of column j (the diagonal always counts).
-    allocate (self%colptr(n + 1))
+    allocate (self%colptr(n + 1), stat=ast)
+    if (out_of_memory(ast, 4.0_dp * n)) return
     self%colptr(1) = 1
     mark = 0
     do j = 1, n
@@ -104,7 +107,8 @@ contains
     ! Pass 2: fill the strictly upper rows, sort them, put the diagonal last.
     self%n = n
     self%nnz = self%colptr(n + 1) - 1
-    allocate (self%rowind(self%nnz))
+    allocate (self%rowind(self%nnz), stat=ast)
+    if (out_of_memory(ast, 4.0_dp * self%nnz)) return
     mark = 0
     do j = 1, n
       mark(j) = j
@@ -125,6 +129,17 @@ contains
       call sort_int(self%rowind(self%colptr(j):pos - 1))
       self%rowind(pos) = j
     end do
+  contains
+    !> A failed allocation: an empty pattern and the message.
+    logical function out_of_memory(ast, nbytes)
+      integer, intent(in) :: ast
+      real(dp), intent(in) :: nbytes
+      out_of_memory = ast /= 0
+      if (.not. out_of_memory) return
+      call check_alloc(ast, 'the sparse pattern of ' // str(n) // ' equations', nbytes, stat, errmsg)
+      self%n = 0
+      self%nnz = 0
+    end function out_of_memory
   end subroutine sym_csc_build
 
   !> Empty string if the element list is consistent, else the reason.

@@ -12,11 +12,12 @@ module gmsh_reader
   use, intrinsic :: iso_fortran_env, only: int64, iostat_end, iostat_eor
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use mesh, only: mesh_t
+  use mesh, only: mesh_t, MAX_COORD
   use element_traits, only: etype_nen, etype_gmsh, etype_family
   use number_text, only: parse_real_text, NUM_OK
   use array_utils, only: heap_sort, sort_by_key, grow
   use line_reader, only: line_reader_t, next_line, get_int, get_reals, get_real_tok, fail, tok, clip
+  use os_utils, only: is_directory
   implicit none
   private
   public :: read_gmsh
@@ -69,6 +70,10 @@ contains
     stat = STAT_OK
     g%path = path
     allocate (g%tb(32), g%te(32))
+    if (is_directory(path)) then
+      call set_error(stat, errmsg, STAT_INPUT, path // ': is a directory, not a Gmsh mesh file')
+      return
+    end if
     open (newunit=g%unit, file=path, status='old', action='read', form='formatted', access='sequential', &
           iostat=ios, iomsg=iomsg)
     if (ios /= 0) then
@@ -159,7 +164,7 @@ contains
     end if
     call parse_real_text(tok(g, 1), version, ierr)
     if (ierr /= NUM_OK) then
-      call fail(g, stat, errmsg, 'expected a version number, found "' // tok(g, 1) // '"')
+      call fail(g, stat, errmsg, 'expected a version number, found "' // clip(tok(g, 1)) // '"')
       return
     end if
     if (abs(version - 4.1_dp) > 1.0e-9_dp) then
@@ -418,6 +423,10 @@ contains
         end if
         call get_reals(g, 3, 'a node coordinate', xyz, stat, errmsg)
         if (stat /= STAT_OK) return
+        if (any(abs(xyz) > MAX_COORD)) then
+          call fail(g, stat, errmsg, 'node ' // str(btag(k)) // ': a coordinate beyond ±1e100, found "' // clip(g%line) // '"')
+          return
+        end if
         g%x(:, g%nnode + k) = xyz(1:2)
         lo = min(lo, xyz(1:2))
         hi = max(hi, xyz(1:2))

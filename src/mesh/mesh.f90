@@ -7,7 +7,10 @@ module mesh
   implicit none
   private
   public :: mesh_t, group_t
-  public :: DOF_UX, DOF_UY, DOF_RZ, DOF_NAMES
+  public :: DOF_UX, DOF_UY, DOF_RZ, DOF_NAMES, MAX_COORD
+
+  !> Largest coordinate accepted (scene and Gmsh): squares, areas and r x (M v) stay finite.
+  real(dp), parameter :: MAX_COORD = 1.0e100_dp
 
   ! Element types and their node order: element_traits.
 

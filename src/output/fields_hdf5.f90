@@ -27,6 +27,7 @@ module fields_hdf5
   use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic
   use os_utils, only: make_directory, room_for
   use hdf5_file, only: h5_file_t
+  use text_file, only: text_file_t
   implicit none
   private
   public :: fields_writer_t, mixed_topology
@@ -43,10 +44,11 @@ module fields_hdf5
     character(len=:), allocatable :: h5path, xmfpath, h5name
     integer :: nnode = 0, nelem = 0, ntopo = 0
     integer :: nsteps = 0
-    type(xdmf_step_t), allocatable :: steps(:)
-    ! fields.xmf: head, the grids of the written steps (rendered once each, grids(1:ngrids)), tail.
-    character(len=:), allocatable :: xhead, xtail, grids
-    integer :: ngrids = 0
+    ! fields.xmf stays open: each step's grid replaces the closing tail and is followed by it
+    ! again, in one write (text_file replace_tail): the file is a complete document at every
+    ! moment, and neither the file nor the memory is rewritten per step.
+    type(text_file_t) :: xmf
+    character(len=:), allocatable :: xtail
     ! Work arrays for splitting (UX, UY, RZ) fields, sized in open and reused by every step.
     real(dp), allocatable :: vec(:, :), rz(:)
   contains
@@ -184,8 +186,6 @@ contains
     self%nelem = mesh%nelem
     self%ntopo = size(topo)
     self%nsteps = 0
-    if (allocated(self%steps)) deallocate (self%steps)
-    allocate (self%steps(16))
     if (allocated(self%vec)) deallocate (self%vec)
     if (allocated(self%rz)) deallocate (self%rz)
     allocate (self%vec(3, self%nnode), self%rz(self%nnode))
@@ -207,12 +207,9 @@ contains
     call self%h5%create_series('steps', .true., stat, errmsg)
     call self%h5%flush(stat, errmsg)
     ! An empty collection replaces any fields.xmf left by an earlier run of the same case.
-    self%xhead = xdmf_head()
     self%xtail = xdmf_tail()
-    if (allocated(self%grids)) deallocate (self%grids)
-    allocate (character(len=16384) :: self%grids)
-    self%ngrids = 0
-    if (stat == STAT_OK) call write_text_atomic(self%xmfpath, self%xhead // self%xtail, stat, errmsg)
+    if (stat == STAT_OK) call write_text_atomic(self%xmfpath, xdmf_head() // self%xtail, stat, errmsg)
+    if (stat == STAT_OK) call self%xmf%append(self%xmfpath, stat, errmsg)
     if (stat /= STAT_OK) call self%close(st2, msg2)   ! keep the first error
   end subroutine fw_open
 
@@ -228,7 +225,6 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp), intent(in), optional :: reaction(:, :)
     character(len=:), allocatable :: grp
-    type(xdmf_step_t), allocatable :: tmp(:)
 
     stat = STAT_OK
     if (.not. self%is_open) then
@@ -273,16 +269,9 @@ contains
     call self%h5%flush(stat, errmsg)
     if (stat /= STAT_OK) return
 
-    if (self%nsteps == size(self%steps)) then
-      allocate (tmp(2 * self%nsteps))
-      tmp(1:self%nsteps) = self%steps(1:self%nsteps)
-      call move_alloc(tmp, self%steps)
-    end if
     self%nsteps = self%nsteps + 1
-    self%steps(self%nsteps) = xdmf_step_t(step=step, time=time, has_reaction=present(reaction))
-    ! Only the new step's grid is rendered (re-rendering every step made the output quadratic).
-    call append_grid(self, xdmf_step_grid(self%h5name, self%nnode, self%nelem, self%ntopo, self%steps(self%nsteps)))
-    call write_text_atomic(self%xmfpath, self%xhead // self%grids(1:self%ngrids) // self%xtail, stat, errmsg)
+    call self%xmf%replace_tail(xdmf_step_grid(self%h5name, self%nnode, self%nelem, self%ntopo, &
+      xdmf_step_t(step=step, time=time, has_reaction=present(reaction))) // self%xtail, len(self%xtail), stat, errmsg)
   end subroutine fw_write_step
 
   !> Refuse a step the disk (or the file size limit) cannot hold, before HDF5 tries: HDF5 1.10
@@ -306,19 +295,6 @@ contains
       'the file holds the steps written before')
   end subroutine check_room
 
-  !> grids(1:ngrids) // text, the buffer doubled when full.
-  pure subroutine append_grid(self, text)
-    class(fields_writer_t), intent(inout) :: self
-    character(len=*), intent(in) :: text
-    character(len=:), allocatable :: tmp
-    if (self%ngrids + len(text) > len(self%grids)) then
-      allocate (character(len=max(2 * len(self%grids), self%ngrids + len(text))) :: tmp)
-      tmp(1:self%ngrids) = self%grids(1:self%ngrids)
-      call move_alloc(tmp, self%grids)
-    end if
-    self%grids(self%ngrids + 1:self%ngrids + len(text)) = text
-    self%ngrids = self%ngrids + len(text)
-  end subroutine append_grid
 
   pure logical function has_shape(a, n1, n2)
     real(dp), intent(in) :: a(:, :)
@@ -337,16 +313,18 @@ contains
     class(fields_writer_t), intent(inout) :: self
     integer, intent(out), optional :: stat
     character(len=:), allocatable, intent(out), optional :: errmsg
-    integer :: st
-    character(len=:), allocatable :: msg
+    integer :: st, st2
+    character(len=:), allocatable :: msg, msg2
     st = STAT_OK
     if (self%is_open) then
       self%is_open = .false.
       call self%h5%close(st, msg)
     end if
-    if (allocated(self%steps)) deallocate (self%steps)
-    if (allocated(self%grids)) deallocate (self%grids)
-    self%ngrids = 0
+    call self%xmf%close(st2, msg2)
+    if (st == STAT_OK .and. st2 /= STAT_OK) then
+      st = st2
+      msg = msg2
+    end if
     if (allocated(self%vec)) deallocate (self%vec)
     if (allocated(self%rz)) deallocate (self%rz)
     self%nsteps = 0

@@ -10,6 +10,7 @@ module hdf5_file
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN
   use text_file, only: os_reason, clear_os_reason
+  use os_utils, only: drop_symlink
   use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5close_f, h5eset_auto_f, &
     h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5F_SCOPE_GLOBAL_F, &
     h5gcreate_f, h5gopen_f, h5gclose_f, h5lexists_f, &
@@ -126,6 +127,8 @@ contains
     stat = STAT_OK
     self%path = path
     self%what = what
+    call drop_symlink(path, stat, errmsg)
+    if (stat /= STAT_OK) return
     call use_library(self, stat, errmsg)
     if (stat /= STAT_OK) return
     call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, hdferr)

@@ -9,8 +9,6 @@
 !> strings) and /columns, the column names in table order.
 module sweep_output
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
-  use, intrinsic :: ieee_exceptions, only: ieee_overflow, ieee_get_flag, ieee_set_flag, ieee_get_halting_mode, &
-    ieee_set_halting_mode
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error, str
   use sweep_spec, only: sweep_t, case_result_t, text_t, status_name, case_dir_name, push, &
@@ -18,6 +16,7 @@ module sweep_output
   use sweep_metrics, only: metric_error, nan_value
   use hdf5_file, only: h5_file_t
   use text_file, only: text_file_t
+  use number_text, only: shortest_es
   implicit none
   private
   public :: apply_reference, write_sweep_csv, write_sweep_h5, real_text, seconds_text
@@ -72,25 +71,14 @@ contains
     real(dp), intent(in) :: x
     character(len=:), allocatable :: s
     character(len=32) :: buf
-    real(dp) :: y
-    integer :: d, ios
-    logical :: halt, flag
+    integer :: d
     if (ieee_is_nan(x)) then
       s = 'nan'
       return
     end if
-    ! Near huge(x) a short candidate rounds above it (1.8e308) and reads back as +Inf, which
-    ! only rejects that candidate: no trap (-ffpe-trap=overflow), the overflow flag unchanged.
-    call ieee_get_halting_mode(ieee_overflow, halt)
-    call ieee_get_flag(ieee_overflow, flag)
-    call ieee_set_halting_mode(ieee_overflow, .false.)
-    do d = 1, 17
-      write (buf, '(es30.' // str(d) // 'e3)') x
-      read (buf, *, iostat=ios) y
-      if (ios == 0 .and. y == x) exit
-    end do
-    call ieee_set_flag(ieee_overflow, flag)
-    call ieee_set_halting_mode(ieee_overflow, halt)
+    ! At least one digit after the point: the table's format ("5.0E-001") is a contract.
+    call shortest_es(x, d, buf)
+    if (d == 0) write (buf, '(es30.1e3)') x
     s = trim(adjustl(buf))
   end function real_text
 

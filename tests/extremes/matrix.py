@@ -23,6 +23,7 @@ import argparse
 import math
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -32,6 +33,8 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, 'tests', 'scenes'))
+from scenecheck import run_limited  # noqa: E402
 REBOND = os.environ.get('REBOND', os.path.join(ROOT, 'bin', 'rebond'))
 SC = 'tests/scenes/extremes/'
 
@@ -465,13 +468,15 @@ def run_case(case, outdir):
     res = {'case': case, 'dir': outdir, 'asserts': [], 'rel_balance': None, 'steps': None, 'bad': None,
            'message': '', 'rc': None}
     try:
-        p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=case.timeout)
-        res['rc'] = p.returncode
+        p = run_limited(cmd, case.timeout, cwd=ROOT, text=True)
+        res['rc'] = 'timeout' if p.returncode == -signal.SIGXCPU else p.returncode
         err = [ln for ln in p.stderr.strip().splitlines() if ln.strip() and not ln.startswith('STOP ')]
         res['message'] = err[-1] if err else ''
     except subprocess.TimeoutExpired:
         res['rc'] = 'timeout'
         res['message'] = 'no end after %d s' % case.timeout
+    if res['rc'] == 'timeout':
+        res['message'] = 'no end within %d s of CPU time' % case.timeout
     res['wall'] = time.time() - t0
     A = res['asserts']
     name = 'extremes/' + case.key

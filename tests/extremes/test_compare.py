@@ -26,6 +26,8 @@ import tempfile
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, 'tests', 'scenes'))
+from scenecheck import run_limited  # noqa: E402
 REBOND = os.environ.get('REBOND', os.path.join(ROOT, 'bin', 'rebond'))
 TOOL = os.path.join(ROOT, 'tools', 'compare')
 PY = '/usr/bin/python3'
@@ -47,13 +49,13 @@ def rebond(scene, outdir, *sets):
     cmd = [REBOND, scene, '-o', outdir, '--quiet']
     for s in sets:
         cmd += ['--set', s]
-    p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=120)
+    p = run_limited(cmd, 120, cwd=ROOT, text=True)
     if p.returncode != 0:
         raise RuntimeError('rebond failed: %s' % p.stderr)
 
 
 def tool(*args):
-    p = subprocess.run([PY, TOOL] + list(args), cwd=ROOT, capture_output=True, text=True, timeout=60)
+    p = run_limited([PY, TOOL] + list(args), 60, cwd=ROOT, text=True)
     return p.returncode, p.stdout, p.stderr
 
 

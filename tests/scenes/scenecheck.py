@@ -6,6 +6,7 @@ tests/run_tests.sh counts. A check exits non-zero only when it crashes (rebond m
 unreadable output, a Python error).
 """
 import os
+import resource
 import subprocess
 import tempfile
 
@@ -25,8 +26,34 @@ def new_dir(tag='run'):
     return os.path.join(TMP, '%s_%d' % (tag, _count[0]))
 
 
+# Limits are CPU seconds (RLIMIT_CPU: the run gets SIGXCPU past them), never the wall clock, so
+# that the checks pass on a loaded machine. HANG_FACTOR x the CPU limit of wall time remains,
+# only to end a process that waits forever without using the CPU.
+HANG_FACTOR = 50
+
+
+def run_limited(cmd, cpu, **kw):
+    """subprocess.run under a CPU-time limit of `cpu` seconds (set on the child with prlimit, which,
+    unlike preexec_fn, is safe from threads), and a hang guard of HANG_FACTOR x cpu wall seconds."""
+    kw.pop('capture_output', None)   # always captured
+    input_ = kw.pop('input', None)
+    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, **kw) as p:
+        s = int(cpu) + 1
+        try:
+            resource.prlimit(p.pid, resource.RLIMIT_CPU, (s, s + 5))
+        except ProcessLookupError:
+            pass
+        try:
+            out, err = p.communicate(input_, timeout=HANG_FACTOR * cpu)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            p.communicate()
+            raise
+    return subprocess.CompletedProcess(cmd, p.returncode, out, err)
+
+
 def run(scene, sets=(), outdir=None, timeout=120):
-    """Run rebond quietly; returns (exit code, stderr, output directory)."""
+    """Run rebond quietly; returns (exit code, stderr, output directory). timeout: CPU seconds."""
     if not os.access(REBOND, os.X_OK):
         raise RuntimeError('bin/rebond not built (%s)' % REBOND)
     if outdir is None:
@@ -34,8 +61,22 @@ def run(scene, sets=(), outdir=None, timeout=120):
     cmd = [REBOND, scene, '-o', outdir, '--quiet']
     for s in sets:
         cmd += ['--set', s]
-    p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=timeout)
+    p = run_limited(cmd, timeout, cwd=ROOT, capture_output=True, text=True)
     return p.returncode, p.stderr, outdir
+
+
+def message_lines(stderr):
+    """The lines of stderr that are rebond's, without the debug build's run-time warnings
+    ("At line N of file F" + "Fortran runtime warning: ..."), which make check-debug counts apart."""
+    lines = [ln for ln in stderr.strip().split('\n') if ln]
+    out = []
+    for i, ln in enumerate(lines):
+        if ln.startswith('Fortran runtime warning'):
+            continue
+        if ln.startswith('At line ') and i + 1 < len(lines) and lines[i + 1].startswith('Fortran runtime warning'):
+            continue
+        out.append(ln)
+    return out
 
 
 def run_ok(scene, sets=()):

@@ -59,7 +59,7 @@ def complete_lines(outdir):
 
 
 def one_message(err, path_part, cause):
-    lines = [ln for ln in err.strip().split('\n') if ln]
+    lines = sc.message_lines(err)
     return len(lines) == 1 and lines[0].startswith('rebond: error: ') and path_part in lines[0] and \
         cause in lines[0] and 'results in' not in err
 

@@ -50,7 +50,7 @@ def regression():
         t0 = time.time()
         try:
             rc, err, outdir = sc.run(path, timeout=30)
-        except Exception as e:   # a timeout is a failure of the case, not of the check
+        except Exception as e:   # a hang is a failure of the case, not of the check
             print('FAIL fuzz regression %s: %s' % (name, e))
             continue
         want = '%s:%d: ' % (path, line)

@@ -44,7 +44,7 @@ def run_counted(scene, sets):
     cmd = [sc.REBOND, scene, '-o', out]
     for s in sets:
         cmd += ['--set', s]
-    p = subprocess.run(cmd, cwd=sc.ROOT, capture_output=True, text=True, timeout=120)
+    p = sc.run_limited(cmd, 120, cwd=sc.ROOT, capture_output=True, text=True)
     if p.returncode != 0:
         raise RuntimeError('rebond %s failed (exit %d): %s' % (' '.join(sets), p.returncode, p.stderr.strip()))
     m = re.search(r'contact multipliers: (\d+) Schur solves \((\d+) columns\), (\d+) augmented solves \((\d+) LU\)',

@@ -83,7 +83,7 @@ for scene, n, what, sets in CASES:
     args = ['bash', TOOL, '--mode', 'none', scene, str(n)]
     for x in sets:
         args += ['--set', x]
-    p = subprocess.run(args, cwd=sc.ROOT, capture_output=True, text=True, timeout=300)
+    p = sc.run_limited(args, 300, cwd=sc.ROOT, capture_output=True, text=True)
     if p.returncode != 0:
         raise RuntimeError('%s failed on %s: %s' % (TOOL, scene, p.stderr.strip()))
     fields = p.stdout.split()

@@ -67,7 +67,7 @@ def run_sweep(path, outdir, nproc):
         if mpirun is None:
             return None, 'mpirun not found (make deps installs openmpi-bin)'
         cmd = [mpirun, '--allow-run-as-root', '--oversubscribe', '-np', str(nproc)] + cmd
-    p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=300, env=MPI_ENV)
+    p = sc.run_limited(cmd, 300, cwd=ROOT, capture_output=True, text=True, env=MPI_ENV)
     return p.returncode, p.stderr
 
 
