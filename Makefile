@@ -47,6 +47,7 @@ help:
 	@echo "make studies run every studies/*.sweep under mpirun (results/studies/, docs/sweep.md)"
 	@echo "make check-debug  unit tests and every scene with -fcheck=all and FPE traps (build-debug/)"
 	@echo "make valgrind     memcheck of two short scenes with bin/rebond (docs/reliability.md)"
+	@echo "make reliability  hostile input, full disk, fuzz and kill/restart counts (docs/reliability.md)"
 	@echo "make validation   the paper's beam drops and the contact table (docs/validation.md, docs/contact-table.md)"
 	@echo "make contact-table  the impact modes on three exact benchmarks (docs/contact-table.md)"
 
@@ -132,6 +133,12 @@ check-debug:
 
 valgrind: bin/rebond
 	@bash tools/check_debug.sh --valgrind $(VALGRIND_SCENES)
+
+# The measured reliability table of docs/reliability.md: the hostile-input, full-disk and restart
+# checks, 2000 fuzzed scenes and 20 SIGKILL/restart trials (~10 min). Ends with `N passed, M failed`.
+.PHONY: reliability
+reliability: bin/rebond
+	@/usr/bin/python3 tools/reliability_report.py
 
 # Parameter studies: every studies/*.sweep run by `rebond sweep` under mpirun (one dispatching
 # rank + one worker per core; the OMPI_* variables let Open MPI run as root, as in CI), tables

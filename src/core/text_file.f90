@@ -22,6 +22,7 @@ module text_file
     procedure :: write_bytes => tf_write_bytes
     procedure :: replace_tail => tf_replace_tail
     procedure :: close => tf_close
+    procedure :: close_keep => tf_close_keep
     procedure :: is_open => tf_is_open
     procedure :: name => tf_name
   end type text_file_t
@@ -175,6 +176,21 @@ contains
     self%h = c_null_ptr
     if (err /= 0) call os_error(stat, errmsg, 'cannot close', self%path, err)
   end subroutine tf_close
+
+  !> Close after a sequence of writes whose status is stat (sticky): a failure to close is
+  !> reported only when everything before succeeded; the first error is kept.
+  subroutine tf_close_keep(self, stat, errmsg)
+    class(text_file_t), intent(inout) :: self
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    integer :: st
+    character(len=:), allocatable :: msg
+    call tf_close(self, st, msg)
+    if (stat == STAT_OK .and. st /= STAT_OK) then
+      stat = st
+      errmsg = msg
+    end if
+  end subroutine tf_close_keep
 
   pure logical function tf_is_open(self)
     class(text_file_t), intent(in) :: self

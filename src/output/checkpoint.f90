@@ -64,11 +64,7 @@ contains
     call out%create(self%tmp, stat, errmsg)
     if (stat /= STAT_OK) return
     call out%write_bytes(bytes, stat, errmsg)
-    if (stat == STAT_OK) then
-      call out%close(stat, errmsg)
-    else
-      call out%close(st2, msg2)
-    end if
+    call out%close_keep(stat, errmsg)
     if (stat == STAT_OK) call read_back(self%tmp, bytes, stat, errmsg)
     if (stat /= STAT_OK) then
       call remove_file(self%tmp, st2, msg2)

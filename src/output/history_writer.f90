@@ -84,11 +84,7 @@ contains
       if (step <= last) call out%write_line(line, stat, errmsg)
     end do
     close (uin)
-    if (stat == STAT_OK) then
-      call out%close(stat, errmsg)
-    else
-      call out%close(st2, msg2)
-    end if
+    call out%close_keep(stat, errmsg)
     if (stat /= STAT_OK) then
       call remove_file(path // '.tmp', st2, msg2)
       return

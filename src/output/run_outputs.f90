@@ -12,6 +12,7 @@ module run_outputs
   use history_writer, only: csv_file_t
   use fields_hdf5, only: fields_writer_t
   use text_format, only: put_es, put_int, put_text
+  use os_utils, only: remove_file
   implicit none
   private
   public :: output_set_t, HISTORY_HEADER, EVENTS_HEADER, CONTACTS_HEADER
@@ -60,6 +61,8 @@ contains
     character(len=:), allocatable :: header
     character(len=32) :: part
     integer :: i
+    call remove_stale_temporaries(outdir, stat, errmsg)
+    if (stat /= STAT_OK) return
     self%last_step = nsteps
     self%with_events = with_events
     self%with_fields = scn%fields_every /= 0
@@ -95,6 +98,22 @@ contains
       call self%fields%open(outdir, scn%mesh, stat, errmsg)
     end if
   end subroutine outputs_open
+
+  !> A run killed while it replaced a file (a checkpoint, a resumed CSV, fields.xmf) leaves
+  !> NAME.tmp behind; the next run in the folder removes them.
+  subroutine remove_stale_temporaries(outdir, stat, errmsg)
+    character(len=*), intent(in) :: outdir
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=16), parameter :: names(7) = [character(len=16) :: 'history.csv', 'probes.csv', 'events.csv', &
+      'contacts.csv', 'fields.xmf', 'checkpoint.h5', 'sweep.csv']
+    integer :: k
+    stat = STAT_OK
+    do k = 1, size(names)
+      call remove_file(outdir // '/' // trim(names(k)) // '.tmp', stat, errmsg)
+      if (stat /= STAT_OK) return
+    end do
+  end subroutine remove_stale_temporaries
 
   !> The history and probe lines of a step (every HISTORY EVERY steps and the last one) and its
   !> fields (every FIELDS EVERY steps, the first and the last).

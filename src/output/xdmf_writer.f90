@@ -199,11 +199,7 @@ contains
     call f%create(path // '.tmp', stat, errmsg)
     if (stat /= STAT_OK) return
     call f%write_text(text, stat, errmsg)
-    if (stat == STAT_OK) then
-      call f%close(stat, errmsg)
-    else
-      call f%close(st2, msg2)
-    end if
+    call f%close_keep(stat, errmsg)
     if (stat /= STAT_OK) then
       call remove_file(path // '.tmp', st2, msg2)
       return

@@ -153,9 +153,9 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(text_t), allocatable :: cols(:)
-    character(len=:), allocatable :: line, msg2
+    character(len=:), allocatable :: line
     type(text_file_t) :: f
-    integer :: k, j, st2
+    integer :: k, j
     stat = STAT_OK
     errmsg = ''
     call f%create(path, stat, errmsg)
@@ -185,11 +185,7 @@ contains
         csv_field(message_of(res(k)))
       call f%write_line(line, stat, errmsg)
     end do
-    if (stat == STAT_OK) then
-      call f%close(stat, errmsg)
-    else
-      call f%close(st2, msg2)
-    end if
+    call f%close_keep(stat, errmsg)
   end subroutine write_sweep_csv
 
   pure real(dp) function value_or_nan(a, j)
