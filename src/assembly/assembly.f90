@@ -18,7 +18,7 @@ module assembly
   private
   public :: system_t, build_system, commit_state, external_force, &
     element_stress, nodal_values, mass_times, initial_state, dof_label, dof_origin, stored_energy, mass_times_q, &
-    save_points, load_points
+    save_points, load_points, damping_times, is_damped
 
   !> Nodal forces of one LOAD statement on the free DOFs (sparse).
   type :: load_vector_t
@@ -62,6 +62,7 @@ module assembly
     logical :: mass_diagonal = .false.       !< every model lumped: M is its diagonal
     real(dp), allocatable :: mdiag(:)
     real(dp), allocatable :: tval(:)         !< tangent stiffness on the pattern (ITERATION TANGENT)
+    real(dp), allocatable :: cval(:)         !< Rayleigh damping C = Σ (alpha M_e + beta K0_e) (MODEL DAMPING)
   end type operators_t
 
   !> The external forces: M g, and the LOAD statements' nodal vectors.
@@ -127,6 +128,13 @@ contains
     if (stat /= STAT_OK) return
     call assemble_operators(scn, sys, stat, errmsg)
     if (stat /= STAT_OK) return
+    if (scn%extended .and. is_damped(sys)) then
+      associate (md => scn%models(findloc(scn%models%alpha > 0.0_dp .or. scn%models%beta > 0.0_dp, .true., 1)))
+        call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(md%line) // ': MODEL ' // md%group // &
+          ": DAMPING is not available with SCHEME PRECISION EXTENDED, at 'DAMPING'")
+      end associate
+      return
+    end if
     call check_operators(scn, sys, stat, errmsg)
     if (stat /= STAT_OK) return
     call build_loads(scn, sys, stat, errmsg)
@@ -260,9 +268,17 @@ contains
     logical :: mask(3)
     real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho
     logical, allocatable :: massless(:)
+    logical :: damped
     if (scn%impact == IMPACT_MASSLESS) call contact_nodes(scn, massless)
     call sys%ops%pat%build(sys%dofs%neq, sys%elems%edof_ptr, sys%elems%edof, stat, errmsg)
     if (stat /= STAT_OK) return
+    damped = any(scn%models%alpha > 0.0_dp .or. scn%models%beta > 0.0_dp)
+    if (damped) then
+      allocate (sys%ops%cval(sys%ops%pat%nnz), stat=ast)
+      call check_alloc(ast, 'the damping matrix', 8.0_dp * sys%ops%pat%nnz, stat, errmsg)
+      if (stat /= STAT_OK) return
+      sys%ops%cval = 0.0_dp
+    end if
     allocate (sys%ops%kval(sys%ops%pat%nnz), sys%ops%mval(sys%ops%pat%nnz), sys%loads%fgrav(sys%dofs%neq), stat=ast)
     call check_alloc(ast, 'K0 and M (' // str(sys%ops%pat%nnz) // ' entries each)', &
       16.0_dp * sys%ops%pat%nnz + 8.0_dp * sys%dofs%neq, stat, errmsg)
@@ -292,6 +308,8 @@ contains
         if (allocated(massless)) call move_contact_mass(scn%mesh%conn(1:nen, e), elem_dof_mask(et), massless, &
           me(1:ndof, 1:ndof))
         call sys%ops%pat%add_element(sys%ops%mval, dofs, me(1:ndof, 1:ndof))
+        if (damped) call sys%ops%pat%add_element(sys%ops%cval, dofs, scn%models(im)%alpha * me(1:ndof, 1:ndof) + &
+          scn%models(im)%beta * ke(1:ndof, 1:ndof))
         mask = elem_dof_mask(et)
         k = 0
         do a = 1, nen
@@ -398,7 +416,8 @@ contains
       associate (p => scn%probes(k))
         if (sys%dofs%eqn(p%dof, p%node) /= DOF_ABSENT) cycle
         call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(p%line) // ': OUTPUT: PROBE ' // p%label // &
-          ': no element at this node has the DOF ' // trim(DOF_NAMES(p%dof)) // ", at '" // trim(DOF_NAMES(p%dof)) // "'")
+          ': no element at this node has the DOF ' // trim(DOF_NAMES(p%dof)) // ", at '" // &
+          p%label(index(p%label, '.', back=.true.) + 1:) // "'")
         return
       end associate
     end do
@@ -515,6 +534,20 @@ contains
       call sys%ops%pat%matvec(sys%ops%mval, x, y)
     end if
   end subroutine mass_times
+
+  !> True when a model has Rayleigh damping (MODEL DAMPING).
+  pure logical function is_damped(sys)
+    type(system_t), intent(in) :: sys
+    is_damped = allocated(sys%ops%cval)
+  end function is_damped
+
+  !> y = C x, the Rayleigh damping matrix (is_damped only).
+  subroutine damping_times(sys, x, y)
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: y(:)
+    call sys%ops%pat%matvec(sys%ops%cval, x, y)
+  end subroutine damping_times
 
   !> y = M x accumulated in quadruple precision (SCHEME PRECISION EXTENDED).
   subroutine mass_times_q(sys, x, y)

@@ -41,6 +41,8 @@ module scene
     type(section_t) :: sec        !< copy of the section, with the model's plane option
     logical :: lumped = .false.
     integer :: substeps = 0       !< sub-increments of the laws (Cast3M SOUS_INCREMENT); 0 = AUTO
+    real(dp) :: alpha = 0.0_dp    !< DAMPING ALPHA: Rayleigh C = alpha M + beta K0 of the model (1/s)
+    real(dp) :: beta = 0.0_dp     !< DAMPING BETA (s)
     integer :: line = 0
   end type model_t
 
@@ -78,6 +80,7 @@ module scene
     character(len=:), allocatable :: label   !< group.DOF
     integer :: node = 0
     integer :: dof = 0
+    logical :: velocity = .false.            !< VX, VY, VRZ: the velocity of the DOF
     integer :: line = 0
   end type probe_t
 

@@ -4,7 +4,7 @@ module scene_models
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
   use material_law, only: material_t, law_check
-  use statement, only: statement_t, stmt_error, find_param, get_int, get_word
+  use statement, only: statement_t, stmt_error, find_param, get_int, get_word, get_real
   use statement_schema, only: schema_t
   use elements, only: elem_check_geometry
   use scene, only: scene_t, model_t, MAX_SUBSTEPS, model_point_kind
@@ -26,6 +26,7 @@ contains
     call sch%add_param('MODEL', 'MASS', 1, 1)
     call sch%add_param('MODEL', 'PLANE', 1, 1)
     call sch%add_param('MODEL', 'SUBSTEPS', 1, 1)
+    call sch%add_param('MODEL', 'DAMPING', 2, 4)
   end subroutine models_schema
 
   !> One models statement (pass 2 of load_scene).
@@ -155,6 +156,8 @@ contains
         st%params(find_param(st, 'PLANE'))%values(1)))
       return
     end select
+    call get_damping(st, md, stat, errmsg)
+    if (stat /= STAT_OK) return
     if (md%material > 0) then
       call check_model_law(st, md, scn%materials(md%material), stat, errmsg)
       if (stat /= STAT_OK) return
@@ -229,4 +232,39 @@ contains
     if (stat /= STAT_OK) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'material ' // mat%name // ' on ' // &
       etype_name(md%etype) // ' elements: ' // msg, st%params(find_param(st, 'MATERIAL'))%values(1)))
   end subroutine check_model_law
+  !> DAMPING ALPHA a BETA b (either or both, a, b >= 0): Rayleigh damping C = a M + b K0 of the
+  !> model's elements (K0: the initial stiffness).
+  subroutine get_damping(st, md, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(model_t), intent(inout) :: md
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, i
+    real(dp) :: x
+    stat = STAT_OK
+    md%alpha = 0.0_dp
+    md%beta = 0.0_dp
+    k = find_param(st, 'DAMPING')
+    if (k == 0) return
+    associate (vals => st%params(k)%values)
+      if (mod(size(vals), 2) /= 0) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'DAMPING takes pairs: ALPHA a and/or BETA b', &
+          vals(size(vals))))
+        return
+      end if
+      do i = 1, size(vals), 2
+        call get_real(st, 'DAMPING', x, stat, errmsg, index=i + 1, lower=0.0_dp, lower_inclusive=.true.)
+        if (stat /= STAT_OK) return
+        select case (upper(vals(i)%text))
+        case ('ALPHA')
+          md%alpha = x
+        case ('BETA')
+          md%beta = x
+        case default
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected ALPHA or BETA', vals(i)))
+          return
+        end select
+      end do
+    end associate
+  end subroutine get_damping
 end module scene_models

@@ -173,17 +173,20 @@ contains
               // str(size(scn%mesh%ngroups(ig)%items)) // ' nodes', vals(i)))
             return
           end if
+          pr%velocity = .false.
           select case (upper(vals(i + 1)%text))
-          case ('UX')
+          case ('UX', 'VX')
             d = DOF_UX
-          case ('UY')
+          case ('UY', 'VY')
             d = DOF_UY
-          case ('RZ')
+          case ('RZ', 'VRZ')
             d = DOF_RZ
           case default
-            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected a DOF: UX, UY or RZ', vals(i + 1)))
+            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected a DOF: UX, UY, RZ (displacements) or VX, ' // &
+              'VY, VRZ (velocities)', vals(i + 1)))
             return
           end select
+          pr%velocity = upper(vals(i + 1)%text(1:1)) == 'V'
           pr%node = scn%mesh%ngroups(ig)%items(1)
           pr%dof = d
           pr%label = vals(i)%text // '.' // upper(vals(i + 1)%text)

@@ -414,19 +414,8 @@ contains
         btag(k) = tag
       end do
       do k = 1, nb
-        call data_line(g, 'the coordinates "x y z" of a node', stat, errmsg)
+        call node_coordinates(g, btag(k), 3 + param * min(edim, 3), xyz, stat, errmsg)
         if (stat /= STAT_OK) return
-        if (g%ntok < 3 .or. g%ntok > 3 + param * min(edim, 3)) then
-          call fail(g, stat, errmsg, 'expected the coordinates "x y z" of node ' // str(btag(k)) // ', found "' // &
-            clip(g%line) // '"')
-          return
-        end if
-        call get_reals(g, 3, 'a node coordinate', xyz, stat, errmsg)
-        if (stat /= STAT_OK) return
-        if (any(abs(xyz) > MAX_COORD)) then
-          call fail(g, stat, errmsg, 'node ' // str(btag(k)) // ': a coordinate beyond ±1e100, found "' // clip(g%line) // '"')
-          return
-        end if
         g%x(:, g%nnode + k) = xyz(1:2)
         lo = min(lo, xyz(1:2))
         hi = max(hi, xyz(1:2))
@@ -468,6 +457,27 @@ contains
       end if
     end do
   end subroutine read_nodes
+
+  !> The next line: "x y z" of node tag (at most maxtok words: parametric coordinates may
+  !> follow), each within ±MAX_COORD.
+  subroutine node_coordinates(g, tag, maxtok, xyz, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(in) :: tag, maxtok
+    real(dp), intent(out) :: xyz(3)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call data_line(g, 'the coordinates "x y z" of a node', stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (g%ntok < 3 .or. g%ntok > maxtok) then
+      call fail(g, stat, errmsg, 'expected the coordinates "x y z" of node ' // str(tag) // ', found "' // &
+        clip(g%line) // '"')
+      return
+    end if
+    call get_reals(g, 3, 'a node coordinate', xyz, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (any(abs(xyz) > MAX_COORD)) call fail(g, stat, errmsg, 'node ' // str(tag) // ': a coordinate beyond ±1e100, ' // &
+      'found "' // clip(g%line) // '"')
+  end subroutine node_coordinates
 
   !> Whether n records of at least minbytes bytes each cannot fit in the file (garbage counts must
   !> not trigger huge allocations).

@@ -2,7 +2,8 @@
 !> run killed at any moment leaves either the previous checkpoint or the new one, never half
 !> of one: the file is built in memory (HDF5's core driver), its bytes written under a
 !> temporary name with every write checked (text_file), read back and compared, and only then
-!> renamed over the old one. A full disk is an error and leaves the old checkpoint whole. Each owner of state writes its own fields (newmark's save_checkpoint asks them); this
+!> renamed over the old one. A full disk is an error and leaves the old checkpoint whole.
+!> Each owner of state writes its own fields (newmark's save_checkpoint asks them); this
 !> module stores named arrays and scalars through hdf5_file and, on reading, checks every
 !> shape. Quadruple-precision arrays are stored bit for bit as pairs of doubles (transfer), so
 !> that a restart continues exactly where the run stopped. stat and errmsg of put and get are

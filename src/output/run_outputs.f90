@@ -19,7 +19,7 @@ module run_outputs
 
   character(len=*), parameter :: HISTORY_HEADER = &
     'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored,' // &
-    'impact_dissipated,momentum_x,momentum_y,angular_momentum'
+    'impact_dissipated,momentum_x,momentum_y,angular_momentum,damping'
   character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored'
   character(len=*), parameter :: CONTACTS_HEADER = 'step,time,contact,active,force_x,force_y,impulse_x,impulse_y,min_gap'
 
@@ -36,7 +36,7 @@ module run_outputs
     integer, allocatable :: cstat(:)
     real(dp), allocatable :: cimp(:, :), cforce(:, :)
     real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), reaction(:, :)
-    real(dp), allocatable :: preals(:), hreals(:), htail(:)   !< htail: dissipated, stored, impact_dissipated, momenta
+    real(dp), allocatable :: preals(:), hreals(:), htail(:)   !< htail: dissipated, stored, impact_dissipated, momenta, damping
   contains
     procedure :: open => outputs_open
     procedure :: write_step => outputs_write_step
@@ -71,7 +71,7 @@ contains
       header = header // ',' // scn%probes(i)%label
     end do
     allocate (self%nodal_u(3, scn%mesh%nnode), self%nodal_v(3, scn%mesh%nnode), self%estress(4, scn%mesh%nelem), &
-      self%reaction(3, scn%mesh%nnode), self%preals(1 + size(scn%probes)), self%hreals(6), self%htail(6))
+      self%reaction(3, scn%mesh%nnode), self%preals(1 + size(scn%probes)), self%hreals(6), self%htail(7))
     self%reaction = 0.0_dp
     self%h = scn%dt
     self%t_row = scn%t_start + step0 * scn%dt
@@ -144,13 +144,14 @@ contains
         do k = 1, 3
           self%htail(3 + k) = dot_product(rig(:, k), mv)
         end do
+        self%htail(7) = en%damping()
         call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail)
         if (stat /= STAT_OK) return
         self%preals(1) = t
         do k = 1, size(scn%probes)
           self%preals(k + 1) = 0.0_dp
           associate (j => sys%dofs%eqn(scn%probes(k)%dof, scn%probes(k)%node))
-            if (j > 0) self%preals(k + 1) = u(j)
+            if (j > 0) self%preals(k + 1) = merge(v(j), u(j), scn%probes(k)%velocity)
           end associate
         end do
         call self%probes%write_row(step, self%preals, [integer ::], stat, errmsg)

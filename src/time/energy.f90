@@ -20,6 +20,7 @@ module energy
     type(sum_t) :: correction_sum      !< energy restored by corrections
     type(sum_t) :: dissipated_sum      !< plastic work since t = 0
     type(sum_t) :: impact_sum          !< kinetic energy removed by impacts (RESTITUTION e < 1)
+    type(sum_t) :: damping_sum         !< energy removed by Rayleigh damping (MODEL DAMPING)
     real(dp) :: initial = 0.0_dp       !< kinetic + internal at t = 0
     real(dp) :: max_balance = 0.0_dp   !< max |balance| so far
     real(dp) :: max_scale = 0.0_dp     !< max (kinetic + internal) so far
@@ -33,6 +34,8 @@ module energy
     procedure :: balance
     procedure :: impact_dissipated
     procedure :: add_impact
+    procedure :: damping
+    procedure :: add_damping
     procedure :: relative_balance
     procedure :: pack_state
     procedure :: unpack_state
@@ -40,7 +43,7 @@ module energy
     procedure :: load
   end type energy_t
 
-  integer, parameter, public :: ENERGY_STATE_SIZE = 15
+  integer, parameter, public :: ENERGY_STATE_SIZE = 17
 
 contains
 
@@ -78,6 +81,7 @@ contains
     self%correction_sum = sum_t()
     self%dissipated_sum = sum_t()
     self%impact_sum = sum_t()
+    self%damping_sum = sum_t()
     call add(self%internal_sum, internal0)
     self%initial = kinetic0 + self%internal()
     self%max_balance = 0.0_dp
@@ -133,6 +137,19 @@ contains
     call add(self%impact_sum, e)
   end subroutine add_impact
 
+  !> Energy removed by damping since t = 0.
+  pure real(dp) function damping(self)
+    class(energy_t), intent(in) :: self
+    damping = value(self%damping_sum)
+  end function damping
+
+  !> The damping of a step removed e (>= 0): booked like an impact's loss (before add_step).
+  pure subroutine add_damping(self, e)
+    class(energy_t), intent(inout) :: self
+    real(dp), intent(in) :: e
+    call add(self%damping_sum, e)
+  end subroutine add_damping
+
   pure real(dp) function correction(self)
     class(energy_t), intent(in) :: self
     correction = value(self%correction_sum)
@@ -141,13 +158,16 @@ contains
   !> Energy the scheme created: kinetic + internal + impact dissipation - external - (kinetic +
   !> internal at t = 0). Corrections are not subtracted: they give back what the scheme lost,
   !> and the balance is what remains wrong after them. The energy an inelastic impact removes
-  !> (RESTITUTION e < 1) is physics, not an error: it is counted with the internal work.
+  !> (RESTITUTION e < 1) and the work of the damping (MODEL DAMPING) are physics, not errors:
+  !> they are counted with the internal work.
   pure real(dp) function balance(self)
     class(energy_t), intent(in) :: self
-    if (self%impact_sum%s == 0.0_dp .and. self%impact_sum%c == 0.0_dp) then
+    real(dp) :: lost
+    lost = value(self%impact_sum) + value(self%damping_sum)
+    if (lost == 0.0_dp) then
       balance = ((self%kinetic + self%internal()) - value(self%external_sum)) - self%initial
     else
-      balance = ((self%kinetic + self%internal() + value(self%impact_sum)) - value(self%external_sum)) - self%initial
+      balance = ((self%kinetic + self%internal() + lost) - value(self%external_sum)) - self%initial
     end if
   end function balance
 
@@ -157,7 +177,8 @@ contains
     real(dp) :: x(ENERGY_STATE_SIZE)
     x = [self%kinetic, self%internal_sum%s, self%internal_sum%c, self%elastic, self%external_sum%s, &
       self%external_sum%c, self%correction_sum%s, self%correction_sum%c, self%dissipated_sum%s, &
-      self%dissipated_sum%c, self%initial, self%max_balance, self%max_scale, self%impact_sum%s, self%impact_sum%c]
+      self%dissipated_sum%c, self%initial, self%max_balance, self%max_scale, self%impact_sum%s, self%impact_sum%c, &
+      self%damping_sum%s, self%damping_sum%c]
   end function pack_state
 
   pure subroutine unpack_state(self, x)
@@ -173,6 +194,7 @@ contains
     self%max_balance = x(12)
     self%max_scale = x(13)
     self%impact_sum = sum_t(x(14), x(15))
+    self%damping_sum = sum_t(x(16), x(17))
   end subroutine unpack_state
 
   !> The accounts into an open checkpoint (sticky stat, as ckpt_file_t).

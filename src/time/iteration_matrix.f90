@@ -18,6 +18,7 @@ module iteration_matrix
     type(cholmod_factor_t), public :: factor     !< CHOLMOD factor of the current S (contact solves with it)
     real(dp), allocatable, public :: sval(:)     !< values of S on the system's pattern (read only)
     real(dp) :: c4 = 0.0_dp                      !< 4/h²
+    real(dp) :: h = 0.0_dp                       !< the step
     logical :: tangent = .false.                 !< ITERATION TANGENT
     logical :: fallback = .false.                !< this step went back to K0 + 4M/h²
   contains
@@ -42,9 +43,23 @@ contains
     self%c4 = 4.0_dp / h**2
     self%tangent = allocated(sys%ops%tval)
     self%fallback = .false.
-    self%sval = sys%ops%kval + (4.0_dp / h**2) * sys%ops%mval
+    self%h = h
+    call step_matrix(self, sys, sys%ops%kval)
     call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg, minor)
   end subroutine mat_setup
+
+  !> S = K + 4M/h² + 2C/h on the shared pattern (K: K0 or the tangent; C: Rayleigh damping, whose
+  !> trapezoid term ½C (v(n) + v(n+1)) = C du/h enters eq (9), multiplied by 2, as 2C du/h).
+  subroutine step_matrix(self, sys, kvals)
+    type(iteration_matrix_t), intent(inout) :: self
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: kvals(:)
+    if (allocated(sys%ops%cval)) then
+      self%sval = kvals + self%c4 * sys%ops%mval + (2.0_dp / self%h) * sys%ops%cval
+    else
+      self%sval = kvals + self%c4 * sys%ops%mval
+    end if
+  end subroutine step_matrix
 
   pure subroutine mat_begin_step(self)
     class(iteration_matrix_t), intent(inout) :: self
@@ -62,7 +77,7 @@ contains
     stat = STAT_OK
     refactored = self%tangent .and. .not. self%fallback
     if (.not. refactored) return
-    self%sval = sys%ops%tval + self%c4 * sys%ops%mval
+    call step_matrix(self, sys, sys%ops%tval)
     call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg)
   end subroutine mat_update
 
@@ -84,7 +99,7 @@ contains
     if (res(iter) >= 0.99_dp * res(iter - 1) .and. res(iter - 1) >= 0.99_dp * res(iter - 2)) then
       self%fallback = .true.
       refactored = .true.
-      self%sval = sys%ops%kval + self%c4 * sys%ops%mval
+      call step_matrix(self, sys, sys%ops%kval)
       call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg)
     end if
   end subroutine mat_check_stall

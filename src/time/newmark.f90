@@ -342,6 +342,8 @@ contains
       else
         call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg)
       end if
+      ! MODEL DAMPING: the step's damping work du'C du/h is booked, so that the balance holds.
+      call rs%en%add_damping(rs%st%damping_work(sys))
       call rs%en%add_step(rs%st%kinetic, rs%st%inc%work, dw_ext, dw_corr + e_rest, rs%st%inc%dissipated, &
         rs%st%inc%elastic)
       if (.not. (abs(rs%en%balance()) <= huge(1.0_dp))) then

@@ -6,7 +6,7 @@
 module step_state
   use kinds, only: dp, qp
   use scene, only: scene_t
-  use assembly, only: system_t, commit_state, mass_times, mass_times_q
+  use assembly, only: system_t, commit_state, mass_times, mass_times_q, damping_times, is_damped
   use internal_forces, only: internal_force, work_increment_t
   use checkpoint, only: ckpt_file_t
   use newmark_scheme, only: rhs_eq9, residual_eq9, velocity_eq3
@@ -23,6 +23,7 @@ module step_state
     ! The step: F(n+1), right-hand side of (9), iterate du and its update ddu, residual r, trial
     ! u(n) + du with its Bσ(n+1) and Bσc, M du; v(n+1) by (3) before the impact correction.
     real(dp), allocatable :: f_np1(:), rhs(:), du(:), ddu(:), r(:), utrial(:), fint(:), fcorr(:), mdu(:), v_eq3(:)
+    real(dp), allocatable :: cdu(:)          !< C du (MODEL DAMPING)
     real(dp), allocatable :: res_hist(:)     !< residual norm of each iteration of the step
     real(dp) :: kinetic = 0.0_dp             !< ½ v'Mv at the end of the last step
     type(work_increment_t) :: inc            !< energies of the last trial (work, elastic, dissipated)
@@ -37,6 +38,7 @@ module step_state
     procedure :: velocity => state_velocity
     procedure :: absorb_velocity_change => state_absorb
     procedure :: commit => state_commit
+    procedure :: damping_work => state_damping_work
     procedure :: save => state_save
     procedure :: load => state_load
   end type step_state_t
@@ -55,7 +57,7 @@ contains
     self%extended = extended
     allocate (self%u(n), self%v(n), self%fint_n(n), self%f_n(n), self%mv(n), self%f_np1(n), self%rhs(n), &
       self%du(n), self%ddu(n), self%r(n), self%utrial(n), self%fint(n), self%fcorr(n), self%mdu(n), self%v_eq3(n), &
-      self%res_hist(max_iter))
+      self%cdu(n), self%res_hist(max_iter))
     if (extended) allocate (self%rhs_q(n), self%mv_q(n), self%mdu_q(n), self%r_q(n), self%utrial_q(n))
   end subroutine state_init
 
@@ -124,9 +126,25 @@ contains
       self%r = real(self%r_q, dp)
     else
       call mass_times(sys, self%du, self%mdu)
+      if (is_damped(sys)) then
+        ! 4M du/h² + 2C du/h = (4/h²)(M du + (h/2) C du): damping enters as part of the inertia.
+        call damping_times(sys, self%du, self%cdu)
+        self%mdu = self%mdu + (0.5_dp * self%h) * self%cdu
+      end if
       call residual_eq9(self%c4, self%rhs, self%mdu, self%fint, self%fcorr, self%r)
     end if
   end subroutine state_residual
+
+  !> The energy the damping removed in the step: the trapezoid work ½du'C(v(n) + v(n+1)) =
+  !> du'C du / h, exactly what eq (9) takes out of ½v'Mv (0 without MODEL DAMPING).
+  real(dp) function state_damping_work(self, sys) result(w)
+    class(step_state_t), intent(inout) :: self
+    type(system_t), intent(in) :: sys
+    w = 0.0_dp
+    if (.not. is_damped(sys)) return
+    call damping_times(sys, self%du, self%cdu)
+    w = dot_product(self%du, self%cdu) / self%h
+  end function state_damping_work
 
   !> End of the step: v(n+1) by eq (3), M v(n+1); v_eq3 keeps it for the impact correction.
   subroutine state_velocity(self, sys)
