@@ -44,7 +44,8 @@ def read_events(path):
                         "constraint": int(r["constraint"]), "nodes": r["nodes"].strip(),
                         "event": r["event"].strip(), "gap_start": float(r["gap_start"]),
                         "multiplier": float(r["multiplier"]),
-                        "energy_restored": float(r["energy_restored"])})
+                        "energy_restored": float(r["energy_restored"]),
+                        "contact": (r.get("contact") or "").strip()})
     return out
 
 

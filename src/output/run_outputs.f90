@@ -20,7 +20,8 @@ module run_outputs
   character(len=*), parameter :: HISTORY_HEADER = &
     'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored,' // &
     'impact_dissipated,momentum_x,momentum_y,angular_momentum,damping'
-  character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored'
+  character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored,' &
+    // 'contact'
   character(len=*), parameter :: CONTACTS_HEADER = 'step,time,contact,active,force_x,force_y,impulse_x,impulse_y,min_gap'
 
   type :: output_set_t
@@ -33,6 +34,7 @@ module run_outputs
     ! each condition, the impulse each gave its NODES group since the last row, that row's time.
     real(dp) :: h = 0.0_dp, t_row = 0.0_dp
     character(len=:), allocatable :: cnames(:)
+    character(len=:), allocatable :: row     !< a contacts.csv or events.csv line (sized for the longest name)
     integer, allocatable :: cstat(:)
     real(dp), allocatable :: cimp(:, :), cforce(:, :)
     real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), reaction(:, :)
@@ -214,6 +216,7 @@ contains
       w = max(w, len(scn%conditions(j)%source))
     end do
     allocate (character(len=w) :: self%cnames(n))
+    allocate (character(len=w + 400) :: self%row)
     allocate (self%cstat(n))
     k = 0
     do j = 1, n
@@ -258,7 +261,6 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: k, j, pos, nact
     real(dp) :: gmin
-    character(len=256) :: line
     do k = 1, size(self%cnames)
       nact = 0
       gmin = huge(1.0_dp)
@@ -270,24 +272,24 @@ contains
       self%cforce(:, k) = 0.0_dp
       if (t > self%t_row) self%cforce(:, k) = self%cimp(:, k) / (t - self%t_row)
       pos = 0
-      call put_int(line, pos, step)
-      call put_text(line, pos, ',')
-      call put_es(line, pos, t)
-      call put_text(line, pos, ',')
-      call put_text(line, pos, trim(self%cnames(k)))
-      call put_text(line, pos, ',')
-      call put_int(line, pos, nact)
-      call put_text(line, pos, ',')
-      call put_es(line, pos, self%cforce(1, k))
-      call put_text(line, pos, ',')
-      call put_es(line, pos, self%cforce(2, k))
-      call put_text(line, pos, ',')
-      call put_es(line, pos, self%cimp(1, k))
-      call put_text(line, pos, ',')
-      call put_es(line, pos, self%cimp(2, k))
-      call put_text(line, pos, ',')
-      call put_es(line, pos, gmin)
-      call self%contacts%write_line(line(1:pos), stat, errmsg)
+      call put_int(self%row, pos, step)
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, t)
+      call put_text(self%row, pos, ',')
+      call put_text(self%row, pos, trim(self%cnames(k)))
+      call put_text(self%row, pos, ',')
+      call put_int(self%row, pos, nact)
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, self%cforce(1, k))
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, self%cforce(2, k))
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, self%cimp(1, k))
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, self%cimp(2, k))
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, gmin)
+      call self%contacts%write_line(self%row(1:pos), stat, errmsg)
       if (stat /= STAT_OK) return
     end do
     self%cimp = 0.0_dp
@@ -306,34 +308,35 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(contact_event_t) :: event
     integer :: k, j, pos
-    character(len=256) :: line
     stat = STAT_OK
     do k = 1, cs%n_events()
       event = cs%event(k)
       j = event%index
       pos = 0
-      call put_int(line, pos, step)
-      call put_text(line, pos, ',')
-      call put_es(line, pos, t)
-      call put_text(line, pos, ',')
-      call put_int(line, pos, j)
-      call put_text(line, pos, ',')
+      call put_int(self%row, pos, step)
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, t)
+      call put_text(self%row, pos, ',')
+      call put_int(self%row, pos, j)
+      call put_text(self%row, pos, ',')
       if (scn%conditions(j)%node_a > 0) then
-        call put_int(line, pos, scn%conditions(j)%node_a)
-        call put_text(line, pos, ' ')
+        call put_int(self%row, pos, scn%conditions(j)%node_a)
+        call put_text(self%row, pos, ' ')
       end if
-      call put_int(line, pos, scn%conditions(j)%node_b)
+      call put_int(self%row, pos, scn%conditions(j)%node_b)
       if (event%kind == EVENT_ESTABLISH) then
-        call put_text(line, pos, ',establish,')
+        call put_text(self%row, pos, ',establish,')
       else
-        call put_text(line, pos, ',release,')
+        call put_text(self%row, pos, ',release,')
       end if
-      call put_es(line, pos, event%gap_start)
-      call put_text(line, pos, ',')
-      call put_es(line, pos, event%multiplier)
-      call put_text(line, pos, ',')
-      call put_es(line, pos, merge(event%energy, 0.0_dp, event%kind == EVENT_ESTABLISH))
-      call self%ev%write_line(line(1:pos), stat, errmsg)
+      call put_es(self%row, pos, event%gap_start)
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, event%multiplier)
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, merge(event%energy, 0.0_dp, event%kind == EVENT_ESTABLISH))
+      call put_text(self%row, pos, ',')
+      call put_text(self%row, pos, scn%conditions(j)%source)
+      call self%ev%write_line(self%row(1:pos), stat, errmsg)
       if (stat /= STAT_OK) return
     end do
   end subroutine outputs_write_events

@@ -124,7 +124,7 @@ class Out:
             self.bad += b
         p = os.path.join(outdir, 'events.csv')
         if os.path.exists(p):
-            self.events, b = read_csv(p, text_cols=('event', 'nodes'))
+            self.events, b = read_csv(p, text_cols=('event', 'nodes', 'contact'))
             self.bad += b
         self.bad += nonfinite_fields(outdir)
 

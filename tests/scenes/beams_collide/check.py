@@ -40,3 +40,13 @@ for mode in ['PAPER', 'PERSIST']:
     print('# %s: momentum %.9f .. %.9f kg m/s (initial %.9f), max relative change %.3e'
           % (tag, p.min(), p.max(), P0, dev))
     sc.report(tag + ': momentum conserved', dev <= 1e-10, 'max relative change %.3e' % dev)
+
+# events.csv names the statement of each event (issue 13: the column `contact`, appended).
+out = sc.run_ok(SCENE, [])
+with open(os.path.join(out, 'events.csv')) as f:
+    head = f.readline().strip().split(',')
+    rows = [ln.strip().split(',') for ln in f if ln.strip()]
+sc.report('events.csv: the last column `contact` names the GAP statement of every event',
+          head[-1] == 'contact' and head[:8] == ['step', 'time', 'constraint', 'nodes', 'event', 'gap_start',
+                                                  'multiplier', 'energy_restored'] and
+          len(rows) > 0 and all(r[-1] == 'contact' for r in rows), '%s / %s' % (head, rows[:1]))
