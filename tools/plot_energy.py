@@ -6,8 +6,9 @@
 
 Panels:
   (a) kinetic, strain (`stored`), gravity potential (-external, relative to the initial
-      position: exact when gravity is the only external load), dissipated when non-zero,
-      and total = kinetic + strain + potential (+ dissipated);
+      position: exact when gravity is the only external load), and when non-zero the plastic
+      work, the damping (`damping`) and the inelastic impacts' loss (`impact_dissipated`);
+      total = kinetic + internal + potential + damping + impact losses;
   (b) total - total(0) and the balance column, relative to max(kinetic + strain);
   (c) the probe signal (one probe, or the mean of several; default every UY probe) against
       time, with its apexes and the contact-establishment times of events.csv;
@@ -31,20 +32,21 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from rebond_results import Run, SceneInfo, find_apexes, probe_signal, rebound_ylim  # noqa: E402
 
 COLORS = {"kinetic": "tab:blue", "strain": "tab:orange", "potential": "tab:green",
-          "dissipated": "tab:purple", "total": "black"}
+          "dissipated": "tab:purple", "damping": "tab:brown", "impact": "tab:pink", "total": "black"}
+NAMES = {"dissipated": "plastic work", "damping": "damping (Rayleigh)", "impact": "inelastic impacts"}
 
 
 def plot_run(run, scene, probes, title, out, apex_opts=(0.02, 0.01)):
     e = run.energies()
     t = run.t
     scale = run.energy_scale()
-    has_diss = bool(np.any(np.abs(e["dissipated"]) > 1e-12 * scale))
+    losses = [k for k in ("dissipated", "damping", "impact") if np.any(np.abs(e[k]) > 1e-12 * scale)]
 
     fig, axes = plt.subplots(2, 2, figsize=(13, 8.5), constrained_layout=True)
     ax = axes[0, 0]
-    for k in ("kinetic", "strain", "potential") + (("dissipated",) if has_diss else ()):
-        ax.plot(t, e[k], color=COLORS[k], lw=1.0, label=k)
-    tot_label = "total = kinetic + strain + potential" + (" + dissipated" if has_diss else "")
+    for k in ("kinetic", "strain", "potential") + tuple(losses):
+        ax.plot(t, e[k], color=COLORS[k], lw=1.0, label=NAMES.get(k, k))
+    tot_label = "total = kinetic + strain + potential" + "".join(" + " + NAMES[k] for k in losses)
     ax.plot(t, e["total"], color=COLORS["total"], lw=1.6, label=tot_label)
     ax.set_xlabel("time (s)")
     ax.set_ylabel("energy (J)")

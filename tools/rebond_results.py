@@ -69,9 +69,13 @@ class Run:
         strain = h["stored"] if "stored" in h else internal
         dissipated = h["dissipated"] if "dissipated" in h else np.zeros_like(kin)
         potential = -h["external"]
-        total = kin + internal + potential
+        damping = h["damping"] if "damping" in h else np.zeros_like(kin)
+        impact = h["impact_dissipated"] if "impact_dissipated" in h else np.zeros_like(kin)
+        # internal holds the plastic work already; damping and inelastic impacts are booked apart.
+        total = kin + internal + potential + damping + impact
         return {"kinetic": kin, "strain": strain, "potential": potential,
-                "dissipated": dissipated, "total": total, "balance": h["balance"]}
+                "dissipated": dissipated, "damping": damping, "impact": impact, "total": total,
+                "balance": h["balance"]}
 
     def energy_scale(self):
         """The energy swing of the run, max(kinetic + strain): the scale of relative errors."""

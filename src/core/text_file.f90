@@ -23,8 +23,6 @@ module text_file
     procedure :: replace_tail => tf_replace_tail
     procedure :: close => tf_close
     procedure :: close_keep => tf_close_keep
-    procedure :: is_open => tf_is_open
-    procedure :: name => tf_name
   end type text_file_t
 
 contains
@@ -192,13 +190,9 @@ contains
     end if
   end subroutine tf_close_keep
 
-  pure logical function tf_is_open(self)
-    class(text_file_t), intent(in) :: self
-    tf_is_open = c_associated(self%h)
-  end function tf_is_open
-
+  !> The path, for messages ('' before the first open).
   pure function tf_name(self) result(path)
-    class(text_file_t), intent(in) :: self
+    type(text_file_t), intent(in) :: self
     character(len=:), allocatable :: path
     path = ''
     if (allocated(self%path)) path = self%path

@@ -3,13 +3,13 @@
 program test_scene_parser
   use, intrinsic :: iso_fortran_env, only: int64
   use kinds, only: dp
-  use errors, only: STAT_OK, STAT_INPUT, STAT_RUN
+  use errors, only: STAT_OK, STAT_INPUT, STAT_RUN, shown
   use testing, only: check, check_close, test_summary
   use statement, only: token_t, statement_t, stmt_error, find_param, count_param, get_real, get_int, get_word, &
     get_real_list, get_int_list, to_real, to_int
   use statement_schema, only: schema_t
   use scene_parser, only: parse_file, parse_string, read_text, apply_override
-  use number_text, only: parse_real_text, parse_int_text, NUM_OK, NUM_MALFORMED, NUM_RANGE
+  use number_text, only: parse_real_text, parse_int_text, real_text, NUM_OK, NUM_MALFORMED, NUM_RANGE
   implicit none
 
   character(len=*), parameter :: NL = new_line('a')
@@ -31,6 +31,7 @@ program test_scene_parser
   call test_long_lines()
   call test_garbage()
   call test_files()
+  call test_number_texts()
   call execute_command_line('rm -rf ' // tmpdir)
   call test_summary('scene_parser')
 
@@ -629,4 +630,25 @@ contains
     end do
     close (u)
   end subroutine write_many
+  !> real_text: the shortest text that reads back exactly (messages, checkpoint fingerprints);
+  !> shown: text quoted, binary described.
+  subroutine test_number_texts()
+    real(dp), parameter :: xs(12) = [0.0_dp, 0.5_dp, -12.25_dp, 1.3e-3_dp, 1.0e100_dp, 1.0e150_dp, 0.1_dp, &
+      1.0_dp / 3.0_dp, huge(1.0_dp), tiny(1.0_dp), 4.9e-324_dp, -2.0e-5_dp]
+    character(len=*), parameter :: want(5) = [character(len=8) :: '0', '0.5', '-12.25', '0.0013', '1E+100']
+    real(dp) :: y
+    integer :: i, ierr
+    do i = 1, size(xs)
+      call parse_real_text(real_text(xs(i)), y, ierr)
+      call check(ierr == NUM_OK .and. y == xs(i), 'real_text reads back exactly: ' // real_text(xs(i)))
+    end do
+    do i = 1, size(want)
+      call check(real_text(xs(i)) == trim(want(i)), 'real_text form ' // trim(want(i)), real_text(xs(i)))
+    end do
+    call check(shown('beam.end UX') == 'beam.end UX', 'shown: text as it is')
+    call check(shown('Young ' // char(195) // char(169)) == 'Young ' // char(195) // char(169), 'shown: UTF-8 kept')
+    call check(shown('ab' // char(0) // 'c') == 'binary data (byte 0x00 at character 3)', 'shown: a NUL described', &
+      shown('ab' // char(0) // 'c'))
+    call check(shown(char(255) // 'x') == 'binary data (byte 0xFF at character 1)', 'shown: an invalid UTF-8 byte')
+  end subroutine test_number_texts
 end program test_scene_parser
