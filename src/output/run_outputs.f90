@@ -107,8 +107,8 @@ contains
     character(len=*), intent(in) :: outdir
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=16), parameter :: names(7) = [character(len=16) :: 'history.csv', 'probes.csv', 'events.csv', &
-      'contacts.csv', 'fields.xmf', 'checkpoint.h5', 'sweep.csv']
+    character(len=16), parameter :: names(6) = [character(len=16) :: 'history.csv', 'probes.csv', 'events.csv', &
+      'contacts.csv', 'fields.xmf', 'checkpoint.h5']
     integer :: k
     stat = STAT_OK
     do k = 1, size(names)
