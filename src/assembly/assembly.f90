@@ -8,17 +8,18 @@ module assembly
   use element_traits, only: ET_BEAM2, etype_needs_material
   use contact_modes, only: IMPACT_MASSLESS
   use scene, only: scene_t, function_value, model_point_kind, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
-  use dof_map, only: build_dof_map, DOF_ABSENT
+  use dof_map, only: build_dof_map, DOF_ABSENT, DOF_FIXED
   use sparse_matrix, only: sym_csc_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
   use material_law, only: law_is_linear, law_nstate, law_stored, law_elastic_matrix
   use checkpoint, only: ckpt_file_t
+  use reactions, only: reaction_set_t
   implicit none
   private
   public :: system_t, build_system, commit_state, external_force, &
     element_stress, nodal_values, mass_times, initial_state, dof_label, dof_origin, stored_energy, mass_times_q, &
-    save_points, load_points, damping_times, is_damped
+    save_points, load_points, damping_times, is_damped, reaction_update
 
   !> Nodal forces of one LOAD statement on the free DOFs (sparse).
   type :: load_vector_t
@@ -78,6 +79,7 @@ module assembly
     type(point_states_t) :: pts
     type(operators_t) :: ops
     type(load_set_t) :: loads
+    type(reaction_set_t) :: react            !< support reactions of the RX/RY/MZ probes
     ! SCHEME PRECISION EXTENDED: linear elastic points evaluated in quadruple precision.
     logical :: extended = .false.
     real(qp), allocatable :: fint_q(:)       !< internal forces of the last evaluation, unrounded
@@ -126,6 +128,7 @@ contains
     call model_data(scn, sys)
     call element_table(scn, sys, stat, errmsg)
     if (stat /= STAT_OK) return
+    call reaction_map(scn, sys)
     call assemble_operators(scn, sys, stat, errmsg)
     if (stat /= STAT_OK) return
     if (scn%extended .and. is_damped(sys)) then
@@ -324,6 +327,8 @@ contains
         do k = 1, ndof
           if (dofs(k) > 0) sys%loads%fgrav(dofs(k)) = sys%loads%fgrav(dofs(k)) + g(k)
         end do
+        if (sys%react%nslot > 0) call sys%react%add_couplings(e, dofs, me(1:ndof, 1:ndof), &
+          scn%models(im)%alpha * me(1:ndof, 1:ndof) + scn%models(im)%beta * ke(1:ndof, 1:ndof), g(1:ndof))
       end associate
     end do
   end subroutine assemble_operators
@@ -414,6 +419,13 @@ contains
     stat = STAT_OK
     do k = 1, size(scn%probes)
       associate (p => scn%probes(k))
+        if (p%reaction) then
+          if (any(sys%dofs%eqn(p%dof, scn%mesh%ngroups(p%ngroup)%items) == DOF_FIXED)) cycle
+          call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(p%line) // ': OUTPUT: PROBE ' // p%label // &
+            ': no node of the group has this DOF fixed (a reaction is the force of a FIX), at ''' // &
+            p%label(index(p%label, '.', back=.true.) + 1:) // "'")
+          return
+        end if
         if (sys%dofs%eqn(p%dof, p%node) /= DOF_ABSENT) cycle
         call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(p%line) // ': OUTPUT: PROBE ' // p%label // &
           ': no element at this node has the DOF ' // trim(DOF_NAMES(p%dof)) // ", at '" // &
@@ -501,9 +513,111 @@ contains
           end do
         end do
         sys%loads%vectors(il)%func = ld%func
+        call reaction_loads(scn, sys, il)
       end associate
     end do
   end subroutine build_loads
+
+  !> The PROBE … RX|RY|MZ slots: each entry is a local DOF of an element at a fixed DOF of the
+  !> probe's direction in the probe's group (a node in several groups counts in each).
+  subroutine reaction_map(scn, sys)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    integer, allocatable :: slot_of(:)
+    logical, allocatable :: member(:, :)
+    logical :: mask(3)
+    integer :: k, s, e, a, d, n, loc
+    slot_of = pack([(k, k = 1, size(scn%probes))], [(scn%probes(k)%reaction, k = 1, size(scn%probes))])
+    sys%react%nslot = size(slot_of)
+    if (sys%react%nslot == 0) return
+    allocate (member(scn%mesh%nnode, sys%react%nslot))
+    member = .false.
+    do s = 1, sys%react%nslot
+      member(scn%mesh%ngroups(scn%probes(slot_of(s))%ngroup)%items, s) = .true.
+    end do
+    allocate (sys%react%ent_ptr(scn%mesh%nelem + 1), sys%react%ent_loc(16), sys%react%ent_slot(16))
+    sys%react%ent_ptr = 0
+    do e = 1, scn%mesh%nelem
+      sys%react%ent_ptr(e + 1) = sys%react%ent_ptr(e)
+      if (scn%elem_model(e) == 0) cycle
+      mask = elem_dof_mask(scn%mesh%etype(e))
+      loc = 0
+      do a = 1, scn%mesh%nen(e)
+        n = scn%mesh%conn(a, e)
+        do d = 1, 3
+          if (.not. mask(d)) cycle
+          loc = loc + 1
+          if (sys%dofs%eqn(d, n) /= DOF_FIXED) cycle
+          do s = 1, sys%react%nslot
+            if (scn%probes(slot_of(s))%dof == d .and. member(n, s)) call sys%react%add_entry(e, loc, s)
+          end do
+        end do
+      end do
+    end do
+    call sys%react%finish_map(size(scn%loads))
+  end subroutine reaction_map
+
+  !> LOAD il's force on the fixed DOFs of the reaction slots.
+  subroutine reaction_loads(scn, sys, il)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    integer, intent(in) :: il
+    integer :: i, s, k, n, d
+    if (sys%react%nslot == 0) return
+    associate (ld => scn%loads(il), nodes => scn%mesh%ngroups(scn%loads(il)%ngroup)%items)
+      s = 0
+      do k = 1, size(scn%probes)
+        if (.not. scn%probes(k)%reaction) cycle
+        s = s + 1
+        d = scn%probes(k)%dof
+        do i = 1, size(nodes)
+          n = nodes(i)
+          if (sys%dofs%eqn(d, n) == DOF_FIXED .and. any(scn%mesh%ngroups(scn%probes(k)%ngroup)%items == n)) &
+            sys%react%load(il, s) = sys%react%load(il, s) + ld%force(d)
+        end do
+      end do
+    end associate
+  end subroutine reaction_loads
+
+  !> After the initial state (first) or a step ending at time t: the mean support reaction of
+  !> the step for each RX/RY/MZ probe (reactions.f90), from the committed stresses of the
+  !> elements at the supports.
+  subroutine reaction_update(scn, sys, u, v, t, h, first)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    real(dp), intent(in) :: u(:), v(:), t, h
+    logical, intent(in) :: first
+    real(dp) :: fe(MAX_EDOF)
+    integer :: e, il, p, ndof, nstr, igp, b0, i, k
+    if (sys%react%nslot == 0) return
+    associate (r => sys%react)
+      r%fint_w = 0.0_dp
+      do e = 1, scn%mesh%nelem
+        if (r%ent_ptr(e + 1) == r%ent_ptr(e)) cycle
+        ndof = sys%elems%edof_ptr(e + 1) - sys%elems%edof_ptr(e)
+        fe(1:ndof) = 0.0_dp
+        do igp = sys%elems%gp_ptr(e), sys%elems%gp_ptr(e + 1) - 1
+          b0 = sys%elems%b_ptr(igp)
+          nstr = (sys%elems%b_ptr(igp + 1) - b0) / ndof
+          ! fe += w B'σ (B stored column-major, nstr x ndof); explicit loops: no temporaries.
+          do k = 1, ndof
+            do i = 1, nstr
+              fe(k) = fe(k) + sys%elems%wt(igp) * sys%elems%bmat(b0 + (k - 1) * nstr + i - 1) * sys%pts%sig(i, igp)
+            end do
+          end do
+        end do
+        do p = r%ent_ptr(e) + 1, r%ent_ptr(e + 1)
+          r%fint_w(r%ent_slot(p)) = r%fint_w(r%ent_slot(p)) + fe(r%ent_loc(p))
+        end do
+      end do
+      r%f_w = function_value(scn%functions, scn%gravity_func, t) * r%grav
+      do il = 1, size(r%load, 1)
+        r%f_w = r%f_w + function_value(scn%functions, sys%loads%vectors(il)%func, t) * r%load(il, :)
+      end do
+      call r%step_mean(r%fint_w, r%f_w, u, v, h, first)
+      r%fc_t = 0.0_dp
+    end associate
+  end subroutine reaction_update
 
   !> External forces at time t: gravity and the LOAD statements, times their functions.
   subroutine external_force(scn, sys, t, f)

@@ -59,6 +59,7 @@ contains
     esum = 0.0_dp
     dsum = 0.0_dp
     if (tangent) sys%ops%tval = 0.0_dp
+    if (sys%react%nslot > 0) sys%react%fc_t = 0.0_dp
     do e = 1, scn%mesh%nelem
       if (scn%elem_model(e) == 0) cycle
       g0 = sys%elems%gp_ptr(e)
@@ -100,6 +101,8 @@ contains
         end do
         if (tangent) call sys%ops%pat%add_element(sys%ops%tval, dofs, ke(1:ndof, 1:ndof))
       end associate
+      ! Support reactions (PROBE … RX|RY|MZ) take the correction force of eq (9) on their rows.
+      if (any_c .and. sys%react%nslot > 0) call sys%react%add_correction(e, fc)
     end do
     if (sys%extended) then
       fint = real(sys%fint_q, dp)

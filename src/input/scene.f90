@@ -81,6 +81,8 @@ module scene
     integer :: node = 0
     integer :: dof = 0
     logical :: velocity = .false.            !< VX, VY, VRZ: the velocity of the DOF
+    logical :: reaction = .false.            !< RX, RY, RZ: the support reaction, summed over the group
+    integer :: ngroup = 0                    !< the probed node group
     integer :: line = 0
   end type probe_t
 

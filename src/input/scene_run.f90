@@ -4,7 +4,7 @@ module scene_run
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
   use mesh, only: DOF_UX, DOF_UY, DOF_RZ
-  use statement, only: statement_t, stmt_error, find_param, count_param, get_real, get_int, to_int
+  use statement, only: statement_t, token_t, stmt_error, find_param, count_param, get_real, get_int, to_int
   use statement_schema, only: schema_t
   use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, SOLVER_AUTO, SOLVER_SCHUR, &
     SOLVER_AUGMENTED, &
@@ -150,7 +150,7 @@ contains
     type(statement_t), intent(in) :: st
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: k, occ, i, ig, d
+    integer :: k, occ, i, ig
     type(probe_t) :: pr
     call get_every(st, 'HISTORY', scn%history_every, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -168,27 +168,15 @@ contains
         do i = 1, size(vals), 2
           call node_group(scn, st, vals(i), ig, stat, errmsg)
           if (stat /= STAT_OK) return
-          if (size(scn%mesh%ngroups(ig)%items) /= 1) then
-            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a probe needs a one-node group; this one has ' &
-              // str(size(scn%mesh%ngroups(ig)%items)) // ' nodes', vals(i)))
+          call probe_dof(st, vals(i + 1), pr, stat, errmsg)
+          if (stat /= STAT_OK) return
+          if (size(scn%mesh%ngroups(ig)%items) /= 1 .and. .not. pr%reaction) then
+            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a probe of a displacement or a velocity needs a ' // &
+              'one-node group; this one has ' // str(size(scn%mesh%ngroups(ig)%items)) // ' nodes', vals(i)))
             return
           end if
-          pr%velocity = .false.
-          select case (upper(vals(i + 1)%text))
-          case ('UX', 'VX')
-            d = DOF_UX
-          case ('UY', 'VY')
-            d = DOF_UY
-          case ('RZ', 'VRZ')
-            d = DOF_RZ
-          case default
-            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected a DOF: UX, UY, RZ (displacements) or VX, ' // &
-              'VY, VRZ (velocities)', vals(i + 1)))
-            return
-          end select
-          pr%velocity = upper(vals(i + 1)%text(1:1)) == 'V'
+          pr%ngroup = ig
           pr%node = scn%mesh%ngroups(ig)%items(1)
-          pr%dof = d
           pr%label = vals(i)%text // '.' // upper(vals(i + 1)%text)
           pr%line = st%line
           scn%probes = [scn%probes, pr]
@@ -196,5 +184,33 @@ contains
       end associate
     end do
   end subroutine do_output
+
+  !> The quantity of a PROBE pair: UX UY RZ (displacement), VX VY VRZ (velocity), RX RY RZ
+  !> (support reaction; RZ is a rotation when displaced, a moment as a reaction: the reaction
+  !> is spelled MZ).
+  subroutine probe_dof(st, tok, pr, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(token_t), intent(in) :: tok
+    type(probe_t), intent(inout) :: pr
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    pr%velocity = .false.
+    pr%reaction = .false.
+    select case (upper(tok%text))
+    case ('UX', 'VX', 'RX')
+      pr%dof = DOF_UX
+    case ('UY', 'VY', 'RY')
+      pr%dof = DOF_UY
+    case ('RZ', 'VRZ', 'MZ')
+      pr%dof = DOF_RZ
+    case default
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected a DOF: UX, UY, RZ (displacements), VX, VY, ' // &
+        'VRZ (velocities) or RX, RY, MZ (support reactions)', tok))
+      return
+    end select
+    pr%velocity = upper(tok%text(1:1)) == 'V'
+    pr%reaction = any(upper(tok%text) == ['RX', 'RY', 'MZ'])
+  end subroutine probe_dof
 
 end module scene_run

@@ -131,7 +131,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(contact_set_t), intent(in), optional :: cs
-    integer :: k
+    integer :: k, r
     logical :: last
     stat = STAT_OK
     last = step == self%last_step
@@ -150,8 +150,14 @@ contains
         call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail)
         if (stat /= STAT_OK) return
         self%preals(1) = t
+        r = 0
         do k = 1, size(scn%probes)
           self%preals(k + 1) = 0.0_dp
+          if (scn%probes(k)%reaction) then
+            r = r + 1
+            self%preals(k + 1) = sys%react%value(r)
+            cycle
+          end if
           associate (j => sys%dofs%eqn(scn%probes(k)%dof, scn%probes(k)%node))
             if (j > 0) self%preals(k + 1) = merge(v(j), u(j), scn%probes(k)%velocity)
           end associate
@@ -341,12 +347,12 @@ contains
     end do
   end subroutine outputs_write_events
 
-  !> Close every file (also after a failure: what was written stays). stat: the first failure
-  !> to close; the caller keeps an earlier error of its own.
+  !> Close every file (also after a failure: what was written stays). stat is sticky: an
+  !> earlier error is kept, else the first failure to close is reported.
   subroutine outputs_close(self, stat, errmsg)
     class(output_set_t), intent(inout) :: self
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
     integer :: st(5)
     type :: msg_t
       character(len=:), allocatable :: s
@@ -359,7 +365,7 @@ contains
     call self%hist%close(st(3), m(3)%s)
     call self%probes%close(st(4), m(4)%s)
     if (self%with_fields) call self%fields%close(st(5), m(5)%s)
-    stat = STAT_OK
+    if (stat /= STAT_OK) return
     do k = 1, 5
       if (st(k) /= STAT_OK) then
         stat = st(k)

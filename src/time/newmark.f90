@@ -11,7 +11,7 @@ module newmark
   use dof_map, only: equation_bodies
   use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
     contact_prepare, contact_set_rigid_modes, contact_gaps
-  use assembly, only: system_t, external_force, mass_times, initial_state, dof_label, dof_origin, save_points, &
+  use assembly, only: system_t, external_force, mass_times, initial_state, dof_label, dof_origin, save_points, reaction_update, &
     load_points
   use energy, only: energy_t
   use step_state, only: step_state_t
@@ -112,6 +112,7 @@ contains
     ! Initial internal forces and strain energy: the laws take the path from zero strain to u0.
     call rs%st%set_initial(scn, sys)
     call rs%en%start(rs%st%kinetic, rs%st%inc%work, rs%st%inc%elastic)
+    call reaction_update(scn, sys, rs%st%u, rs%st%v, scn%t_start, rs%h, .true.)
     call external_force(scn, sys, scn%t_start, rs%st%f_n)
   end subroutine prepare_run
 
@@ -281,10 +282,9 @@ contains
     type(output_set_t) :: outs
     type(step_report_t) :: rep
     type(contact_report_t) :: crep
-    integer :: step, step0, total_iter, nactive, done, st2
+    integer :: step, step0, total_iter, nactive, done
     integer(8) :: c0, crate, clast
     real(dp) :: t, dw_ext, dw_corr, e_rest
-    character(len=:), allocatable :: msg2
 
     call system_clock(c0, crate)
     clast = c0
@@ -296,6 +296,9 @@ contains
     if (allocated(opts%restart)) call load_checkpoint(scn, opts%restart, sys, rs, step0, total_iter, stat, errmsg)
     if (stat == STAT_OK) call make_directory(opts%outdir, stat, errmsg)
     done = step0
+    ! After a restart the reactions start again from the loaded state (all state functions).
+    if (stat == STAT_OK .and. step0 > 0) call reaction_update(scn, sys, rs%st%u, rs%st%v, scn%t_start + step0 * rs%h, &
+      rs%h, .true.)
     if (stat == STAT_OK) call install_signal_handlers(stat, errmsg)
     if (stat == STAT_OK) call outs%open(scn, opts%outdir, step0, rs%nsteps, rs%has_contact, stat, errmsg)
     nactive = 0
@@ -342,6 +345,7 @@ contains
       else
         call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg)
       end if
+      call reaction_update(scn, sys, rs%st%u, rs%st%v, t, rs%h, .false.)
       ! MODEL DAMPING: the step's damping work du'C du/h is booked, so that the balance holds.
       call rs%en%add_damping(rs%st%damping_work(sys))
       call rs%en%add_step(rs%st%kinetic, rs%st%inc%work, dw_ext, dw_corr + e_rest, rs%st%inc%dissipated, &
@@ -373,11 +377,7 @@ contains
     end do
     ! The one exit: files closed, summary filled (also on failure: a sweep records the steps and
     ! the balance of a case that stopped).
-    if (stat == STAT_OK) then
-      call outs%close(stat, errmsg)
-    else
-      call outs%close(st2, msg2)
-    end if
+    call outs%close(stat, errmsg)
     call fill_summary(rs, done, total_iter, c0, crate, summary)
     if (stat == STAT_OK .and. .not. opts%quiet) write (0, '(a)') ''
 
