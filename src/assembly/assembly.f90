@@ -784,6 +784,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: ic, i, d, n, j
+    real(dp) :: s
     stat = STAT_OK
     u = 0.0_dp
     v = 0.0_dp
@@ -793,6 +794,8 @@ contains
       associate (c => scn%initials(ic), nodes => scn%mesh%ngroups(scn%initials(ic)%ngroup)%items)
         do i = 1, size(nodes)
           n = nodes(i)
+          ! FUNCTION f ALONG X|Y: the values times f of the node's coordinate (1 without).
+          s = function_value(scn%functions, c%func, scn%mesh%x(c%along, n))
           do d = 1, 3
             if (.not. c%mask(d)) cycle
             j = sys%dofs%eqn(d, n)
@@ -800,9 +803,9 @@ contains
             if (j <= 0) cycle
             select case (c%kind)
             case (INIT_DISPLACEMENT)
-              u(j) = c%values(d)
+              u(j) = s * c%values(d)
             case (INIT_VELOCITY)
-              v(j) = c%values(d)
+              v(j) = s * c%values(d)
             case (INIT_STATIC)
               fstatic(j) = fstatic(j) + c%values(d)
               has_static = .true.

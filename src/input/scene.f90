@@ -59,6 +59,8 @@ module scene
     integer :: ngroup = 0
     real(dp) :: values(3) = 0.0_dp
     logical :: mask(3) = .false.
+    integer :: func = 0           !< FUNCTION f ALONG X|Y: values times f(x) or f(y) of each node (0: none)
+    integer :: along = 1          !< the coordinate f is evaluated at: 1 (X) or 2 (Y)
     integer :: line = 0
   end type initial_t
 

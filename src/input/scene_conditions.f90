@@ -2,7 +2,7 @@
 !> Their grammar (schema) and their handlers; scene_loader calls them.
 module scene_conditions
   use kinds, only: dp
-  use errors, only: STAT_OK, STAT_INPUT, set_error
+  use errors, only: STAT_OK, STAT_INPUT, set_error, upper
   use statement, only: statement_t, stmt_error, find_param, get_real, get_word, to_real
   use statement_schema, only: schema_t
   use scene, only: scene_t, fix_t, initial_t, load_t, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
@@ -25,6 +25,8 @@ contains
     call sch%add_param('INITIAL', 'VELOCITY', 2, 3)
     call sch%add_param('INITIAL', 'STATIC', 0, 0)
     call sch%add_param('INITIAL', 'FORCE', 2, 3)
+    call sch%add_param('INITIAL', 'FUNCTION', 1, 1)
+    call sch%add_param('INITIAL', 'ALONG', 1, 1)
     call sch%add_keyword('GRAVITY', 0, 0, once=.true.)
     call sch%add_param('GRAVITY', 'GX', 1, 1)
     call sch%add_param('GRAVITY', 'GY', 1, 1)
@@ -130,8 +132,44 @@ contains
         st%params(find_param(st, 'FORCE'))%keytok))
       return
     end if
+    call initial_profile(scn, st, ic, stat, errmsg)
+    if (stat /= STAT_OK) return
     scn%initials = [scn%initials, ic]
   end subroutine do_initial
+
+  !> FUNCTION f ALONG X|Y (default X): the values vary with position, times f of the node's x
+  !> (or y), f a FUNCTION's piecewise-linear table read as a function of the coordinate.
+  subroutine initial_profile(scn, st, ic, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    type(initial_t), intent(inout) :: ic
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: w
+    call get_function(scn, st, ic%func, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (ic%func > 0 .and. ic%kind == INIT_STATIC) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FUNCTION goes with DISPLACEMENT or VELOCITY', &
+        st%params(find_param(st, 'FUNCTION'))%keytok))
+      return
+    end if
+    if (find_param(st, 'ALONG') == 0) return
+    if (ic%func == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ALONG goes with FUNCTION', &
+        st%params(find_param(st, 'ALONG'))%keytok))
+      return
+    end if
+    call get_word(st, 'ALONG', w, stat, errmsg)
+    if (stat /= STAT_OK) return
+    select case (upper(w))
+    case ('X')
+      ic%along = 1
+    case ('Y')
+      ic%along = 2
+    case default
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected X or Y', st%params(find_param(st, 'ALONG'))%values(1)))
+    end select
+  end subroutine initial_profile
 
   !> Index of the function named by parameter FUNCTION (0 when absent).
   subroutine get_function(scn, st, ifn, stat, errmsg)
