@@ -65,6 +65,15 @@ def run(scene, sets=(), outdir=None, timeout=120):
     return p.returncode, p.stderr, outdir
 
 
+def write_scene(name, text):
+    """A scene file (text or bytes) named name in the temporary directory; returns its path."""
+    os.makedirs(TMP, exist_ok=True)
+    path = os.path.join(TMP, name)
+    with open(path, 'wb' if isinstance(text, bytes) else 'w') as f:
+        f.write(text)
+    return path
+
+
 def message_lines(stderr):
     """The lines of stderr that are rebond's, without the debug build's run-time warnings
     ("At line N of file F" + "Fortran runtime warning: ..."), which make check-debug counts apart."""

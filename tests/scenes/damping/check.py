@@ -32,11 +32,7 @@ W = math.sqrt(K / M)
 def scene(tag, old, new):
     text = open(SDOF).read()
     assert old in text
-    os.makedirs(sc.TMP, exist_ok=True)
-    path = os.path.join(sc.TMP, tag + '.dat')
-    with open(path, 'w') as f:
-        f.write(text.replace(old, new))
-    return path
+    return sc.write_scene(tag + '.dat', text.replace(old, new))
 
 
 ALPHA = scene('alpha', 'MODEL     point  SECTION pm', 'MODEL     point  SECTION pm DAMPING ALPHA 0.4')

@@ -24,13 +24,6 @@ TMP = sc.new_dir('hostile')
 os.makedirs(TMP)
 
 
-def write(name, text, mode='w'):
-    path = os.path.join(TMP, name)
-    with open(path, mode) as f:
-        f.write(text)
-    return path
-
-
 def refused(tag, scene, sets=(), code=2, words=(), line=None):
     out = sc.new_dir('never')
     rc, err, _ = sc.run(scene, sets, outdir=out)
@@ -74,11 +67,11 @@ def model_defects():
     base = ['NODE a AT 0 0', 'NODE b AT 1 0', 'ELEMENT s TYPE SPRING NODES a b',
             'MATERIAL k ELASTIC YOUNG 1 DENSITY 0', 'SECTION sc AREA 1', 'MODEL s MATERIAL k SECTION sc',
             'FIX a UX UY', 'FIX b UY', 'INITIAL b DISPLACEMENT 0.1 0', 'TIME STEP 0.1 END 1']
-    refused('a free DOF without mass refused, node and DOF named', write('massless.dat', '\n'.join(base) + '\n'),
+    refused('a free DOF without mass refused, node and DOF named', sc.write_scene('massless.dat', '\n'.join(base) + '\n'),
             words=('node 2', 'UX', 'no mass'), line=2)
     pm = ['NODE ball AT 0 1', 'ELEMENT pm TYPE MASS NODES ball', 'SECTION m1 MASS 1', 'MODEL pm SECTION m1',
           'TIME STEP 0.1 END 1', 'OUTPUT PROBE ball RZ']
-    refused('PROBE RZ of a point mass refused', write('probe_rz.dat', '\n'.join(pm) + '\n'),
+    refused('PROBE RZ of a point mass refused', sc.write_scene('probe_rz.dat', '\n'.join(pm) + '\n'),
             words=('PROBE', 'RZ'), line=6)
 
 
@@ -95,36 +88,34 @@ TIME      STEP 1e-3 END 0.05
 def files_that_are_not_meshes():
     d = os.path.join(TMP, 'a_directory.msh')
     os.makedirs(d)
-    refused('a directory given as a mesh: said so', write('dir.dat', GMSH_SCENE.format(mesh=d)),
+    refused('a directory given as a mesh: said so', sc.write_scene('dir.dat', GMSH_SCENE.format(mesh=d)),
             words=('is a directory',), line=1)
-    raw = os.path.join(TMP, 'raw.msh')
-    with open(raw, 'wb') as f:
-        f.write(bytes(range(256)) * 12)
-    refused('a mesh of raw bytes: refused, no byte echoed', write('raw.dat', GMSH_SCENE.format(mesh=raw)),
+    raw = sc.write_scene('raw.msh', bytes(range(256)) * 12)
+    refused('a mesh of raw bytes: refused, no byte echoed', sc.write_scene('raw.dat', GMSH_SCENE.format(mesh=raw)),
             words=('binary data',), line=1)
 
 
 def line_ends():
     text = open(os.path.join(sc.ROOT, 'inputs/mass_bounce.dat'), 'rb').read()
-    bom = write('bom.dat', b'\xef\xbb\xbf' + text, 'wb')
-    cr = write('cr.dat', text.replace(b'\n', b'\r'), 'wb')
-    crlf = write('crlf.dat', text.replace(b'\n', b'\r\n'), 'wb')
+    bom = sc.write_scene('bom.dat', b'\xef\xbb\xbf' + text)
+    cr = sc.write_scene('cr.dat', text.replace(b'\n', b'\r'))
+    crlf = sc.write_scene('crlf.dat', text.replace(b'\n', b'\r\n'))
     sets = ['TIME.END=0.5']
     same_run('a scene with a UTF-8 BOM runs as the plain one', 'inputs/mass_bounce.dat', bom, sets)
     same_run('a scene with CR-only line ends runs as the plain one', 'inputs/mass_bounce.dat', cr, sets)
     same_run('a scene with CR LF line ends runs as the plain one', 'inputs/mass_bounce.dat', crlf, sets)
     mesh = open(os.path.join(sc.ROOT, 'tests/data/square_quad4.msh'), 'rb').read()
-    plain = write('m_plain.dat', GMSH_SCENE.format(mesh=os.path.join(sc.ROOT, 'tests/data/square_quad4.msh')))
+    plain = sc.write_scene('m_plain.dat', GMSH_SCENE.format(mesh=os.path.join(sc.ROOT, 'tests/data/square_quad4.msh')))
     for tag, data in (('a UTF-8 BOM', b'\xef\xbb\xbf' + mesh), ('CR-only line ends', mesh.replace(b'\n', b'\r'))):
-        m = write('m_%d.msh' % len(tag), data, 'wb')
-        same_run('a Gmsh file with %s reads as the plain one' % tag, plain, write('m_%d.dat' % len(tag),
+        m = sc.write_scene('m_%d.msh' % len(tag), data)
+        same_run('a Gmsh file with %s reads as the plain one' % tag, plain, sc.write_scene('m_%d.dat' % len(tag),
                  GMSH_SCENE.format(mesh=m)))
 
 
 def symlinks():
     out = os.path.join(TMP, 'links')
     os.makedirs(out)
-    target = write('precious.txt', 'precious\n')
+    target = sc.write_scene('precious.txt', 'precious\n')
     names = ['history.csv', 'probes.csv', 'fields.h5', 'fields.xmf', 'checkpoint.h5']
     for n in names:
         os.symlink(target, os.path.join(out, n))
@@ -136,7 +127,7 @@ def symlinks():
 
 
 def out_of_memory():
-    scene = write('big.dat', '\n'.join([
+    scene = sc.write_scene('big.dat', '\n'.join([
         'MATERIAL st ELASTIC YOUNG 2e11 DENSITY 7800', 'SECTION sc AREA 1e-4 INERTIA 1e-9 HEIGHT 0.01',
         'LINE b FROM 0 0 TO 1 0 ELEMENTS 10000000 TYPE BEAM2', 'MODEL b MATERIAL st SECTION sc',
         'FIX b.start UX UY RZ', 'TIME STEP 1e-5 END 3e-5']) + '\n')

@@ -29,17 +29,9 @@ OUTPUT    HISTORY EVERY 1 FIELDS EVERY 0 PROBE bar.start UX
 """
 
 
-def write(name, text):
-    os.makedirs(sc.TMP, exist_ok=True)
-    path = os.path.join(sc.TMP, name)
-    with open(path, 'w') as f:
-        f.write(text)
-    return path
-
-
 def bar():
-    profile = write('bar_profile.dat', BAR % 'FUNCTION  line POINTS 0 0.5 1 0\nINITIAL   bar DISPLACEMENT 1 0 FUNCTION line ALONG X')
-    static = write('bar_static.dat', BAR % 'INITIAL   bar.start STATIC FORCE 0.5 0')
+    profile = sc.write_scene('bar_profile.dat', BAR % 'FUNCTION  line POINTS 0 0.5 1 0\nINITIAL   bar DISPLACEMENT 1 0 FUNCTION line ALONG X')
+    static = sc.write_scene('bar_static.dat', BAR % 'INITIAL   bar.start STATIC FORCE 0.5 0')
     hp = sc.read_csv(os.path.join(sc.run_ok(profile), 'history.csv'))
     hs = sc.read_csv(os.path.join(sc.run_ok(static), 'history.csv'))
     e0 = hp['internal'][0]
@@ -51,7 +43,7 @@ def bar():
 
 
 def column():
-    scene = write('column.dat', """LINE      col FROM 0 0 TO 0 2 ELEMENTS 4 TYPE BAR2
+    scene = sc.write_scene('column.dat', """LINE      col FROM 0 0 TO 0 2 ELEMENTS 4 TYPE BAR2
 MATERIAL  m ELASTIC YOUNG 1e3 POISSON 0 DENSITY 1
 SECTION   s AREA 1
 MODEL     col MATERIAL m SECTION s MASS LUMPED
@@ -74,7 +66,7 @@ def refused():
                             ('ALONG without FUNCTION', 'INITIAL   bar DISPLACEMENT 1 0 ALONG X', 'ALONG'),
                             ('ALONG Z', 'FUNCTION  line POINTS 0 0.5 1 0\nINITIAL   bar DISPLACEMENT 1 0 FUNCTION line ALONG Z',
                              'Z')):
-        scene = write('bad_%s.dat' % tag.replace(' ', '_'), BAR % line)
+        scene = sc.write_scene('bad_%s.dat' % tag.replace(' ', '_'), BAR % line)
         rc, err, out = sc.run(scene, outdir=sc.new_dir('never'))
         sc.report('%s refused (exit 2, names %s)' % (tag, word),
                   rc == 2 and ": INITIAL" in err and ("at '%s'" % word) in err and not os.path.exists(out),

@@ -21,17 +21,9 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import scenecheck as sc  # noqa: E402
 
 
-def write(name, text):
-    os.makedirs(sc.TMP, exist_ok=True)
-    path = os.path.join(sc.TMP, name)
-    with open(path, 'w') as f:
-        f.write(text)
-    return path
-
-
 def with_output(scene, output):
     lines = [ln for ln in open(os.path.join(sc.ROOT, scene)).read().split('\n') if not ln.startswith('OUTPUT')]
-    return write(os.path.basename(scene), '\n'.join(lines + [output]) + '\n')
+    return sc.write_scene(os.path.basename(scene), '\n'.join(lines + [output]) + '\n')
 
 
 def plastic_spring():
@@ -74,7 +66,7 @@ OUTPUT    HISTORY EVERY 1  FIELDS EVERY 0  PROBE beam.start RX beam.start RY bea
 
 
 def cantilever():
-    out = sc.run_ok(write('cantilever_gravity.dat', CANTILEVER))
+    out = sc.run_ok(sc.write_scene('cantilever_gravity.dat', CANTILEVER))
     p = sc.read_csv(os.path.join(out, 'probes.csv'))
     w = 7800 * 1e-4 * 1.0 * 9.81
     # The step means over the last 0.2 s: the trapezoid rule does not damp the highest modes
@@ -90,7 +82,7 @@ def cantilever():
 
 
 def refused():
-    scene = write('free_reaction.dat', CANTILEVER.replace('PROBE beam.start RX', 'PROBE beam.end RX'))
+    scene = sc.write_scene('free_reaction.dat', CANTILEVER.replace('PROBE beam.start RX', 'PROBE beam.end RX'))
     rc, err, out = sc.run(scene, outdir=sc.new_dir('never'))
     sc.report('a reaction probe without a fixed DOF in its group is refused',
               rc == 2 and 'no node of the group has this DOF fixed' in err and not os.path.exists(out),
