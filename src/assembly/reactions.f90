@@ -11,6 +11,7 @@
 !> visited: the cost follows the probes.
 module reactions
   use kinds, only: dp
+  use array_utils, only: grow
   implicit none
   private
   public :: reaction_set_t
@@ -44,7 +45,8 @@ contains
     integer, intent(in) :: e, loc, slot
     integer :: n
     n = self%ent_ptr(e + 1)
-    if (n >= size(self%ent_loc)) call grow_int(self%ent_loc, self%ent_slot, 2 * n + 8)
+    call grow(self%ent_loc, n + 1)
+    call grow(self%ent_slot, n + 1)
     self%ent_loc(n + 1) = loc
     self%ent_slot(n + 1) = slot
     self%ent_ptr(e + 1) = n + 1
@@ -63,8 +65,11 @@ contains
       self%grav(s) = self%grav(s) + g(k)
       do j = 1, size(dofs)
         if (dofs(j) <= 0 .or. (me(k, j) == 0.0_dp .and. ce(k, j) == 0.0_dp)) cycle
-        if (self%ncp >= size(self%cp_eq)) call grow_cp(self, 2 * self%ncp + 16)
         self%ncp = self%ncp + 1
+        call grow(self%cp_slot, self%ncp)
+        call grow(self%cp_eq, self%ncp)
+        call grow(self%cp_m, self%ncp)
+        call grow(self%cp_c, self%ncp)
         self%cp_slot(self%ncp) = s
         self%cp_eq(self%ncp) = dofs(j)
         self%cp_m(self%ncp) = me(k, j)
@@ -124,35 +129,4 @@ contains
     self%fint_n = fint
     self%f_n = f
   end subroutine step_mean
-
-  subroutine grow_int(a, b, n)
-    integer, allocatable, intent(inout) :: a(:), b(:)
-    integer, intent(in) :: n
-    integer, allocatable :: t(:)
-    allocate (t(n))
-    t(1:size(a)) = a
-    call move_alloc(t, a)
-    allocate (t(n))
-    t(1:size(b)) = b
-    call move_alloc(t, b)
-  end subroutine grow_int
-
-  subroutine grow_cp(self, n)
-    type(reaction_set_t), intent(inout) :: self
-    integer, intent(in) :: n
-    integer, allocatable :: ti(:)
-    real(dp), allocatable :: tr(:)
-    allocate (ti(n))
-    ti(1:self%ncp) = self%cp_slot(1:self%ncp)
-    call move_alloc(ti, self%cp_slot)
-    allocate (ti(n))
-    ti(1:self%ncp) = self%cp_eq(1:self%ncp)
-    call move_alloc(ti, self%cp_eq)
-    allocate (tr(n))
-    tr(1:self%ncp) = self%cp_m(1:self%ncp)
-    call move_alloc(tr, self%cp_m)
-    allocate (tr(n))
-    tr(1:self%ncp) = self%cp_c(1:self%ncp)
-    call move_alloc(tr, self%cp_c)
-  end subroutine grow_cp
 end module reactions

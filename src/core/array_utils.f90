@@ -2,9 +2,15 @@
 !> values carried along, O(n log n) without allocation) and the doubling growth of an integer
 !> array.
 module array_utils
+  use kinds, only: dp
   implicit none
   private
   public :: heap_sort, sort_by_key, grow
+
+  !> Room for n entries (doubling), the content kept: integer or real arrays.
+  interface grow
+    module procedure grow_int, grow_real
+  end interface grow
 
 contains
 
@@ -58,7 +64,7 @@ contains
     val(j) = t
   end subroutine swap
 
-  pure subroutine grow(a, n)
+  pure subroutine grow_int(a, n)
     integer, allocatable, intent(inout) :: a(:)
     integer, intent(in) :: n
     integer, allocatable :: tmp(:)
@@ -66,5 +72,15 @@ contains
     allocate (tmp(max(n, 2 * size(a))))
     tmp(1:size(a)) = a
     call move_alloc(tmp, a)
-  end subroutine grow
+  end subroutine grow_int
+
+  pure subroutine grow_real(a, n)
+    real(dp), allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: n
+    real(dp), allocatable :: tmp(:)
+    if (size(a) >= n) return
+    allocate (tmp(max(n, 2 * size(a))))
+    tmp(1:size(a)) = a
+    call move_alloc(tmp, a)
+  end subroutine grow_real
 end module array_utils
