@@ -87,6 +87,7 @@ int rebond_file_write(void *handle, const char *buf, size_t n, int newline)
         if (w <= 0) {
             err = (w < 0) ? errno : ENOSPC;
             (void)ftruncate(f->fd, f->good);
+            (void)lseek(f->fd, f->good, SEEK_SET);
             return err;
         }
         total -= (size_t)w;

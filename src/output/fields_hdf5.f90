@@ -276,8 +276,8 @@ contains
 
   !> Refuse a step the disk (or the file size limit) cannot hold, before HDF5 tries: HDF5 1.10
   !> does not recover from a write that fails (the file can no longer be closed, and may be
-  !> left unreadable). Needed: the step's arrays twice
-  !> (metadata, chunk growth) plus ROOM_MARGIN; the file keeps every complete step.
+  !> left unreadable). Needed: the step's arrays twice (metadata, chunk growth) plus
+  !> ROOM_MARGIN; the file keeps every complete step.
   subroutine check_room(self, step, with_reaction, stat, errmsg)
     type(fields_writer_t), intent(in) :: self
     integer, intent(in) :: step
@@ -294,7 +294,6 @@ contains
       ' KiB, ' // str(nint(free / 1024)) // ' KiB left on the device or under the file size limit); ' // &
       'the file holds the steps written before')
   end subroutine check_room
-
 
   pure logical function has_shape(a, n1, n2)
     real(dp), intent(in) :: a(:, :)
