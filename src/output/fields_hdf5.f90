@@ -5,7 +5,10 @@
 !>   /mesh/topology      int32 XDMF Mixed array, 0-based node ids:
 !>                       MASS -> 1 1 n; SPRING/BAR2/BEAM2 -> 2 2 a b; QUAD4 -> 5 a b c d;
 !>                       QUAD8 -> 37 (Quadrilateral_8) with the 4 corners then the 4 mid-sides
-!>   /mesh/element_type  int32 (nelem), ET_* codes of module mesh
+!>   /mesh/element_type  int32 (nelem), ET_* codes of module element_traits, named by
+!>   /mesh/element_type_names (strings, code k at index k) and described by
+!>   /mesh/stress_components (strings: the stress columns of each type, with units)
+!>   /groups/nodes/NAME, /groups/elements/NAME   int32, the groups' 0-based node and element ids
 !>   /times, /steps      float64 / int32 (nsteps), one entry per written step (unlimited, chunked)
 !>   /step_NNNNNN        group, attributes time (float64) and step (int32), datasets
 !>                       displacement, velocity [, reaction] (3, nnode): (UX, UY, 0) per node,
@@ -13,16 +16,17 @@
 !>                       rotation, angular_velocity [, reaction_moment] (nnode): the RZ component
 !>                         of u, v [, reaction];
 !>                       stress (4, nelem): element mean of Gauss-point values
-!>                       (bar/spring: N or sigma,0,0,0; beam: N,M,0,0; quads: sxx,syy,szz,sxy).
-!> After each step the file is flushed and fields.xmf rewritten atomically, so a killed run
-!> leaves a readable pair holding every completed step. The file is created without HDF5 file
+!>                       (spring: force; bar: sigma; beam: N, M; quads: sxx, syy, szz, sxy);
+!>                       every dataset has the string attributes `components` and `units`.
+!> After each step the file is flushed and the step's grid added to fields.xmf in one write, so
+!> a killed run leaves a readable pair holding every completed step. The file is created without HDF5 file
 !> locking so that ParaView can open it while the run is going on.
 !> Do not copy an open fields_writer_t: both copies would share (and close) the same file.
 module fields_hdf5
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error, str
   use mesh, only: mesh_t
-  use element_traits, only: NUM_ETYPES, etype_nen, etype_xdmf_cell, XDMF_POLYVERTEX, XDMF_POLYLINE, &
+  use element_traits, only: NUM_ETYPES, etype_nen, etype_xdmf_cell, etype_name, XDMF_POLYVERTEX, XDMF_POLYLINE, &
     XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
   use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic
   use os_utils, only: make_directory, room_for
@@ -36,6 +40,14 @@ module fields_hdf5
 
   character(len=*), parameter :: H5_NAME = 'fields.h5', XMF_NAME = 'fields.xmf'
   real(dp), parameter :: ROOM_MARGIN = 65536.0_dp   !< bytes kept free besides a step's data (check_room)
+  !> The four stress columns of each element type (element_traits' order), with units.
+  character(len=*), parameter :: STRESS_COMPONENTS(NUM_ETYPES) = [character(len=64) :: &
+    'MASS: none', &
+    'SPRING: N (spring force, N)', &
+    'BAR2: sigma (axial stress, Pa)', &
+    'BEAM2: N (axial force, N), M (bending moment, N m)', &
+    'QUAD4: sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)', &
+    'QUAD8: sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)']
 
   type :: fields_writer_t
     private
@@ -120,17 +132,68 @@ contains
 
   !> Write a (UX, UY, RZ) field a as the 3-vector dataset vname and the scalar dataset sname,
   !> through the writer's work arrays.
-  subroutine write_planar(self, grp, a, vname, sname, stat, errmsg)
+  subroutine write_planar(self, grp, a, vname, sname, comps, units, stat, errmsg)
     class(fields_writer_t), intent(inout) :: self
     character(len=*), intent(in) :: grp, vname, sname
+    character(len=*), intent(in) :: comps(2), units(2)   !< component names and units (vector, scalar)
     real(dp), intent(in) :: a(:, :)
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
     if (stat /= STAT_OK) return
     call split_planar(a, self%vec, self%rz)
     call self%h5%write(grp // '/' // vname, self%vec, stat, errmsg)
+    call describe(self, grp // '/' // vname, trim(comps(1)), trim(units(1)), stat, errmsg)
     call self%h5%write(grp // '/' // sname, self%rz, stat, errmsg)
+    call describe(self, grp // '/' // sname, trim(comps(2)), trim(units(2)), stat, errmsg)
   end subroutine write_planar
+
+  !> The attributes that make a dataset self-describing: its components and their units.
+  subroutine describe(self, dset, components, units, stat, errmsg)
+    class(fields_writer_t), intent(inout) :: self
+    character(len=*), intent(in) :: dset, components, units
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    call self%h5%write_attr(dset, 'components', stat, errmsg, text=components)
+    call self%h5%write_attr(dset, 'units', stat, errmsg, text=units)
+  end subroutine describe
+
+  !> What the mesh's integers mean: the element type names (by the codes of element_type), the
+  !> stress components of each type, and the node and element groups (0-based ids, as the
+  !> topology), so that a reader of fields.h5 needs nothing else.
+  subroutine write_mesh_meaning(self, mesh, stat, errmsg)
+    class(fields_writer_t), intent(inout) :: self
+    type(mesh_t), intent(in) :: mesh
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    character(len=8) :: names(NUM_ETYPES)
+    integer :: k
+    do k = 1, NUM_ETYPES
+      names(k) = etype_name(k)
+    end do
+    call self%h5%write_text('mesh/element_type_names', names, stat, errmsg)
+    call self%h5%write_text('mesh/stress_components', STRESS_COMPONENTS, stat, errmsg)
+    call self%h5%create_group('groups', stat, errmsg)
+    call self%h5%create_group('groups/nodes', stat, errmsg)
+    call self%h5%create_group('groups/elements', stat, errmsg)
+    do k = 1, mesh%nngroup
+      call self%h5%write('groups/nodes/' // h5_safe(mesh%ngroups(k)%name), mesh%ngroups(k)%items - 1, stat, errmsg)
+    end do
+    do k = 1, mesh%negroup
+      call self%h5%write('groups/elements/' // h5_safe(mesh%egroups(k)%name), mesh%egroups(k)%items - 1, stat, errmsg)
+    end do
+  end subroutine write_mesh_meaning
+
+  !> A group name as an HDF5 link name ('/' would be a path separator; '.' alone is reserved).
+  pure function h5_safe(name) result(s)
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: s
+    integer :: i
+    s = name
+    do i = 1, len(s)
+      if (s(i:i) == '/') s(i:i) = '|'
+    end do
+    if (s == '.') s = '|'
+  end function h5_safe
 
   !> dir/name, without doubling a trailing slash; an empty dir means the current directory.
   pure function join_path(dir, name) result(p)
@@ -203,6 +266,7 @@ contains
     call self%h5%write('mesh/element_type', mesh%etype(1:mesh%nelem), stat, errmsg)
     call self%h5%write_attr('mesh', 'nnode', stat, errmsg, i=mesh%nnode)
     call self%h5%write_attr('mesh', 'nelem', stat, errmsg, i=mesh%nelem)
+    call write_mesh_meaning(self, mesh, stat, errmsg)
     call self%h5%create_series('times', .false., stat, errmsg)
     call self%h5%create_series('steps', .true., stat, errmsg)
     call self%h5%flush(stat, errmsg)
@@ -259,10 +323,14 @@ contains
     call self%h5%create_group(grp, stat, errmsg)
     call self%h5%write_attr(grp, 'time', stat, errmsg, x=time)
     call self%h5%write_attr(grp, 'step', stat, errmsg, i=step)
-    call write_planar(self, grp, u, 'displacement', 'rotation', stat, errmsg)
-    call write_planar(self, grp, v, 'velocity', 'angular_velocity', stat, errmsg)
-    if (present(reaction)) call write_planar(self, grp, reaction, 'reaction', 'reaction_moment', stat, errmsg)
+    call write_planar(self, grp, u, 'displacement', 'rotation', ['ux uy uz', 'rz      '], ['m  ', 'rad'], stat, errmsg)
+    call write_planar(self, grp, v, 'velocity', 'angular_velocity', ['vx vy vz', 'wz      '], ['m/s  ', 'rad/s'], &
+      stat, errmsg)
+    if (present(reaction)) call write_planar(self, grp, reaction, 'reaction', 'reaction_moment', ['fx fy fz', 'mz      '], &
+      ['N  ', 'N m'], stat, errmsg)
     call self%h5%write(grp // '/stress', stress, stat, errmsg)
+    call describe(self, grp // '/stress', 'per element type: /mesh/stress_components', &
+      'per element type: /mesh/stress_components', stat, errmsg)
     call self%h5%append_series('times', self%nsteps + 1, stat, errmsg, x=time)
     call self%h5%append_series('steps', self%nsteps + 1, stat, errmsg, i=step)
     ! Everything of this step reaches the disk before the .xmf announces it.

@@ -13,7 +13,7 @@ module hdf5_file
   use os_utils, only: drop_symlink
   use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5close_f, h5eset_auto_f, &
     h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5F_SCOPE_GLOBAL_F, &
-    h5gcreate_f, h5gopen_f, h5gclose_f, h5lexists_f, &
+    h5gcreate_f, h5gopen_f, h5gclose_f, h5lexists_f, h5oopen_f, h5oclose_f, &
     h5screate_simple_f, h5screate_f, h5sclose_f, h5sselect_hyperslab_f, h5sget_simple_extent_ndims_f, &
     h5sget_simple_extent_dims_f, H5S_SCALAR_F, H5S_UNLIMITED_F, H5S_SELECT_SET_F, &
     h5dcreate_f, h5dopen_f, h5dclose_f, h5dwrite_f, h5dread_f, h5dset_extent_f, h5dget_space_f, &
@@ -347,42 +347,54 @@ contains
     call check(self, hdferr, 'close the string type of ' // name, stat, errmsg)
   end subroutine h5_write_text
 
-  !> A scalar attribute (float64 if x is given, int32 if i is given) of the group or dataset obj.
-  subroutine h5_write_attr(self, obj, name, stat, errmsg, x, i)
+  !> A scalar attribute of the group or dataset obj: float64 (x), int32 (i) or a string (text).
+  subroutine h5_write_attr(self, obj, name, stat, errmsg, x, i, text)
     class(h5_file_t), intent(inout) :: self
     character(len=*), intent(in) :: obj, name
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
     real(dp), intent(in), optional :: x
     integer, intent(in), optional :: i
-    integer(hid_t) :: space, attr, mtype, gid
+    character(len=*), intent(in), optional :: text
+    integer(hid_t) :: space, attr, mtype, oid
     integer(hsize_t), parameter :: dims(1) = [1_hsize_t]
     integer :: hdferr
     if (stat /= STAT_OK) return
     mtype = H5T_NATIVE_INTEGER
     if (present(x)) mtype = H5T_NATIVE_DOUBLE
-    call h5gopen_f(self%fid, obj, gid, hdferr)
-    call check(self, hdferr, 'open /' // obj, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call h5screate_f(H5S_SCALAR_F, space, hdferr)
-    call check(self, hdferr, 'create the dataspace of attribute /' // obj // '@' // name, stat, errmsg)
-    if (stat == STAT_OK) then
-      call h5acreate_f(gid, name, mtype, space, attr, hdferr)
-      call check(self, hdferr, 'create attribute /' // obj // '@' // name, stat, errmsg)
-      if (stat == STAT_OK) then
-        if (present(x)) then
-          call h5awrite_f(attr, mtype, x, dims, hdferr)
-        else if (present(i)) then
-          call h5awrite_f(attr, mtype, i, dims, hdferr)
-        end if
-        call check(self, hdferr, 'write attribute /' // obj // '@' // name, stat, errmsg)
-        call h5aclose_f(attr, hdferr)
-        call check(self, hdferr, 'close attribute /' // obj // '@' // name, stat, errmsg)
-      end if
-      call h5sclose_f(space, hdferr)
+    if (present(text)) then
+      call h5tcopy_f(H5T_NATIVE_CHARACTER, mtype, hdferr)
+      call check(self, hdferr, 'make the string type of /' // obj // '@' // name, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call h5tset_size_f(mtype, int(max(len(text), 1), size_t), hdferr)
+      call check(self, hdferr, 'size the string type of /' // obj // '@' // name, stat, errmsg)
     end if
-    call h5gclose_f(gid, hdferr)
-    call check(self, hdferr, 'close /' // obj, stat, errmsg)
+    call h5oopen_f(self%fid, obj, oid, hdferr)
+    call check(self, hdferr, 'open /' // obj, stat, errmsg)
+    if (stat == STAT_OK) then
+      call h5screate_f(H5S_SCALAR_F, space, hdferr)
+      call check(self, hdferr, 'create the dataspace of attribute /' // obj // '@' // name, stat, errmsg)
+      if (stat == STAT_OK) then
+        call h5acreate_f(oid, name, mtype, space, attr, hdferr)
+        call check(self, hdferr, 'create attribute /' // obj // '@' // name, stat, errmsg)
+        if (stat == STAT_OK) then
+          if (present(x)) then
+            call h5awrite_f(attr, mtype, x, dims, hdferr)
+          else if (present(i)) then
+            call h5awrite_f(attr, mtype, i, dims, hdferr)
+          else if (present(text)) then
+            call h5awrite_f(attr, mtype, text, dims, hdferr)
+          end if
+          call check(self, hdferr, 'write attribute /' // obj // '@' // name, stat, errmsg)
+          call h5aclose_f(attr, hdferr)
+          call check(self, hdferr, 'close attribute /' // obj // '@' // name, stat, errmsg)
+        end if
+        call h5sclose_f(space, hdferr)
+      end if
+      call h5oclose_f(oid, hdferr)
+      call check(self, hdferr, 'close /' // obj, stat, errmsg)
+    end if
+    if (present(text)) call h5tclose_f(mtype, hdferr)
   end subroutine h5_write_attr
 
   !> An empty, extendable 1-D dataset (float64, or int32 with integers) for a per-step series.

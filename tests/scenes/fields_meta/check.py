@@ -1,0 +1,56 @@
+"""fields.h5 describes itself (issue 13, item 6): component names and units on every dataset,
+the element types by name, the stress columns of each type, the scene's groups.
+
+Read with h5py on the cantilever (BEAM2, groups beam, beam.start, …) and on the bar impact
+(contact reactions).
+"""
+import os
+import sys
+
+import h5py
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import scenecheck as sc  # noqa: E402
+
+
+def text(x):
+    return x.decode() if isinstance(x, bytes) else str(x)
+
+
+def cantilever():
+    out = sc.run_ok('inputs/cantilever_release.dat', ['TIME.END=2e-3', 'OUTPUT.FIELDS=10'])
+    with h5py.File(os.path.join(out, 'fields.h5'), 'r') as f:
+        names = [text(x) for x in f['mesh/element_type_names'][()]]
+        sc.report('element type codes named', names == ['MASS', 'SPRING', 'BAR2', 'BEAM2', 'QUAD4', 'QUAD8'], str(names))
+        codes = set(int(c) for c in f['mesh/element_type'][()])
+        sc.report('the cantilever is BEAM2 by name', [names[c - 1] for c in codes] == ['BEAM2'], str(codes))
+        comps = [text(x) for x in f['mesh/stress_components'][()]]
+        sc.report('stress columns of BEAM2: N and M with units', comps[3].startswith('BEAM2: N') and '(bending moment, N m)'
+                  in comps[3], comps[3])
+        groups = f['groups/nodes']
+        sc.report('node groups, 0-based: beam.start = [0], beam.end = [20]',
+                  list(groups['beam.start'][()]) == [0] and list(groups['beam.end'][()]) == [20] and
+                  len(groups['beam'][()]) == 21, str(list(groups.keys())))
+        sc.report('element group beam: 20 elements, 0-based', list(f['groups/elements/beam'][()]) == list(range(20)), '')
+        steps = sorted(k for k in f if k.startswith('step_'))
+        want = {'displacement': ('ux uy uz', 'm'), 'rotation': ('rz', 'rad'), 'velocity': ('vx vy vz', 'm/s'),
+                'angular_velocity': ('wz', 'rad/s')}
+        ok = all(tuple(text(f[s][d].attrs[a]) for a in ('components', 'units')) == cu
+                 for s in steps for d, cu in want.items())
+        ok = ok and all('stress_components' in text(f[s]['stress'].attrs['components']) for s in steps)
+        sc.report('every dataset of every step has its components and units (%d steps)' % len(steps), ok and len(steps) > 1,
+                  '')
+
+
+def bar():
+    out = sc.run_ok('inputs/bar_impact.dat', ['TIME.END=2e-5', 'OUTPUT.FIELDS=5'])
+    with h5py.File(os.path.join(out, 'fields.h5'), 'r') as f:
+        s = sorted(k for k in f if k.startswith('step_'))[-1]
+        r, m = f[s]['reaction'].attrs, f[s]['reaction_moment'].attrs
+        sc.report('contact reactions described: fx fy fz in N, mz in N m',
+                  (text(r['components']), text(r['units']), text(m['components']), text(m['units'])) ==
+                  ('fx fy fz', 'N', 'mz', 'N m'), str(dict(r)))
+
+
+cantilever()
+bar()
