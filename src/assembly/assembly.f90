@@ -513,13 +513,13 @@ contains
           end do
         end do
         sys%loads%vectors(il)%func = ld%func
-        call reaction_loads(scn, sys, il)
       end associate
     end do
   end subroutine build_loads
 
   !> The PROBE … RX|RY|MZ slots: each entry is a local DOF of an element at a fixed DOF of the
-  !> probe's direction in the probe's group (a node in several groups counts in each).
+  !> probe's direction in the probe's group (a node in several groups counts in each); and each
+  !> LOAD's force on those fixed DOFs.
   subroutine reaction_map(scn, sys)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
@@ -555,29 +555,19 @@ contains
       end do
     end do
     call sys%react%finish_map(size(scn%loads))
-  end subroutine reaction_map
-
-  !> LOAD il's force on the fixed DOFs of the reaction slots.
-  subroutine reaction_loads(scn, sys, il)
-    type(scene_t), intent(in) :: scn
-    type(system_t), intent(inout) :: sys
-    integer, intent(in) :: il
-    integer :: i, s, k, n, d
-    if (sys%react%nslot == 0) return
-    associate (ld => scn%loads(il), nodes => scn%mesh%ngroups(scn%loads(il)%ngroup)%items)
-      s = 0
-      do k = 1, size(scn%probes)
-        if (.not. scn%probes(k)%reaction) cycle
-        s = s + 1
-        d = scn%probes(k)%dof
-        do i = 1, size(nodes)
-          n = nodes(i)
-          if (sys%dofs%eqn(d, n) == DOF_FIXED .and. any(scn%mesh%ngroups(scn%probes(k)%ngroup)%items == n)) &
-            sys%react%load(il, s) = sys%react%load(il, s) + ld%force(d)
+    do k = 1, size(scn%loads)
+      associate (ld => scn%loads(k), nodes => scn%mesh%ngroups(scn%loads(k)%ngroup)%items)
+        do s = 1, sys%react%nslot
+          d = scn%probes(slot_of(s))%dof
+          do a = 1, size(nodes)
+            n = nodes(a)
+            if (sys%dofs%eqn(d, n) == DOF_FIXED .and. member(n, s)) &
+              sys%react%load(k, s) = sys%react%load(k, s) + ld%force(d)
+          end do
         end do
-      end do
-    end associate
-  end subroutine reaction_loads
+      end associate
+    end do
+  end subroutine reaction_map
 
   !> After the initial state (first) or a step ending at time t: the mean support reaction of
   !> the step for each RX/RY/MZ probe (reactions.f90), from the committed stresses of the

@@ -267,6 +267,19 @@ contains
     end if
   end subroutine get_word
 
+  !> The first occurrence ip of `key` for the list getters; ip = 0 and an error when missing.
+  subroutine list_param(st, key, ip, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: key
+    integer, intent(out) :: ip
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    errmsg = ''
+    ip = find_param(st, key)
+    if (ip == 0) call set_error(stat, errmsg, STAT_INPUT, missing_text(st, key, 0, 1))
+  end subroutine list_param
+
   !> All values of the first occurrence of `key` as reals (error if the parameter is missing).
   subroutine get_real_list(st, key, xs, stat, errmsg)
     type(statement_t), intent(in) :: st
@@ -275,12 +288,9 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: ip, i
-    stat = STAT_OK
-    errmsg = ''
-    ip = find_param(st, key)
+    call list_param(st, key, ip, stat, errmsg)
     if (ip == 0) then
       allocate (xs(0))
-      call set_error(stat, errmsg, STAT_INPUT, missing_text(st, key, 0, 1))
       return
     end if
     allocate (xs(size(st%params(ip)%values)))
@@ -298,12 +308,9 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: ip, i
-    stat = STAT_OK
-    errmsg = ''
-    ip = find_param(st, key)
+    call list_param(st, key, ip, stat, errmsg)
     if (ip == 0) then
       allocate (ns(0))
-      call set_error(stat, errmsg, STAT_INPUT, missing_text(st, key, 0, 1))
       return
     end if
     allocate (ns(size(st%params(ip)%values)))

@@ -168,7 +168,7 @@ contains
     character(len=:), allocatable :: s
     integer(c_int) :: v(3)
     call rb_chol_version(v)
-    s = str(int(v(1))) // '.' // str(int(v(2))) // '.' // str(int(v(3)))
+    s = version_text(v)
   end function cholmod_version
 
   !> Symbolic analysis of the n x n pattern in full CSC storage (both triangles): colptr(n+1),
@@ -278,8 +278,15 @@ contains
     character(len=:), allocatable :: s
     integer(c_int) :: v(3)
     call rb_umf_version(v)
-    s = str(int(v(1))) // '.' // str(int(v(2))) // '.' // str(int(v(3)))
+    s = version_text(v)
   end function umfpack_version
+
+  !> "major.minor.patch" of a library version triple.
+  pure function version_text(v) result(s)
+    integer(c_int), intent(in) :: v(3)
+    character(len=:), allocatable :: s
+    s = str(int(v(1))) // '.' // str(int(v(2))) // '.' // str(int(v(3)))
+  end function version_text
 
   !> NUL-terminated C string -> Fortran string.
   pure function c_to_f(c) result(s)
