@@ -7,10 +7,12 @@ module line_reader
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, shown
   use array_utils, only: grow
+  use words, only: is_blank, word_end
   use number_text, only: parse_real_text, parse_int64_text, NUM_OK, NUM_MALFORMED, NUM_RANGE
   implicit none
   private
-  public :: line_reader_t, next_line, get_int, get_reals, get_real_tok, fail, tok, clip, MAX_LINE
+  public :: line_reader_t, open_reader, close_reader, raw_line, next_line, grow_text
+  public :: get_int, get_reals, get_real_tok, fail, tok, clip, MAX_LINE
 
   !> Longest line accepted. Data lines are short (a Gmsh element line holds at most 9 numbers);
   !> without a bound, a file with no newline that never ends (FILE /dev/zero) grew the line until
@@ -34,32 +36,69 @@ module line_reader
 
 contains
 
-  !> Read the next non-blank line and split it into tokens; ok = .false. at end of file.
-  !> Lines end at LF, CR LF or a lone CR (old Mac files); a UTF-8 byte order mark is skipped.
-  subroutine next_line(g, ok, stat, errmsg)
+  !> Open path for reading (what names the file in the message: 'scene file', 'mesh file'...).
+  subroutine open_reader(g, path, what, stat, errmsg)
+    class(line_reader_t), intent(inout) :: g
+    character(len=*), intent(in) :: path, what
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=256) :: iomsg
+    integer :: ios
+    stat = STAT_OK
+    g%path = path
+    g%lineno = 0
+    if (.not. allocated(g%tb)) allocate (g%tb(32), g%te(32))
+    iomsg = ''
+    open (newunit=g%unit, file=path, status='old', action='read', form='formatted', access='sequential', &
+          iostat=ios, iomsg=iomsg)
+    if (ios /= 0) then
+      g%unit = -1
+      call set_error(stat, errmsg, STAT_INPUT, path // ':0: cannot open the ' // what // ': ' // trim(iomsg))
+    end if
+  end subroutine open_reader
+
+  subroutine close_reader(g)
+    class(line_reader_t), intent(inout) :: g
+    if (g%unit /= -1) close (g%unit)
+    g%unit = -1
+  end subroutine close_reader
+
+  !> The next physical line as it is (blank lines too, no words split) into g%line; ok = .false.
+  !> at the end of the file. Lines end at LF, CR LF or a lone CR (old Mac files); a UTF-8 byte
+  !> order mark is dropped.
+  subroutine raw_line(g, ok, stat, errmsg)
     class(line_reader_t), intent(inout) :: g
     logical, intent(out) :: ok
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: nl
-    logical :: got
-
     stat = STAT_OK
-    ok = .false.
     if (.not. allocated(g%buf)) allocate (character(len=4096) :: g%buf)
     if (.not. allocated(g%pending)) g%pending = ''
+    call physical_piece(g, nl, ok, stat, errmsg)
+    if (stat /= STAT_OK .or. .not. ok) then
+      ok = .false.
+      return
+    end if
+    g%lineno = g%lineno + 1
+    g%line = g%buf(1:nl)
+    if (g%lineno == 1 .and. nl >= 3) then
+      if (g%line(1:3) == BOM) g%line = g%line(4:)
+    end if
+  end subroutine raw_line
+
+  !> The next non-blank line (raw_line) split into words; ok = .false. at the end of the file.
+  subroutine next_line(g, ok, stat, errmsg)
+    class(line_reader_t), intent(inout) :: g
+    logical, intent(out) :: ok
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     do
-      call physical_piece(g, nl, got, stat, errmsg)
-      if (stat /= STAT_OK .or. .not. got) return
-      g%lineno = g%lineno + 1
-      g%line = g%buf(1:nl)
-      if (g%lineno == 1 .and. nl >= 3) then
-        if (g%line(1:3) == BOM) g%line = g%line(4:)
-      end if
+      call raw_line(g, ok, stat, errmsg)
+      if (.not. ok) return
       call tokenize(g)
-      if (g%ntok > 0) exit
+      if (g%ntok > 0) return
     end do
-    ok = .true.
   end subroutine next_line
 
   !> The next line into buf(1:nl): what is left of a record after a lone CR (pending), then the
@@ -196,37 +235,27 @@ contains
     call set_error(stat, errmsg, STAT_INPUT, g%path // ':' // str(g%lineno) // ': ' // msg)
   end subroutine fail
 
-  !> Split the current line at blanks, tabs and carriage returns.
+  !> Split the current line into words (words' blanks: space, tab, CR).
   pure subroutine tokenize(g)
     class(line_reader_t), intent(inout) :: g
-    integer :: i, n, start
-    logical :: in_tok
-    character :: ch
+    integer :: i, j, n
     n = len(g%line)
     g%ntok = 0
-    in_tok = .false.
-    start = 1
-    do i = 1, n + 1
-      if (i <= n) then
-        ch = g%line(i:i)
-        if (ch /= ' ' .and. ch /= achar(9) .and. ch /= achar(13)) then
-          if (.not. in_tok) then
-            in_tok = .true.
-            start = i
-          end if
-          cycle
-        end if
+    i = 1
+    do while (i <= n)
+      if (is_blank(g%line(i:i))) then
+        i = i + 1
+        cycle
       end if
-      if (in_tok) then
-        in_tok = .false.
-        if (g%ntok == size(g%tb)) then
-          call grow(g%tb, 2 * g%ntok)
-          call grow(g%te, 2 * g%ntok)
-        end if
-        g%ntok = g%ntok + 1
-        g%tb(g%ntok) = start
-        g%te(g%ntok) = i - 1
+      j = word_end(g%line, i)
+      if (g%ntok == size(g%tb)) then
+        call grow(g%tb, 2 * g%ntok)
+        call grow(g%te, 2 * g%ntok)
       end if
+      g%ntok = g%ntok + 1
+      g%tb(g%ntok) = i
+      g%te(g%ntok) = j - 1
+      i = j
     end do
   end subroutine tokenize
 

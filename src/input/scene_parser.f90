@@ -13,6 +13,8 @@ module scene_parser
   use statement, only: token_t, param_t, statement_t, stmt_error, shown, find_param, count_param, MAX_SHOWN
   use statement_schema, only: schema_t, kwdef_t, pdef_t, find_kw, find_pdef, param_of_token, pdef_list, arity_text, plural
   use number_text, only: parse_real_text, parse_int_text, NUM_MALFORMED
+  use words, only: is_blank, word_end
+  use line_reader, only: line_reader_t, open_reader, close_reader, raw_line, grow_text
   implicit none
   private
   public :: parse_file, parse_string, read_text, apply_override, check_required
@@ -95,52 +97,29 @@ contains
     call read_text_formatted(path, text, stat, errmsg)
   end subroutine read_text
 
+  !> The file through line_reader (pipes, devices: no size known), its lines joined by LF.
   subroutine read_text_formatted(path, text, stat, errmsg)
     character(len=*), intent(in) :: path
     character(len=:), allocatable, intent(inout) :: text
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=4096) :: chunk
+    type(line_reader_t) :: r
     character(len=:), allocatable :: buf
-    character(len=256) :: iom
-    integer :: u, ios, nread, n
-    stat = STAT_OK
-    errmsg = ''
-    iom = ''
-    open (newunit=u, file=path, access='sequential', form='formatted', status='old', action='read', &
-          iostat=ios, iomsg=iom)
-    if (ios /= 0) then
-      call set_error(stat, errmsg, STAT_INPUT, path // ': cannot open scene file: ' // trim(iom))
-      return
-    end if
+    integer :: n
+    logical :: ok
+    call open_reader(r, path, 'scene file', stat, errmsg)
+    if (stat /= STAT_OK) return
     allocate (character(len=8192) :: buf)
     n = 0
     do
-      nread = 0
-      read (u, '(a)', advance='no', size=nread, iostat=ios, iomsg=iom) chunk
-      if (ios /= 0 .and. ios /= iostat_eor .and. ios /= iostat_end) then
-        call set_error(stat, errmsg, STAT_INPUT, path // ': cannot read scene file: ' // trim(iom))
-        close (u)
-        return
-      end if
-      call append(chunk(1:nread))
-      if (ios == iostat_eor) call append(LF)
-      if (ios == iostat_end) exit
+      call raw_line(r, ok, stat, errmsg)
+      if (.not. ok) exit
+      if (n + len(r%line) + 1 > len(buf)) call grow_text(buf, n + len(r%line) + 1)
+      buf(n + 1:n + len(r%line) + 1) = r%line // LF
+      n = n + len(r%line) + 1
     end do
-    close (u)
-    text = buf(1:n)
-  contains
-    subroutine append(s)
-      character(len=*), intent(in) :: s
-      character(len=:), allocatable :: tmp
-      if (n + len(s) > len(buf)) then
-        allocate (character(len=max(2 * len(buf), n + len(s))) :: tmp)
-        tmp(1:n) = buf(1:n)
-        call move_alloc(tmp, buf)
-      end if
-      buf(n + 1:n + len(s)) = s
-      n = n + len(s)
-    end subroutine append
+    call close_reader(r)
+    if (stat == STAT_OK) text = buf(1:n)
   end subroutine read_text_formatted
 
   !> Parse scene text (lines separated by LF; CR counts as a blank). `filename` only labels
@@ -259,14 +238,14 @@ contains
     type(token_t), allocatable, intent(inout) :: toks(:)
     integer, intent(inout) :: ntok
     character(len=:), allocatable, intent(out) :: what, word
-    integer :: n, j, ic
+    integer :: n, j, k, ic
     character :: c
     logical :: closed
     n = len(text)
     do while (i <= n)
       c = text(i:i)
       if (c == LF) return
-      if (c == ' ' .or. c == TAB .or. c == CR) then
+      if (is_blank(c)) then
         i = i + 1
         cycle
       end if
@@ -303,7 +282,7 @@ contains
         i = j + 1
         if (i <= n) then
           c = text(i:i)
-          if (.not. (c == ' ' .or. c == TAB .or. c == CR .or. c == LF .or. c == '#' .or. c == '&')) then
+          if (.not. (is_blank(c) .or. c == LF .or. c == '#' .or. c == '&')) then
             what = 'a blank must follow a closing quote'
             word = text(j:j) // word_at(i)
             return
@@ -311,22 +290,19 @@ contains
         end if
         cycle
       end if
-      ! bare word: up to a blank, a comment or the end of the line
-      j = i
-      do while (j <= n)
-        c = text(j:j)
-        if (c == ' ' .or. c == TAB .or. c == CR .or. c == LF .or. c == '#') exit
-        ic = iachar(c)
+      ! bare word: up to a blank, a comment or the end of the line, printable ASCII, no quote
+      j = word_end(text, i, '#')
+      do k = i, j - 1
+        ic = iachar(text(k:k))
         if (ic < 32 .or. ic > 126) then
-          call bad_byte(j, i)
+          call bad_byte(k, i)
           return
         end if
-        if (c == '"') then
+        if (text(k:k) == '"') then
           what = 'a quote may only start a word'
           word = word_at(i)
           return
         end if
-        j = j + 1
       end do
       call push(text(i:j - 1), .false.)
       i = j
@@ -363,11 +339,7 @@ contains
       integer, intent(in) :: k
       character(len=:), allocatable :: w
       integer :: m
-      m = k
-      do while (m <= n .and. m - k < MAX_SHOWN + 1)
-        if (text(m:m) == ' ' .or. text(m:m) == TAB .or. text(m:m) == LF .or. text(m:m) == CR) exit
-        m = m + 1
-      end do
+      m = word_end(text(1:min(n, k + MAX_SHOWN)), k)
       w = text(k:m - 1)
     end function word_at
   end subroutine scan_line

@@ -16,7 +16,7 @@ module gmsh_reader
   use element_traits, only: etype_nen, etype_gmsh, etype_family
   use number_text, only: parse_real_text, NUM_OK
   use array_utils, only: heap_sort, sort_by_key, grow
-  use line_reader, only: line_reader_t, next_line, get_int, get_reals, get_real_tok, fail, tok, clip
+  use line_reader, only: line_reader_t, open_reader, close_reader, next_line, get_int, get_reals, get_real_tok, fail, tok, clip
   use os_utils, only: is_directory
   implicit none
   private
@@ -64,26 +64,18 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(gmsh_t) :: g
-    character(len=256) :: iomsg
-    integer :: ios
 
     stat = STAT_OK
-    g%path = path
-    allocate (g%tb(32), g%te(32))
     if (is_directory(path)) then
       call set_error(stat, errmsg, STAT_INPUT, path // ': is a directory, not a Gmsh mesh file')
       return
     end if
-    open (newunit=g%unit, file=path, status='old', action='read', form='formatted', access='sequential', &
-          iostat=ios, iomsg=iomsg)
-    if (ios /= 0) then
-      call set_error(stat, errmsg, STAT_INPUT, path // ':0: cannot open the mesh file: ' // trim(iomsg))
-      return
-    end if
+    call open_reader(g, path, 'mesh file', stat, errmsg)
+    if (stat /= STAT_OK) return
 
     inquire (unit=g%unit, size=g%fsize)
     call parse_file(g, m, prefix, stat, errmsg)
-    close (g%unit)
+    call close_reader(g)
   end subroutine read_gmsh
 
   !> Parse the open file section by section; on success append its content to m.

@@ -8,6 +8,8 @@ module history_writer
   use errors, only: STAT_OK, STAT_RUN, set_error
   use text_format, only: put_es, put_int, put_text, ES_MAX_LEN
   use text_file, only: text_file_t
+  use line_reader, only: line_reader_t, open_reader, close_reader, raw_line
+  use number_text, only: parse_int_text, NUM_OK
   implicit none
   private
   public :: csv_file_t
@@ -56,34 +58,36 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(text_file_t) :: out
-    integer :: uin, ios, k, step, st2
-    character(len=:), allocatable :: line, msg2
-    character(len=256) :: msg
+    type(line_reader_t) :: old
+    integer :: k, step, ierr, st2
+    logical :: ok
+    character(len=:), allocatable :: msg2
     stat = STAT_OK
     if (.not. path_exists(path)) then
       call self%open(path, header, stat, errmsg)
       return
     end if
-    open (newunit=uin, file=path, status='old', action='read', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call set_error(stat, errmsg, STAT_RUN, 'cannot read ' // path // ': ' // trim(msg))
+    call open_reader(old, path, 'result file', stat, errmsg)
+    if (stat /= STAT_OK) then
+      stat = STAT_RUN
       return
     end if
     ! The kept lines go to path.tmp, which replaces path only once complete: a failure
     ! (a full disk) leaves the old file whole.
     call out%create(path // '.tmp', stat, errmsg)
     if (stat == STAT_OK) call out%write_line(header, stat, errmsg)
-    call read_line(uin, line, ios)   ! the old header
-    do while (stat == STAT_OK)
-      call read_line(uin, line, ios)
-      if (ios /= 0) exit
-      k = index(line, ',')
+    if (stat == STAT_OK) call raw_line(old, ok, stat, errmsg)   ! the old header
+    do while (stat == STAT_OK .and. ok)
+      call raw_line(old, ok, stat, errmsg)
+      if (stat /= STAT_OK .or. .not. ok) exit
+      k = index(old%line, ',')
       if (k < 2) cycle
-      read (line(1:k - 1), *, iostat=ios) step
-      if (ios /= 0) cycle
-      if (step <= last) call out%write_line(line, stat, errmsg)
+      call parse_int_text(old%line(1:k - 1), step, ierr)
+      if (ierr /= NUM_OK) cycle
+      if (step <= last) call out%write_line(old%line, stat, errmsg)
     end do
-    close (uin)
+    call close_reader(old)
+    if (stat /= STAT_OK) stat = STAT_RUN   ! a read error of the old file stops the restart too
     call out%close_keep(stat, errmsg)
     if (stat /= STAT_OK) then
       call remove_file(path // '.tmp', st2, msg2)
@@ -95,22 +99,6 @@ contains
     if (stat /= STAT_OK) return
     call size_buffer(self, header)
   end subroutine csv_resume
-
-  !> One line of any length.
-  subroutine read_line(unit, line, ios)
-    integer, intent(in) :: unit
-    character(len=:), allocatable, intent(out) :: line
-    integer, intent(out) :: ios
-    character(len=4096) :: chunk
-    integer :: n
-    line = ''
-    do
-      read (unit, '(a)', advance='no', iostat=ios, size=n) chunk
-      line = line // chunk(1:n)
-      if (ios /= 0) exit
-    end do
-    if (is_iostat_eor(ios)) ios = 0
-  end subroutine read_line
 
   pure integer function count_commas(s)
     character(len=*), intent(in) :: s
