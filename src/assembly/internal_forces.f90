@@ -8,7 +8,7 @@ module internal_forces
   use scene, only: scene_t
   use assembly, only: system_t
   use elements, only: MAX_EDOF, MAX_NSTRAIN
-  use material_law, only: law_update, law_nstate
+  use material_law, only: law_update, law_nstate, law_step_t
   use subincrement, only: correction_stress
   implicit none
   private
@@ -232,8 +232,9 @@ contains
     logical, intent(in) :: correct, tangent
     real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum, dsum, esum
     logical, intent(inout) :: any_c
-    real(dp) :: deps(MAX_NSTRAIN), sbar(MAX_NSTRAIN), sc(MAX_NSTRAIN), dt(MAX_NSTRAIN, MAX_NSTRAIN), work, dissip, w
-    integer :: igp, p, nused, n, pass
+    real(dp) :: deps(MAX_NSTRAIN), sc(MAX_NSTRAIN), w
+    type(law_step_t) :: r
+    integer :: igp, p, n, pass
     fc(1:ndof) = 0.0_dp
     do igp = g0, g0 + ng - 1
       p = sys%elems%b_ptr(igp)
@@ -246,35 +247,29 @@ contains
       ! point that asks for fewer sub-increments than before in this step is redone with them.
       n = mv%nsub
       do pass = 1, 2
-        if (tangent) then
-          call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%elems%pk(mv%im), &
-            sys%elems%dmat(1:nstr, 1:nstr, mv%im), n, sys%pts%eps(1:nstr, igp), deps(1:nstr), sys%pts%sig(1:nstr, igp), &
-            sys%pts%q(1:mv%nq, igp), sys%pts%sig_t(1:nstr, igp), sbar(1:nstr), sys%pts%q_t(1:mv%nq, igp), work, dissip, nused, &
-            dt(1:nstr, 1:nstr))
-        else
-          call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%elems%pk(mv%im), &
-            sys%elems%dmat(1:nstr, 1:nstr, mv%im), n, sys%pts%eps(1:nstr, igp), deps(1:nstr), sys%pts%sig(1:nstr, igp), &
-            sys%pts%q(1:mv%nq, igp), sys%pts%sig_t(1:nstr, igp), sbar(1:nstr), sys%pts%q_t(1:mv%nq, igp), work, dissip, nused)
-        end if
+        call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%elems%pk(mv%im), &
+          sys%elems%dmat(1:nstr, 1:nstr, mv%im), n, sys%pts%eps(1:nstr, igp), deps(1:nstr), sys%pts%sig(1:nstr, igp), &
+          sys%pts%q(1:mv%nq, igp), sys%pts%q_t(1:mv%nq, igp), r)
         if (mv%nsub > 0 .or. pass == 2) exit
-        if (nused >= sys%pts%nsub_pt(igp)) then
-          sys%pts%nsub_pt(igp) = nused
+        if (r%nused >= sys%pts%nsub_pt(igp)) then
+          sys%pts%nsub_pt(igp) = r%nused
           exit
         end if
         n = sys%pts%nsub_pt(igp)
       end do
-      if (tangent) call add_btdb(nstr, ndof, sys%elems%bmat(p), dt, w, ke)
+      sys%pts%sig_t(1:nstr, igp) = r%sig(1:nstr)
+      if (tangent) call add_btdb(nstr, ndof, sys%elems%bmat(p), r%dtan, w, ke)
       if (mv%linear) then
         esum = esum + 0.5_dp * w * dot_product(sys%pts%sig_t(1:nstr, igp), sys%pts%eps_t(1:nstr, igp))
       else
-        wsum = wsum + w * work
-        dsum = dsum + w * dissip
+        wsum = wsum + w * r%work
+        dsum = dsum + w * r%dissip
       end if
       call add_btsig(nstr, ndof, sys%elems%bmat(p), sys%pts%sig_t(1, igp), w, fe)
       ! Eq (9): the correction stress, only where the law was sub-incremented.
-      if (nused > 0 .and. correct) then
+      if (r%nused > 0 .and. correct) then
         any_c = .true.
-        call correction_stress(sbar(1:nstr), sys%pts%sig(1:nstr, igp), sys%pts%sig_t(1:nstr, igp), sc(1:nstr))
+        call correction_stress(r%sigbar(1:nstr), sys%pts%sig(1:nstr, igp), sys%pts%sig_t(1:nstr, igp), sc(1:nstr))
         call add_btsig(nstr, ndof, sys%elems%bmat(p), sc, w, fc)
       end if
     end do

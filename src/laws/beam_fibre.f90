@@ -8,6 +8,7 @@
 module beam_fibre
   use kinds, only: dp
   use section, only: section_t
+  use law_types, only: law_params_t, law_step_t
   use law_plastic_1d, only: P1D_NSTATE, plastic_1d_inside, plastic_1d_path, plastic_auto_nsub
   use law_nonlinear_elastic, only: nle_stress, nle_energy, nle_auto_nsub, nle_path
   implicit none
@@ -59,21 +60,17 @@ contains
   !> trial stays inside its frozen yield surface the step is elastic: sig = sig_n + D deps with D
   !> the fibre elastic matrix, sigbar the exact chord midpoint, nused = 0. dtan: sum of the layer
   !> tangents (last sub-increment) A_f [1, -y; -y, y^2].
-  pure subroutine fibre_update(kind, e, b, sy, hi, hk, sec, nsub, eps_n, deps, sig_n, q_n, &
-                               sig, sigbar, q, dissip, nused, dtan)
+  pure subroutine fibre_update(kind, p, sec, nsub, eps_n, deps, sig_n, q_n, q, r)
     integer, intent(in) :: kind, nsub
-    real(dp), intent(in) :: e, b, sy, hi, hk, eps_n(2), deps(2), sig_n(2), q_n(:)
+    type(law_params_t), intent(in) :: p
     type(section_t), intent(in) :: sec
-    real(dp), intent(out) :: sig(2), sigbar(2), q(:), dissip, dtan(2, 2)
-    integer, intent(out) :: nused
-    real(dp) :: y, a, ef, def, sf_n, sf, sbf, et, df, dmat(2, 2)
+    real(dp), intent(in) :: eps_n(2), deps(2), sig_n(2), q_n(:)
+    real(dp), intent(out) :: q(:)
+    type(law_step_t), intent(out) :: r
+    real(dp) :: y, a, ef, def, sf_n, sf, sbf, et, df, dmat(2, 2), e
     integer :: f, n, i0, nf
     logical :: inside
-    sig = 0.0_dp
-    sigbar = 0.0_dp
-    dissip = 0.0_dp
-    dtan = 0.0_dp
-    nused = 0
+    e = p%young
     select case (kind)
     case (FIB_PLASTIC)
       inside = .true.
@@ -82,19 +79,17 @@ contains
         i0 = P1D_NSTATE * (f - 1)
         ef = eps_n(1) - y * eps_n(2)
         def = deps(1) - y * deps(2)
-        inside = inside .and. plastic_1d_inside(e, sy, hi, e * (ef - q_n(i0 + 1)), q_n(i0 + 1:i0 + P1D_NSTATE), def)
+        inside = inside .and. plastic_1d_inside(p, e * (ef - q_n(i0 + 1)), q_n(i0 + 1:i0 + P1D_NSTATE), def)
       end do
       if (inside) then
         call fibre_elastic_matrix(e, sec, dmat)
-        sig = sig_n + matmul(dmat, deps)
-        sigbar = 0.5_dp * (sig_n + sig)
+        call elastic_chord(dmat, sig_n, deps, r)
         q(1:P1D_NSTATE * sec%layers) = q_n(1:P1D_NSTATE * sec%layers)
-        dtan = dmat
         return
       end if
       n = nsub
-      if (n <= 0) n = plastic_auto_nsub(e * (abs(deps(1)) + 0.5_dp * sec%height * abs(deps(2))) / sy)
-      nused = n
+      if (n <= 0) n = plastic_auto_nsub(e * (abs(deps(1)) + 0.5_dp * sec%height * abs(deps(2))) / p%yield)
+      r%nused = n
       do f = 1, sec%layers
         call fibre_layer(sec, f, y, a)
         i0 = P1D_NSTATE * (f - 1)
@@ -102,10 +97,10 @@ contains
         def = deps(1) - y * deps(2)
         sf_n = e * (ef - q_n(i0 + 1))
         ! A layer that stays elastic returns the exact chord, equal to the trapezoid of any N.
-        call plastic_1d_path(e, sy, hi, hk, n, sf_n, q_n(i0 + 1:i0 + P1D_NSTATE), def, sf, sbf, &
+        call plastic_1d_path(p, n, sf_n, q_n(i0 + 1:i0 + P1D_NSTATE), def, sf, sbf, &
                              q(i0 + 1:i0 + P1D_NSTATE), df, nf, et)
-        call accumulate(y, a, sf, sbf, et, sig, sigbar, dtan)
-        dissip = dissip + a * df
+        call accumulate(y, a, sf, sbf, et, r)
+        r%dissip = r%dissip + a * df
       end do
     case (FIB_NONLINEAR)
       n = nsub
@@ -113,36 +108,42 @@ contains
         n = 1
         do f = 1, sec%layers
           call fibre_layer(sec, f, y, a)
-          n = max(n, nle_auto_nsub(e, b, eps_n(1) - y * eps_n(2), deps(1) - y * deps(2)))
+          n = max(n, nle_auto_nsub(e, p%nl_b, eps_n(1) - y * eps_n(2), deps(1) - y * deps(2)))
         end do
       end if
-      nused = n
+      r%nused = n
       do f = 1, sec%layers
         call fibre_layer(sec, f, y, a)
         ef = eps_n(1) - y * eps_n(2)
         def = deps(1) - y * deps(2)
-        call nle_path(e, b, n, ef, def, nle_stress(e, b, ef), sf, sbf, et)
-        call accumulate(y, a, sf, sbf, et, sig, sigbar, dtan)
+        call nle_path(e, p%nl_b, n, ef, def, nle_stress(e, p%nl_b, ef), sf, sbf, et)
+        call accumulate(y, a, sf, sbf, et, r)
       end do
     case default
       call fibre_elastic_matrix(e, sec, dmat)
-      sig = sig_n + matmul(dmat, deps)
-      sigbar = 0.5_dp * (sig_n + sig)
-      dtan = dmat
+      call elastic_chord(dmat, sig_n, deps, r)
     end select
-
   end subroutine fibre_update
 
+  !> The whole step elastic: sig = sig_n + D deps, sigbar the exact chord midpoint.
+  pure subroutine elastic_chord(d, sig_n, deps, r)
+    real(dp), intent(in) :: d(2, 2), sig_n(2), deps(2)
+    type(law_step_t), intent(inout) :: r
+    r%sig(1:2) = sig_n + matmul(d, deps)
+    r%sigbar(1:2) = 0.5_dp * (sig_n + r%sig(1:2))
+    r%dtan(1:2, 1:2) = d
+  end subroutine elastic_chord
+
   !> Add layer (y, a) with stress s, mean stress sb, tangent t to the section resultants.
-  pure subroutine accumulate(y, a, s, sb, t, sig, sigbar, dtan)
+  pure subroutine accumulate(y, a, s, sb, t, r)
     real(dp), intent(in) :: y, a, s, sb, t
-    real(dp), intent(inout) :: sig(2), sigbar(2), dtan(2, 2)
-    sig = sig + a * [s, -y * s]
-    sigbar = sigbar + a * [sb, -y * sb]
-    dtan(1, 1) = dtan(1, 1) + a * t
-    dtan(1, 2) = dtan(1, 2) - a * y * t
-    dtan(2, 1) = dtan(2, 1) - a * y * t
-    dtan(2, 2) = dtan(2, 2) + a * y**2 * t
+    type(law_step_t), intent(inout) :: r
+    r%sig(1:2) = r%sig(1:2) + a * [s, -y * s]
+    r%sigbar(1:2) = r%sigbar(1:2) + a * [sb, -y * sb]
+    r%dtan(1, 1) = r%dtan(1, 1) + a * t
+    r%dtan(1, 2) = r%dtan(1, 2) - a * y * t
+    r%dtan(2, 1) = r%dtan(2, 1) - a * y * t
+    r%dtan(2, 2) = r%dtan(2, 2) + a * y**2 * t
   end subroutine accumulate
 
   !> Recoverable energy per unit length: sum A_f psi_f, psi_f = sigma_f^2 / (2E) (elastic,

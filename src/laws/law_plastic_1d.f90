@@ -8,6 +8,7 @@
 module law_plastic_1d
   use kinds, only: dp
   use subincrement, only: return_map_t, subincrement_path
+  use law_types, only: law_params_t
   implicit none
   private
   public :: P1D_NSTATE, plastic_1d_return, plastic_1d_inside, plastic_1d_path, plastic_1d_map_t
@@ -15,7 +16,7 @@ module law_plastic_1d
 
   !> The law's one-step map for the sub-incrementation: plastic_1d_return.
   type, extends(return_map_t) :: plastic_1d_map_t
-    real(dp) :: e = 0.0_dp, sy = 0.0_dp, hi = 0.0_dp, hk = 0.0_dp
+    type(law_params_t) :: p
   contains
     procedure :: step => plastic_1d_step
   end type plastic_1d_map_t
@@ -39,17 +40,23 @@ contains
 
   !> True when the elastic trial sig_n + e deps stays inside the yield surface of the frozen
   !> state q_n: by convexity the whole straight path is then elastic.
-  pure logical function plastic_1d_inside(e, sy, hi, sig_n, q_n, deps)
-    real(dp), intent(in) :: e, sy, hi, sig_n, q_n(:), deps
-    plastic_1d_inside = abs(sig_n + e * deps - q_n(3)) - (sy + hi * q_n(2)) <= 0.0_dp
+  pure logical function plastic_1d_inside(p, sig_n, q_n, deps)
+    type(law_params_t), intent(in) :: p
+    real(dp), intent(in) :: sig_n, q_n(:), deps
+    plastic_1d_inside = abs(sig_n + p%young * deps - q_n(3)) - (p%yield + p%h_iso * q_n(2)) <= 0.0_dp
   end function plastic_1d_inside
 
   !> One increment: elastic predictor, closed-form return. dep is the plastic strain increment,
   !> et the algorithmic (consistent) tangent dsig/dde.
-  pure subroutine plastic_1d_return(e, sy, hi, hk, sig_n, q_n, de, sig, q, dep, et)
-    real(dp), intent(in) :: e, sy, hi, hk, sig_n, q_n(:), de
+  pure subroutine plastic_1d_return(p, sig_n, q_n, de, sig, q, dep, et)
+    type(law_params_t), intent(in) :: p
+    real(dp), intent(in) :: sig_n, q_n(:), de
     real(dp), intent(out) :: sig, q(:), dep, et
-    real(dp) :: str, xi, f, dg, sg
+    real(dp) :: str, xi, f, dg, sg, e, sy, hi, hk
+    e = p%young
+    sy = p%yield
+    hi = p%h_iso
+    hk = p%h_kin
     str = sig_n + e * de
     xi = str - q_n(3)
     f = abs(xi) - (sy + hi * q_n(2))
@@ -76,7 +83,7 @@ contains
     integer, intent(in) :: ns, nq, k, n
     real(dp), intent(in) :: eps_n(ns), deps(ns), de(ns), s0(ns), q0(nq)
     real(dp), intent(out) :: s1(ns), q1(nq), dep(ns), dtan(ns, ns)
-    call plastic_1d_return(self%e, self%sy, self%hi, self%hk, s0(1), q0, de(1), s1(1), q1, dep(1), dtan(1, 1))
+    call plastic_1d_return(self%p, s0(1), q0, de(1), s1(1), q1, dep(1), dtan(1, 1))
   end subroutine plastic_1d_step
 
   !> Straight strain path deps in nsub >= 1 sub-increments. If the whole step is elastic
@@ -84,24 +91,25 @@ contains
   !> midpoint, nused = 0. Otherwise subincrement_path gives sigbar, the trapezoid mean of
   !> sigma_0 = sig_n .. sigma_N, and dissip, the trapezoid sum of sigma . dep over the
   !> sub-increments; nused = nsub; et is the tangent of the last sub-increment.
-  pure subroutine plastic_1d_path(e, sy, hi, hk, nsub, sig_n, q_n, deps, sig, sigbar, q, dissip, nused, et)
-    real(dp), intent(in) :: e, sy, hi, hk, sig_n, q_n(:), deps
+  pure subroutine plastic_1d_path(p, nsub, sig_n, q_n, deps, sig, sigbar, q, dissip, nused, et)
+    type(law_params_t), intent(in) :: p
+    real(dp), intent(in) :: sig_n, q_n(:), deps
     integer, intent(in) :: nsub
     real(dp), intent(out) :: sig, sigbar, q(:), dissip, et
     integer, intent(out) :: nused
     real(dp) :: s(1), sb(1), t(1, 1), qn(P1D_NSTATE), qk(P1D_NSTATE)
-    if (plastic_1d_inside(e, sy, hi, sig_n, q_n, deps)) then
-      sig = sig_n + e * deps
+    if (plastic_1d_inside(p, sig_n, q_n, deps)) then
+      sig = sig_n + p%young * deps
       sigbar = 0.5_dp * (sig_n + sig)
       q(1:P1D_NSTATE) = q_n(1:P1D_NSTATE)
       dissip = 0.0_dp
       nused = 0
-      et = e
+      et = p%young
       return
     end if
     nused = max(1, nsub)
     qn = q_n(1:P1D_NSTATE)           ! contiguous locals: no temporary at the call
-    call subincrement_path(plastic_1d_map_t(e, sy, hi, hk), nused, [0.0_dp], [deps], [sig_n], qn, s, sb, qk, &
+    call subincrement_path(plastic_1d_map_t(p), nused, [0.0_dp], [deps], [sig_n], qn, s, sb, qk, &
       dissip, t)
     q(1:P1D_NSTATE) = qk
     sig = s(1)

@@ -16,6 +16,7 @@
 module law_von_mises
   use kinds, only: dp
   use subincrement, only: return_map_t, subincrement_path
+  use law_types, only: law_params_t, law_step_t
   implicit none
   private
   public :: VM_NSTATE, vm_d3, vm_dps, vm_return, vm_path, vm_trial_ratio, vm_stored, vm_dev, vm_norm, vm_map_t
@@ -26,7 +27,7 @@ module law_von_mises
 
   !> The law's one-step map for the sub-incrementation.
   type, extends(return_map_t) :: vm_map_t
-    real(dp) :: e = 0.0_dp, nu = 0.0_dp, sy = 0.0_dp, hi = 0.0_dp, hk = 0.0_dp
+    type(law_params_t) :: p
     logical :: plane_stress = .false.
   contains
     procedure :: step => vm_step
@@ -94,11 +95,17 @@ contains
 
   !> One 3D increment de (zz entry included) from (sig_n, q_n): elastic predictor with d3, radial
   !> return. dep: plastic strain increment (engineering shear); cep: consistent tangent.
-  pure subroutine vm_return(e, nu, sy, hi, hk, sig_n, q_n, de, sig, q, dep, cep)
-    real(dp), intent(in) :: e, nu, sy, hi, hk, sig_n(4), q_n(:), de(4)
+  pure subroutine vm_return(p, sig_n, q_n, de, sig, q, dep, cep)
+    type(law_params_t), intent(in) :: p
+    real(dp), intent(in) :: sig_n(4), q_n(:), de(4)
     real(dp), intent(out) :: sig(4), q(:), dep(4), cep(4, 4)
-    real(dp) :: d3(4, 4), str(4), xi(4), n(4), nrm, f, g, kb, dpeq, dlam, th, thb
+    real(dp) :: d3(4, 4), str(4), xi(4), n(4), nrm, f, g, kb, dpeq, dlam, th, thb, e, nu, sy, hi, hk
     integer :: i, j
+    e = p%young
+    nu = p%poisson
+    sy = p%yield
+    hi = p%h_iso
+    hk = p%h_kin
     call vm_d3(e, nu, d3)
     str = sig_n + matmul(d3, de)
     xi = vm_dev(str) - q_n(6:9)
@@ -141,17 +148,18 @@ contains
   end subroutine vm_return
 
   !> One plane-stress increment: (de(1), de(2), de(4)) given, de(3) solved for szz = 0.
-  pure subroutine vm_return_ps(e, nu, sy, hi, hk, sig_n, q_n, de, sig, q, dep, ctan)
-    real(dp), intent(in) :: e, nu, sy, hi, hk, sig_n(4), q_n(:), de(4)
+  pure subroutine vm_return_ps(p, sig_n, q_n, de, sig, q, dep, ctan)
+    type(law_params_t), intent(in) :: p
+    real(dp), intent(in) :: sig_n(4), q_n(:), de(4)
     real(dp), intent(out) :: sig(4), q(:), dep(4), ctan(4, 4)
     real(dp) :: d3(4, 4), cep(4, 4), z, d33(4)
     integer :: it, i, j
-    call vm_d3(e, nu, d3)
+    call vm_d3(p%young, p%poisson, d3)
     z = -(sig_n(3) + d3(3, 1) * de(1) + d3(3, 2) * de(2) + d3(3, 4) * de(4)) / d3(3, 3)
     do it = 1, PS_MAXIT
       d33 = [de(1), de(2), z, de(4)]
-      call vm_return(e, nu, sy, hi, hk, sig_n, q_n, d33, sig, q, dep, cep)
-      if (abs(sig(3)) <= PS_RTOL * (sy + vm_norm(sig))) exit
+      call vm_return(p, sig_n, q_n, d33, sig, q, dep, cep)
+      if (abs(sig(3)) <= PS_RTOL * (p%yield + vm_norm(sig))) exit
       z = z - sig(3) / cep(3, 3)
     end do
     sig(3) = 0.0_dp
@@ -177,9 +185,9 @@ contains
     d = de(1:4)
     if (self%plane_stress) then
       d(3) = 0.0_dp
-      call vm_return_ps(self%e, self%nu, self%sy, self%hi, self%hk, s0, q0, d, s1, q1, dep, dtan)
+      call vm_return_ps(self%p, s0, q0, d, s1, q1, dep, dtan)
     else
-      call vm_return(self%e, self%nu, self%sy, self%hi, self%hk, s0, q0, d, s1, q1, dep, dtan)
+      call vm_return(self%p, s0, q0, d, s1, q1, dep, dtan)
     end if
   end subroutine vm_step
 
@@ -188,28 +196,26 @@ contains
   !> plane stress D) and the frozen state -> exact chord, nused = 0; else subincrement_path:
   !> trapezoid mean stress, trapezoid dissipation sum 1/2 (sig_{k-1} + sig_k) . dep_k, tangent of
   !> the last sub-increment.
-  pure subroutine vm_path(e, nu, sy, hi, hk, plane_stress, nsub, d_el, sig_n, q_n, deps, &
-                          sig, sigbar, q, dissip, nused, dtan)
-    real(dp), intent(in) :: e, nu, sy, hi, hk, d_el(4, 4), sig_n(4), q_n(:), deps(4)
+  pure subroutine vm_path(p, plane_stress, nsub, d_el, sig_n, q_n, deps, q, r)
+    type(law_params_t), intent(in) :: p
+    real(dp), intent(in) :: d_el(4, 4), sig_n(4), q_n(:), deps(4)
     logical, intent(in) :: plane_stress
     integer, intent(in) :: nsub
-    real(dp), intent(out) :: sig(4), sigbar(4), q(:), dissip, dtan(4, 4)
-    integer, intent(out) :: nused
+    real(dp), intent(out) :: q(:)
+    type(law_step_t), intent(out) :: r
     real(dp) :: qn(VM_NSTATE), qk(VM_NSTATE)
-    sig = sig_n + matmul(d_el, deps)
-    if (sqrt(1.5_dp) * vm_norm(vm_dev(sig) - q_n(6:9)) - (sy + hi * q_n(5)) <= 0.0_dp) then
-      sigbar = 0.5_dp * (sig_n + sig)
+    r%sig = sig_n + matmul(d_el, deps)
+    if (sqrt(1.5_dp) * vm_norm(vm_dev(r%sig) - q_n(6:9)) - (p%yield + p%h_iso * q_n(5)) <= 0.0_dp) then
+      r%sigbar = 0.5_dp * (sig_n + r%sig)
       q(1:VM_NSTATE) = q_n(1:VM_NSTATE)
-      if (plane_stress) q(10) = q_n(10) - nu / (1.0_dp - nu) * (deps(1) + deps(2))
-      dissip = 0.0_dp
-      nused = 0
-      dtan = d_el
+      if (plane_stress) q(10) = q_n(10) - p%poisson / (1.0_dp - p%poisson) * (deps(1) + deps(2))
+      r%dtan = d_el
       return
     end if
-    nused = max(1, nsub)
+    r%nused = max(1, nsub)
     qn = q_n(1:VM_NSTATE)            ! contiguous locals: no temporary at the call
-    call subincrement_path(vm_map_t(e, nu, sy, hi, hk, plane_stress), nused, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
-      deps, sig_n, qn, sig, sigbar, qk, dissip, dtan)
+    call subincrement_path(vm_map_t(p, plane_stress), r%nused, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
+      deps, sig_n, qn, r%sig, r%sigbar, qk, r%dissip, r%dtan)
     q(1:VM_NSTATE) = qk
   end subroutine vm_path
 end module law_von_mises

@@ -14,6 +14,7 @@
 module material_law
   use kinds, only: dp
   use section, only: section_t
+  use law_types, only: law_params_t, law_step_t
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use law_elastic, only: elastic_update
   use law_nonlinear_elastic, only: nle_path, nle_auto_nsub, nle_energy, nle_stress
@@ -23,7 +24,7 @@ module material_law
                         fibre_elastic_matrix, fibre_nstate
   implicit none
   private
-  public :: material_t, law_update, law_is_linear, law_nstate, law_name, law_code, law_check
+  public :: material_t, law_step_t, law_update, law_is_linear, law_nstate, law_name, law_code, law_check
   public :: law_stored, law_elastic_matrix
   public :: LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES
   public :: PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS, pk_nstrain
@@ -31,16 +32,12 @@ module material_law
   integer, parameter :: LAW_ELASTIC = 1, LAW_NONLINEAR_ELASTIC = 2, LAW_ELASTOPLASTIC = 3, LAW_VON_MISES = 4
   integer, parameter :: PK_1D = 1, PK_BEAM = 2, PK_PSTRAIN = 3, PK_PSTRESS = 4
 
-  type :: material_t
+  !> A scene's material: its name, its law and density, and the law's constants (law_params_t:
+  !> young, poisson, nl_b, yield, h_iso, h_kin), which the laws receive as mat%law_params_t.
+  type, extends(law_params_t) :: material_t
     character(len=:), allocatable :: name
     integer :: law = LAW_ELASTIC
-    real(dp) :: young = 0.0_dp     !< Young's modulus [Pa]; for SPRING the stiffness [N/m]
-    real(dp) :: poisson = 0.0_dp
     real(dp) :: density = 0.0_dp   !< [kg/m3]
-    real(dp) :: nl_b = 0.0_dp      !< NONLINEAR_ELASTIC: sigma = E eps (1 + b eps^2)
-    real(dp) :: yield = 0.0_dp     !< ELASTOPLASTIC, VON_MISES: initial yield stress (force for springs)
-    real(dp) :: h_iso = 0.0_dp     !< linear isotropic hardening modulus (d sigma / d eps_p)
-    real(dp) :: h_kin = 0.0_dp     !< linear kinematic hardening modulus
   end type material_t
 
 contains
@@ -195,73 +192,54 @@ contains
     end if
   end subroutine law_check
 
-  !> Integrate the law over one step (see the module header).
+  !> Integrate the law over one step (see the module header) into r (law_types' law_step_t).
   !> d: elastic matrix of the point (nstr x nstr), law_elastic_matrix's (ELASTIC and VON_MISES
   !> use it; the 1D and fibre laws take E from the material). nsub >= 1: N fixed sub-increments;
   !> nsub <= 0: AUTO (docs/materials.md). q_n, q: law_nstate internal variables.
-  !> work = sigbar . deps and dissip (trapezoid of sigma . deps_p over the sub-increments) are per
-  !> unit weight. nused: sub-increments used, 0 when no sub-incrementation was needed (ELASTIC,
-  !> or a step of a plastic law that stayed elastic: then sig = sig_n + D deps and
-  !> sigbar = (sig_n + sig)/2 exactly, so sigma_c = 0 bit for bit). dtan: consistent tangent
+  !> r%work = sigbar . deps and r%dissip (trapezoid of sigma . deps_p over the sub-increments) are
+  !> per unit weight. r%nused: sub-increments used, 0 when no sub-incrementation was needed
+  !> (ELASTIC, or a step of a plastic law that stayed elastic: then sig = sig_n + D deps and
+  !> sigbar = (sig_n + sig)/2 exactly, so sigma_c = 0 bit for bit). r%dtan: consistent tangent
   !> d sig / d deps of the last sub-increment (exact for N = 1, and for any N when the whole step
   !> is elastic or, 1D laws, on one branch of the curve).
-  pure subroutine law_update(mat, sec, pk, d, nsub, eps_n, deps, sig_n, q_n, sig, sigbar, q, work, dissip, &
-                             nused, dtan)
+  pure subroutine law_update(mat, sec, pk, d, nsub, eps_n, deps, sig_n, q_n, q, r)
     type(material_t), intent(in) :: mat
     type(section_t), intent(in) :: sec
     integer, intent(in) :: pk, nsub
     real(dp), intent(in) :: d(:, :), eps_n(:), deps(:), sig_n(:), q_n(:)
-    real(dp), intent(out) :: sig(:), sigbar(:), q(:)
-    real(dp), intent(out) :: work, dissip
-    integer, intent(out), optional :: nused
-    real(dp), intent(out), optional :: dtan(:, :)
-    real(dp) :: dl(4, 4), tl(4, 4), s1, sb1, et
-    integer :: n, nu, ns, nst
+    real(dp), intent(out) :: q(:)
+    type(law_step_t), intent(out) :: r
+    real(dp) :: dl(4, 4)
+    integer :: n, ns, nst
     ns = pk_nstrain(pk)
     nst = law_nstate(mat, pk, sec)
     if (size(q) > 0) q = 0.0_dp
-    dissip = 0.0_dp
-    nu = 0
-    tl = 0.0_dp
     select case (mat%law)
     case (LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC)
       if (pk == PK_BEAM .and. sec%layers > 0) then
-        call fibre_update(fibre_kind(mat), mat%young, mat%nl_b, mat%yield, mat%h_iso, mat%h_kin, sec, nsub, &
-          eps_n(1:2), deps(1:2), sig_n(1:2), q_n, sig(1:2), sigbar(1:2), q, dissip, nu, tl(1:2, 1:2))
+        call fibre_update(fibre_kind(mat), mat%law_params_t, sec, nsub, eps_n(1:2), deps(1:2), sig_n(1:2), q_n, q, r)
       else if (mat%law == LAW_NONLINEAR_ELASTIC) then
         n = nsub
         if (n <= 0) n = nle_auto_nsub(mat%young, mat%nl_b, eps_n(1), deps(1))
-        call nle_path(mat%young, mat%nl_b, n, eps_n(1), deps(1), sig_n(1), s1, sb1, et)
-        sig(1) = s1
-        sigbar(1) = sb1
-        tl(1, 1) = et
-        nu = n
+        call nle_path(mat%young, mat%nl_b, n, eps_n(1), deps(1), sig_n(1), r%sig(1), r%sigbar(1), r%dtan(1, 1))
+        r%nused = n
       else
         n = nsub
         if (n <= 0) n = plastic_auto_nsub(mat%young * deps(1) / mat%yield)
-        call plastic_1d_path(mat%young, mat%yield, mat%h_iso, mat%h_kin, n, sig_n(1), q_n, deps(1), &
-          s1, sb1, q, dissip, nu, et)
-        sig(1) = s1
-        sigbar(1) = sb1
-        tl(1, 1) = et
+        call plastic_1d_path(mat%law_params_t, n, sig_n(1), q_n, deps(1), r%sig(1), r%sigbar(1), q, r%dissip, r%nused, &
+          r%dtan(1, 1))
       end if
     case (LAW_VON_MISES)
       dl = d(1:4, 1:4)             ! the caller's D is law_elastic_matrix's (not rebuilt at every point)
       n = nsub
       if (n <= 0) n = plastic_auto_nsub(vm_trial_ratio(dl, deps(1:4), mat%yield))
-      call vm_path(mat%young, mat%poisson, mat%yield, mat%h_iso, mat%h_kin, pk == PK_PSTRESS, n, dl, &
-        sig_n(1:4), q_n, deps(1:4), sig(1:4), sigbar(1:4), q, dissip, nu, tl)
+      call vm_path(mat%law_params_t, pk == PK_PSTRESS, n, dl, sig_n(1:4), q_n, deps(1:4), q, r)
     case default
-      call elastic_update(d(1:ns, 1:ns), deps(1:ns), sig_n(1:ns), sig(1:ns), sigbar(1:ns))
+      call elastic_update(d(1:ns, 1:ns), deps(1:ns), sig_n(1:ns), r%sig(1:ns), r%sigbar(1:ns))
       if (nst > 0) q(1:nst) = q_n(1:nst)
-      tl(1:ns, 1:ns) = d(1:ns, 1:ns)
+      r%dtan(1:ns, 1:ns) = d(1:ns, 1:ns)
     end select
-    work = dot_product(sigbar(1:ns), deps(1:ns))
-    if (present(nused)) nused = nu
-    if (present(dtan)) then
-      dtan = 0.0_dp
-      dtan(1:ns, 1:ns) = tl(1:ns, 1:ns)
-    end if
+    r%work = dot_product(r%sigbar(1:ns), deps(1:ns))
   end subroutine law_update
 
   !> Recoverable (elastic) energy per unit weight of a state: 1/2 sigma . eps for ELASTIC,

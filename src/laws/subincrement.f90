@@ -7,14 +7,15 @@
 !> each layer of a fibre section.
 module subincrement
   use kinds, only: dp
+  use law_types, only: MAX_COMPONENTS
   implicit none
   private
   public :: return_map_t, subincrement_path, correction_stress, MAX_COMPONENTS, MAX_STATE
 
-  !> Largest stress and internal-variable vectors of a point: the locals are fixed-size (no
+  !> Largest internal-variable vector of a point (law_types: the largest stress): the locals are fixed-size (no
   !> allocation at the integration points); every law is within them (1D: 1 and 3, quads: 4
   !> and 10), a larger one is out of bounds (make check-debug).
-  integer, parameter :: MAX_COMPONENTS = 4, MAX_STATE = 16
+  integer, parameter :: MAX_STATE = 16
 
   !> What a law supplies: one sub-increment of its constitutive update.
   type, abstract :: return_map_t

@@ -10,6 +10,7 @@ program test_beam_fibre
   use beam_fibre, only: FIB_PLASTIC, FIB_NONLINEAR, fibre_layer, fibre_elastic_matrix, fibre_nstate, fibre_update, &
                         fibre_stored
   use law_nonlinear_elastic, only: nle_energy, nle_tangent
+  use law_types, only: law_params_t, law_step_t
   implicit none
 
   real(dp), parameter :: e = 200.0e9_dp, sy = 250.0e6_dp, hgt = 0.2_dp, wid = 0.1_dp
@@ -44,7 +45,7 @@ program test_beam_fibre
     err = 0.0_dp
     do i = 1, 50
       de = [0.0_dp, 0.1_dp * ke]
-      call fibre_update(FIB_PLASTIC, e, 0.0_dp, sy, 0.0_dp, 0.0_dp, sec, 1, eps, de, s, qn, sig, sbar, q, dis, nused, dt)
+      call fibre_update_args(FIB_PLASTIC, e, 0.0_dp, sy, 0.0_dp, 0.0_dp, sec, 1, eps, de, s, qn, sig, sbar, q, dis, nused, dt)
       eps = eps + de
       s = sig
       qn = q
@@ -64,36 +65,36 @@ program test_beam_fibre
   deallocate (q, qn)
   allocate (q(fibre_nstate(FIB_PLASTIC, sec)), qn(fibre_nstate(FIB_PLASTIC, sec)))
   qn = 0.0_dp
-  call fibre_update(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, 1, [0.0_dp, 0.0_dp], [0.3_dp * sy / e, 2 * ke], &
+  call fibre_update_args(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, 1, [0.0_dp, 0.0_dp], [0.3_dp * sy / e, 2 * ke], &
     [0.0_dp, 0.0_dp], qn, s, sbar, q, dis, nused, dt)
   qn = q
   eps = [0.3_dp * sy / e, 2 * ke]
   de = [-0.1_dp * sy / e, 1.3_dp * ke]
   st0 = fibre_stored(FIB_PLASTIC, e, 0.0_dp, sec, eps, qn)
   do n = 1, 64, 9
-    call fibre_update(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, n, eps, de, s, qn, sig, sbar, q, dis, nused, dt)
+    call fibre_update_args(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, n, eps, de, s, qn, sig, sbar, q, dis, nused, dt)
     st1 = fibre_stored(FIB_PLASTIC, e, 0.0_dp, sec, eps + de, q)
     w = dot_product(sbar, de)
     write (nm, '(a,i0)') 'fibre: work = dstored + dissip, N=', n
     call check_close(w, st1 - st0 + dis, 1.0e-12_dp, trim(nm))
   end do
   h = 1.0e-7_dp
-  call fibre_update(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, 1, eps, de, s, qn, sig, sbar, q, dis, nused, dt)
+  call fibre_update_args(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, 1, eps, de, s, qn, sig, sbar, q, dis, nused, dt)
   do k = 1, 2
     de(k) = de(k) * (1 + h)
-    call fibre_update(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, 1, eps, de, s, qn, sp, sbar, q, dis, nused, fd)
+    call fibre_update_args(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, 1, eps, de, s, qn, sp, sbar, q, dis, nused, fd)
     de(k) = de(k) / (1 + h) * (1 - h)
-    call fibre_update(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, 1, eps, de, s, qn, sm, sbar, q, dis, nused, fd)
+    call fibre_update_args(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, 1, eps, de, s, qn, sm, sbar, q, dis, nused, fd)
     de(k) = de(k) / (1 - h)
     fd(:, k) = (sp - sm) / (2 * h * de(k))
   end do
-  call fibre_update(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, 1, eps, de, s, qn, sig, sbar, q, dis, nused, dt)
+  call fibre_update_args(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, 1, eps, de, s, qn, sig, sbar, q, dis, nused, dt)
   call check(abs(fd(1, 1) - dt(1, 1)) <= 1.0e-6_dp * dt(1, 1) .and. abs(fd(2, 2) - dt(2, 2)) <= 1.0e-6_dp * dt(2, 2) &
     .and. abs(fd(1, 2) - dt(1, 2)) <= 1.0e-6_dp * sqrt(dt(1, 1) * dt(2, 2)) &
     .and. abs(fd(2, 1) - dt(2, 1)) <= 1.0e-6_dp * sqrt(dt(1, 1) * dt(2, 2)), 'fibre: consistent tangent vs FD')
 
   ! Elastic step from the plastic state (small unloading): sigma_c == 0 bit for bit, nused = 0.
-  call fibre_update(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, 7, eps + de, [0.0_dp, -0.05_dp * ke], sig, q, &
+  call fibre_update_args(FIB_PLASTIC, e, 0.0_dp, sy, 4.0e9_dp, 6.0e9_dp, sec, 7, eps + de, [0.0_dp, -0.05_dp * ke], sig, q, &
     s, sbar, qn, dis, nused, dt)
   call fibre_elastic_matrix(e, sec, d)
   call check(all(2 * sbar - (sig + s) == 0.0_dp) .and. nused == 0 .and. all(s == sig + matmul(d, [0.0_dp, -0.05_dp * ke])), &
@@ -113,7 +114,7 @@ program test_beam_fibre
         * (nle_tangent(e, 300.0_dp, eps(1) + de(1) - y * (eps(2) + de(2))) - nle_tangent(e, 300.0_dp, eps(1) - y * eps(2))))
     end do
     s = 0.0_dp
-    call fibre_update(FIB_NONLINEAR, e, 300.0_dp, sy, 0.0_dp, 0.0_dp, sec, n, eps, de, s, qn, sig, sbar, q, dis, nused, dt)
+    call fibre_update_args(FIB_NONLINEAR, e, 300.0_dp, sy, 0.0_dp, 0.0_dp, sec, n, eps, de, s, qn, sig, sbar, q, dis, nused, dt)
     write (nm, '(a,i0)') 'fibre: nonlinear elastic W_N = dpsi + exact trapezoid error, N=', n
     call check_close(dot_product(sbar, de), pred, 1.0e-10_dp, trim(nm))
   end do
@@ -130,4 +131,20 @@ contains
       m_exact = me * 1.5_dp * (1 - (ke / k)**2 / 3)
     end if
   end function m_exact
+  !> fibre_update with the constants given one by one and its result unpacked.
+  subroutine fibre_update_args(kind, e, b, sy, hi, hk, sec, nsub, eps_n, deps, sig_n, q_n, sig, sigbar, q, dissip, nused, dtan)
+    integer, intent(in) :: kind, nsub
+    real(dp), intent(in) :: e, b, sy, hi, hk, eps_n(2), deps(2), sig_n(2), q_n(:)
+    type(section_t), intent(in) :: sec
+    real(dp), intent(out) :: sig(2), sigbar(2), q(:), dissip, dtan(2, 2)
+    integer, intent(out) :: nused
+    type(law_step_t) :: r
+    call fibre_update(kind, law_params_t(young=e, nl_b=b, yield=sy, h_iso=hi, h_kin=hk), sec, nsub, eps_n, deps, sig_n, &
+      q_n, q, r)
+    sig = r%sig(1:2)
+    sigbar = r%sigbar(1:2)
+    dissip = r%dissip
+    nused = r%nused
+    dtan = r%dtan(1:2, 1:2)
+  end subroutine fibre_update_args
 end program test_beam_fibre

@@ -8,6 +8,7 @@ program test_law_plastic_1d
   use kinds, only: dp
   use testing, only: check, check_close, test_summary
   use law_plastic_1d, only: P1D_NSTATE, plastic_1d_path, plastic_1d_return, plastic_auto_nsub, AUTO_ALPHA
+  use law_types, only: law_params_t
   implicit none
 
   real(dp), parameter :: e = 200.0e9_dp, sy = 250.0e6_dp, ey = sy / e
@@ -27,7 +28,7 @@ program test_law_plastic_1d
     eps = 0.0_dp
     do i = 1, 7
       h = ey * (0.3_dp + 0.45_dp * i)
-      call plastic_1d_path(e, sy, hard(1, j), hard(2, j), 1, s, qn, h, sig, sigbar, q, dissip, nused, et)
+      call plastic_1d_path(lp(e, sy, hard(1, j), hard(2, j)), 1, s, qn, h, sig, sigbar, q, dissip, nused, et)
       eps = eps + h
       s = sig
       qn = q
@@ -41,7 +42,7 @@ program test_law_plastic_1d
   ! Cyclic: load to eps1 = 5 ey, then reverse to -5 ey in small steps; find reverse yield.
   do j = 1, 2
     qn = 0.0_dp
-    call plastic_1d_path(e, sy, hard(1, j), hard(2, j), 1, 0.0_dp, qn, 5 * ey, s1, bar, q, dissip, nused, et)
+    call plastic_1d_path(lp(e, sy, hard(1, j), hard(2, j)), 1, 0.0_dp, qn, 5 * ey, s1, bar, q, dissip, nused, et)
     qn = q
     s = s1
     eps = 5 * ey
@@ -51,11 +52,11 @@ program test_law_plastic_1d
     else
       h = (s1 - 2 * sy - s1) / e  ! kinematic: reverse yield at sigma_max - 2 sy
     end if
-    call plastic_1d_path(e, sy, hard(1, j), hard(2, j), 1, s, qn, h * (1 - 1.0e-9_dp), sig, bar, q, dissip, nused, et)
+    call plastic_1d_path(lp(e, sy, hard(1, j), hard(2, j)), 1, s, qn, h * (1 - 1.0e-9_dp), sig, bar, q, dissip, nused, et)
     call check(nused == 0, 'p1d: unloading stays elastic up to the reverse yield point, case ' // achar(48 + j))
     qn = q
     s = sig
-    call plastic_1d_path(e, sy, hard(1, j), hard(2, j), 1, s, qn, -2 * ey, sig, bar, q, dissip, nused, et)
+    call plastic_1d_path(lp(e, sy, hard(1, j), hard(2, j)), 1, s, qn, -2 * ey, sig, bar, q, dissip, nused, et)
     ! After reverse yield the slope is Et = E H/(E+H); the first delta = (s - s_ry)/E of the
     ! strain is still elastic (the unloading stopped 1e-9 short of the reverse-yield point).
     bar = s + h * 1.0e-9_dp * e   ! s_ry
@@ -68,9 +69,9 @@ program test_law_plastic_1d
   do n = 1, 5, 4
     qn = 0.0_dp
     h = 1.0e-6_dp * ey
-    call plastic_1d_path(e, sy, 4.0e9_dp, 6.0e9_dp, n, 0.0_dp, qn, 3 * ey + h, sp, bar, q, dissip, nused, et)
-    call plastic_1d_path(e, sy, 4.0e9_dp, 6.0e9_dp, n, 0.0_dp, qn, 3 * ey - h, sm, bar, q, dissip, nused, et)
-    call plastic_1d_path(e, sy, 4.0e9_dp, 6.0e9_dp, n, 0.0_dp, qn, 3 * ey, sig, bar, q, dissip, nused, et)
+    call plastic_1d_path(lp(e, sy, 4.0e9_dp, 6.0e9_dp), n, 0.0_dp, qn, 3 * ey + h, sp, bar, q, dissip, nused, et)
+    call plastic_1d_path(lp(e, sy, 4.0e9_dp, 6.0e9_dp), n, 0.0_dp, qn, 3 * ey - h, sm, bar, q, dissip, nused, et)
+    call plastic_1d_path(lp(e, sy, 4.0e9_dp, 6.0e9_dp), n, 0.0_dp, qn, 3 * ey, sig, bar, q, dissip, nused, et)
     call check_close((sp - sm) / (2 * h), et, 1.0e-6_dp, 'p1d: consistent tangent vs FD, N=' // achar(48 + n))
   end do
   call check_close(et, e * 10.0e9_dp / (e + 10.0e9_dp), 1.0e-14_dp, 'p1d: plastic tangent = E H / (E + H)')
@@ -78,10 +79,10 @@ program test_law_plastic_1d
   ! sigma_c = 2 sigbar - (sigma_n + sigma) = 0 bit for bit when the step stays elastic, from a
   ! hardened state, whatever nsub; nused = 0.
   qn = 0.0_dp
-  call plastic_1d_path(e, sy, 4.0e9_dp, 6.0e9_dp, 1, 0.0_dp, qn, 3.3_dp * ey, s, bar, q, dissip, nused, et)
+  call plastic_1d_path(lp(e, sy, 4.0e9_dp, 6.0e9_dp), 1, 0.0_dp, qn, 3.3_dp * ey, s, bar, q, dissip, nused, et)
   qn = q
   do n = 1, 16, 5
-    call plastic_1d_path(e, sy, 4.0e9_dp, 6.0e9_dp, n, s, qn, -0.77_dp * ey, sig, sigbar, q, dissip, nused, et)
+    call plastic_1d_path(lp(e, sy, 4.0e9_dp, 6.0e9_dp), n, s, qn, -0.77_dp * ey, sig, sigbar, q, dissip, nused, et)
     call check(2 * sigbar - (s + sig) == 0.0_dp .and. nused == 0 .and. dissip == 0.0_dp .and. all(q == qn), &
       'p1d: elastic step, sigma_c == 0 exactly, nused = 0, N=' // achar(48 + mod(n, 10)))
   end do
@@ -95,7 +96,7 @@ program test_law_plastic_1d
   do k = 0, 7
     n = 2**k
     qn = 0.0_dp
-    call plastic_1d_path(e, sy, 0.0_dp, 0.0_dp, n, 0.0_dp, qn, h, sig, sigbar, q, dissip, nused, et)
+    call plastic_1d_path(lp(e, sy, 0.0_dp, 0.0_dp), n, 0.0_dp, qn, h, sig, sigbar, q, dissip, nused, et)
     w = sigbar * h
     dst = 0.5_dp * sig**2 / e
     errw(k) = abs(w - wex)
@@ -117,7 +118,7 @@ program test_law_plastic_1d
 
   ! One increment: trial exactly on the yield surface is elastic.
   qn = 0.0_dp
-  call plastic_1d_return(e, sy, 0.0_dp, 0.0_dp, 0.0_dp, qn, ey, sig, q, h, et)
+  call plastic_1d_return(lp(e, sy, 0.0_dp, 0.0_dp), 0.0_dp, qn, ey, sig, q, h, et)
   call check(h == 0.0_dp .and. et == e, 'p1d: trial on the yield surface is elastic')
 
   call test_summary('law_plastic_1d')
@@ -150,7 +151,7 @@ contains
       write (*, '(a,f6.1)', advance='no') '#   ', r
       do m = 1, 6
         q0 = 0.0_dp
-        call plastic_1d_path(e, sy, 4.0e9_dp, 6.0e9_dp, merge(nn(m), plastic_auto_nsub(r), nn(m) > 0), 0.0_dp, q0, &
+        call plastic_1d_path(lp(e, sy, 4.0e9_dp, 6.0e9_dp), merge(nn(m), plastic_auto_nsub(r), nn(m) > 0), 0.0_dp, q0, &
           r * ey, sg, sb, qa, ds, nu, tg)
         wn = sb * r * ey
         write (*, '(es10.2)', advance='no') abs(wn - wx) / wx
@@ -159,4 +160,10 @@ contains
       call check(abs(wn - wx) / wx <= 0.5_dp * AUTO_ALPHA**2 / max(r, 1.0_dp), 'p1d: AUTO work error within alpha^2/(2 max(r,1))')
     end do
   end subroutine auto_table
+  !> The constants of a 1D plastic law, given one by one.
+  pure function lp(e, sy, hi, hk) result(p)
+    real(dp), intent(in) :: e, sy, hi, hk
+    type(law_params_t) :: p
+    p = law_params_t(young=e, yield=sy, h_iso=hi, h_kin=hk)
+  end function lp
 end program test_law_plastic_1d

@@ -16,6 +16,7 @@ program test_material_law
   use law_plastic_1d, only: plastic_1d_path, plastic_auto_nsub
   use law_nonlinear_elastic, only: nle_energy, nle_auto_nsub
   use law_von_mises, only: vm_trial_ratio
+  use law_types, only: law_params_t, law_step_t
   implicit none
 
   type(material_t) :: mat
@@ -64,7 +65,7 @@ program test_material_law
   sn = [1.0e6_dp, -3.0e5_dp, 2.0e5_dp, 7.0e5_dp]
   de = [1.0e-4_dp, 3.0e-5_dp, 0.0_dp, -2.0e-4_dp]
   do k = 0, 3
-    call law_update(mat, sec, PK_PSTRAIN, d, k, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], de, sn, qn(1:0), sig, sbar, q(1:0), &
+    call law_update_args(mat, sec, PK_PSTRAIN, d, k, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], de, sn, qn(1:0), sig, sbar, q(1:0), &
       work, dis, nused, dt)
     call check(all(2 * sbar - (sn + sig) == 0.0_dp) .and. nused == 0 .and. all(dt == d) .and. dis == 0.0_dp, &
       'ml: ELASTIC sigma_c == 0 bit for bit, nsub = ' // achar(48 + k))
@@ -72,7 +73,7 @@ program test_material_law
   call check_close(work, dot_product(sn + 0.5_dp * matmul(d, de), de), 1.0e-14_dp, 'ml: ELASTIC work = sigbar . deps')
   ! old call form (no nused, no dtan) still works
   call law_elastic_matrix(mat, sec, PK_1D, d)
-  call law_update(mat, sec, PK_1D, d, 1, [0.0_dp], [1.0e-3_dp], [0.0_dp], qn(1:0), sig(1:1), sbar(1:1), q(1:0), work, dis)
+  call law_update_args(mat, sec, PK_1D, d, 1, [0.0_dp], [1.0e-3_dp], [0.0_dp], qn(1:0), sig(1:1), sbar(1:1), q(1:0), work, dis)
   call check_close(work, 0.5_dp * mat%young * 1.0e-6_dp, 1.0e-14_dp, 'ml: legacy call without nused/dtan')
 
   ! ELASTOPLASTIC 1D: same as the kernel; AUTO resolves to the documented rule.
@@ -83,10 +84,10 @@ program test_material_law
   call check(.not. law_is_linear(mat) .and. law_nstate(mat, PK_1D, sec) == 3 .and. law_nstate(mat, PK_BEAM, fib) == 30, &
     'ml: ELASTOPLASTIC state sizes 3 (1D) and 3 per layer (beam)')
   qn = 0.0_dp
-  call law_update(mat, sec, PK_1D, d, 0, [0.0_dp], [4.0e-3_dp], [0.0_dp], qn(1:3), sig(1:1), sbar(1:1), q(1:3), &
+  call law_update_args(mat, sec, PK_1D, d, 0, [0.0_dp], [4.0e-3_dp], [0.0_dp], qn(1:3), sig(1:1), sbar(1:1), q(1:3), &
     work, dis, nused, dt)
   n1 = plastic_auto_nsub(mat%young * 4.0e-3_dp / mat%yield)
-  call plastic_1d_path(mat%young, mat%yield, mat%h_iso, mat%h_kin, n1, 0.0_dp, qn(1:3), 4.0e-3_dp, s1, sb1, q1, dis1, &
+  call plastic_1d_path(lp(mat%young, mat%yield, mat%h_iso, mat%h_kin), n1, 0.0_dp, qn(1:3), 4.0e-3_dp, s1, sb1, q1, dis1, &
     k, et)
   call check(nused == n1 .and. sig(1) == s1 .and. sbar(1) == sb1 .and. dis == dis1 .and. dt(1, 1) == et, &
     'ml: ELASTOPLASTIC PK_1D AUTO = kernel with N = ceil(E deps / (alpha sy))')
@@ -98,11 +99,11 @@ program test_material_law
   ! Fibre beam through the interface: elastic step gives sigma_c == 0, nused = 0.
   call law_elastic_matrix(mat, fib, PK_BEAM, d)
   qn = 0.0_dp
-  call law_update(mat, fib, PK_BEAM, d, 4, [0.0_dp, 0.0_dp], [1.0e-4_dp, 1.0e-3_dp], [0.0_dp, 0.0_dp], qn(1:30), &
+  call law_update_args(mat, fib, PK_BEAM, d, 4, [0.0_dp, 0.0_dp], [1.0e-4_dp, 1.0e-3_dp], [0.0_dp, 0.0_dp], qn(1:30), &
     sig(1:2), sbar(1:2), q(1:30), work, dis, nused, dt)
   call check(all(2 * sbar(1:2) - sig(1:2) == 0.0_dp) .and. nused == 0 .and. all(dt(1:2, 1:2) == d(1:2, 1:2)), &
     'ml: fibre beam elastic step, sigma_c == 0 bit for bit')
-  call law_update(mat, fib, PK_BEAM, d, 4, [0.0_dp, 0.0_dp], [1.0e-3_dp, 0.1_dp], [0.0_dp, 0.0_dp], qn(1:30), &
+  call law_update_args(mat, fib, PK_BEAM, d, 4, [0.0_dp, 0.0_dp], [1.0e-3_dp, 0.1_dp], [0.0_dp, 0.0_dp], qn(1:30), &
     sig(1:2), sbar(1:2), q(1:30), work, dis, nused, dt)
   call check(nused == 4 .and. dis > 0.0_dp, 'ml: fibre beam plastic step uses the fixed N and dissipates')
   call check_close(work, law_stored(mat, fib, PK_BEAM, d, [1.0e-3_dp, 0.1_dp], sig, q) + dis, 1.0e-12_dp, &
@@ -111,7 +112,7 @@ program test_material_law
   ! NONLINEAR_ELASTIC 1D: stored = psi; AUTO = nle rule.
   mat%law = LAW_NONLINEAR_ELASTIC
   mat%nl_b = 200.0_dp
-  call law_update(mat, sec, PK_1D, d, 0, [0.01_dp], [0.04_dp], [0.0_dp], qn(1:0), sig(1:1), sbar(1:1), q(1:0), &
+  call law_update_args(mat, sec, PK_1D, d, 0, [0.01_dp], [0.04_dp], [0.0_dp], qn(1:0), sig(1:1), sbar(1:1), q(1:0), &
     work, dis, nused)
   call check(nused == nle_auto_nsub(mat%young, mat%nl_b, 0.01_dp, 0.04_dp), 'ml: NONLINEAR_ELASTIC AUTO = nle rule')
   call check_close(law_stored(mat, sec, PK_1D, d, [0.05_dp], sig, q), nle_energy(mat%young, mat%nl_b, 0.05_dp), &
@@ -124,7 +125,7 @@ program test_material_law
   call law_elastic_matrix(mat, sec, PK_PSTRAIN, d)
   qn = 0.0_dp
   de = [3.0e-3_dp, -1.0e-3_dp, 0.0_dp, 2.0e-3_dp]
-  call law_update(mat, sec, PK_PSTRAIN, d, 0, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], de, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
+  call law_update_args(mat, sec, PK_PSTRAIN, d, 0, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], de, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
     qn(1:10), sig, sbar, q(1:10), work, dis, nused)
   call check(nused == plastic_auto_nsub(vm_trial_ratio(d, de, mat%yield)), 'ml: VON_MISES AUTO = plastic rule')
   eps = [1.0e-4_dp, -2.0e-4_dp, 0.0_dp, 3.0e-4_dp]
@@ -157,4 +158,31 @@ program test_material_law
   call check(stat /= STAT_OK, 'ml: law_check rejects POISSON = 0.5 on quads: ' // msg)
 
   call test_summary('material_law')
+contains
+
+  !> The constants of a 1D plastic law, given one by one.
+  pure function lp(e, sy, hi, hk) result(p)
+    real(dp), intent(in) :: e, sy, hi, hk
+    type(law_params_t) :: p
+    p = law_params_t(young=e, yield=sy, h_iso=hi, h_kin=hk)
+  end function lp
+
+  !> law_update with its result unpacked (r%sig, r%sigbar, r%work, r%dissip, r%nused, r%dtan).
+  subroutine law_update_args(mat, sec, pk, d, nsub, eps_n, deps, sig_n, q_n, sig, sigbar, q, work, dissip, nused, dtan)
+    type(material_t), intent(in) :: mat
+    type(section_t), intent(in) :: sec
+    integer, intent(in) :: pk, nsub
+    real(dp), intent(in) :: d(:, :), eps_n(:), deps(:), sig_n(:), q_n(:)
+    real(dp), intent(out) :: sig(:), sigbar(:), q(:), work, dissip
+    integer, intent(out), optional :: nused
+    real(dp), intent(out), optional :: dtan(:, :)
+    type(law_step_t) :: r
+    call law_update(mat, sec, pk, d, nsub, eps_n, deps, sig_n, q_n, q, r)
+    sig = r%sig(1:size(sig))
+    sigbar = r%sigbar(1:size(sigbar))
+    work = r%work
+    dissip = r%dissip
+    if (present(nused)) nused = r%nused
+    if (present(dtan)) dtan = r%dtan(1:size(dtan, 1), 1:size(dtan, 2))
+  end subroutine law_update_args
 end program test_material_law

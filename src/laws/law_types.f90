@@ -1,0 +1,36 @@
+!> What a law is given and what it gives back at one material point, as types instead of long
+!> scalar argument lists: the material parameters (law_params_t, which material_t extends, so a
+!> scene's material is passed as it is) and the result of one step (law_step_t). Both are
+!> fixed-size: the laws run at every integration point of every step and allocate nothing.
+module law_types
+  use kinds, only: dp
+  implicit none
+  private
+  public :: law_params_t, law_step_t, MAX_COMPONENTS
+
+  !> Largest stress vector of a point (1D: 1, beam section: 2, quads: 4).
+  integer, parameter :: MAX_COMPONENTS = 4
+
+  !> Material constants (SI). For springs young is the stiffness [N/m] and yield a force.
+  type :: law_params_t
+    real(dp) :: young = 0.0_dp     !< Young's modulus [Pa]
+    real(dp) :: poisson = 0.0_dp
+    real(dp) :: nl_b = 0.0_dp      !< NONLINEAR_ELASTIC: sigma = E eps (1 + b eps^2)
+    real(dp) :: yield = 0.0_dp     !< ELASTOPLASTIC, VON_MISES: initial yield stress
+    real(dp) :: h_iso = 0.0_dp     !< linear isotropic hardening modulus (d sigma / d eps_p)
+    real(dp) :: h_kin = 0.0_dp     !< linear kinematic hardening modulus
+  end type law_params_t
+
+  !> One step of a point along its strain path: the end stress sig, the path-mean stress
+  !> sigbar (method.md section 2), the tangent dtan = d sig / d deps of the last sub-increment,
+  !> the work sigbar . deps and its dissipated part (per unit weight), the sub-increments used
+  !> (0: none were needed, the step was elastic and sigma_c = 0 bit for bit).
+  type :: law_step_t
+    real(dp) :: sig(MAX_COMPONENTS) = 0.0_dp
+    real(dp) :: sigbar(MAX_COMPONENTS) = 0.0_dp
+    real(dp) :: dtan(MAX_COMPONENTS, MAX_COMPONENTS) = 0.0_dp
+    real(dp) :: work = 0.0_dp
+    real(dp) :: dissip = 0.0_dp
+    integer :: nused = 0
+  end type law_step_t
+end module law_types
