@@ -229,12 +229,7 @@ contains
     real(dp), intent(in) :: minv_at(:, :), amat(:, :), av(:)
     real(dp), intent(inout) :: v(:)
     integer, intent(out), optional :: rank
-    real(dp), allocatable :: nu(:)
-    integer :: r
-    allocate (nu(size(av)))
-    call normal_multiplier(amat, av, nu, r)
-    v = v - 2.0_dp * matmul(minv_at, nu)
-    if (present(rank)) rank = r
+    call normal_update_dense(2.0_dp, minv_at, amat, av, v, rank)
   end subroutine hzero_reflection_dense
 
   !> PERSIST step 3, dense (test oracle): v <- [I - M⁻¹A'(A M⁻¹A')⁻¹A] v, the M-orthogonal
@@ -243,13 +238,21 @@ contains
     real(dp), intent(in) :: minv_at(:, :), amat(:, :), av(:)
     real(dp), intent(inout) :: v(:)
     integer, intent(out), optional :: rank
+    call normal_update_dense(1.0_dp, minv_at, amat, av, v, rank)
+  end subroutine persist_projection_dense
+
+  !> v <- v - factor M⁻¹A'(A M⁻¹A')⁻¹A v: factor 2 reflects (16), factor 1 projects (PERSIST).
+  pure subroutine normal_update_dense(factor, minv_at, amat, av, v, rank)
+    real(dp), intent(in) :: factor, minv_at(:, :), amat(:, :), av(:)
+    real(dp), intent(inout) :: v(:)
+    integer, intent(out), optional :: rank
     real(dp), allocatable :: nu(:)
     integer :: r
     allocate (nu(size(av)))
     call normal_multiplier(amat, av, nu, r)
-    v = v - matmul(minv_at, nu)
+    v = v - factor * matmul(minv_at, nu)
     if (present(rank)) rank = r
-  end subroutine persist_projection_dense
+  end subroutine normal_update_dense
 
   !> PERSIST step 4: s = sqrt((T* - T_other) / T_body), the factor on the body's velocity that
   !> brings the total kinetic energy to T*. Returns 0 if T_body <= 0 or T* < T_other.
