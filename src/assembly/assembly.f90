@@ -7,7 +7,7 @@ module assembly
   use mesh, only: DOF_NAMES
   use element_traits, only: ET_BEAM2, etype_needs_material
   use contact_modes, only: IMPACT_MASSLESS
-  use scene, only: scene_t, function_value, model_point_kind, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
+  use scene, only: scene_t, function_value, model_point_kind, condition_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
   use dof_map, only: build_dof_map, DOF_ABSENT, DOF_FIXED
   use sparse_matrix, only: sym_csc_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
@@ -337,12 +337,13 @@ contains
   subroutine contact_nodes(scn, mark)
     type(scene_t), intent(in) :: scn
     logical, allocatable, intent(out) :: mark(:)
-    integer :: j
+    integer :: j, nodes(3)
+    real(dp) :: w(3)
     allocate (mark(scn%mesh%nnode))
     mark = .false.
     do j = 1, size(scn%conditions)
-      mark(scn%conditions(j)%node_b) = .true.
-      if (scn%conditions(j)%node_a > 0) mark(scn%conditions(j)%node_a) = .true.
+      call condition_nodes(scn%conditions(j), nodes, w)
+      where (nodes > 0) mark(max(nodes, 1)) = .true.
     end do
   end subroutine contact_nodes
 

@@ -14,11 +14,12 @@ module element_traits
   public :: FAMILY_POINT, FAMILY_LINE, FAMILY_SURFACE
   public :: XDMF_POLYVERTEX, XDMF_POLYLINE, XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
   public :: etype_name, etype_from_name, etype_nen, etype_family, etypes_of_family, etype_needs_material, &
-    etype_section_needs, etype_point_kind, etype_xdmf_cell, etype_gmsh
+    etype_section_needs, etype_point_kind, etype_xdmf_cell, etype_gmsh, etype_segments, MAX_SEGMENTS
 
   integer, parameter :: ET_MASS = 1, ET_SPRING = 2, ET_BAR2 = 3, ET_BEAM2 = 4, ET_QUAD4 = 5, ET_QUAD8 = 6
   integer, parameter :: NUM_ETYPES = 6
   integer, parameter :: MAX_NEN = 8
+  integer, parameter :: MAX_SEGMENTS = 8   !< straight pieces of an element's outline (QUAD8)
   !> Families: a point (MASS), a line (LINE generates them; a MODEL may change one line type
   !> into another: SPRING, BAR2, BEAM2), a surface (RECTANGLE generates them).
   integer, parameter :: FAMILY_POINT = 1, FAMILY_LINE = 2, FAMILY_SURFACE = 3
@@ -129,4 +130,32 @@ contains
     end do
     et = 0
   end function etype_gmsh
+
+  !> The straight pieces of an element's outline, as local node pairs seg(:, 1:nseg), for
+  !> contact segments: a line element is one piece; a quad's sides run counter-clockwise (so the
+  !> body is on the left of p -> q and the outward normal on the right), a QUAD8 side as two
+  !> pieces through its mid-side node; a point has none.
+  pure subroutine etype_segments(et, seg, nseg)
+    integer, intent(in) :: et
+    integer, intent(out) :: seg(2, MAX_SEGMENTS), nseg
+    integer :: k
+    seg = 0
+    nseg = 0
+    select case (et)
+    case (ET_SPRING, ET_BAR2, ET_BEAM2)
+      nseg = 1
+      seg(:, 1) = [1, 2]
+    case (ET_QUAD4)
+      nseg = 4
+      do k = 1, 4
+        seg(:, k) = [k, mod(k, 4) + 1]
+      end do
+    case (ET_QUAD8)
+      nseg = 8
+      do k = 1, 4
+        seg(:, 2 * k - 1) = [k, k + 4]
+        seg(:, 2 * k) = [k + 4, mod(k, 4) + 1]
+      end do
+    end select
+  end subroutine etype_segments
 end module element_traits

@@ -14,18 +14,22 @@ module scene
   private
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
   public :: function_value, model_point_kind
-  public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t
+  public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t, condition_nodes
 
 
   integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3
   !> Upper bounds of SECTION LAYERS and MODEL SUBSTEPS (far above any useful value; see do_section, do_model).
   integer, parameter, public :: MAX_LAYERS = 1000, MAX_SUBSTEPS = 10000
 
-  !> One unilateral contact condition g = g0 + n.(u_b - u_a) >= 0 (method.md section 3): a node
-  !> against a rigid plane (node_a = 0: g = g0 + n.u_b) or a node b against a node a.
+  !> One unilateral contact condition (method.md section 3): a node b against a rigid plane
+  !> (node_a = 0: g = g0 + n.u_b), against a node a (g = g0 + n.(u_b - u_a)), or against the
+  !> point at xi along the segment from node a to node c (node_c > 0, GAP … SEGMENTS:
+  !> g = g0 + n.(u_b - (1 - xi) u_a - xi u_c)); condition_nodes gives the nodes and weights.
   type :: condition_t
     character(len=:), allocatable :: source   !< the OBSTACLE or GAP statement's name
     integer :: node_a = 0, node_b = 0
+    integer :: node_c = 0                     !< second end of the segment (0: node to node or plane)
+    real(dp) :: xi = 0.0_dp                   !< position of the contact point along a -> c
     real(dp) :: normal(2) = 0.0_dp
     real(dp) :: g0 = 0.0_dp
     real(dp) :: restitution = 1.0_dp          !< RESTITUTION e: normal velocity after an impact = -e x before
@@ -121,6 +125,18 @@ module scene
 
 
 contains
+
+  !> The nodes of a condition and their weights along its normal: g = g0 + n.Σ_k w(k) u(node(k))
+  !> over the nodes(k) > 0 (b first, then a and c).
+  pure subroutine condition_nodes(c, nodes, w)
+    type(condition_t), intent(in) :: c
+    integer, intent(out) :: nodes(3)
+    real(dp), intent(out) :: w(3)
+    nodes = [c%node_b, c%node_a, c%node_c]
+    w = [1.0_dp, -(1.0_dp - c%xi), -c%xi]
+    if (c%node_c == 0) w(2) = -1.0_dp
+    where (nodes == 0) w = 0.0_dp
+  end subroutine condition_nodes
 
   !> Material-point kind of a model's integration points (material_law PK_*; 0 for masses).
   pure integer function model_point_kind(md) result(pk)

@@ -1,4 +1,5 @@
-!> Scene input: the unilateral contacts (OBSTACLE, GAP): one condition per node or node pair.
+!> Scene input: the unilateral contacts (OBSTACLE, GAP): one condition per node, node pair or
+!> node facing a segment (GAP … SEGMENTS).
 !> Their grammar (schema) and their handlers; scene_loader calls them.
 module scene_contacts
   use kinds, only: dp
@@ -7,6 +8,7 @@ module scene_contacts
   use statement_schema, only: schema_t
   use scene, only: scene_t, condition_t
   use scene_helpers, only: node_group, get_point, model_size, get_unit
+  use mesh_segments, only: segment_set_t, group_segments, closest_segment
   implicit none
   private
   public :: contacts_schema, contacts_statement
@@ -23,6 +25,7 @@ contains
     call sch%add_keyword('GAP', 1, 1)
     call sch%add_param('GAP', 'NODES', 1, 1)
     call sch%add_param('GAP', 'WITH', 1, 1)
+    call sch%add_param('GAP', 'SEGMENTS', 1, 1)
     call sch%add_param('GAP', 'PAIRS', 2, -1)
     call sch%add_param('GAP', 'NORMAL', 2, 2)
     call sch%add_param('GAP', 'RESTITUTION', 1, 1)
@@ -119,6 +122,10 @@ contains
     kn = find_param(st, 'NODES')
     kw = find_param(st, 'WITH')
     kp = find_param(st, 'PAIRS')
+    if (find_param(st, 'SEGMENTS') > 0) then
+      call do_gap_segments(scn, st, stat, errmsg)
+      return
+    end if
     given = find_param(st, 'NORMAL') > 0
     if (given) then
       call get_unit(st, 'NORMAL', n, stat, errmsg)
@@ -215,8 +222,78 @@ contains
     end subroutine one_node
   end subroutine do_gap
 
+  !> GAP name NODES ga SEGMENTS gs [RESTITUTION e]: node-to-segment conditions (docs/contact.md).
+  !> Each node of ga is paired, in the initial configuration, with the closest segment of gs it
+  !> projects onto (mesh_segments), other than the segments it ends: the gap runs along the
+  !> segment's normal (outward for a side of a surface element) to the point at xi along it, and
+  !> the row couples the node with the segment's two ends, weights 1, -(1 - xi), -xi. Nodes that
+  !> face no segment get no condition; a node of gs touching another segment of gs at rest
+  !> (self-contact at rest) is an input error.
+  subroutine do_gap_segments(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(segment_set_t) :: segs
+    type(condition_t) :: c
+    integer :: ga, gs, i, b, best, kn, ks, npair
+    real(dp) :: xi, n(2), g, tol
+    logical, allocatable :: in_gs(:)
+    kn = find_param(st, 'NODES')
+    ks = find_param(st, 'SEGMENTS')
+    if (kn == 0 .or. find_param(st, 'WITH') > 0 .or. find_param(st, 'PAIRS') > 0 .or. find_param(st, 'NORMAL') > 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'SEGMENTS goes with NODES ga only (no WITH, PAIRS or ' // &
+        'NORMAL: the segments give the normal)', st%params(ks)%keytok))
+      return
+    end if
+    call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
+      upper=1.0_dp, upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call node_group(scn, st, st%params(kn)%values(1), ga, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call node_group(scn, st, st%params(ks)%values(1), gs, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call group_segments(scn%mesh, scn%mesh%ngroups(gs)%items, segs, stat, errmsg)
+    if (stat /= STAT_OK) then
+      errmsg = stmt_error(st, 'SEGMENTS ' // scn%mesh%ngroups(gs)%name // ': ' // errmsg, st%params(ks)%values(1))
+      return
+    end if
+    allocate (in_gs(scn%mesh%nnode))
+    in_gs = .false.
+    in_gs(scn%mesh%ngroups(gs)%items) = .true.
+    tol = 1.0e-10_dp * model_size(scn%mesh)
+    npair = 0
+    c%source = st%lead(1)%text
+    c%line = st%line
+    do i = 1, size(scn%mesh%ngroups(ga)%items)
+      b = scn%mesh%ngroups(ga)%items(i)
+      call closest_segment(scn%mesh, segs, scn%mesh%x(:, b), b, best, xi, n, g)
+      if (best == 0) cycle
+      if (in_gs(b) .and. abs(g) <= tol) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(b) // ' of ' // &
+          scn%mesh%ngroups(gs)%name // ' touches its segment ' // str(segs%p(best)) // '-' // str(segs%q(best)) // &
+          ' at rest (self-contact of a surface with itself)', st%params(ks)%values(1)))
+        return
+      end if
+      c%node_b = b
+      c%node_a = segs%p(best)
+      c%node_c = segs%q(best)
+      c%xi = xi
+      c%normal = n
+      c%g0 = g
+      call check_penetration(scn, st, c, stat, errmsg)
+      if (stat /= STAT_OK) return
+      scn%conditions = [scn%conditions, c]
+      npair = npair + 1
+    end do
+    if (npair == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'no node of ' // scn%mesh%ngroups(ga)%name // &
+        ' faces a segment of ' // scn%mesh%ngroups(gs)%name, st%params(ks)%values(1)))
+    end if
+  end subroutine do_gap_segments
+
   !> GAP NODES ga WITH gb pairs nodes one to one, which is right only for matching meshes
-  !> (node-to-segment contact is not available): refused when a node of gb is the nearest to two
+  !> (GAP … SEGMENTS is the node-to-segment contact): refused when a node of gb is the nearest to two
   !> nodes of ga (ga the finer side), or when a node of gb left unpaired lies on the contact
   !> surface between paired ones (gb the finer side: it would go through ga's edges). The surface
   !> is the band the paired nodes of gb span along the tangent of the normal (NORMAL, or the mean
@@ -231,7 +308,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     character(len=*), parameter :: hint = ': GAP NODES … WITH pairs the nodes of matching meshes ' // &
-      '(node-to-segment contact is not available; PAIRS lists pairs explicitly)'
+      '(non-matching meshes: GAP NODES ga SEGMENTS gb; PAIRS lists pairs explicitly)'
     real(dp) :: n(2), t(2), tol, smin, smax, qmin, qmax, s, q, d
     integer :: i, j
     stat = STAT_OK

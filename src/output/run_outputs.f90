@@ -5,7 +5,7 @@
 module run_outputs
   use kinds, only: dp
   use errors, only: STAT_OK
-  use scene, only: scene_t
+  use scene, only: scene_t, condition_nodes
   use assembly, only: system_t, element_stress, nodal_values, stored_energy
   use energy, only: energy_t
   use contact, only: contact_set_t, contact_event_t, EVENT_ESTABLISH
@@ -190,14 +190,16 @@ contains
     type(output_set_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     type(contact_set_t), intent(in) :: cs
-    integer :: j
-    real(dp) :: f
+    integer :: j, k, nodes(3)
+    real(dp) :: f, w(3)
     self%reaction = 0.0_dp
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j))
         f = step_impulse(self, cs, j) / self%h
-        self%reaction(1:2, c%node_b) = self%reaction(1:2, c%node_b) + f * c%normal
-        if (c%node_a > 0) self%reaction(1:2, c%node_a) = self%reaction(1:2, c%node_a) - f * c%normal
+        call condition_nodes(c, nodes, w)
+        do k = 1, 3
+          if (nodes(k) > 0) self%reaction(1:2, nodes(k)) = self%reaction(1:2, nodes(k)) + w(k) * f * c%normal
+        end do
       end associate
     end do
   end subroutine contact_reactions
@@ -250,8 +252,9 @@ contains
     integer :: j
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j), s => self%cstat(j))
-        self%cimp(:, s) = self%cimp(:, s) + merge(1.0_dp, -1.0_dp, c%node_a == 0) * step_impulse(self, cs, j) * &
-          c%normal + cs%body_impulse(j)
+        ! on the NODES group: node b of an OBSTACLE or GAP … SEGMENTS, node a of GAP … WITH or PAIRS
+        self%cimp(:, s) = self%cimp(:, s) + merge(-1.0_dp, 1.0_dp, c%node_a > 0 .and. c%node_c == 0) * &
+          step_impulse(self, cs, j) * c%normal + cs%body_impulse(j)
       end associate
     end do
   end subroutine outputs_add_contact_impulses
@@ -327,6 +330,10 @@ contains
       call put_text(self%row, pos, ',')
       if (scn%conditions(j)%node_a > 0) then
         call put_int(self%row, pos, scn%conditions(j)%node_a)
+        call put_text(self%row, pos, ' ')
+      end if
+      if (scn%conditions(j)%node_c > 0) then            ! a segment a-c, then the node b
+        call put_int(self%row, pos, scn%conditions(j)%node_c)
         call put_text(self%row, pos, ' ')
       end if
       call put_int(self%row, pos, scn%conditions(j)%node_b)

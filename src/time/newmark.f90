@@ -6,7 +6,7 @@
 module newmark
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
-  use scene, only: scene_t
+  use scene, only: scene_t, condition_nodes
   use contact_modes, only: IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS
   use dof_map, only: equation_bodies
   use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
@@ -124,20 +124,21 @@ contains
     type(run_state_t), intent(inout) :: rs
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, a, b, eqs(4)
-    real(dp) :: coefs(4), lscale
+    integer :: j, k, eqs(6), nodes(3)
+    real(dp) :: coefs(6), w(3), lscale
     character(len=:), allocatable :: msg
     rs%has_contact = .true.
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j))
-        a = c%node_a
-        b = c%node_b
+        call condition_nodes(c, nodes, w)
         eqs = 0
-        coefs(1:2) = c%normal
-        coefs(3:4) = -c%normal
-        eqs(1:2) = max(sys%dofs%eqn(1:2, b), 0)
-        if (a > 0) eqs(3:4) = max(sys%dofs%eqn(1:2, a), 0)
-        call contact_add(rs%cs, c%g0, eqs, coefs, nodes=[a, b], label=c%source, restitution=c%restitution)
+        do k = 1, 3
+          coefs(2 * k - 1:2 * k) = w(k) * c%normal
+          if (nodes(k) > 0) eqs(2 * k - 1:2 * k) = max(sys%dofs%eqn(1:2, nodes(k)), 0)
+        end do
+        ! events and messages name b and, for a segment, its end nearer the contact point
+        call contact_add(rs%cs, c%g0, eqs, coefs, nodes=[merge(c%node_c, c%node_a, c%xi > 0.5_dp), c%node_b], &
+          label=c%source, restitution=c%restitution)
       end associate
     end do
     associate (x => scn%mesh%x(:, 1:scn%mesh%nnode))
@@ -211,14 +212,16 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp), allocatable :: dm(:)
-    integer :: j, n, k
+    real(dp) :: w(3)
+    integer :: j, n, k, nodes(3)
     stat = STAT_OK
     allocate (dm(sys%dofs%neq))
     call sys%ops%pat%diagonal(sys%ops%mval, dm)
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j))
-        do k = 1, 2
-          n = merge(c%node_b, c%node_a, k == 1)
+        call condition_nodes(c, nodes, w)
+        do k = 1, 3
+          n = nodes(k)
           if (n <= 0) cycle
           if (any(dm(pack(sys%dofs%eqn(1:2, n), sys%dofs%eqn(1:2, n) > 0)) > 0.0_dp)) then
             call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(c%line) // ': ' // &
