@@ -95,12 +95,14 @@ module contact
     ! force"): cimp(j) along c_j (the impulse (12), the reflection (16), PERSIST's projection),
     ! bimp(:, j) the momentum PERSIST's scaling gave the group of condition j (x, y).
     real(dp), allocatable :: cimp(:), bimp(:, :)
+    real(dp), allocatable :: lam_step(:)     !< the step multiplier R(n) + R(n+1) of the last step
     ! Events of the last contact_end_step: ev(1:n_ev).
     type(contact_event_t), allocatable :: ev(:)
     integer :: n_ev = 0
     ! Workspaces (sized at contact_finalize; the dense ones grow with the largest active set).
     real(dp), allocatable :: wq(:), wdiag(:), gn(:), gend(:), e(:), y(:), r(:), mu(:), tolj(:), gain(:)
     logical, allocatable :: viol(:), now(:), est(:), rel(:), fallback(:), rows(:)
+    logical, allocatable :: changing(:)      !< the conditions whose energy a PERSIST or MASSLESS scaling gives back
     integer, allocatable :: idx(:), cgroup(:), parent(:)
     real(dp), allocatable :: f(:), xw(:), vp(:), mvp(:), ct(:), vn(:), mvn(:)
     real(dp), allocatable :: amat(:, :), gmat(:, :), sv(:), work2(:)
@@ -136,12 +138,14 @@ module contact
     real(dp) :: energy_error = 0.0_dp        !< Σ E_j over the established conditions
     real(dp) :: energy_restored = 0.0_dp     !< kinetic energy added, measured
     real(dp) :: scheme_work = 0.0_dp         !< ½ Λ'C du: the work the scheme counts for the multiplier
+    real(dp) :: reaction_work = 0.0_dp       !< MASSLESS: ½ R(n)'C du, the start reactions' share of it
     integer :: fp_iterations = 0             !< impulse fixed point (14)
     real(dp) :: fp_change = 0.0_dp           !< its final relative change
     integer :: fp_failures = 0               !< 1 if (14) had no all-negative solution (see impulse_fixed_point)
     integer :: persist_groups = 0, persist_fallbacks = 0
     integer :: reflection_rank = 0           !< rank of A M⁻¹A' in (16) (< rows: dependent rows)
     real(dp) :: impact_dissipated = 0.0_dp   !< kinetic energy removed by RESTITUTION e < 1
+    real(dp) :: snap_dissipated = 0.0_dp     !< MASSLESS: lost by massless nodes snapping to equilibrium (driver's)
   end type contact_report_t
 
   interface
@@ -229,11 +233,12 @@ contains
     cs_reaction = self%st%r_prev(j)
   end function cs_reaction
 
-  !> Step multiplier Λ_j of the last LCP (it stands for R(n) + R(n+1)).
+  !> The step multiplier of condition j in the last step, R(n) + R(n+1): the LCP's Λ_j, or under
+  !> IMPACT MASSLESS (whose Λ_j is R(n+1)) Λ_j plus the reaction it started the step with.
   pure real(dp) function cs_multiplier(self, j)
     class(contact_set_t), intent(in) :: self
     integer, intent(in) :: j
-    cs_multiplier = self%st%lambda(j)
+    cs_multiplier = self%lam_step(j)
   end function cs_multiplier
 
   !> Impulse of the end-of-step correction of the last step along c_j (0 without one).
@@ -376,9 +381,9 @@ contains
     call cs%st%init(g0)
     if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%mu, cs%viol, cs%now, &
       cs%est, cs%rel, cs%fallback, cs%idx, cs%cgroup, cs%f, cs%xw, cs%vp, cs%mvp, cs%rows, cs%ev, cs%sv, cs%ct, &
-      cs%work2, cs%ipiv, cs%tolj, cs%cimp, cs%bimp, cs%gain)
-    allocate (cs%gain(nc), cs%cimp(nc), cs%bimp(2, nc), cs%tolj(nc), cs%wq(nc), cs%wdiag(nc), cs%gn(nc), cs%gend(nc), cs%e(nc), &
-      cs%y(nc), cs%r(nc), cs%mu(nc), cs%viol(nc), &
+      cs%work2, cs%ipiv, cs%tolj, cs%cimp, cs%bimp, cs%gain, cs%lam_step, cs%changing)
+    allocate (cs%lam_step(nc), cs%changing(nc), cs%gain(nc), cs%cimp(nc), cs%bimp(2, nc), cs%tolj(nc), cs%wq(nc), cs%wdiag(nc), &
+      cs%gn(nc), cs%gend(nc), cs%e(nc), cs%y(nc), cs%r(nc), cs%mu(nc), cs%viol(nc), &
       cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%idx(nc), cs%cgroup(nc), cs%ev(nc), cs%sv(nc), &
       cs%ct(nc), cs%work2(2 * nc), cs%ipiv(nc))
     if (allocated(cs%parent)) deallocate (cs%parent)
@@ -392,6 +397,7 @@ contains
     cs%wdiag = 1.0_dp
     cs%cimp = 0.0_dp
     cs%bimp = 0.0_dp
+    cs%lam_step = 0.0_dp
     cs%n_ev = 0
     cs%ms%mode = cs%settings%solver
     cs%ms%switch_size = cs%settings%switch_size

@@ -46,16 +46,24 @@ contains
       y = 0.0_dp
       e = 0.0_dp
       where (est) e = impact_energy_error(cs%st%lambda, max(gn, 0.0_dp))
+      ! MASSLESS: Λ is R(n+1) (the massless rows are equilibrium at n+1), the step's multiplier
+      ! R(n) + R(n+1); a release gives back ½ R(n) g(n+1) the scheme counted (docs/contact.md).
+      cs%lam_step = cs%st%lambda
+      if (mode == IMPACT_MASSLESS) then
+        cs%lam_step = cs%st%lambda + cs%st%r_prev
+        where (rel) e = -impact_energy_error(cs%st%r_prev, max(gend, 0.0_dp))
+        rep%reaction_work = 0.5_dp * dot_product(cs%st%r_prev, gend - gn)
+      end if
       rep%n_active = count(now)
       rep%n_establish = count(est)
       rep%n_release = count(rel)
       rep%energy_error = sum(e)
-      rep%scheme_work = 0.5_dp * dot_product(cs%st%lambda, gend - gn)
+      rep%scheme_work = 0.5_dp * dot_product(cs%lam_step, gend - gn)
       t_before = 0.5_dp * dot_product(v, mv)
       cs%cimp = 0.0_dp
       cs%bimp = 0.0_dp
 
-      if (rep%n_establish > 0) then
+      if (rep%n_establish > 0 .or. (mode == IMPACT_MASSLESS .and. rep%n_release > 0)) then
         select case (mode)
         case (IMPACT_PAPER)
           call paper_correction(cs, est, v, mv, rep, stat, errmsg)
@@ -72,8 +80,9 @@ contains
           end if
         case (IMPACT_MASSLESS)
           ! Massless contact nodes: no velocity to reflect or project; the energy the step lost
-          ! at establishment goes back to the body by scaling (groups without kinetic energy
-          ! are left, reported in persist_fallbacks: the balance shows it).
+          ! at establishment, or counted at a release, goes to (comes from) the body by scaling
+          ! (groups without kinetic energy are left, reported in persist_fallbacks: the balance
+          ! shows it).
           if (.not. present(body)) then
             call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: IMPACT MASSLESS needs body(:)')
             return
@@ -89,13 +98,17 @@ contains
       rep%energy_restored = energy_restored
 
       ! Reactions (reported only) and the new state.
-      cs%r = merge(cs%st%lambda - cs%st%r_prev, 0.0_dp, now)
+      if (mode == IMPACT_MASSLESS) then
+        cs%r = merge(cs%st%lambda, 0.0_dp, now)
+      else
+        cs%r = merge(cs%st%lambda - cs%st%r_prev, 0.0_dp, now)
+      end if
       k = 0
       do j = 1, cs%nc
         if (.not. (est(j) .or. rel(j))) cycle
         k = k + 1
         cs%ev(k) = contact_event_t(j, merge(EVENT_ESTABLISH, EVENT_RELEASE, est(j)), gn(j), gend(j), &
-          cs%st%lambda(j), cs%r(j), e(j), y(j))
+          cs%lam_step(j), cs%r(j), e(j), y(j))
       end do
       cs%n_ev = k
       cs%st%r_prev = cs%r
@@ -271,14 +284,18 @@ contains
       deallocate (cs%parent)
       allocate (cs%parent(nb))
     end if
-    associate (parent => cs%parent, cgroup => cs%cgroup, now => cs%now, est => cs%est, rows => cs%rows)
+    ! The conditions that change the energy: established ones, and under MASSLESS (no
+    ! projection) released ones too; the maintained ones join the groups.
+    cs%changing = cs%est
+    if (.not. proj) cs%changing = cs%est .or. cs%rel
+    associate (parent => cs%parent, cgroup => cs%cgroup, now => cs%now, est => cs%changing, rows => cs%rows)
       do i = 1, nb
         parent(i) = i
       end do
       ! Union of the bodies touched by each active condition; cgroup = representative body (0: none).
       cgroup = 0
       do j = 1, cs%nc
-        if (.not. now(j)) cycle
+        if (.not. (now(j) .or. est(j))) cycle
         do p = cs%c%first(j), cs%c%last(j)
           bj = body(cs%c%eq_at(p))
           if (bj <= 0) then

@@ -165,7 +165,7 @@ contains
       end if
     end if
     if (scn%impact == IMPACT_MASSLESS) then
-      call check_massless(scn, sys, stat, errmsg)
+      call check_massless(scn, sys, rs%st%massless, stat, errmsg)
       if (stat /= STAT_OK) return
     end if
     call contact_prepare(rs%cs, rs%mat%factor, stat, errmsg, sys%ops%pat, rs%mat%sval)
@@ -206,15 +206,20 @@ contains
   !> IMPACT MASSLESS moves the contact nodes' mass to their neighbours: a contact node whose
   !> elements have contact nodes only (a point mass, a body touching with every node) keeps it,
   !> and would then need a velocity correction MASSLESS does not make: bad input, named.
-  subroutine check_massless(scn, sys, stat, errmsg)
+  !> eqs: the contact nodes' equations (massless), each once.
+  subroutine check_massless(scn, sys, eqs, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
+    integer, allocatable, intent(out) :: eqs(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp), allocatable :: dm(:)
+    logical, allocatable :: mark(:)
     real(dp) :: w(3)
-    integer :: j, n, k, nodes(3)
+    integer :: j, n, k, i, nodes(3)
     stat = STAT_OK
+    allocate (mark(sys%dofs%neq))
+    mark = .false.
     allocate (dm(sys%dofs%neq))
     call sys%ops%pat%diagonal(sys%ops%mval, dm)
     do j = 1, size(scn%conditions)
@@ -230,9 +235,13 @@ contains
               'a body touching with all its nodes); use IMPACT PAPER or PERSIST' // ", at '" // c%source // "'")
             return
           end if
+          do i = 1, 2
+            if (sys%dofs%eqn(i, n) > 0) mark(sys%dofs%eqn(i, n)) = .true.
+          end do
         end do
       end associate
     end do
+    eqs = pack([(i, i = 1, sys%dofs%neq)], mark)
   end subroutine check_massless
 
   !> The initial state (INITIAL DISPLACEMENT, STATIC) must not put a node inside an obstacle or
@@ -339,6 +348,7 @@ contains
           call rs%en%add_impact(crep%impact_dissipated)
           e_rest = e_rest + crep%impact_dissipated
         end if
+        if (crep%snap_dissipated /= 0.0_dp) call rs%en%add_impact(crep%snap_dissipated)
         if (crep%fp_failures > 0) write (0, '(a)') 'rebond: warning: ' // at_step(step, t) // &
           'the coupled impulses (14) have no all-negative solution; decoupled roots of (13) scaled to restore ' // &
           'the lost energy exactly'

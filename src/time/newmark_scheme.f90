@@ -9,7 +9,7 @@ module newmark_scheme
   use kinds, only: dp, qp
   implicit none
   private
-  public :: velocity_eq3, rhs_eq9, residual_eq9
+  public :: velocity_eq3, rhs_eq9, residual_eq9, massless_rows_eq9
 
   interface velocity_eq3
     module procedure velocity_eq3_dp, velocity_eq3_qp
@@ -18,6 +18,10 @@ module newmark_scheme
   interface rhs_eq9
     module procedure rhs_eq9_dp, rhs_eq9_qp
   end interface rhs_eq9
+
+  interface massless_rows_eq9
+    module procedure massless_rows_eq9_dp, massless_rows_eq9_qp
+  end interface massless_rows_eq9
 
   interface residual_eq9
     module procedure residual_eq9_dp, residual_eq9_qp
@@ -55,6 +59,24 @@ contains
     real(qp), intent(out) :: rhs(:)
     rhs = real(f_np1, qp) + real(f_n, qp) - fint_n + 2.0_qp * a * mv
   end subroutine rhs_eq9_qp
+
+  !> IMPACT MASSLESS: the rows eqs of the massless contact DOFs written as equilibrium at n+1,
+  !> Bσ(n+1) + Bσc = F(n+1) + C'Λ (so Λ = R(n+1)): their right-hand side is F(n+1) alone. Their
+  !> trapezoid form (9), F(n) + F(n+1) - Bσ(n) - Bσ(n+1) + C'Λ = 0 with M = 0, carries an
+  !> imbalance at n over and flips it every step: the node zigzags (docs/contact.md).
+  pure subroutine massless_rows_eq9_dp(eqs, f_np1, rhs)
+    integer, intent(in) :: eqs(:)
+    real(dp), intent(in) :: f_np1(:)
+    real(dp), intent(inout) :: rhs(:)
+    rhs(eqs) = f_np1(eqs)
+  end subroutine massless_rows_eq9_dp
+
+  pure subroutine massless_rows_eq9_qp(eqs, f_np1, rhs)
+    integer, intent(in) :: eqs(:)
+    real(dp), intent(in) :: f_np1(:)
+    real(qp), intent(inout) :: rhs(:)
+    rhs(eqs) = real(f_np1(eqs), qp)
+  end subroutine massless_rows_eq9_qp
 
   !> Residual of eq (9) at the iterate du: r = rhs - 4M du/h² - Bσ(n+1) - Bσc, given mdu = M du
   !> (c4 = 4/h²); the residual of eq (5) when fcorr = Bσc = 0. Contact forces are not in it

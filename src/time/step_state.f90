@@ -9,7 +9,7 @@ module step_state
   use assembly, only: system_t, commit_state, mass_times, mass_times_q, damping_times, is_damped
   use internal_forces, only: internal_force, work_increment_t
   use checkpoint, only: ckpt_file_t
-  use newmark_scheme, only: rhs_eq9, residual_eq9, velocity_eq3
+  use newmark_scheme, only: rhs_eq9, residual_eq9, velocity_eq3, massless_rows_eq9
   implicit none
   private
   public :: step_state_t
@@ -26,6 +26,7 @@ module step_state
     real(dp), allocatable :: cdu(:)          !< C du (MODEL DAMPING)
     real(dp), allocatable :: res_hist(:)     !< residual norm of each iteration of the step
     real(dp) :: kinetic = 0.0_dp             !< ½ v'Mv at the end of the last step
+    integer, allocatable :: massless(:)      !< IMPACT MASSLESS: the massless contact equations
     type(work_increment_t) :: inc            !< energies of the last trial (work, elastic, dissipated)
     ! Extended-precision shadow.
     real(qp), allocatable :: u_q(:), v_q(:), fint_n_q(:), mv_q(:), rhs_q(:), r_q(:), utrial_q(:), mdu_q(:)
@@ -39,6 +40,7 @@ module step_state
     procedure :: absorb_velocity_change => state_absorb
     procedure :: commit => state_commit
     procedure :: damping_work => state_damping_work
+    procedure :: massless_work => state_massless_work
     procedure :: save => state_save
     procedure :: load => state_load
   end type step_state_t
@@ -90,10 +92,12 @@ contains
   subroutine state_begin_step(self)
     class(step_state_t), intent(inout) :: self
     call rhs_eq9(self%h, self%f_np1, self%f_n, self%fint_n, self%mv, self%rhs)
+    if (allocated(self%massless)) call massless_rows_eq9(self%massless, self%f_np1, self%rhs)
     self%du = 0.0_dp
     self%r = self%rhs - self%fint_n
     if (self%extended) then
       call rhs_eq9(self%a, self%f_np1, self%f_n, self%fint_n_q, self%mv_q, self%rhs_q)
+      if (allocated(self%massless)) call massless_rows_eq9(self%massless, self%f_np1, self%rhs_q)
       self%r = real(self%rhs_q - self%fint_n_q, dp)
     end if
   end subroutine state_begin_step
@@ -145,6 +149,21 @@ contains
     call damping_times(sys, self%du, self%cdu)
     w = dot_product(self%du, self%cdu) / self%h
   end function state_damping_work
+
+  !> IMPACT MASSLESS, before the commit: ½ du'(Bσ(n) - F(n)) over the massless rows, the work the
+  !> step counts beyond the trapezoid rule by writing them as equilibrium at n+1 (their
+  !> imbalance at n: the start reactions, or a node out of equilibrium snapping to it).
+  pure real(dp) function state_massless_work(self) result(w)
+    class(step_state_t), intent(in) :: self
+    integer :: k, i
+    w = 0.0_dp
+    if (.not. allocated(self%massless)) return
+    do k = 1, size(self%massless)
+      i = self%massless(k)
+      w = w + self%du(i) * (self%fint_n(i) - self%f_n(i))
+    end do
+    w = 0.5_dp * w
+  end function state_massless_work
 
   !> End of the step: v(n+1) by eq (3), M v(n+1); v_eq3 keeps it for the impact correction.
   subroutine state_velocity(self, sys)
