@@ -7,6 +7,7 @@ module assembly
   use mesh, only: DOF_NAMES
   use element_traits, only: ET_BEAM2, etype_needs_material
   use contact_modes, only: IMPACT_MASSLESS
+  use loads, only: load_nodal_forces
   use scene, only: scene_t, function_value, model_point_kind, condition_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
   use dof_map, only: build_dof_map, DOF_ABSENT, DOF_FIXED
   use sparse_matrix, only: sym_csc_t
@@ -485,47 +486,44 @@ contains
     is_diagonal_position = pat%rowind(k) == lo
   end function is_diagonal_position
 
+  !> The load vectors: each load statement's nodal forces (loads' load_nodal_forces) on the
+  !> free equations, scaled by its function at each step (external_force).
   subroutine build_loads(scn, sys, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: il, i, n, d, k, cnt
+    real(dp), allocatable :: fn(:, :)
+    integer :: il, n, d, k, cnt
     stat = STAT_OK
-    allocate (sys%loads%vectors(size(scn%loads)))
+    allocate (sys%loads%vectors(size(scn%loads)), fn(3, scn%mesh%nnode))
     do il = 1, size(scn%loads)
-      associate (ld => scn%loads(il), nodes => scn%mesh%ngroups(scn%loads(il)%ngroup)%items)
-        cnt = 0
-        do i = 1, size(nodes)
-          do d = 1, 3
-            if (ld%force(d) /= 0.0_dp .and. sys%dofs%eqn(d, nodes(i)) > 0) cnt = cnt + 1
-          end do
+      call load_nodal_forces(scn, scn%loads(il), fn)
+      cnt = count(fn /= 0.0_dp .and. sys%dofs%eqn(:, 1:scn%mesh%nnode) > 0)
+      allocate (sys%loads%vectors(il)%eq(cnt), sys%loads%vectors(il)%f(cnt))
+      k = 0
+      do n = 1, scn%mesh%nnode
+        do d = 1, 3
+          if (fn(d, n) /= 0.0_dp .and. sys%dofs%eqn(d, n) > 0) then
+            k = k + 1
+            sys%loads%vectors(il)%eq(k) = sys%dofs%eqn(d, n)
+            sys%loads%vectors(il)%f(k) = fn(d, n)
+          end if
         end do
-        allocate (sys%loads%vectors(il)%eq(cnt), sys%loads%vectors(il)%f(cnt))
-        k = 0
-        do i = 1, size(nodes)
-          n = nodes(i)
-          do d = 1, 3
-            if (ld%force(d) /= 0.0_dp .and. sys%dofs%eqn(d, n) > 0) then
-              k = k + 1
-              sys%loads%vectors(il)%eq(k) = sys%dofs%eqn(d, n)
-              sys%loads%vectors(il)%f(k) = ld%force(d)
-            end if
-          end do
-        end do
-        sys%loads%vectors(il)%func = ld%func
-      end associate
+      end do
+      sys%loads%vectors(il)%func = scn%loads(il)%func
     end do
   end subroutine build_loads
 
   !> The PROBE … RX|RY|MZ slots: each entry is a local DOF of an element at a fixed DOF of the
   !> probe's direction in the probe's group (a node in several groups counts in each); and each
-  !> LOAD's force on those fixed DOFs.
+  !> load's force on those fixed DOFs.
   subroutine reaction_map(scn, sys)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     integer, allocatable :: slot_of(:)
     logical, allocatable :: member(:, :)
+    real(dp), allocatable :: fn(:, :)
     logical :: mask(3)
     integer :: k, s, e, a, d, n, loc
     slot_of = pack([(k, k = 1, size(scn%probes))], [(scn%probes(k)%reaction, k = 1, size(scn%probes))])
@@ -556,17 +554,16 @@ contains
       end do
     end do
     call sys%react%finish_map(size(scn%loads))
+    allocate (fn(3, scn%mesh%nnode))
     do k = 1, size(scn%loads)
-      associate (ld => scn%loads(k), nodes => scn%mesh%ngroups(scn%loads(k)%ngroup)%items)
-        do s = 1, sys%react%nslot
-          d = scn%probes(slot_of(s))%dof
-          do a = 1, size(nodes)
-            n = nodes(a)
-            if (sys%dofs%eqn(d, n) == DOF_FIXED .and. member(n, s)) &
-              sys%react%load(k, s) = sys%react%load(k, s) + ld%force(d)
-          end do
+      call load_nodal_forces(scn, scn%loads(k), fn)
+      do s = 1, sys%react%nslot
+        d = scn%probes(slot_of(s))%dof
+        do n = 1, scn%mesh%nnode
+          if (fn(d, n) /= 0.0_dp .and. sys%dofs%eqn(d, n) == DOF_FIXED .and. member(n, s)) &
+            sys%react%load(k, s) = sys%react%load(k, s) + fn(d, n)
         end do
-      end associate
+      end do
     end do
   end subroutine reaction_map
 

@@ -14,7 +14,7 @@ module element_traits
   public :: FAMILY_POINT, FAMILY_LINE, FAMILY_SURFACE
   public :: XDMF_POLYVERTEX, XDMF_POLYLINE, XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
   public :: etype_name, etype_from_name, etype_nen, etype_family, etypes_of_family, etype_needs_material, &
-    etype_section_needs, etype_point_kind, etype_xdmf_cell, etype_gmsh, etype_segments, MAX_SEGMENTS
+    etype_section_needs, etype_point_kind, etype_xdmf_cell, etype_gmsh, etype_segments, etype_sides, MAX_SEGMENTS
 
   integer, parameter :: ET_MASS = 1, ET_SPRING = 2, ET_BAR2 = 3, ET_BEAM2 = 4, ET_QUAD4 = 5, ET_QUAD8 = 6
   integer, parameter :: NUM_ETYPES = 6
@@ -131,31 +131,53 @@ contains
     et = 0
   end function etype_gmsh
 
+  !> The sides of a surface element as local node lists side(1:nsn, 1:nside), counter-clockwise
+  !> (the body on the left of the side's first-to-last direction, the outward normal on the
+  !> right): QUAD4 four 2-node sides; QUAD8 four 3-node sides, corner, mid-side node, corner.
+  !> Other types have none (nside = 0).
+  pure subroutine etype_sides(et, side, nside, nsn)
+    integer, intent(in) :: et
+    integer, intent(out) :: side(3, 4), nside, nsn
+    integer :: k
+    side = 0
+    nside = 0
+    nsn = 0
+    select case (et)
+    case (ET_QUAD4)
+      nside = 4
+      nsn = 2
+      do k = 1, 4
+        side(1:2, k) = [k, mod(k, 4) + 1]
+      end do
+    case (ET_QUAD8)
+      nside = 4
+      nsn = 3
+      do k = 1, 4
+        side(:, k) = [k, k + 4, mod(k, 4) + 1]
+      end do
+    end select
+  end subroutine etype_sides
+
   !> The straight pieces of an element's outline, as local node pairs seg(:, 1:nseg), for
-  !> contact segments: a line element is one piece; a quad's sides run counter-clockwise (so the
-  !> body is on the left of p -> q and the outward normal on the right), a QUAD8 side as two
-  !> pieces through its mid-side node; a point has none.
+  !> contact segments: a line element is one piece; a surface element's sides (etype_sides) run
+  !> counter-clockwise, a 3-node side as two pieces through its mid-side node; a point has none.
   pure subroutine etype_segments(et, seg, nseg)
     integer, intent(in) :: et
     integer, intent(out) :: seg(2, MAX_SEGMENTS), nseg
-    integer :: k
+    integer :: side(3, 4), nside, nsn, k, i
     seg = 0
     nseg = 0
-    select case (et)
-    case (ET_SPRING, ET_BAR2, ET_BEAM2)
+    if (TRAITS(et)%family == FAMILY_LINE) then
       nseg = 1
       seg(:, 1) = [1, 2]
-    case (ET_QUAD4)
-      nseg = 4
-      do k = 1, 4
-        seg(:, k) = [k, mod(k, 4) + 1]
+      return
+    end if
+    call etype_sides(et, side, nside, nsn)
+    do k = 1, nside
+      do i = 1, nsn - 1
+        nseg = nseg + 1
+        seg(:, nseg) = side(i:i + 1, k)
       end do
-    case (ET_QUAD8)
-      nseg = 8
-      do k = 1, 4
-        seg(:, 2 * k - 1) = [k, k + 4]
-        seg(:, 2 * k) = [k + 4, mod(k, 4) + 1]
-      end do
-    end select
+    end do
   end subroutine etype_segments
 end module element_traits

@@ -18,6 +18,7 @@ module scene
 
 
   integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3
+  integer, parameter, public :: LOAD_NODAL = 0, LOAD_PRESSURE = 1, LOAD_TRACTION = 2
   !> Upper bounds of SECTION LAYERS and MODEL SUBSTEPS (far above any useful value; see do_section, do_model).
   integer, parameter, public :: MAX_LAYERS = 1000, MAX_SUBSTEPS = 10000
 
@@ -75,8 +76,12 @@ module scene
   end type function_t
 
   !> Nodal forces on every node of a group, times a function of time.
+  !> LOAD (nodal forces), PRESSURE or TRACTION (on the free element sides of a node group,
+  !> src/assembly/loads.f90): force(1:3) the nodal force and moment, force(1) the pressure,
+  !> force(1:2) the traction.
   type :: load_t
     character(len=:), allocatable :: name
+    integer :: kind = LOAD_NODAL
     integer :: ngroup = 0
     real(dp) :: force(3) = 0.0_dp
     integer :: func = 0          !< 0: constant 1

@@ -1,11 +1,13 @@
-!> Scene input: supports, initial state and loads (FIX, INITIAL, GRAVITY, LOAD).
+!> Scene input: supports, initial state and loads (FIX, INITIAL, GRAVITY, LOAD, PRESSURE, TRACTION).
 !> Their grammar (schema) and their handlers; scene_loader calls them.
 module scene_conditions
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, upper
   use statement, only: statement_t, stmt_error, find_param, get_real, get_word, to_real
   use statement_schema, only: schema_t
-  use scene, only: scene_t, fix_t, initial_t, load_t, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
+  use scene, only: scene_t, fix_t, initial_t, load_t, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, LOAD_PRESSURE, &
+    LOAD_TRACTION
+  use mesh_segments, only: side_set_t, group_sides
   use scene_helpers, only: node_group
   implicit none
   private
@@ -35,6 +37,12 @@ contains
     call sch%add_param('LOAD', 'NODES', 1, 1)
     call sch%add_param('LOAD', 'FORCE', 2, 3)
     call sch%add_param('LOAD', 'FUNCTION', 1, 1)
+    call sch%add_keyword('PRESSURE', 1, 1)
+    call sch%add_param('PRESSURE', 'VALUE', 1, 1)
+    call sch%add_param('PRESSURE', 'FUNCTION', 1, 1)
+    call sch%add_keyword('TRACTION', 1, 1)
+    call sch%add_param('TRACTION', 'VALUE', 2, 2)
+    call sch%add_param('TRACTION', 'FUNCTION', 1, 1)
   end subroutine conditions_schema
 
   !> One conditions statement (pass 2 of load_scene).
@@ -54,6 +62,8 @@ contains
       call do_gravity(scn, st, stat, errmsg)
     case ('LOAD')
       call do_load(scn, st, stat, errmsg)
+    case ('PRESSURE', 'TRACTION')
+      call do_side_load(scn, st, stat, errmsg)
     end select
   end subroutine conditions_statement
 
@@ -230,4 +240,36 @@ contains
     if (stat /= STAT_OK) return
     scn%loads = [scn%loads, ld]
   end subroutine do_load
+
+  !> PRESSURE group VALUE p [FUNCTION f] | TRACTION group VALUE tx ty [FUNCTION f]: a load on the
+  !> free element sides of a node group (src/assembly/loads.f90); a group that is not a set of
+  !> sides (a node on none of them) is refused, naming the node.
+  subroutine do_side_load(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(load_t) :: ld
+    type(side_set_t) :: sides
+    logical :: mask(3)
+    ld%name = st%lead(1)%text
+    call node_group(scn, st, st%lead(1), ld%ngroup, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call group_sides(scn%mesh, scn%mesh%ngroups(ld%ngroup)%items, sides, stat, errmsg)
+    if (stat /= STAT_OK) then
+      errmsg = stmt_error(st, errmsg // ' (' // st%keyword // ' acts on the sides of surface elements)', st%lead(1))
+      return
+    end if
+    ld%kind = LOAD_PRESSURE
+    if (st%keyword == 'TRACTION') ld%kind = LOAD_TRACTION
+    if (find_param(st, 'VALUE') == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter VALUE', st%lead(1)))
+      return
+    end if
+    call get_vector(st, 'VALUE', ld%force, mask, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call get_function(scn, st, ld%func, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%loads = [scn%loads, ld]
+  end subroutine do_side_load
 end module scene_conditions

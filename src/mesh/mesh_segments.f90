@@ -1,16 +1,24 @@
-!> The contact segments of a node group (GAP … SEGMENTS, docs/contact.md): the straight pieces
-!> of the mesh's outline whose two ends are in the group, that is the free sides of surface
-!> elements (a side two elements share is inside the body) and the line elements. They must form
-!> chains: every node of the group on one or two segments. A surface side knows its outward
-!> normal (the elements run counter-clockwise); a line element has none (two-sided).
+!> The outline of a node group: its free sides (group_sides: the sides of surface elements whose
+!> nodes are all in the group and that no other element shares, for PRESSURE and TRACTION) and
+!> its contact segments (group_segments, GAP … SEGMENTS, docs/contact.md: the straight pieces of
+!> those sides, a 3-node side as two, and the line elements with both ends in the group). A side
+!> or piece runs counter-clockwise around its element (elements are counter-clockwise): the body
+!> on its left, its outward normal on its right; a line element has no side (two-sided).
 module mesh_segments
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use mesh, only: mesh_t
-  use element_traits, only: etype_segments, etype_family, FAMILY_SURFACE, MAX_SEGMENTS
+  use element_traits, only: etype_sides, etype_family, FAMILY_LINE
   implicit none
   private
-  public :: segment_set_t, group_segments, closest_segment
+  public :: side_set_t, segment_set_t, group_sides, group_segments, closest_segment
+
+  !> Free side s: nodes node(1:nsn(s), s) (2, or 3 with the mid-side node second), of element
+  !> elem(s).
+  type :: side_set_t
+    integer :: n = 0
+    integer, allocatable :: node(:, :), nsn(:), elem(:)
+  end type side_set_t
 
   !> Segment s runs from node p(s) to node q(s); outward(s): the body is on its left, its outward
   !> normal is the right of p -> q.
@@ -22,50 +30,106 @@ module mesh_segments
 
 contains
 
-  !> The segments of the node group items (node numbers). Fails, naming the node, when a node of
-  !> the group is on no segment or on more than two (not a chain of edges).
+  !> The free sides of the node group items (node numbers). Fails, naming the node, when a node
+  !> of the group is on no free side (the group is not a set of element sides).
+  subroutine group_sides(m, items, sides, stat, errmsg)
+    type(mesh_t), intent(in) :: m
+    integer, intent(in) :: items(:)
+    type(side_set_t), intent(out) :: sides
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    logical, allocatable :: in(:), on(:)
+    integer, allocatable :: lo(:), hi(:), own(:), node(:, :), nsn(:), elem(:)
+    integer :: e, k, side(3, 4), nside, ns, nc, i, j
+    stat = STAT_OK
+    allocate (in(m%nnode), on(m%nnode))
+    in = .false.
+    in(items) = .true.
+    nc = 0
+    allocate (lo(16), hi(16), own(16), node(3, 16), nsn(16), elem(16))
+    do e = 1, m%nelem
+      call etype_sides(m%etype(e), side, nside, ns)
+      do k = 1, nside
+        if (.not. all(in(m%conn(side(1:ns, k), e)))) cycle
+        if (nc == size(lo)) call grow_sides(lo, hi, own, node, nsn, elem)
+        nc = nc + 1
+        node(:, nc) = 0
+        node(1:ns, nc) = m%conn(side(1:ns, k), e)
+        nsn(nc) = ns
+        elem(nc) = e
+        lo(nc) = node(1, nc)
+        hi(nc) = node(ns, nc)
+        own(nc) = 1
+      end do
+    end do
+    ! A side listed twice (by its two elements) lies inside the body: not a free side.
+    call drop_shared(lo, hi, own, nc, m%nnode)
+    sides%n = count(own(1:nc) == 1)
+    allocate (sides%node(3, sides%n), sides%nsn(sides%n), sides%elem(sides%n))
+    j = 0
+    on = .false.
+    do i = 1, nc
+      if (own(i) /= 1) cycle
+      j = j + 1
+      sides%node(:, j) = node(:, i)
+      sides%nsn(j) = nsn(i)
+      sides%elem(j) = elem(i)
+      on(node(1:nsn(i), i)) = .true.
+    end do
+    do i = 1, size(items)
+      if (.not. on(items(i))) then
+        call set_error(stat, errmsg, STAT_INPUT, 'node ' // str(items(i)) // &
+          ' is on no free element side whose nodes are all in the group')
+        return
+      end if
+    end do
+  end subroutine group_sides
+
+  !> The contact segments of the node group items: the straight pieces of its free sides and its
+  !> line elements. Fails, naming the node, when a node of the group is on no segment or on more
+  !> than two (not a chain of element sides).
   subroutine group_segments(m, items, segs, stat, errmsg)
     type(mesh_t), intent(in) :: m
     integer, intent(in) :: items(:)
     type(segment_set_t), intent(out) :: segs
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    type(side_set_t) :: sides
     logical, allocatable :: in(:)
-    integer, allocatable :: cnt(:), lo(:), hi(:), own(:)
-    integer :: e, k, nseg, seg(2, MAX_SEGMENTS), a, b, nc, i, j
-    logical :: surf
-    stat = STAT_OK
+    integer, allocatable :: cnt(:)
+    integer :: e, i, j, k, nline, a, b
+    character(len=:), allocatable :: msg
     allocate (in(m%nnode), cnt(m%nnode))
     in = .false.
     in(items) = .true.
-    ! Candidates: pieces of outlines with both ends in the group.
-    allocate (lo(16), hi(16), own(16))
-    nc = 0
+    call group_sides(m, items, sides, stat, msg)   ! nodes on line elements only are counted below
+    stat = STAT_OK
+    nline = 0
     do e = 1, m%nelem
-      call etype_segments(m%etype(e), seg, nseg)
-      surf = etype_family(m%etype(e)) == FAMILY_SURFACE
-      do k = 1, nseg
-        a = m%conn(seg(1, k), e)
-        b = m%conn(seg(2, k), e)
-        if (.not. (in(a) .and. in(b))) cycle
-        if (nc == size(lo)) call grow3(lo, hi, own)
-        nc = nc + 1
-        lo(nc) = a
-        hi(nc) = b
-        own(nc) = merge(1, 0, surf)
+      if (etype_family(m%etype(e)) /= FAMILY_LINE) cycle
+      if (in(m%conn(1, e)) .and. in(m%conn(2, e))) nline = nline + 1
+    end do
+    allocate (segs%p(2 * sides%n + nline), segs%q(2 * sides%n + nline), segs%outward(2 * sides%n + nline))
+    k = 0
+    do i = 1, sides%n
+      do j = 1, sides%nsn(i) - 1
+        k = k + 1
+        segs%p(k) = sides%node(j, i)
+        segs%q(k) = sides%node(j + 1, i)
+        segs%outward(k) = .true.
       end do
     end do
-    ! A surface side listed twice (both directions) lies between two elements: not a segment.
-    call drop_shared(lo, hi, own, nc, m%nnode)
-    allocate (segs%p(nc), segs%q(nc), segs%outward(nc))
-    segs%n = 0
-    do i = 1, nc
-      if (own(i) < 0) cycle
-      segs%n = segs%n + 1
-      segs%p(segs%n) = lo(i)
-      segs%q(segs%n) = hi(i)
-      segs%outward(segs%n) = own(i) == 1
+    do e = 1, m%nelem
+      if (etype_family(m%etype(e)) /= FAMILY_LINE) cycle
+      a = m%conn(1, e)
+      b = m%conn(2, e)
+      if (.not. (in(a) .and. in(b))) cycle
+      k = k + 1
+      segs%p(k) = a
+      segs%q(k) = b
+      segs%outward(k) = .false.
     end do
+    segs%n = k
     cnt = 0
     do i = 1, segs%n
       cnt(segs%p(i)) = cnt(segs%p(i)) + 1
@@ -84,7 +148,8 @@ contains
     end do
   end subroutine group_segments
 
-  !> Mark (own = -1) the surface sides that occur twice, in either direction: inside the body.
+  !> Mark (own = -1) the sides that occur twice (same end nodes, either direction): inside the
+  !> body.
   !> Bucketed by the smaller end node: linear in the number of candidates.
   pure subroutine drop_shared(lo, hi, own, nc, nnode)
     integer, intent(inout) :: lo(:), hi(:), own(:)
@@ -109,21 +174,30 @@ contains
     end do
   end subroutine drop_shared
 
-  pure subroutine grow3(a, b, c)
-    integer, allocatable, intent(inout) :: a(:), b(:), c(:)
-    integer, allocatable :: t(:)
+  pure subroutine grow_sides(lo, hi, own, node, nsn, elem)
+    integer, allocatable, intent(inout) :: lo(:), hi(:), own(:), node(:, :), nsn(:), elem(:)
+    integer, allocatable :: t(:), t2(:, :)
     integer :: n
-    n = size(a)
+    n = size(lo)
     allocate (t(2 * n))
-    t(1:n) = a
-    call move_alloc(t, a)
+    t(1:n) = lo
+    call move_alloc(t, lo)
     allocate (t(2 * n))
-    t(1:n) = b
-    call move_alloc(t, b)
+    t(1:n) = hi
+    call move_alloc(t, hi)
     allocate (t(2 * n))
-    t(1:n) = c
-    call move_alloc(t, c)
-  end subroutine grow3
+    t(1:n) = own
+    call move_alloc(t, own)
+    allocate (t(2 * n))
+    t(1:n) = nsn
+    call move_alloc(t, nsn)
+    allocate (t(2 * n))
+    t(1:n) = elem
+    call move_alloc(t, elem)
+    allocate (t2(3, 2 * n))
+    t2(:, 1:n) = node
+    call move_alloc(t2, node)
+  end subroutine grow_sides
 
   !> The segment closest to point x among those that do not hold node skip and onto which x
   !> projects (parameter xi in [0, 1] along p -> q, within tol), with the point's distance d, its

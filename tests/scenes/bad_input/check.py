@@ -147,6 +147,15 @@ CASES = [
     ('GAP SEGMENTS facing nothing', BLOCKS + ['GAP g NODES up.top SEGMENTS lo.left'], None, [], 10, 'GAP g', 'lo.left'),
     ('GAP SEGMENTS RESTITUTION above 1', BLOCKS + ['GAP g NODES up.bottom SEGMENTS lo.top RESTITUTION 1.5'], None, [],
      10, 'GAP g', '1.5'),
+    ('PRESSURE on a node', BLOCKS + ['PRESSURE lo.top_left VALUE 1e5'], None, [], 10, 'PRESSURE lo.top_left',
+     'lo.top_left'),
+    ('PRESSURE on a line of nodes inside the body', edit(BLOCKS, 1, 'RECTANGLE lo ORIGIN 0 0 SIZE 1 0.2 ELEMENTS 7 2 '
+                                                       'TYPE QUAD4\nLINE cut FROM 0 0.1 TO 1 0.1 ELEMENTS 1 TYPE BAR2')
+     + ['PRESSURE cut VALUE 1e5'], None, [], 11, 'PRESSURE cut', 'cut'),
+    ('PRESSURE without VALUE', BLOCKS + ['PRESSURE lo.top'], None, [], 10, 'PRESSURE lo.top', 'lo.top'),
+    ('TRACTION with one value', BLOCKS + ['TRACTION lo.top VALUE 1e5'], None, [], 10, 'TRACTION', 'VALUE'),
+    ('PRESSURE with an unknown function', BLOCKS + ['PRESSURE lo.top VALUE 1 FUNCTION nope'], None, [], 10,
+     'PRESSURE lo.top', 'nope'),
     ('bad --set value', BASE, None, ['TIME.STEP=abc'], 13, 'TIME', 'abc'),
     ('non-positive --set TIME.STEP', BASE, None, ['TIME.STEP=-1'], 13, 'TIME', '-1'),
     ('--set unknown keyword', BASE, None, ['TIMES.STEP=1'], None, '--set', 'TIMES'),
