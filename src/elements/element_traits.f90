@@ -5,26 +5,29 @@
 !> Node order of each type:
 !>   MASS 1 node; SPRING, BAR2, BEAM2 2 nodes; QUAD4 4 corners counter-clockwise;
 !>   QUAD8 4 corners counter-clockwise then 4 mid-side nodes (side 1-2, 2-3, 3-4, 4-1),
-!>   as Cast3M's QUA8 and Gmsh's 8-node quadrangle.
+!>   as Cast3M's QUA8 and Gmsh's 8-node quadrangle; TRI3 3 corners counter-clockwise; TRI6 3
+!>   corners then 3 mid-side nodes (side 1-2, 2-3, 3-1), as Cast3M's TRI6 and Gmsh's 6-node triangle.
 module element_traits
   use material_law, only: PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS
   implicit none
   private
-  public :: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, NUM_ETYPES, MAX_NEN
+  public :: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, NUM_ETYPES, MAX_NEN
   public :: FAMILY_POINT, FAMILY_LINE, FAMILY_SURFACE
-  public :: XDMF_POLYVERTEX, XDMF_POLYLINE, XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
+  public :: XDMF_POLYVERTEX, XDMF_POLYLINE, XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8, XDMF_TRIANGLE, XDMF_TRIANGLE_6
   public :: etype_name, etype_from_name, etype_nen, etype_family, etypes_of_family, etype_needs_material, &
     etype_section_needs, etype_point_kind, etype_xdmf_cell, etype_gmsh, etype_segments, etype_sides, MAX_SEGMENTS
 
-  integer, parameter :: ET_MASS = 1, ET_SPRING = 2, ET_BAR2 = 3, ET_BEAM2 = 4, ET_QUAD4 = 5, ET_QUAD8 = 6
-  integer, parameter :: NUM_ETYPES = 6
+  integer, parameter :: ET_MASS = 1, ET_SPRING = 2, ET_BAR2 = 3, ET_BEAM2 = 4, ET_QUAD4 = 5, ET_QUAD8 = 6, ET_TRI3 = 7, &
+    ET_TRI6 = 8
+  integer, parameter :: NUM_ETYPES = 8
   integer, parameter :: MAX_NEN = 8
   integer, parameter :: MAX_SEGMENTS = 8   !< straight pieces of an element's outline (QUAD8)
   !> Families: a point (MASS), a line (LINE generates them; a MODEL may change one line type
   !> into another: SPRING, BAR2, BEAM2), a surface (RECTANGLE generates them).
   integer, parameter :: FAMILY_POINT = 1, FAMILY_LINE = 2, FAMILY_SURFACE = 3
   !> XDMF cell codes of a Mixed topology array.
-  integer, parameter :: XDMF_POLYVERTEX = 1, XDMF_POLYLINE = 2, XDMF_QUADRILATERAL = 5, XDMF_QUADRILATERAL_8 = 37
+  integer, parameter :: XDMF_POLYVERTEX = 1, XDMF_POLYLINE = 2, XDMF_TRIANGLE = 4, XDMF_QUADRILATERAL = 5, &
+    XDMF_TRIANGLE_6 = 36, XDMF_QUADRILATERAL_8 = 37
 
   !> One row of the table.
   type :: etraits_t
@@ -44,7 +47,9 @@ module element_traits
     etraits_t('BAR2', 2, FAMILY_LINE, .true., 'AREA', PK_1D, XDMF_POLYLINE, 1), &
     etraits_t('BEAM2', 2, FAMILY_LINE, .true., 'AREA INERTIA', PK_BEAM, XDMF_POLYLINE, 0), &
     etraits_t('QUAD4', 4, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_QUADRILATERAL, 3), &
-    etraits_t('QUAD8', 8, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_QUADRILATERAL_8, 16)]
+    etraits_t('QUAD8', 8, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_QUADRILATERAL_8, 16), &
+    etraits_t('TRI3', 3, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_TRIANGLE, 2), &
+    etraits_t('TRI6', 6, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_TRIANGLE_6, 9)]
 
 contains
 
@@ -133,7 +138,8 @@ contains
 
   !> The sides of a surface element as local node lists side(1:nsn, 1:nside), counter-clockwise
   !> (the body on the left of the side's first-to-last direction, the outward normal on the
-  !> right): QUAD4 four 2-node sides; QUAD8 four 3-node sides, corner, mid-side node, corner.
+  !> right): QUAD4 four 2-node sides; QUAD8 four 3-node sides, corner, mid-side node, corner;
+  !> TRI3 three 2-node sides; TRI6 three 3-node sides.
   !> Other types have none (nside = 0).
   pure subroutine etype_sides(et, side, nside, nsn)
     integer, intent(in) :: et
@@ -154,6 +160,18 @@ contains
       nsn = 3
       do k = 1, 4
         side(:, k) = [k, k + 4, mod(k, 4) + 1]
+      end do
+    case (ET_TRI3)
+      nside = 3
+      nsn = 2
+      do k = 1, 3
+        side(1:2, k) = [k, mod(k, 3) + 1]
+      end do
+    case (ET_TRI6)
+      nside = 3
+      nsn = 3
+      do k = 1, 3
+        side(:, k) = [k, k + 3, mod(k, 3) + 1]
       end do
     end select
   end subroutine etype_sides

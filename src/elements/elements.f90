@@ -6,18 +6,20 @@
 !> path as elastic ones. Element DOFs are node-major, per node in the order of the element's
 !> mask (UX, UY[, RZ]). Strain measures are documented in each element module:
 !> MASS (none), SPRING (elongation, wt 1), BAR2 (axial strain, wt A L), BEAM2 (axial strain and
-!> curvature, wt w L/2), QUAD4/QUAD8 (exx, eyy, ezz = 0 row, gxy; wt w det J thickness).
+!> curvature, wt w L/2), QUAD4/QUAD8/TRI3/TRI6 (exx, eyy, ezz = 0 row, gxy; wt w det J thickness).
 !> Output arrays may be larger than needed: the leading block is filled, the rest zeroed.
 module elements
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use element_traits, only: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, MAX_NEN, etype_nen, etype_name
+  use element_traits, only: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, MAX_NEN, &
+    etype_nen, etype_name
   use section, only: section_t
   use element_mass, only: mass_mass
   use element_spring, only: spring_b, spring_check
   use element_bar2, only: bar2_b, bar2_mass, bar2_check
   use element_beam2, only: beam2_ngauss, beam2_b, beam2_mass, BEAM2_MAX_GAUSS
   use element_quad, only: quad_ngauss, quad_b, quad_mass, quad_check, quad_elastic_d
+  use element_tri, only: tri_ngauss, tri_b, tri_mass, tri_check
   implicit none
   private
   public :: MAX_EDOF, MAX_NSTRAIN, MAX_GAUSS
@@ -57,7 +59,7 @@ contains
       elem_nstrain = 1
     case (ET_BEAM2)
       elem_nstrain = 2
-    case (ET_QUAD4, ET_QUAD8)
+    case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6)
       elem_nstrain = 4
     case default
       elem_nstrain = 0
@@ -77,6 +79,10 @@ contains
       elem_ngauss = quad_ngauss(4)
     case (ET_QUAD8)
       elem_ngauss = quad_ngauss(8)
+    case (ET_TRI3)
+      elem_ngauss = tri_ngauss(3)
+    case (ET_TRI6)
+      elem_ngauss = tri_ngauss(6)
     case default
       elem_ngauss = 0
     end select
@@ -120,6 +126,10 @@ contains
       call quad_b(4, xl, sec%thickness, ig, bl, wt)
     case (ET_QUAD8)
       call quad_b(8, xl, sec%thickness, ig, bl, wt)
+    case (ET_TRI3)
+      call tri_b(3, xl(:, 1:6), sec%thickness, ig, bl(1:4, 1:12), wt)
+    case (ET_TRI6)
+      call tri_b(6, xl(:, 1:6), sec%thickness, ig, bl(1:4, 1:12), wt)
     end select
     ns = elem_nstrain(et)
     nd = elem_ndof(et)
@@ -153,6 +163,10 @@ contains
       call quad_mass(4, xl, sec%thickness, rho, lumped, ml)
     case (ET_QUAD8)
       call quad_mass(8, xl, sec%thickness, rho, lumped, ml)
+    case (ET_TRI3)
+      call tri_mass(3, xl(:, 1:6), sec%thickness, rho, lumped, ml(1:12, 1:12))
+    case (ET_TRI6)
+      call tri_mass(6, xl(:, 1:6), sec%thickness, rho, lumped, ml(1:12, 1:12))
     end select
     nd = elem_ndof(et)
     me = 0.0_dp
@@ -176,7 +190,7 @@ contains
     case (ET_BEAM2)
       d(1, 1) = young * sec%area
       d(2, 2) = young * sec%inertia
-    case (ET_QUAD4, ET_QUAD8)
+    case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6)
       call quad_elastic_d(young, poisson, sec%plane_stress, dq)
       d(1:4, 1:4) = dq
     end select
@@ -217,6 +231,10 @@ contains
       call quad_check(4, xl, ref, stat, errmsg)
     case (ET_QUAD8)
       call quad_check(8, xl, ref, stat, errmsg)
+    case (ET_TRI3)
+      call tri_check(3, xl(:, 1:6), ref, stat, errmsg)
+    case (ET_TRI6)
+      call tri_check(6, xl(:, 1:6), ref, stat, errmsg)
     end select
   end subroutine elem_check_geometry
 
@@ -238,7 +256,7 @@ contains
       else if (et == ET_BEAM2 .and. sec%inertia <= 0.0_dp) then
         call set_error(stat, errmsg, STAT_INPUT, 'BEAM2 section needs a positive inertia (got ' // str(sec%inertia) // ')')
       end if
-    case (ET_QUAD4, ET_QUAD8)
+    case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6)
       if (sec%thickness <= 0.0_dp) then
         call set_error(stat, errmsg, STAT_INPUT, etype_name(et) // ' needs a positive thickness (got ' // &
           str(sec%thickness) // ')')

@@ -167,7 +167,7 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, 'unknown law code ' // str(mat%law))
     else if (mat%law == LAW_VON_MISES .neqv. (pk == PK_PSTRAIN .or. pk == PK_PSTRESS)) then
       if (mat%law == LAW_VON_MISES) then
-        call set_error(stat, errmsg, STAT_INPUT, 'VON_MISES applies to QUAD4/QUAD8 only')
+        call set_error(stat, errmsg, STAT_INPUT, 'VON_MISES applies to QUAD4, QUAD8, TRI3 and TRI6 only')
       else if (mat%law /= LAW_ELASTIC) then
         call set_error(stat, errmsg, STAT_INPUT, law_name(mat%law) // &
           ' applies to SPRING, BAR2 and layered BEAM2 only (quads: VON_MISES)')

@@ -557,7 +557,8 @@ contains
       et = etype_gmsh(gtype)
       if (et == 0) then
         call fail(g, stat, errmsg, 'unsupported Gmsh element type ' // str(gtype) // ' (' // gmsh_type_name(gtype) // &
-          '); expected 15 (point), 1 (2-node line), 3 (4-node quadrangle) or 16 (8-node quadrangle)')
+          '); expected 15 (point), 1 (2-node line), 2 (3-node triangle), 9 (6-node triangle), ' // &
+          '3 (4-node quadrangle) or 16 (8-node quadrangle)')
         return
       end if
       dim = etype_family(et) - 1          ! point 0, line 1, surface 2
@@ -599,9 +600,9 @@ contains
           nodes(j) = node
         end do
         if (dim == 2) then
-          call orient_quad(g%x, nodes(1:nen), stat)
+          call orient_surface(g%x, nodes(1:nen), stat)
           if (stat /= STAT_OK) then
-            call fail(g, stat, errmsg, 'degenerate quadrangle (zero area), expected 4 distinct corners')
+            call fail(g, stat, errmsg, 'degenerate ' // gmsh_type_name(gtype) // ' (zero area), expected distinct corners')
             return
           end if
         end if
@@ -771,29 +772,31 @@ contains
     name = 'physical_' // str(tag)
   end function group_name
 
-  !> Make a quadrangle counter-clockwise (reversing a clockwise one); stat = 1 if its area is zero.
-  pure subroutine orient_quad(x, nodes, stat)
+  !> Make a triangle or quadrangle counter-clockwise (reversing a clockwise one: corners
+  !> 1 2 3 [4] -> 1 [4] 3 2, mid-sides of sides 12 23 34 41 -> 14 43 32 21, of 12 23 31 -> 13 32 21);
+  !> stat = 1 if its area is zero. nodes: corners, then mid-side nodes (3, 4, 6 or 8 of them).
+  pure subroutine orient_surface(x, nodes, stat)
     real(dp), intent(in) :: x(:, :)
     integer, intent(inout) :: nodes(:)
     integer, intent(out) :: stat
     real(dp) :: a, d2
-    integer :: i, j
+    integer :: i, j, nc
     stat = 0
+    nc = merge(3, 4, size(nodes) == 3 .or. size(nodes) == 6)
     a = 0.0_dp
     d2 = 0.0_dp
-    do i = 1, 4
-      j = mod(i, 4) + 1
+    do i = 1, nc
+      j = mod(i, nc) + 1
       a = a + x(1, nodes(i)) * x(2, nodes(j)) - x(1, nodes(j)) * x(2, nodes(i))
       d2 = max(d2, sum((x(:, nodes(j)) - x(:, nodes(i)))**2))
     end do
     if (abs(a) <= zero_tol * d2) then
       stat = 1
     else if (a < 0.0_dp) then
-      ! 1 2 3 4 -> 1 4 3 2; mid-sides (12 23 34 41) -> (14 43 32 21).
-      nodes(2:4) = nodes([4, 3, 2])
-      if (size(nodes) == 8) nodes(5:8) = nodes([8, 7, 6, 5])
+      nodes(2:nc) = nodes(nc:2:-1)
+      if (size(nodes) == 2 * nc) nodes(nc + 1:2 * nc) = nodes(2 * nc:nc + 1:-1)
     end if
-  end subroutine orient_quad
+  end subroutine orient_surface
 
   !> Gmsh's name of an element type, for messages.
   pure function gmsh_type_name(t) result(s)

@@ -5,7 +5,7 @@ module mesh_generators
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use mesh, only: mesh_t
-  use element_traits, only: ET_BAR2, ET_BEAM2, ET_SPRING, ET_QUAD4, ET_QUAD8, etype_name
+  use element_traits, only: ET_BAR2, ET_BEAM2, ET_SPRING, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, etype_name
   implicit none
   private
   public :: generate_line, generate_rectangle, MAX_GENERATED_ELEMENTS
@@ -96,7 +96,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp), intent(in), optional :: angle
     integer, allocatable :: id(:, :), all_nodes(:), elems(:)
-    integer :: step, imax, jmax, i, j, e, n, icen
+    integer :: step, imax, jmax, i, j, e, n, icen, per_cell
     real(dp) :: c, s, u, v, d, dmin, theta
 
     stat = STAT_OK
@@ -104,9 +104,9 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, 'rectangle mesh: empty name')
       return
     end if
-    if (et /= ET_QUAD4 .and. et /= ET_QUAD8) then
+    if (.not. any(et == [ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6])) then
       call set_error(stat, errmsg, STAT_INPUT, 'rectangle mesh ' // name // ': element type ' // etype_name(et) // &
-        ' not allowed (expected QUAD4 or QUAD8)')
+        ' not allowed (expected QUAD4, QUAD8, TRI3 or TRI6)')
       return
     end if
     if (nx < 1 .or. ny < 1) then
@@ -115,7 +115,8 @@ contains
       return
     end if
     ! nx*ny > MAX without forming the product, which may overflow a default integer.
-    if (nx > MAX_GENERATED_ELEMENTS / ny) then
+    per_cell = merge(2, 1, et == ET_TRI3 .or. et == ET_TRI6)
+    if (nx > MAX_GENERATED_ELEMENTS / per_cell / ny) then
       call set_error(stat, errmsg, STAT_INPUT, 'rectangle mesh ' // name // ': numbers of elements (' // str(nx) // &
         ', ' // str(ny) // ') give more than the limit of ' // str(MAX_GENERATED_ELEMENTS) // ' elements')
       return
@@ -135,9 +136,10 @@ contains
     end if
 
     ! Nodes live on a grid of (imax+1) x (jmax+1) points; QUAD8 uses the half-step grid without the
-    ! element centres (both indices odd), which therefore get id 0.
+    ! element centres (both indices odd), which therefore get id 0; TRI6 uses all of it (a cell's
+    ! centre is the mid-side node of its diagonal).
     step = 1
-    if (et == ET_QUAD8) step = 2
+    if (et == ET_QUAD8 .or. et == ET_TRI6) step = 2
     imax = step * nx
     jmax = step * ny
     c = cos(theta)
@@ -149,7 +151,7 @@ contains
     icen = 0
     do j = 0, jmax
       do i = 0, imax
-        if (step == 2 .and. mod(i, 2) == 1 .and. mod(j, 2) == 1) cycle
+        if (et == ET_QUAD8 .and. mod(i, 2) == 1 .and. mod(j, 2) == 1) cycle
         u = lx * real(i, dp) / real(imax, dp)
         v = ly * real(j, dp) / real(jmax, dp)
         n = n + 1
@@ -163,17 +165,30 @@ contains
       end do
     end do
 
-    allocate (elems(nx * ny))
+    ! Triangles: each cell cut along its diagonal from (i, j) to the opposite corner, both halves
+    ! counter-clockwise.
+    allocate (elems(per_cell * nx * ny))
     e = 0
     do j = 0, jmax - step, step
       do i = 0, imax - step, step
         e = e + 1
-        if (step == 1) then
+        select case (et)
+        case (ET_QUAD4)
           call m%add_element(ET_QUAD4, [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)], elems(e))
-        else
+        case (ET_QUAD8)
           call m%add_element(ET_QUAD8, [id(i, j), id(i + 2, j), id(i + 2, j + 2), id(i, j + 2), &
                                         id(i + 1, j), id(i + 2, j + 1), id(i + 1, j + 2), id(i, j + 1)], elems(e))
-        end if
+        case (ET_TRI3)
+          call m%add_element(ET_TRI3, [id(i, j), id(i + 1, j), id(i + 1, j + 1)], elems(e))
+          e = e + 1
+          call m%add_element(ET_TRI3, [id(i, j), id(i + 1, j + 1), id(i, j + 1)], elems(e))
+        case (ET_TRI6)
+          call m%add_element(ET_TRI6, [id(i, j), id(i + 2, j), id(i + 2, j + 2), &
+                                       id(i + 1, j), id(i + 2, j + 1), id(i + 1, j + 1)], elems(e))
+          e = e + 1
+          call m%add_element(ET_TRI6, [id(i, j), id(i + 2, j + 2), id(i, j + 2), &
+                                       id(i + 1, j + 1), id(i + 1, j + 2), id(i, j + 1)], elems(e))
+        end select
       end do
     end do
 

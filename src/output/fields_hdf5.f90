@@ -47,7 +47,9 @@ module fields_hdf5
     'BAR2: sigma (axial stress, Pa)', &
     'BEAM2: N (axial force, N), M (bending moment, N m)', &
     'QUAD4: sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)', &
-    'QUAD8: sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)']
+    'QUAD8: sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)', &
+    'TRI3: sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)', &
+    'TRI6: sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)']
 
   type :: fields_writer_t
     private

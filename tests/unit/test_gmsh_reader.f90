@@ -6,7 +6,7 @@ program test_gmsh_reader
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, str
   use mesh, only: mesh_t
-  use element_traits, only: ET_MASS, ET_BAR2, ET_QUAD4, ET_QUAD8
+  use element_traits, only: ET_MASS, ET_BAR2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6
   use gmsh_reader, only: read_gmsh
   use testing, only: check, check_close, test_summary
   implicit none
@@ -18,6 +18,7 @@ program test_gmsh_reader
   call test_rect_quad8()
   call test_clockwise()
   call test_sparse_tags()
+  call test_triangles()
   call test_errors()
   call test_large()
   call test_summary('gmsh_reader')
@@ -204,6 +205,39 @@ contains
     call check(all(m%x(:, m%conn(1, 1)) == 0.0_dp), 'clockwise: first corner kept')
   end subroutine test_clockwise
 
+  !> Triangles: a TRI6 counter-clockwise, a TRI3 and a TRI6 clockwise (renumbered, the TRI6's
+  !> mid-side nodes following their sides); the three are halves of the unit square,
+  !> half: areas 1/2 each.
+  subroutine test_triangles()
+    type(mesh_t) :: m
+    integer :: stat, e, k, a, b
+    logical :: ok
+    real(dp) :: ar
+    character(len=:), allocatable :: errmsg
+    call read_gmsh(m, dir // 'tri_clockwise.msh', 't', stat, errmsg)
+    call check(stat == STAT_OK, 'triangles: read', errmsg)
+    if (stat /= STAT_OK) return
+    call check(m%nelem == 3 .and. all(m%etype == [ET_TRI6, ET_TRI3, ET_TRI6]), 'triangles: TRI6, TRI3, TRI6')
+    ok = .true.
+    do e = 1, 3
+      ar = 0.0_dp
+      do k = 1, 3
+        a = m%conn(k, e)
+        b = m%conn(mod(k, 3) + 1, e)
+        ar = ar + 0.5_dp * (m%x(1, a) * m%x(2, b) - m%x(1, b) * m%x(2, a))
+      end do
+      ok = ok .and. abs(ar - 0.5_dp) <= tol
+      if (m%etype(e) == ET_TRI6) then
+        do k = 1, 3              ! mid-side node k + 3 halfway along side k
+          a = m%conn(k, e)
+          b = m%conn(mod(k, 3) + 1, e)
+          ok = ok .and. all(abs(m%x(:, m%conn(k + 3, e)) - 0.5_dp * (m%x(:, a) + m%x(:, b))) <= tol)
+        end do
+      end if
+    end do
+    call check(ok, 'triangles: counter-clockwise, area 1/2 each, mid-side nodes on their sides')
+  end subroutine test_triangles
+
   !> Node tags up to 3e8: looked up by binary search instead of a 3e8-entry array.
   subroutine test_sparse_tags()
     type(mesh_t) :: m
@@ -223,7 +257,7 @@ contains
     call check_error('bad_binary.msh', 2, 'binary')
     call check_error('bad_truncated.msh', 12, 'end of file')
     call check_error('bad_unknown_node.msh', 19, 'unknown node tag 7')
-    call check_error('bad_triangle.msh', 18, '3-node triangle')
+    call check_error('bad_quad9.msh', 28, '9-node quadrangle')
     call check_error('bad_missing_end.msh', 15, '$EndNodes')
     call check_error('bad_number.msh', 12, '"0x"')
     call check_error('bad_no_elements.msh', 15, 'missing $Elements')

@@ -5,7 +5,13 @@ top side (length 1 m, thickness 0.1 m) and a traction (0, 2e5) Pa on its right s
 damped to rest (ALPHA). The support reaction (PROBE blk.bottom RX, RY) at rest balances the
 loads exactly: (-5e4, 86602.54 - 1e4) N. Asserted to 1e-9 relative (measured 4e-13) in QUAD8
 (7 x 3) and QUAD4 (5 x 2): the consistent nodal forces of a side add up to the exact total
-whatever the mesh. Balance <= 1e-10 of the external work, with the damping column.
+whatever the mesh; also in TRI6 (7 x 3 cells, 42 triangles) and TRI3. Balance <= 1e-10 of the
+external work, with the damping column.
+
+patch.dat: the patch test at rest. A plane-stress plate on rollers, a traction (1e8, 0) Pa on its
+right side, damped to rest: sigma_xx = 1e8 Pa, sigma_yy = sigma_xy = 0 in every element
+(fields.h5 stress, the mean over each element's stress points) to 1e-7 of 1e8 (measured 2e-9),
+in TRI3, TRI6, QUAD4 and QUAD8.
 """
 import math
 import os
@@ -19,7 +25,8 @@ P, T, L, LR, TY = 1e6, 0.1, 1.0, 0.5, 2e5
 S, C = math.sin(math.pi / 6), math.cos(math.pi / 6)
 RX, RY = -P * L * T * S, P * L * T * C - T * LR * TY
 
-for tag, sets in [('QUAD8 7 x 3', []), ('QUAD4 5 x 2', ['RECTANGLE.TYPE=QUAD4', 'RECTANGLE.ELEMENTS=5 2'])]:
+for tag, sets in [('QUAD8 7 x 3', []), ('QUAD4 5 x 2', ['RECTANGLE.TYPE=QUAD4', 'RECTANGLE.ELEMENTS=5 2']),
+                  ('TRI6 7 x 3', ['RECTANGLE.TYPE=TRI6']), ('TRI3 5 x 2', ['RECTANGLE.TYPE=TRI3', 'RECTANGLE.ELEMENTS=5 2'])]:
     out = sc.run_ok(os.path.join(HERE, 'block.dat'), sets)
     p = sc.probes(out)
     h = sc.history(out)
@@ -28,3 +35,13 @@ for tag, sets in [('QUAD8 7 x 3', []), ('QUAD4 5 x 2', ['RECTANGLE.TYPE=QUAD4', 
     bal = abs(h['balance']).max() / abs(h['external']).max()
     sc.report('block %s: |balance| <= 1e-10 x external work (damping booked)' % tag, bal <= 1e-10, '%.3e' % bal)
     sc.report('block %s: damping removed energy' % tag, h['damping'][-1] > 0)
+
+import h5py  # noqa: E402
+SIG = 1e8
+for et in ['TRI3', 'TRI6', 'QUAD4', 'QUAD8']:
+    out = sc.run_ok(os.path.join(HERE, 'patch.dat'), ['RECTANGLE.TYPE=' + et])
+    with h5py.File(os.path.join(out, 'fields.h5'), 'r') as f:
+        s = f['step_000600/stress'][...]
+    err = max(abs(s[:, 0] - SIG).max(), abs(s[:, 1]).max(), abs(s[:, 3]).max()) / SIG
+    sc.report('patch %s at rest: sigma_xx = 1e8, sigma_yy = sigma_xy = 0 in every element (1e-7)' % et, err <= 1e-7,
+              'relative error %.3e' % err)
