@@ -417,14 +417,20 @@ contains
     type(system_t), intent(in) :: sys
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: k
+    integer :: k, i, k2
+    logical :: held
     stat = STAT_OK
     do k = 1, size(scn%probes)
       associate (p => scn%probes(k))
         if (p%reaction) then
-          if (any(sys%dofs%eqn(p%dof, scn%mesh%ngroups(p%ngroup)%items) == DOF_FIXED)) cycle
+          held = any(sys%dofs%eqn(p%dof, scn%mesh%ngroups(p%ngroup)%items) == DOF_FIXED)
+          do i = 1, size(scn%imposes)             ! or imposed (IMPOSE) on a node of the group
+            if (scn%imposes(i)%dof == p%dof) held = held .or. any([(any(scn%mesh%ngroups(p%ngroup)%items == &
+              scn%mesh%ngroups(scn%imposes(i)%ngroup)%items(k2)), k2 = 1, size(scn%mesh%ngroups(scn%imposes(i)%ngroup)%items))])
+          end do
+          if (held) cycle
           call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(p%line) // ': OUTPUT: PROBE ' // p%label // &
-            ': no node of the group has this DOF fixed (a reaction is the force of a FIX), at ''' // &
+            ': no node of the group has this DOF fixed or imposed (a reaction is the force of a FIX or IMPOSE), at ''' // &
             p%label(index(p%label, '.', back=.true.) + 1:) // "'")
           return
         end if
@@ -440,22 +446,28 @@ contains
   !> Every free DOF needs inertia: on a DOF without mass the trapezoid rule of eq (3) holds the
   !> force balance only on average over a step, so a DOF out of equilibrium (an initial
   !> displacement) alternates ±u every step. Refused, except the contact nodes IMPACT MASSLESS
-  !> makes massless on purpose (their rows are handled by the contact).
+  !> makes massless on purpose (their rows are handled by the contact) and the DOFs of IMPOSE
+  !> (their rows are the imposed motion).
   subroutine check_inertia(scn, sys, dm, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
     real(dp), intent(in) :: dm(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    logical, allocatable :: massless(:)
-    integer :: n, d, i
+    logical, allocatable :: massless(:), imposed(:, :)
+    integer :: n, d, i, k
     stat = STAT_OK
     if (scn%impact == IMPACT_MASSLESS) call contact_nodes(scn, massless)
+    allocate (imposed(3, scn%mesh%nnode))       ! IMPOSE: the motion is given, not integrated
+    imposed = .false.
+    do k = 1, size(scn%imposes)
+      imposed(scn%imposes(k)%dof, scn%mesh%ngroups(scn%imposes(k)%ngroup)%items) = .true.
+    end do
     do n = 1, scn%mesh%nnode
       do d = 1, size(sys%dofs%eqn, 1)
         i = sys%dofs%eqn(d, n)
         if (i <= 0) cycle
-        if (dm(i) > 0.0_dp) cycle
+        if (dm(i) > 0.0_dp .or. imposed(d, n)) cycle
         if (allocated(massless)) then
           if (massless(n)) cycle
         end if

@@ -33,6 +33,7 @@ module constraint_rows
     procedure :: eq_at => rows_eq_at
     procedure :: coef_at => rows_coef_at
     procedure :: gap0 => rows_gap0
+    procedure :: set_gap0 => rows_set_gap0
     procedure :: restitution => rows_restitution
     procedure :: nodes => rows_nodes
     procedure :: label => rows_label
@@ -225,6 +226,14 @@ contains
     integer, intent(in) :: p
     rows_coef_at = self%coef(p)
   end function rows_coef_at
+
+  !> A new g0_j (the bilateral rows of IMPOSE: minus the imposed value at the end of the step).
+  pure subroutine rows_set_gap0(self, j, g0)
+    class(constraint_rows_t), intent(inout) :: self
+    integer, intent(in) :: j
+    real(dp), intent(in) :: g0
+    self%g0(j) = g0
+  end subroutine rows_set_gap0
 
   pure real(dp) function rows_gap0(self, j)
     class(constraint_rows_t), intent(in) :: self

@@ -44,6 +44,7 @@ module contact
   public :: inverse_op_t, diag_inverse_t, chol_inverse_t
   public :: SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   public :: contact_set_t, contact_settings_t, contact_event_t, contact_report_t, multiplier_counters_t
+  public :: contact_set_bilateral, contact_set_gap0
   public :: contact_add, contact_finalize, contact_set_mass, contact_prepare, contact_solve_step, &
     contact_end_step, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, contact_am_block, &
     contact_set_rigid_modes, contact_events, hzero_reflection
@@ -86,6 +87,8 @@ module contact
     type(constraint_rows_t) :: c             !< the rows of C, g0, nodes, labels
     type(contact_state_t) :: st              !< state between steps (checkpointed)
     integer :: nc = 0, neq = 0
+    integer :: first_bilateral = huge(1)     !< rows from here on are equalities (IMPOSE), always active
+    logical, allocatable :: bilat(:)
     real(dp) :: length_scale = 1.0_dp        !< model size (tolerances are relative to it)
     integer :: lcp_iter = 0                  !< pivots of the last LCP
     logical :: finalized = .false., prepared = .false., mass_set = .false.
@@ -139,6 +142,7 @@ module contact
     real(dp) :: energy_restored = 0.0_dp     !< kinetic energy added, measured
     real(dp) :: scheme_work = 0.0_dp         !< ½ Λ'C du: the work the scheme counts for the multiplier
     real(dp) :: reaction_work = 0.0_dp       !< MASSLESS: ½ R(n)'C du, the start reactions' share of it
+    real(dp) :: imposed_work = 0.0_dp        !< ½ Λ'C du over the bilateral rows: the work of imposed motion
     integer :: fp_iterations = 0             !< impulse fixed point (14)
     real(dp) :: fp_change = 0.0_dp           !< its final relative change
     integer :: fp_failures = 0               !< 1 if (14) had no all-negative solution (see impulse_fixed_point)
@@ -352,6 +356,23 @@ contains
     cs%finalized = .false.
   end subroutine contact_add
 
+  !> Rows first.. (added last) are bilateral: equalities g_j = 0 held by a multiplier of any sign
+  !> (IMPOSE: prescribed displacements), always active, without impact events or corrections.
+  pure subroutine contact_set_bilateral(cs, first)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: first
+    cs%first_bilateral = first
+    cs%finalized = .false.
+  end subroutine contact_set_bilateral
+
+  !> A new g0 for row j (a bilateral row: minus its target at the end of the coming step).
+  pure subroutine contact_set_gap0(cs, j, g0)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: j
+    real(dp), intent(in) :: g0
+    call cs%c%set_gap0(j, g0)
+  end subroutine contact_set_gap0
+
   !> Check the conditions against neq free equations, set the model size (length_scale > 0,
   !> e.g. the bounding-box diagonal; tolerances are relative to it) and allocate the state and
   !> the workspaces: nothing active, no reaction. The initial gaps are the driver's (scene)
@@ -379,6 +400,10 @@ contains
       g0(g0j) = cs%c%gap0(g0j)
     end do
     call cs%st%init(g0)
+    if (allocated(cs%bilat)) deallocate (cs%bilat)
+    allocate (cs%bilat(nc))
+    cs%bilat = [(j >= cs%first_bilateral, j = 1, nc)]
+    cs%st%active_iter = cs%bilat                  ! (st%active: the contacts only, none yet)
     if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%mu, cs%viol, cs%now, &
       cs%est, cs%rel, cs%fallback, cs%idx, cs%cgroup, cs%f, cs%xw, cs%vp, cs%mvp, cs%rows, cs%ev, cs%sv, cs%ct, &
       cs%work2, cs%ipiv, cs%tolj, cs%cimp, cs%bimp, cs%gain, cs%lam_step, cs%changing)
@@ -583,6 +608,7 @@ contains
     select type (op => cs%minv)
     type is (diag_inverse_t)
       do j = 1, cs%nc
+        if (cs%bilat(j)) cycle                  ! (no impact correction on an IMPOSE row)
         call contact_am_block(cs, [j], 1, a, stat, errmsg)
         if (stat /= STAT_OK) return
       end do
@@ -702,17 +728,21 @@ contains
     do j = 1, cs%nc
       cs%wq(j) = max(cs%st%gap_n(j), 0.0_dp) + cs%c%dot(j, du_free)
       cs%tolj(j) = cs%settings%gap_rtol * cs%length_scale + min(cs%st%gap_n(j), 0.0_dp)
+      if (cs%bilat(j)) then                    ! an equality: its whole gap closes
+        cs%wq(j) = cs%st%gap_n(j) + cs%c%dot(j, du_free)
+        cs%tolj(j) = cs%settings%gap_rtol * cs%length_scale
+      end if
     end do
     call cs%ms%bind(cs%c, s)
     call lcp_pivot(cs%ms, cs%wq, cs%settings%gap_rtol * cs%length_scale, cs%st%lambda, cs%st%gap, &
-      cs%st%active_iter, cs%wdiag, cs%viol, cs%lcp_iter, stat, errmsg, tol_free=cs%tolj)
+      cs%st%active_iter, cs%wdiag, cs%viol, cs%lcp_iter, stat, errmsg, tol_free=cs%tolj, bilateral=cs%bilat)
     if (stat /= STAT_OK) then
       call cs%ms%unbind()
       errmsg = errmsg // ' (' // str(count(cs%st%active_iter)) // ' conditions in the last active set)'
       return
     end if
     lambda = cs%st%lambda
-    if (any(cs%st%lambda > 0.0_dp)) then
+    if (any(cs%st%lambda /= 0.0_dp)) then
       call cs%ms%correction(cs%st%lambda, cs%xw, stat, errmsg)
       if (stat == STAT_OK) du = du + cs%xw
     end if

@@ -31,7 +31,7 @@ contains
       if (present(report)) report = rep
       return
     end if
-    if ((mode == IMPACT_PAPER .or. mode == IMPACT_PERSIST) .and. .not. cs%mass_set) then
+    if ((mode == IMPACT_PAPER .or. mode == IMPACT_PERSIST) .and. .not. cs%mass_set .and. cs%first_bilateral > 1) then
       call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: call contact_set_mass first')
       return
     end if
@@ -40,7 +40,10 @@ contains
       do j = 1, cs%nc
         gend(j) = gn(j) + cs%c%dot(j, du)
       end do
-      now = cs%st%active_iter
+      ! Bilateral rows (IMPOSE) are no contacts: no events, no correction; their multipliers'
+      ! work is the work of the imposed motion, for the driver's external work.
+      now = cs%st%active_iter .and. .not. cs%bilat
+      rep%imposed_work = 0.5_dp * sum(cs%st%lambda * (gend - gn), mask=cs%bilat)
       est = now .and. .not. cs%st%active
       rel = cs%st%active .and. .not. now
       y = 0.0_dp

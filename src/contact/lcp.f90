@@ -94,7 +94,7 @@ contains
   !> given, replaces tol in the test of an inactive j (g_j < -tol_free(j)): contact passes the
   !> tolerance left to a condition that starts the step already inside it, so that a slow
   !> approach cannot creep in by tol at every step.
-  subroutine lcp_pivot(sys, q, tol, lam, g, active, wdiag, viol, iterations, stat, errmsg, max_iter, tol_free)
+  subroutine lcp_pivot(sys, q, tol, lam, g, active, wdiag, viol, iterations, stat, errmsg, max_iter, tol_free, bilateral)
     class(active_system_t), intent(inout) :: sys
     real(dp), intent(in) :: q(:), tol
     real(dp), intent(out) :: lam(:), g(:)
@@ -106,7 +106,9 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     integer, intent(in), optional :: max_iter
     real(dp), intent(in), optional :: tol_free(:)
+    logical, intent(in), optional :: bilateral(:)   !< equalities: always active, multiplier of any sign
     integer :: n, it, maxit, nv, nbest, tries, j
+    logical :: bil
 
     stat = STAT_OK
     n = size(q)
@@ -120,12 +122,18 @@ contains
     nbest = n + 1
     tries = BLOCK_TRIES
     nv = 0
+    if (present(bilateral)) active = active .or. bilateral
     do it = 1, maxit
       iterations = it
       call sys%solve_active(q, active, lam, g, wdiag, stat, errmsg)
       if (stat /= STAT_OK) return
       do j = 1, n
-        if (active(j)) then
+        bil = .false.
+        if (present(bilateral)) bil = bilateral(j)
+        if (bil) then
+          ! an equality dropped as dependent on others must still hold; kept, it never violates
+          viol(j) = .not. active(j) .and. abs(g(j)) > tol
+        else if (active(j)) then
           viol(j) = lam(j) * wdiag(j) < -tol
         else if (present(tol_free)) then
           viol(j) = g(j) < -tol_free(j)
@@ -135,7 +143,12 @@ contains
       end do
       nv = count(viol)
       if (nv == 0) then
-        if (any(lam < 0.0_dp)) then
+        if (present(bilateral)) then
+          if (any(lam < 0.0_dp .and. .not. bilateral)) then
+            where (.not. bilateral) lam = max(lam, 0.0_dp)
+            call sys%gaps(q, lam, g, stat, errmsg)
+          end if
+        else if (any(lam < 0.0_dp)) then
           lam = max(lam, 0.0_dp)
           call sys%gaps(q, lam, g, stat, errmsg)
         end if

@@ -14,7 +14,7 @@ module scene
   private
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
   public :: function_value, model_point_kind
-  public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t, condition_nodes
+  public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t, condition_nodes, impose_t, function_slope
 
 
   integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3
@@ -87,6 +87,15 @@ module scene
     integer :: func = 0          !< 0: constant 1
   end type load_t
 
+  !> IMPOSE: the displacement value x f(t) on DOF dof (1 UX, 2 UY, 3 RZ) of every node of a group.
+  type :: impose_t
+    integer :: ngroup = 0
+    integer :: dof = 0
+    real(dp) :: value = 1.0_dp
+    integer :: func = 0
+    integer :: line = 0
+  end type impose_t
+
   type :: probe_t
     character(len=:), allocatable :: label   !< group.DOF
     integer :: node = 0
@@ -109,6 +118,7 @@ module scene
     type(initial_t), allocatable :: initials(:)
     type(function_t), allocatable :: functions(:)
     type(load_t), allocatable :: loads(:)
+    type(impose_t), allocatable :: imposes(:)
     real(dp) :: gravity(2) = 0.0_dp
     integer :: gravity_func = 0
     real(dp) :: t_start = 0.0_dp, t_end = 0.0_dp, dt = 0.0_dp
@@ -174,4 +184,22 @@ contains
       end if
     end associate
   end function function_value
+
+  !> The right derivative of a FUNCTION at t (0 beyond its ends; 0 for ifn = 0, the constant 1).
+  pure real(dp) function function_slope(fns, ifn, t) result(d)
+    type(function_t), intent(in) :: fns(:)
+    integer, intent(in) :: ifn
+    real(dp), intent(in) :: t
+    integer :: i
+    d = 0.0_dp
+    if (ifn == 0) return
+    associate (tt => fns(ifn)%t, ff => fns(ifn)%f)
+      do i = 2, size(tt)
+        if (t >= tt(i - 1) .and. t < tt(i)) then
+          d = (ff(i) - ff(i - 1)) / (tt(i) - tt(i - 1))
+          return
+        end if
+      end do
+    end associate
+  end function function_slope
 end module scene

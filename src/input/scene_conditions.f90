@@ -5,7 +5,7 @@ module scene_conditions
   use errors, only: STAT_OK, STAT_INPUT, set_error, upper
   use statement, only: statement_t, stmt_error, find_param, get_real, get_word, to_real
   use statement_schema, only: schema_t
-  use scene, only: scene_t, fix_t, initial_t, load_t, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, LOAD_PRESSURE, &
+  use scene, only: scene_t, fix_t, initial_t, load_t, impose_t, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, LOAD_PRESSURE, &
     LOAD_TRACTION
   use mesh_segments, only: side_set_t, group_sides
   use scene_helpers, only: node_group
@@ -37,6 +37,12 @@ contains
     call sch%add_param('LOAD', 'NODES', 1, 1)
     call sch%add_param('LOAD', 'FORCE', 2, 3)
     call sch%add_param('LOAD', 'FUNCTION', 1, 1)
+    call sch%add_keyword('IMPOSE', 1, 1)
+    call sch%add_param('IMPOSE', 'UX', 0, 0)
+    call sch%add_param('IMPOSE', 'UY', 0, 0)
+    call sch%add_param('IMPOSE', 'RZ', 0, 0)
+    call sch%add_param('IMPOSE', 'VALUE', 1, 1)
+    call sch%add_param('IMPOSE', 'FUNCTION', 1, 1)
     call sch%add_keyword('PRESSURE', 1, 1)
     call sch%add_param('PRESSURE', 'VALUE', 1, 1)
     call sch%add_param('PRESSURE', 'FUNCTION', 1, 1)
@@ -62,6 +68,8 @@ contains
       call do_gravity(scn, st, stat, errmsg)
     case ('LOAD')
       call do_load(scn, st, stat, errmsg)
+    case ('IMPOSE')
+      call do_impose(scn, st, stat, errmsg)
     case ('PRESSURE', 'TRACTION')
       call do_side_load(scn, st, stat, errmsg)
     end select
@@ -272,4 +280,34 @@ contains
     if (stat /= STAT_OK) return
     scn%loads = [scn%loads, ld]
   end subroutine do_side_load
+
+  !> IMPOSE group UX|UY|RZ [VALUE a] FUNCTION f: the displacement a f(t) on that DOF of every
+  !> node of the group (one DOF per statement). Held exactly by a multiplier (docs/input.md).
+  subroutine do_impose(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(impose_t) :: im
+    logical :: flags(3)
+    call node_group(scn, st, st%lead(1), im%ngroup, stat, errmsg)
+    if (stat /= STAT_OK) return
+    flags = [find_param(st, 'UX') > 0, find_param(st, 'UY') > 0, find_param(st, 'RZ') > 0]
+    if (count(flags) /= 1) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give one DOF: UX, UY or RZ', st%lead(1)))
+      return
+    end if
+    im%dof = findloc(flags, .true., 1)
+    call get_real(st, 'VALUE', im%value, stat, errmsg, default=1.0_dp)
+    if (stat /= STAT_OK) return
+    if (find_param(st, 'FUNCTION') == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter FUNCTION (the displacement ' // &
+        'history)', st%lead(1)))
+      return
+    end if
+    call get_function(scn, st, im%func, stat, errmsg)
+    if (stat /= STAT_OK) return
+    im%line = st%line
+    scn%imposes = [scn%imposes, im]
+  end subroutine do_impose
 end module scene_conditions

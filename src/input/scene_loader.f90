@@ -54,7 +54,7 @@ contains
     scn%path = path
     scn%title = ''
     allocate (scn%materials(0), scn%sections(0), scn%models(0), scn%fixes(0), scn%initials(0), &
-      scn%functions(0), scn%loads(0), scn%probes(0), scn%conditions(0))
+      scn%functions(0), scn%loads(0), scn%imposes(0), scn%probes(0), scn%conditions(0))
     ! Pass 1: mesh and definitions, in file order.
     allocate (scn%node_line(0))
     do i = 1, size(st)

@@ -9,6 +9,7 @@ module newmark
   use scene, only: scene_t, condition_nodes
   use contact_modes, only: IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS
   use dof_map, only: equation_bodies
+  use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions
   use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
     contact_prepare, contact_set_rigid_modes, contact_gaps
   use assembly, only: system_t, external_force, mass_times, initial_state, dof_label, dof_origin, save_points, reaction_update, &
@@ -58,6 +59,7 @@ module newmark
     ! the reference configuration) and M times them: the momenta of history.csv, PERSIST.
     real(dp), allocatable :: rig(:, :), mrig(:, :)
     real(dp), allocatable :: lam(:)          !< step multipliers of the last iterate
+    integer, allocatable :: imp_row(:), imp_slot(:)   !< IMPOSE rows summed by reaction probes
   end type run_state_t
 
 contains
@@ -98,6 +100,9 @@ contains
       if (stat /= STAT_OK) return
       rs%st%u = rs%st%u + ustatic
     end if
+    call imposed_start(scn, sys, rs%st%u, rs%st%v, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call imposed_probe_map(scn, rs%imp_row, rs%imp_slot)
     call rs%mat%setup(sys, rs%h, stat, errmsg, minor)
     if (stat /= STAT_OK) then
       call set_error(stat, errmsg, STAT_INPUT, dof_origin(scn, sys, minor) // ': singular system K0 + 4M/h2 at ' // &
@@ -105,7 +110,7 @@ contains
       return
     end if
     call rigid_modes(scn, sys, rs)
-    if (size(scn%conditions) > 0) then
+    if (size(scn%conditions) > 0 .or. size(scn%imposes) > 0) then
       call setup_contact(scn, sys, rs, stat, errmsg)
       if (stat /= STAT_OK) return
     end if
@@ -141,6 +146,7 @@ contains
           label=c%source, restitution=c%restitution)
       end associate
     end do
+    call imposed_rows(scn, sys, rs%cs)
     associate (x => scn%mesh%x(:, 1:scn%mesh%nnode))
       lscale = max(maxval(x(1, :)) - minval(x(1, :)), maxval(x(2, :)) - minval(x(2, :)))
     end associate
@@ -151,7 +157,7 @@ contains
     if (stat /= STAT_OK) return
     call check_initial_gaps(scn, rs%cs, rs%st%u, lscale, stat, errmsg)
     if (stat /= STAT_OK) return
-    if (scn%impact == IMPACT_PAPER .or. scn%impact == IMPACT_PERSIST) then
+    if ((scn%impact == IMPACT_PAPER .or. scn%impact == IMPACT_PERSIST) .and. size(scn%conditions) > 0) then
       ! The impulse (12) and the reflection (16) need M^-1: every DOF must carry mass.
       if (sys%ops%mass_diagonal) then
         call contact_set_mass(rs%cs, sys%ops%mdiag, stat, msg)
@@ -174,7 +180,7 @@ contains
     call contact_set_rigid_modes(rs%cs, rs%rig, rs%mrig, stat, errmsg)
     if (stat /= STAT_OK) return
     call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, rs%body)
-    allocate (rs%lam(size(scn%conditions)))
+    allocate (rs%lam(rs%cs%n_conditions()))
     rs%lam = 0.0_dp
   end subroutine setup_contact
 
@@ -257,12 +263,12 @@ contains
     character(len=:), allocatable :: list
     integer :: j, nbad, first
     stat = STAT_OK
-    allocate (g(size(scn%conditions)))
+    allocate (g(cs%n_conditions()))
     call contact_gaps(cs, u, g)
     nbad = 0
     first = 0
     list = ''
-    do j = 1, size(g)
+    do j = 1, size(scn%conditions)               ! (the IMPOSE rows after them are equalities)
       if (.not. g(j) < -1.0e-10_dp * lscale) cycle
       nbad = nbad + 1
       if (first == 0) first = j
@@ -321,6 +327,7 @@ contains
       if (stat /= STAT_OK) exit
       t = scn%t_start + step * rs%h
       call external_force(scn, sys, t, rs%st%f_np1)
+      if (size(scn%imposes) > 0) call imposed_targets(scn, rs%cs, t)
       if (rs%has_contact) then
         call iterate_eq9(scn, sys, rs%st, rs%mat, rep, stat, errmsg, rs%cs, rs%lam)
       else
@@ -342,6 +349,7 @@ contains
           exit
         end if
         nactive = crep%n_active
+        dw_ext = dw_ext + crep%imposed_work      ! IMPOSE: the work of the imposed motion
         ! RESTITUTION e < 1: the kinetic energy the impact removed is dissipated, not lost by the
         ! scheme; the correction is what was given back (the measured change plus that).
         if (crep%impact_dissipated /= 0.0_dp) then
@@ -359,6 +367,7 @@ contains
         call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg)
       end if
       call reaction_update(scn, sys, rs%st%u, rs%st%v, t, rs%h, .false.)
+      if (size(rs%imp_row) > 0) call imposed_reactions(rs%cs, rs%imp_row, rs%imp_slot, sys%react%value)
       ! MODEL DAMPING: the step's damping work du'C du/h is booked, so that the balance holds.
       call rs%en%add_damping(rs%st%damping_work(sys))
       call rs%en%add_step(rs%st%kinetic, rs%st%inc%work, dw_ext, dw_corr + e_rest, rs%st%inc%dissipated, &

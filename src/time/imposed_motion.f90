@@ -1,0 +1,129 @@
+!> IMPOSE group UX|UY|RZ [VALUE a] FUNCTION f (docs/input.md): prescribed displacements held
+!> exactly by the step's multipliers. Each imposed DOF is a bilateral row of the contact set,
+!> u_i - a f(t(n+1)) = 0 at the end of every step, always active, its multiplier of any sign the
+!> trapezoidal reaction R(n) + R(n+1). Its work over the step, ½ Λ du_i, is the work of the
+!> imposed motion, which the driver adds to the external work: the balance stays exact.
+module imposed_motion
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str
+  use scene, only: scene_t, function_value, function_slope
+  use assembly, only: system_t
+  use dof_map, only: DOF_FIXED, DOF_ABSENT
+  use contact, only: contact_set_t, contact_add, contact_set_bilateral, contact_set_gap0
+  implicit none
+  private
+  public :: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions
+
+  character(len=2), parameter :: DOF_NAME(3) = ['UX', 'UY', 'RZ']
+
+contains
+
+  !> The initial state of the imposed DOFs: u = a f(t0), v = a f'(t0) (right derivative). A DOF
+  !> also fixed, or one its node does not carry, is bad input naming the statement.
+  subroutine imposed_start(scn, sys, u, v, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(inout) :: u(:), v(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, i, n, eq
+    character(len=:), allocatable :: why
+    stat = STAT_OK
+    do k = 1, size(scn%imposes)
+      associate (im => scn%imposes(k), nodes => scn%mesh%ngroups(scn%imposes(k)%ngroup)%items)
+        do i = 1, size(nodes)
+          n = nodes(i)
+          eq = sys%dofs%eqn(im%dof, n)
+          if (eq == DOF_FIXED .or. eq == DOF_ABSENT) then
+            if (eq == DOF_FIXED) then
+              why = ' has its ' // DOF_NAME(im%dof) // ' fixed (FIX and IMPOSE on one DOF)'
+            else
+              why = ' carries no ' // DOF_NAME(im%dof)
+            end if
+            call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(im%line) // ': IMPOSE ' // &
+              scn%mesh%ngroups(im%ngroup)%name // ': node ' // str(n) // why // ", at '" // DOF_NAME(im%dof) // "'")
+            return
+          end if
+          u(eq) = im%value * function_value(scn%functions, im%func, scn%t_start)
+          v(eq) = im%value * function_slope(scn%functions, im%func, scn%t_start)
+        end do
+      end associate
+    end do
+  end subroutine imposed_start
+
+  !> Append the bilateral rows, one per imposed DOF, after the contact conditions.
+  subroutine imposed_rows(scn, sys, cs)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    type(contact_set_t), intent(inout) :: cs
+    integer :: k, i, n
+    if (size(scn%imposes) == 0) return
+    call contact_set_bilateral(cs, size(scn%conditions) + 1)
+    do k = 1, size(scn%imposes)
+      associate (im => scn%imposes(k), nodes => scn%mesh%ngroups(scn%imposes(k)%ngroup)%items)
+        do i = 1, size(nodes)
+          n = nodes(i)
+          call contact_add(cs, -im%value * function_value(scn%functions, im%func, scn%t_start), &
+            [sys%dofs%eqn(im%dof, n)], [1.0_dp], nodes=[0, n], label='IMPOSE ' // scn%mesh%ngroups(im%ngroup)%name)
+        end do
+      end associate
+    end do
+  end subroutine imposed_rows
+
+  !> Before the step ending at t: each row's target, g_j = u_i - a f(t) = 0.
+  subroutine imposed_targets(scn, cs, t)
+    type(scene_t), intent(in) :: scn
+    type(contact_set_t), intent(inout) :: cs
+    real(dp), intent(in) :: t
+    integer :: k, i, j
+    j = size(scn%conditions)
+    do k = 1, size(scn%imposes)
+      associate (im => scn%imposes(k))
+        do i = 1, size(scn%mesh%ngroups(im%ngroup)%items)
+          j = j + 1
+          call contact_set_gap0(cs, j, -im%value * function_value(scn%functions, im%func, t))
+        end do
+      end associate
+    end do
+  end subroutine imposed_targets
+
+  !> The (row, slot) pairs of the support-reaction probes (PROBE group RX|RY|MZ, in order) that
+  !> sum an imposed DOF: its node in the probe's group, its DOF the probe's direction.
+  subroutine imposed_probe_map(scn, row, slot)
+    type(scene_t), intent(in) :: scn
+    integer, allocatable, intent(out) :: row(:), slot(:)
+    logical, allocatable :: member(:)
+    integer :: k, i, j, s, p, np
+    allocate (row(0), slot(0), member(scn%mesh%nnode))
+    s = 0
+    do p = 1, size(scn%probes)
+      if (.not. scn%probes(p)%reaction) cycle
+      s = s + 1
+      member = .false.
+      member(scn%mesh%ngroups(scn%probes(p)%ngroup)%items) = .true.
+      j = size(scn%conditions)
+      do k = 1, size(scn%imposes)
+        np = size(scn%mesh%ngroups(scn%imposes(k)%ngroup)%items)
+        do i = 1, np
+          j = j + 1
+          if (scn%imposes(k)%dof /= scn%probes(p)%dof) cycle
+          if (.not. member(scn%mesh%ngroups(scn%imposes(k)%ngroup)%items(i))) cycle
+          row = [row, j]
+          slot = [slot, s]
+        end do
+      end do
+    end do
+  end subroutine imposed_probe_map
+
+  !> After a step: the mean force of the step at each imposed DOF, half its multiplier (which
+  !> stands for R(n) + R(n+1)), added to the reaction probes that sum it.
+  subroutine imposed_reactions(cs, row, slot, value)
+    type(contact_set_t), intent(in) :: cs
+    integer, intent(in) :: row(:), slot(:)
+    real(dp), intent(inout) :: value(:)
+    integer :: k
+    do k = 1, size(row)
+      value(slot(k)) = value(slot(k)) + 0.5_dp * cs%multiplier(row(k))
+    end do
+  end subroutine imposed_reactions
+end module imposed_motion
