@@ -1,9 +1,12 @@
-!> Reader for Gmsh ASCII meshes, MSH format 4.1 ($MeshFormat 4.1 0 8), in the xy plane.
+!> Reader for Gmsh ASCII meshes, MSH formats 4.1 ($MeshFormat 4.1 0 8) and 2.2 (2.2 0 8; its
+!> $Nodes and $Elements in gmsh_msh2), in the xy plane.
 !>
 !> Sections read: $MeshFormat, $PhysicalNames, $Entities, $Nodes, $Elements; any other section is
-!> skipped. Element types: 15 (point) -> MASS, 1 (2-node line) -> BAR2, 3 (4-node quadrangle) ->
-!> QUAD4, 16 (8-node quadrangle, corners then mid-sides 1-2, 2-3, 3-4, 4-1 as ours) -> QUAD8.
-!> Quadrangles given clockwise (a surface whose normal is -z) are renumbered counter-clockwise.
+!> skipped. Element types: 15 (point) -> MASS, 1 (2-node line) -> BAR2, 2 (3-node triangle) ->
+!> TRI3, 9 (6-node triangle) -> TRI6, 3 (4-node quadrangle) -> QUAD4, 16 (8-node quadrangle,
+!> corners then mid-sides 1-2, 2-3, 3-4, 4-1 as ours) -> QUAD8; 8 (3-node line, the boundary
+!> curves of second-order meshes) gives no element, its nodes join its physical groups. Surfaces
+!> given clockwise (normal -z) are renumbered counter-clockwise.
 !>
 !> The file is parsed line by line into local arrays and added to the mesh only once all of it is
 !> valid, so a failed read leaves the mesh untouched. Every error message starts with
@@ -13,42 +16,17 @@ module gmsh_reader
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use mesh, only: mesh_t, MAX_COORD
-  use element_traits, only: etype_nen, etype_gmsh, etype_family
+  use element_traits, only: etype_nen
   use number_text, only: parse_real_text, NUM_OK
   use array_utils, only: heap_sort, sort_by_key, grow
-  use line_reader, only: line_reader_t, open_reader, close_reader, next_line, get_int, get_reals, get_real_tok, fail, tok, clip
+  use line_reader, only: open_reader, close_reader, next_line, get_int, get_real_tok, fail, tok, clip
   use os_utils, only: is_directory
+  use gmsh_state, only: pname_t, gmsh_t, LINE3, node_of, too_many, node_coordinates, gmsh_type_name, data_line, &
+    next_line_or_eof, header_ints, end_section, element_kind, store_element
+  use gmsh_msh2, only: read_nodes_msh2, read_elements_msh2
   implicit none
   private
   public :: read_gmsh
-
-  !> A $PhysicalNames entry.
-  type :: pname_t
-    integer :: dim = 0, tag = 0
-    character(len=:), allocatable :: name
-  end type pname_t
-
-  !> Parser state: the current line and its tokens (line_reader_t), and everything read so far
-  !> (local numbering).
-  type, extends(line_reader_t) :: gmsh_t
-    integer :: npn = 0
-    type(pname_t), allocatable :: pn(:)            !< physical names
-    integer :: nent = 0
-    integer, allocatable :: ent_dim(:), ent_tag(:) !< entities
-    integer, allocatable :: ent_ptr(:)             !< physical tags of entity i: ent_phys(ent_ptr(i):ent_ptr(i+1)-1)
-    integer :: nphys = 0
-    integer, allocatable :: ent_phys(:)
-    integer :: nnode = 0
-    real(dp), allocatable :: x(:, :)               !< (2, nnode)
-    integer(int64) :: fsize = -1                   !< file size in bytes (-1 if unknown), bounds allocations
-    integer :: tagmin = 0, tagmax = -1
-    logical :: dense = .true.                      !< node tags mapped by node_of_tag, else by sorted_tag
-    integer, allocatable :: node_of_tag(:)         !< dense: (tagmin:tagmax) local node number, 0 if none
-    integer, allocatable :: sorted_tag(:), sorted_node(:)  !< sparse: tags ascending and their nodes
-    integer :: nelem = 0
-    integer, allocatable :: etype(:), edim(:), eent(:), conn(:, :)
-    logical :: have_nodes = .false., have_elements = .false., have_entities = .false.
-  end type gmsh_t
 
 contains
 
@@ -117,9 +95,17 @@ contains
       case ('$Entities')
         call read_entities(g, stat, errmsg)
       case ('$Nodes')
-        call read_nodes(g, stat, errmsg)
+        if (g%version == 22) then
+          call read_nodes_msh2(g, stat, errmsg)
+        else
+          call read_nodes(g, stat, errmsg)
+        end if
       case ('$Elements')
-        call read_elements(g, stat, errmsg)
+        if (g%version == 22) then
+          call read_elements_msh2(g, stat, errmsg)
+        else
+          call read_elements(g, stat, errmsg)
+        end if
       case default
         call skip_section(g, stat, errmsg)
       end select
@@ -159,8 +145,10 @@ contains
       call fail(g, stat, errmsg, 'expected a version number, found "' // clip(tok(g, 1)) // '"')
       return
     end if
-    if (abs(version - 4.1_dp) > 1.0e-9_dp) then
-      call fail(g, stat, errmsg, 'MSH format version ' // tok(g, 1) // ' is not supported, expected 4.1 ' // &
+    if (abs(version - 2.2_dp) <= 1.0e-9_dp) then
+      g%version = 22
+    else if (abs(version - 4.1_dp) > 1.0e-9_dp) then
+      call fail(g, stat, errmsg, 'MSH format version ' // tok(g, 1) // ' is not supported, expected 4.1 or 2.2 ' // &
         '(in Gmsh: Mesh.MshFileVersion = 4.1)')
       return
     end if
@@ -450,61 +438,6 @@ contains
     end do
   end subroutine read_nodes
 
-  !> The next line: "x y z" of node tag (at most maxtok words: parametric coordinates may
-  !> follow), each within ±MAX_COORD.
-  subroutine node_coordinates(g, tag, maxtok, xyz, stat, errmsg)
-    type(gmsh_t), intent(inout) :: g
-    integer, intent(in) :: tag, maxtok
-    real(dp), intent(out) :: xyz(3)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    call data_line(g, 'the coordinates "x y z" of a node', stat, errmsg)
-    if (stat /= STAT_OK) return
-    if (g%ntok < 3 .or. g%ntok > maxtok) then
-      call fail(g, stat, errmsg, 'expected the coordinates "x y z" of node ' // str(tag) // ', found "' // &
-        clip(g%line) // '"')
-      return
-    end if
-    call get_reals(g, 3, 'a node coordinate', xyz, stat, errmsg)
-    if (stat /= STAT_OK) return
-    if (any(abs(xyz) > MAX_COORD)) call fail(g, stat, errmsg, 'node ' // str(tag) // ': a coordinate beyond ±1e100, ' // &
-      'found "' // clip(g%line) // '"')
-  end subroutine node_coordinates
-
-  !> Whether n records of at least minbytes bytes each cannot fit in the file (garbage counts must
-  !> not trigger huge allocations).
-  pure logical function too_many(g, n, minbytes)
-    type(gmsh_t), intent(in) :: g
-    integer, intent(in) :: n, minbytes
-    too_many = g%fsize >= 0 .and. int(n, int64) > g%fsize / minbytes
-  end function too_many
-
-  !> Local node number of a Gmsh node tag, 0 if unknown.
-  pure integer function node_of(g, tag) result(node)
-    type(gmsh_t), intent(in) :: g
-    integer, intent(in) :: tag
-    integer :: lo, hi, mid
-    node = 0
-    if (tag < g%tagmin .or. tag > g%tagmax) return
-    if (g%dense) then
-      node = g%node_of_tag(tag)
-      return
-    end if
-    lo = 1
-    hi = g%nnode
-    do while (lo <= hi)
-      mid = lo + (hi - lo) / 2
-      if (g%sorted_tag(mid) == tag) then
-        node = g%sorted_node(mid)
-        return
-      else if (g%sorted_tag(mid) < tag) then
-        lo = mid + 1
-      else
-        hi = mid - 1
-      end if
-    end do
-  end function node_of
-
   !> $Elements: "numEntityBlocks numElements minElementTag maxElementTag", then per block
   !> "entityDim entityTag elementType numElementsInBlock" and one "elementTag nodeTag..." line per element.
   subroutine read_elements(g, stat, errmsg)
@@ -554,14 +487,8 @@ contains
       if (stat /= STAT_OK) return
       call get_int(g, 3, 1, huge(1), 'an element type', gtype, stat, errmsg)
       if (stat /= STAT_OK) return
-      et = etype_gmsh(gtype)
-      if (et == 0) then
-        call fail(g, stat, errmsg, 'unsupported Gmsh element type ' // str(gtype) // ' (' // gmsh_type_name(gtype) // &
-          '); expected 15 (point), 1 (2-node line), 2 (3-node triangle), 9 (6-node triangle), ' // &
-          '3 (4-node quadrangle) or 16 (8-node quadrangle)')
-        return
-      end if
-      dim = etype_family(et) - 1          ! point 0, line 1, surface 2
+      call element_kind(g, gtype, et, nen, dim, stat, errmsg)
+      if (stat /= STAT_OK) return
       if (edim /= dim) then
         call fail(g, stat, errmsg, 'element type ' // str(gtype) // ' (' // gmsh_type_name(gtype) // ') in a block ' // &
           'of dimension ' // str(edim) // ', expected dimension ' // str(dim))
@@ -578,7 +505,6 @@ contains
           exit
         end if
       end do
-      nen = etype_nen(et)
       do k = 1, nb
         call data_line(g, 'an element line "elementTag nodeTag..."', stat, errmsg)
         if (stat /= STAT_OK) return
@@ -599,19 +525,8 @@ contains
           end if
           nodes(j) = node
         end do
-        if (dim == 2) then
-          call orient_surface(g%x, nodes(1:nen), stat)
-          if (stat /= STAT_OK) then
-            call fail(g, stat, errmsg, 'degenerate ' // gmsh_type_name(gtype) // ' (zero area), expected distinct corners')
-            return
-          end if
-        end if
-        g%nelem = g%nelem + 1
-        g%etype(g%nelem) = et
-        g%edim(g%nelem) = dim
-        g%eent(g%nelem) = ent
-        g%conn(:, g%nelem) = 0
-        g%conn(1:nen, g%nelem) = nodes(1:nen)
+        call store_element(g, gtype, et, dim, ent, nodes(1:nen), stat, errmsg)
+        if (stat /= STAT_OK) return
       end do
     end do
     if (g%nelem /= nelem) then
@@ -670,15 +585,16 @@ contains
     do i = 1, g%nnode
       call m%add_node(g%x(:, i), nid(i))
     end do
-    do e = 1, g%nelem
-      call m%add_element(g%etype(e), nid(g%conn(1:etype_nen(g%etype(e)), e)), eid(e))
+    eid = 0
+    do e = 1, g%nelem                          ! (a 3-node line is no element: its nodes join groups)
+      if (g%etype(e) /= LINE3) call m%add_element(g%etype(e), nid(g%conn(1:etype_nen(g%etype(e)), e)), eid(e))
     end do
 
     pre = ''
     if (len_trim(prefix) > 0) then
       pre = trim(prefix) // '.'
       call m%add_node_group(trim(prefix), nid)
-      call m%add_elem_group(trim(prefix), pack(eid, g%edim >= 1))
+      call m%add_elem_group(trim(prefix), pack(eid, g%edim >= 1 .and. eid > 0))
     end if
 
     ! Physical groups: one per distinct name; gid(j) is the group of the entity/physical-tag pair j,
@@ -728,7 +644,7 @@ contains
       nn = 0
       do i = ptr(k), ptr(k + 1) - 1
         e = items(i)
-        do j = 1, etype_nen(g%etype(e))
+        do j = 1, merge(3, etype_nen(max(g%etype(e), 1)), g%etype(e) == LINE3)
           n = g%conn(j, e)
           if (mark(n) /= k) then
             mark(n) = k
@@ -738,7 +654,8 @@ contains
         end do
       end do
       call heap_sort(nodes(1:nn))
-      call m%add_elem_group(pre // grp(k)%name, eid(items(ptr(k):ptr(k + 1) - 1)))
+      call m%add_elem_group(pre // grp(k)%name, pack(eid(items(ptr(k):ptr(k + 1) - 1)), &
+        eid(items(ptr(k):ptr(k + 1) - 1)) > 0))
       call m%add_node_group(pre // grp(k)%name, nid(nodes(1:nn)))
     end do
 
@@ -771,119 +688,5 @@ contains
     end do
     name = 'physical_' // str(tag)
   end function group_name
-
-  !> Make a triangle or quadrangle counter-clockwise (reversing a clockwise one: corners
-  !> 1 2 3 [4] -> 1 [4] 3 2, mid-sides of sides 12 23 34 41 -> 14 43 32 21, of 12 23 31 -> 13 32 21);
-  !> stat = 1 if its area is zero. nodes: corners, then mid-side nodes (3, 4, 6 or 8 of them).
-  pure subroutine orient_surface(x, nodes, stat)
-    real(dp), intent(in) :: x(:, :)
-    integer, intent(inout) :: nodes(:)
-    integer, intent(out) :: stat
-    real(dp) :: a, d2
-    integer :: i, j, nc
-    stat = 0
-    nc = merge(3, 4, size(nodes) == 3 .or. size(nodes) == 6)
-    a = 0.0_dp
-    d2 = 0.0_dp
-    do i = 1, nc
-      j = mod(i, nc) + 1
-      a = a + x(1, nodes(i)) * x(2, nodes(j)) - x(1, nodes(j)) * x(2, nodes(i))
-      d2 = max(d2, sum((x(:, nodes(j)) - x(:, nodes(i)))**2))
-    end do
-    if (abs(a) <= zero_tol * d2) then
-      stat = 1
-    else if (a < 0.0_dp) then
-      nodes(2:nc) = nodes(nc:2:-1)
-      if (size(nodes) == 2 * nc) nodes(nc + 1:2 * nc) = nodes(2 * nc:nc + 1:-1)
-    end if
-  end subroutine orient_surface
-
-  !> Gmsh's name of an element type, for messages.
-  pure function gmsh_type_name(t) result(s)
-    integer, intent(in) :: t
-    character(len=:), allocatable :: s
-    select case (t)
-    case (1); s = '2-node line'
-    case (2); s = '3-node triangle'
-    case (3); s = '4-node quadrangle'
-    case (4); s = '4-node tetrahedron'
-    case (5); s = '8-node hexahedron'
-    case (6); s = '6-node prism'
-    case (7); s = '5-node pyramid'
-    case (8); s = '3-node line'
-    case (9); s = '6-node triangle'
-    case (10); s = '9-node quadrangle'
-    case (11); s = '10-node tetrahedron'
-    case (12); s = '27-node hexahedron'
-    case (13); s = '18-node prism'
-    case (14); s = '14-node pyramid'
-    case (15); s = '1-node point'
-    case (16); s = '8-node quadrangle'
-    case (17); s = '20-node hexahedron'
-    case (18); s = '15-node prism'
-    case (19); s = '13-node pyramid'
-    case default; s = 'unknown to rebond'
-    end select
-  end function gmsh_type_name
-
-  ! ---------------------------------------------------------------------------------------------
-  ! Lines and tokens.
-
-  !> next_line where end of file is an error; what = what was expected.
-  subroutine data_line(g, what, stat, errmsg)
-    type(gmsh_t), intent(inout) :: g
-    character(len=*), intent(in) :: what
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    logical :: ok
-    call next_line(g, ok, stat, errmsg)
-    if (stat /= STAT_OK) return
-    if (.not. ok) then
-      call fail(g, stat, errmsg, 'unexpected end of file (truncated?), expected ' // what)
-      return
-    end if
-    if (g%line(g%tb(1):g%tb(1)) == '$') then
-      call fail(g, stat, errmsg, 'unexpected "' // tok(g, 1) // '" (section too short?), expected ' // what)
-    end if
-  end subroutine data_line
-
-  !> Advance to the next line so that an error is reported there, but stay on the last line at end of file.
-  subroutine next_line_or_eof(g, stat, errmsg)
-    type(gmsh_t), intent(inout) :: g
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    logical :: ok
-    call next_line(g, ok, stat, errmsg)
-  end subroutine next_line_or_eof
-
-  !> A data line holding exactly n integers (checked by the caller with get_int).
-  subroutine header_ints(g, n, what, stat, errmsg)
-    type(gmsh_t), intent(inout) :: g
-    integer, intent(in) :: n
-    character(len=*), intent(in) :: what
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    call data_line(g, what, stat, errmsg)
-    if (stat /= STAT_OK) return
-    if (g%ntok /= n) then
-      call fail(g, stat, errmsg, 'expected ' // what // ', found "' // clip(g%line) // '"')
-    end if
-  end subroutine header_ints
-
-  !> The next line must be the closing tag endname.
-  subroutine end_section(g, endname, stat, errmsg)
-    type(gmsh_t), intent(inout) :: g
-    character(len=*), intent(in) :: endname
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    logical :: ok
-    call next_line(g, ok, stat, errmsg)
-    if (stat /= STAT_OK) return
-    if (.not. ok) then
-      call fail(g, stat, errmsg, 'unexpected end of file (truncated?), expected ' // endname)
-    else if (g%ntok /= 1 .or. tok(g, 1) /= endname) then
-      call fail(g, stat, errmsg, 'expected ' // endname // ', found "' // clip(g%line) // '"')
-    end if
-  end subroutine end_section
 
 end module gmsh_reader

@@ -19,6 +19,7 @@ program test_gmsh_reader
   call test_clockwise()
   call test_sparse_tags()
   call test_triangles()
+  call test_msh22()
   call test_errors()
   call test_large()
   call test_summary('gmsh_reader')
@@ -217,7 +218,7 @@ contains
     call read_gmsh(m, dir // 'tri_clockwise.msh', 't', stat, errmsg)
     call check(stat == STAT_OK, 'triangles: read', errmsg)
     if (stat /= STAT_OK) return
-    call check(m%nelem == 3 .and. all(m%etype == [ET_TRI6, ET_TRI3, ET_TRI6]), 'triangles: TRI6, TRI3, TRI6')
+    call check(m%nelem == 3 .and. all(m%etype(1:3) == [ET_TRI6, ET_TRI3, ET_TRI6]), 'triangles: TRI6, TRI3, TRI6')
     ok = .true.
     do e = 1, 3
       ar = 0.0_dp
@@ -237,6 +238,38 @@ contains
     end do
     call check(ok, 'triangles: counter-clockwise, area 1/2 each, mid-side nodes on their sides')
   end subroutine test_triangles
+
+  !> MSH 2.2: two TRI6 (the second clockwise) of physical surface "plate" and a 3-node line of
+  !> physical curve "bottom" (no element; its nodes make the node group); tags from 10 to 90.
+  subroutine test_msh22()
+    type(mesh_t) :: m
+    integer :: stat, e, k, a, b, ib, ip
+    logical :: ok
+    real(dp) :: ar
+    character(len=:), allocatable :: errmsg
+    call read_gmsh(m, dir // 'tri_msh22.msh', 'v2', stat, errmsg)
+    call check(stat == STAT_OK, 'MSH 2.2: read', errmsg)
+    if (stat /= STAT_OK) return
+    call check(m%nnode == 9 .and. m%nelem == 2 .and. all(m%etype(1:2) == ET_TRI6), 'MSH 2.2: 9 nodes, 2 TRI6 (no line element)')
+    ok = .true.
+    do e = 1, 2
+      ar = 0.0_dp
+      do k = 1, 3
+        a = m%conn(k, e)
+        b = m%conn(mod(k, 3) + 1, e)
+        ar = ar + 0.5_dp * (m%x(1, a) * m%x(2, b) - m%x(1, b) * m%x(2, a))
+        ok = ok .and. all(abs(m%x(:, m%conn(k + 3, e)) - 0.5_dp * (m%x(:, a) + m%x(:, b))) <= tol)
+      end do
+      ok = ok .and. abs(ar - 0.5_dp) <= tol
+    end do
+    call check(ok, 'MSH 2.2: counter-clockwise, mid-side nodes on their sides')
+    ib = m%find_node_group('v2.bottom')
+    ip = m%find_elem_group('v2.plate')
+    call check(ib > 0 .and. ip > 0, 'MSH 2.2: physical groups bottom (nodes) and plate (elements)')
+    if (ib > 0) call check(size(m%ngroups(ib)%items) == 3 .and. all(abs(m%x(2, m%ngroups(ib)%items)) <= tol), &
+      'MSH 2.2: the 3-node line gives node group bottom, its 3 nodes on y = 0')
+    if (ip > 0) call check(size(m%egroups(ip)%items) == 2, 'MSH 2.2: element group plate holds the 2 triangles')
+  end subroutine test_msh22
 
   !> Node tags up to 3e8: looked up by binary search instead of a 3e8-entry array.
   subroutine test_sparse_tags()
