@@ -5,7 +5,7 @@ module assembly
   use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, check_alloc
   use mesh, only: DOF_NAMES
-  use element_traits, only: ET_BEAM2, etype_needs_material
+  use element_traits, only: ET_BEAM2, ET_BAR2, etype_needs_material, etype_family, FAMILY_SURFACE
   use contact_modes, only: IMPACT_MASSLESS
   use loads, only: load_nodal_forces
   use scene, only: scene_t, function_value, model_point_kind, condition_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
@@ -13,11 +13,13 @@ module assembly
   use sparse_matrix, only: sym_csc_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
-  use material_law, only: law_is_linear, law_nstate, law_stored, law_elastic_matrix
+  use material_law, only: law_is_linear, law_nstate, law_stored, law_elastic_matrix, LAW_VON_MISES, LAW_ELASTOPLASTIC, &
+    PK_1D
   use checkpoint, only: ckpt_file_t
   use reactions, only: reaction_set_t
   implicit none
   private
+  public :: element_scalars
   public :: system_t, build_system, commit_state, external_force, &
     element_stress, nodal_values, mass_times, initial_state, dof_label, dof_origin, stored_energy, mass_times_q, &
     save_points, load_points, damping_times, is_damped, reaction_update
@@ -758,6 +760,37 @@ contains
       end if
     end do
   end subroutine element_stress
+
+  !> Per element (fields.h5): es(e, 1) the von Mises stress of the element-mean stress s (surface
+  !> elements, with sigma_zz; |sigma| for BAR2; 0 otherwise), es(e, 2) the element mean of the
+  !> equivalent plastic strain (VON_MISES: alpha) or of the plastic strain (ELASTOPLASTIC on
+  !> springs and bars: eps_p); 0 for the other laws and for fibre beams.
+  subroutine element_scalars(scn, sys, s, es)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: s(:, :)
+    real(dp), intent(out) :: es(:, :)
+    integer :: e, im, g0, g1, k, law
+    es = 0.0_dp
+    do e = 1, size(es, 1)
+      if (etype_family(scn%mesh%etype(e)) == FAMILY_SURFACE) then
+        es(e, 1) = sqrt(max(0.0_dp, s(1, e)**2 + s(2, e)**2 + s(3, e)**2 - s(1, e) * s(2, e) - s(2, e) * s(3, e) - &
+          s(3, e) * s(1, e) + 3.0_dp * s(4, e)**2))
+      else if (scn%mesh%etype(e) == ET_BAR2) then
+        es(e, 1) = abs(s(1, e))
+      end if
+      im = scn%elem_model(e)
+      g0 = sys%elems%gp_ptr(e)
+      g1 = sys%elems%gp_ptr(e + 1) - 1
+      if (im == 0 .or. g1 < g0) cycle
+      if (scn%models(im)%material == 0) cycle
+      law = scn%materials(scn%models(im)%material)%law
+      k = 0
+      if (law == LAW_VON_MISES) k = 5
+      if (law == LAW_ELASTOPLASTIC .and. sys%elems%pk(im) == PK_1D) k = 1
+      if (k > 0) es(e, 2) = sum(sys%pts%q(k, g0:g1)) / (g1 - g0 + 1)
+    end do
+  end subroutine element_scalars
 
   !> Free-DOF vector to nodal values (3, nnode); fixed and absent DOFs are zero.
   pure subroutine nodal_values(sys, u, out)

@@ -282,7 +282,7 @@ contains
   !> Append one output step: group /step_NNNNNN in fields.h5, the /times and /steps series, a
   !> flush, then the rewritten fields.xmf. u, v, reaction are (3, nnode) holding UX, UY, RZ (each
   !> stored as an in-plane vector plus a scalar, see the module header); stress is (4, nelem).
-  subroutine fw_write_step(self, step, time, u, v, stress, stat, errmsg, reaction)
+  subroutine fw_write_step(self, step, time, u, v, stress, stat, errmsg, reaction, escalar)
     class(fields_writer_t), intent(inout) :: self
     integer, intent(in) :: step
     real(dp), intent(in) :: time
@@ -290,6 +290,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp), intent(in), optional :: reaction(:, :)
+    real(dp), intent(in), optional :: escalar(:, :)   !< (nelem, 2): von Mises stress, equivalent plastic strain
     character(len=:), allocatable :: grp
 
     stat = STAT_OK
@@ -333,6 +334,14 @@ contains
     call self%h5%write(grp // '/stress', stress, stat, errmsg)
     call describe(self, grp // '/stress', 'per element type: /mesh/stress_components', &
       'per element type: /mesh/stress_components', stat, errmsg)
+    if (present(escalar)) then
+      call self%h5%write(grp // '/von_mises', escalar(:, 1), stat, errmsg)
+      call describe(self, grp // '/von_mises', 'von Mises stress of the element-mean stress (surface elements; ' // &
+        '|sigma| for BAR2, 0 otherwise)', 'Pa', stat, errmsg)
+      call self%h5%write(grp // '/plastic_strain', escalar(:, 2), stat, errmsg)
+      call describe(self, grp // '/plastic_strain', 'element mean of the equivalent plastic strain (VON_MISES), ' // &
+        'of the plastic strain (ELASTOPLASTIC bars and springs); 0 otherwise', '1 (m for springs)', stat, errmsg)
+    end if
     call self%h5%append_series('times', self%nsteps + 1, stat, errmsg, x=time)
     call self%h5%append_series('steps', self%nsteps + 1, stat, errmsg, i=step)
     ! Everything of this step reaches the disk before the .xmf announces it.
@@ -341,7 +350,8 @@ contains
 
     self%nsteps = self%nsteps + 1
     call self%xmf%replace_tail(xdmf_step_grid(self%h5name, self%nnode, self%nelem, self%ntopo, &
-      xdmf_step_t(step=step, time=time, has_reaction=present(reaction))) // self%xtail, len(self%xtail), stat, errmsg)
+      xdmf_step_t(step=step, time=time, has_reaction=present(reaction), has_scalars=present(escalar))) // self%xtail, &
+      len(self%xtail), stat, errmsg)
   end subroutine fw_write_step
 
   !> Refuse a step the disk (or the file size limit) cannot hold, before HDF5 tries: HDF5 1.10
@@ -356,7 +366,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp) :: need, free
     stat = STAT_OK
-    need = 8.0_dp * (4.0_dp * self%nnode * merge(3, 2, with_reaction) + 4.0_dp * self%nelem)
+    need = 8.0_dp * (4.0_dp * self%nnode * merge(3, 2, with_reaction) + 6.0_dp * self%nelem)
     need = 2.0_dp * need + ROOM_MARGIN
     free = room_for(self%h5path)
     if (free >= 0.0_dp .and. free < need) call set_error(stat, errmsg, STAT_RUN, 'field output ' // self%h5path // &

@@ -6,7 +6,7 @@ module run_outputs
   use kinds, only: dp
   use errors, only: STAT_OK
   use scene, only: scene_t, condition_nodes
-  use assembly, only: system_t, element_stress, nodal_values, stored_energy
+  use assembly, only: system_t, element_stress, element_scalars, nodal_values, stored_energy
   use energy, only: energy_t
   use contact, only: contact_set_t, contact_event_t, EVENT_ESTABLISH
   use history_writer, only: csv_file_t
@@ -37,7 +37,7 @@ module run_outputs
     character(len=:), allocatable :: row     !< a contacts.csv or events.csv line (sized for the longest name)
     integer, allocatable :: cstat(:)
     real(dp), allocatable :: cimp(:, :), cforce(:, :)
-    real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), reaction(:, :)
+    real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), reaction(:, :), escalar(:, :)
     real(dp), allocatable :: preals(:), hreals(:), htail(:)   !< htail: dissipated, stored, impact_dissipated, momenta, damping
   contains
     procedure :: open => outputs_open
@@ -72,6 +72,7 @@ contains
     do i = 1, size(scn%probes)
       header = header // ',' // scn%probes(i)%label
     end do
+    allocate (self%escalar(scn%mesh%nelem, 2))
     allocate (self%nodal_u(3, scn%mesh%nnode), self%nodal_v(3, scn%mesh%nnode), self%estress(4, scn%mesh%nelem), &
       self%reaction(3, scn%mesh%nnode), self%preals(1 + size(scn%probes)), self%hreals(6), self%htail(7))
     self%reaction = 0.0_dp
@@ -173,12 +174,14 @@ contains
       call nodal_values(sys, u, self%nodal_u)
       call nodal_values(sys, v, self%nodal_v)
       call element_stress(sys, self%estress)
+      call element_scalars(scn, sys, self%estress, self%escalar)
       if (present(cs)) then
         call contact_reactions(self, scn, cs)
         call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%estress, stat, errmsg, &
-          reaction=self%reaction)
+          reaction=self%reaction, escalar=self%escalar)
       else
-        call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%estress, stat, errmsg)
+        call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%estress, stat, errmsg, &
+          escalar=self%escalar)
       end if
     end if
   end subroutine outputs_write_step

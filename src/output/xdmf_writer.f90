@@ -26,6 +26,7 @@ module xdmf_writer
     integer :: step = 0
     real(dp) :: time = 0.0_dp
     logical :: has_reaction = .false.
+    logical :: has_scalars = .false.          !< von_mises and plastic_strain (cell scalars)
   end type xdmf_step_t
 
   !> Growable character buffer: appending is amortised O(1), so a document of many steps is
@@ -37,6 +38,7 @@ module xdmf_writer
 
   character(len=*), parameter :: NL = new_line('a')
   character(len=*), parameter :: I2 = '      ', I3 = '        ', I4 = '          '   ! indentation
+  character(len=8), parameter :: SIGMA_NAMES(4) = [character(len=8) :: 'sigma_xx', 'sigma_yy', 'sigma_zz', 'sigma_xy']
 
 contains
 
@@ -150,6 +152,7 @@ contains
     character(len=:), allocatable :: xml
     type(text_buffer_t) :: tb
     character(len=:), allocatable :: h5, ndims, cdims, grp
+    integer :: k
 
     h5 = xml_escape(h5file)
     ndims = str(nnode) // ' 3'
@@ -174,9 +177,33 @@ contains
     call put(tb, I3 // '<Attribute Name="stress" AttributeType="Matrix" Center="Cell">' // NL)
     call put(tb, data_item(I4, cdims, 'Float', '8', h5 // ':/' // grp // '/stress'))
     call put(tb, I3 // '</Attribute>' // NL)
+    ! Each stress column also as a named scalar (a hyperslab of the same data): ParaView shows
+    ! sigma_xx, not "stress 0" (for BAR2 the first column is the axial stress, for BEAM2 N, M).
+    do k = 1, 4
+      call put(tb, I3 // '<Attribute Name="' // trim(SIGMA_NAMES(k)) // '" AttributeType="Scalar" Center="Cell">' // NL)
+      call put(tb, I4 // '<DataItem ItemType="HyperSlab" Dimensions="' // str(nelem) // ' 1">' // NL)
+      call put(tb, I4 // '  <DataItem Dimensions="3 2" Format="XML">0 ' // str(k - 1) // ' 1 1 ' // str(nelem) // &
+        ' 1</DataItem>' // NL)
+      call put(tb, data_item(I4 // '  ', cdims, 'Float', '8', h5 // ':/' // grp // '/stress'))
+      call put(tb, I4 // '</DataItem>' // NL)
+      call put(tb, I3 // '</Attribute>' // NL)
+    end do
+    if (st%has_scalars) then
+      call cell_scalar(tb, 'von_mises', str(nelem), h5, grp)
+      call cell_scalar(tb, 'plastic_strain', str(nelem), h5, grp)
+    end if
     call put(tb, I2 // '</Grid>' // NL)
     xml = tb%buf(1:tb%n)
   end function xdmf_step_grid
+
+  !> A cell scalar attribute (dims "nelem") of step group grp.
+  pure subroutine cell_scalar(tb, name, dims, h5, grp)
+    type(text_buffer_t), intent(inout) :: tb
+    character(len=*), intent(in) :: name, dims, h5, grp
+    call put(tb, I3 // '<Attribute Name="' // name // '" AttributeType="Scalar" Center="Cell">' // NL)
+    call put(tb, data_item(I4, dims, 'Float', '8', h5 // ':/' // grp // '/' // name))
+    call put(tb, I3 // '</Attribute>' // NL)
+  end subroutine cell_scalar
 
   !> A nodal attribute (atype Vector: dims "nnode 3"; Scalar: dims "nnode") of step group grp.
   pure subroutine node_attribute(tb, name, atype, dims, h5, grp)

@@ -29,13 +29,16 @@ program test_xdmf_writer
   call check(xml_escape('a<b>&"c''') == 'a&lt;b&gt;&amp;&quot;c&apos;', 'xml_escape')
 
   steps(1) = xdmf_step_t(step=1, time=0.5_dp, has_reaction=.false.)
-  steps(2) = xdmf_step_t(step=2, time=1.0_dp, has_reaction=.true.)
+  steps(2) = xdmf_step_t(step=2, time=1.0_dp, has_reaction=.true., has_scalars=.true.)
   doc = xdmf_document('f&.h5', 11, 4, 21, steps)
   call check(count_of(doc, '<Grid Name="step_') == 2, 'one uniform grid per step')
   call check(count_of(doc, '<Grid') == count_of(doc, '</Grid>'), 'every Grid is closed')
-  ! Step 1: displacement, velocity (Vector), rotation, angular_velocity (Scalar), stress;
-  ! step 2 adds reaction (Vector) and reaction_moment (Scalar).
-  call check(count_of(doc, '<Attribute') == 12, '5 + 7 attributes (reaction only in step 2)')
+  ! Step 1: displacement, velocity (Vector), rotation, angular_velocity (Scalar), stress and its
+  ! four named columns; step 2 adds reaction (Vector), reaction_moment, von_mises and
+  ! plastic_strain (Scalar).
+  call check(count_of(doc, '<Attribute') == 9 + 13, '9 + 13 attributes (reaction and scalars only in step 2)')
+  call check(count_of(doc, 'Name="sigma_xy"') == 2 .and. count_of(doc, 'ItemType="HyperSlab"') == 8, &
+    'the stress columns named, as hyperslabs, in each step')
   call check(count_of(doc, 'AttributeType="Vector" Center="Node"') == 5, '2 + 3 nodal Vector attributes')
   call check(count_of(doc, 'AttributeType="Scalar" Center="Node"') == 5, '2 + 3 nodal Scalar attributes')
   call check(count_of(doc, '<Attribute Name="rotation" AttributeType="Scalar"') == 2 .and. &

@@ -2,7 +2,11 @@
 the element types by name, the stress columns of each type, the scene's groups.
 
 Read with h5py on the cantilever (BEAM2, groups beam, beam.start, …) and on the bar impact
-(contact reactions).
+(contact reactions). On the J2 block (QUAD4, VON_MISES): the von_mises dataset is the von Mises
+stress of the element's stress to 1e-12, plastic_strain the element mean of the equivalent
+plastic strain (>= 0, > 0 where the block yielded, 0 where von_mises stayed below the yield
+stress), both with units; fields.xmf names the stress columns sigma_xx … sigma_xy as hyperslabs
+of the stress dataset (column k of it), and the cell scalars von_mises and plastic_strain.
 """
 import os
 import sys
@@ -53,5 +57,35 @@ def bar():
                   ('fx fy fz', 'N', 'mz', 'N m'), str(dict(r)))
 
 
+def j2_block():
+    import xml.etree.ElementTree as ET
+    import numpy as np
+    out = sc.run_ok('inputs/block_j2.dat', ['OUTPUT.FIELDS=100'])
+    with h5py.File(os.path.join(out, 'fields.h5'), 'r') as f:
+        s = sorted(k for k in f if k.startswith('step_'))[-1]
+        sig, vm, pe = f[s]['stress'][()], f[s]['von_mises'][()], f[s]['plastic_strain'][()]
+        units = (text(f[s]['von_mises'].attrs['units']), text(f[s]['plastic_strain'].attrs['units']))
+    x, y, z, t = sig[:, 0], sig[:, 1], sig[:, 2], sig[:, 3]
+    ref = np.sqrt(x**2 + y**2 + z**2 - x * y - y * z - z * x + 3 * t**2)
+    sc.report('J2 block: von_mises = the von Mises stress of the element stress (1e-12)',
+              np.abs(vm - ref).max() <= 1e-12 * ref.max(), '%.3e' % np.abs(vm - ref).max())
+    sc.report('J2 block: plastic_strain >= 0, > 0 somewhere (the block yielded)', pe.min() >= 0 and pe.max() > 0,
+              '[%.3e, %.3e]' % (pe.min(), pe.max()))
+    sc.report('J2 block: units Pa and 1', units[0] == 'Pa' and units[1].startswith('1'), str(units))
+    root = ET.parse(os.path.join(out, 'fields.xmf')).getroot()
+    grid = root.find('Domain/Grid/Grid')
+    names = [a.get('Name') for a in grid.findall('Attribute')]
+    ok = all(n in names for n in ['sigma_xx', 'sigma_yy', 'sigma_zz', 'sigma_xy', 'von_mises', 'plastic_strain'])
+    cols = []
+    for k, n in enumerate(['sigma_xx', 'sigma_yy', 'sigma_zz', 'sigma_xy']):
+        slab = [a for a in grid.findall('Attribute') if a.get('Name') == n][0].find('DataItem')
+        sel, src = slab.findall('DataItem')
+        cols.append(slab.get('ItemType') == 'HyperSlab' and sel.text.split()[:2] == ['0', str(k)] and
+                    src.text.endswith('/stress'))
+    sc.report('fields.xmf: sigma_xx … sigma_xy are column k of stress, von_mises and plastic_strain listed',
+              ok and all(cols), str(names))
+
+
 cantilever()
 bar()
+j2_block()
