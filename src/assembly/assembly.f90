@@ -109,8 +109,8 @@ contains
     character(len=:), allocatable :: s
     integer :: loc(2)
     loc = findloc(sys%dofs%eqn, ieq)
-    s = 'node ' // str(loc(2)) // ' (x = ' // str(scn%mesh%x(1, loc(2))) // ', y = ' // str(scn%mesh%x(2, loc(2))) // &
-      ') DOF ' // trim(DOF_NAMES(loc(1)))
+    s = 'node ' // str(scn%mesh%node_tag(loc(2))) // ' (x = ' // str(scn%mesh%x(1, loc(2))) // ', y = ' // &
+      str(scn%mesh%x(2, loc(2))) // ') DOF ' // trim(DOF_NAMES(loc(1)))
   end function dof_label
 
   !> Number the DOFs, compute the element data, assemble K0, M and the load vectors.

@@ -58,11 +58,11 @@ contains
     stat = STAT_OK
     if (c%g0 < -1.0e-10_dp * model_size(scn%mesh)) then
       if (c%node_a == 0) then
-        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(c%node_b) // ' (x = ' // &
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(scn%mesh%node_tag(c%node_b)) // ' (x = ' // &
           str(scn%mesh%x(1, c%node_b)) // ', y = ' // str(scn%mesh%x(2, c%node_b)) // ') starts ' // str(-c%g0) // &
           ' inside the obstacle', st%lead(1)))
       else
-        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'nodes ' // str(c%node_a) // ' and ' // &
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'nodes ' // str(scn%mesh%node_tag(c%node_a)) // ' and ' // &
           str(c%node_b) // ' start interpenetrated by ' // str(-c%g0), st%lead(1)))
       end if
     end if
@@ -194,8 +194,8 @@ contains
       else
         d = norm2(scn%mesh%x(:, b) - scn%mesh%x(:, a))
         if (d <= 1.0e-12_dp * model_size(scn%mesh)) then
-          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'nodes ' // str(a) // ' and ' // str(b) // &
-            ' coincide: give NORMAL', st%lead(1)))
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'nodes ' // str(scn%mesh%node_tag(a)) // ' and ' // &
+            str(scn%mesh%node_tag(b)) // ' coincide: give NORMAL', st%lead(1)))
           return
         end if
         c%normal = (scn%mesh%x(:, b) - scn%mesh%x(:, a)) / d
@@ -270,7 +270,7 @@ contains
       call closest_segment(scn%mesh, segs, scn%mesh%x(:, b), b, best, xi, n, g)
       if (best == 0) cycle
       if (in_gs(b) .and. abs(g) <= tol) then
-        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(b) // ' of ' // &
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(scn%mesh%node_tag(b)) // ' of ' // &
           scn%mesh%ngroups(gs)%name // ' touches its segment ' // str(segs%p(best)) // '-' // str(segs%q(best)) // &
           ' at rest (self-contact of a surface with itself)', st%params(ks)%values(1)))
         return

@@ -69,6 +69,7 @@ contains
       tags(k) = tag
     end do
     g%nnode = nnode
+    g%tag_of = tags
     call end_section(g, '$EndNodes', stat, errmsg)
     if (stat /= STAT_OK) return
     ! The tag map, as for 4.1: a direct array over [min, max] unless the tags are sparse.

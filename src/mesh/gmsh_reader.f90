@@ -340,9 +340,9 @@ contains
     range = int(g%tagmax, int64) - g%tagmin + 1
     g%dense = range <= max(10000000_int64, 4_int64 * nnode)
     if (g%dense) then
-      allocate (g%x(2, nnode), g%node_of_tag(g%tagmin:g%tagmax), btag(0), stat=ios)
+      allocate (g%x(2, nnode), g%tag_of(nnode), g%node_of_tag(g%tagmin:g%tagmax), btag(0), stat=ios)
     else
-      allocate (g%x(2, nnode), g%sorted_tag(nnode), btag(0), stat=ios)
+      allocate (g%x(2, nnode), g%tag_of(nnode), g%sorted_tag(nnode), btag(0), stat=ios)
     end if
     if (ios /= 0) then
       call fail(g, stat, errmsg, 'cannot allocate ' // tok(g, 2) // ' nodes with tags in [' // tok(g, 3) // ', ' // &
@@ -392,6 +392,7 @@ contains
           g%sorted_tag(g%nnode + k) = tag
         end if
         btag(k) = tag
+        g%tag_of(g%nnode + k) = tag
       end do
       do k = 1, nb
         call node_coordinates(g, btag(k), 3 + param * min(edim, 3), xyz, stat, errmsg)
@@ -583,7 +584,7 @@ contains
 
     allocate (nid(g%nnode), eid(g%nelem))
     do i = 1, g%nnode
-      call m%add_node(g%x(:, i), nid(i))
+      call m%add_node(g%x(:, i), nid(i), g%tag_of(i))
     end do
     eid = 0
     do e = 1, g%nelem                          ! (a 3-node line is no element: its nodes join groups)

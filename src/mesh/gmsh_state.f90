@@ -41,6 +41,7 @@ module gmsh_state
     logical :: dense = .true.                      !< node tags mapped by node_of_tag, else by sorted_tag
     integer, allocatable :: node_of_tag(:)         !< dense: (tagmin:tagmax) local node number, 0 if none
     integer, allocatable :: sorted_tag(:), sorted_node(:)  !< sparse: tags ascending and their nodes
+    integer, allocatable :: tag_of(:)              !< (nnode) the Gmsh tag of each local node
     integer :: nelem = 0
     integer, allocatable :: etype(:), edim(:), eent(:), conn(:, :)   !< etype LINE3: a boundary curve's 3-node line
     logical :: have_nodes = .false., have_elements = .false., have_entities = .false.

@@ -28,6 +28,7 @@ module mesh
     integer :: nnode = 0
     integer :: nelem = 0
     real(dp), allocatable :: x(:, :)       !< (2, nnode) coordinates
+    integer, allocatable :: tag(:)         !< (nnode) the user's number of each node (Gmsh's tag; else its index)
     integer, allocatable :: etype(:)       !< (nelem) element type ET_*
     integer, allocatable :: conn(:, :)     !< (MAX_NEN, nelem) node numbers, 0 past nen
     integer :: nngroup = 0
@@ -42,6 +43,7 @@ module mesh
     procedure :: find_node_group
     procedure :: find_elem_group
     procedure :: nen
+    procedure :: node_tag
   end type mesh_t
 
 contains
@@ -54,21 +56,37 @@ contains
   end function nen
 
   !> Append a node; returns its number.
-  subroutine add_node(self, xy, id)
+  subroutine add_node(self, xy, id, tag)
     class(mesh_t), intent(inout) :: self
     real(dp), intent(in) :: xy(2)
     integer, intent(out) :: id
+    integer, intent(in), optional :: tag     !< the user's number (Gmsh's tag); default: id
     real(dp), allocatable :: tmp(:, :)
-    if (.not. allocated(self%x)) allocate (self%x(2, 64))
+    integer, allocatable :: itmp(:)
+    if (.not. allocated(self%x)) allocate (self%x(2, 64), self%tag(64))
     if (self%nnode == size(self%x, 2)) then
-      allocate (tmp(2, 2 * size(self%x, 2)))
+      allocate (tmp(2, 2 * size(self%x, 2)), itmp(2 * size(self%x, 2)))
       tmp(:, 1:self%nnode) = self%x(:, 1:self%nnode)
+      itmp(1:self%nnode) = self%tag(1:self%nnode)
       call move_alloc(tmp, self%x)
+      call move_alloc(itmp, self%tag)
     end if
     self%nnode = self%nnode + 1
     self%x(:, self%nnode) = xy
     id = self%nnode
+    self%tag(id) = id
+    if (present(tag)) self%tag(id) = tag
   end subroutine add_node
+
+  !> The user's number of node n (messages, events.csv): Gmsh's tag for an imported node, else n.
+  pure integer function node_tag(self, n)
+    class(mesh_t), intent(in) :: self
+    integer, intent(in) :: n
+    node_tag = n
+    if (allocated(self%tag)) then
+      if (n >= 1 .and. n <= self%nnode) node_tag = self%tag(n)
+    end if
+  end function node_tag
 
   !> Append an element of type et on the given nodes; returns its number.
   subroutine add_element(self, et, nodes, id)

@@ -78,7 +78,7 @@ contains
     end do
     do i = 1, size(items)
       if (.not. on(items(i))) then
-        call set_error(stat, errmsg, STAT_INPUT, 'node ' // str(items(i)) // &
+        call set_error(stat, errmsg, STAT_INPUT, 'node ' // str(m%node_tag(items(i))) // &
           ' is on no free element side whose nodes are all in the group')
         return
       end if
@@ -137,11 +137,11 @@ contains
     end do
     do j = 1, size(items)
       if (cnt(items(j)) == 0) then
-        call set_error(stat, errmsg, STAT_INPUT, 'node ' // str(items(j)) // &
+        call set_error(stat, errmsg, STAT_INPUT, 'node ' // str(m%node_tag(items(j))) // &
           ' is on no free element side (or line element) whose both ends are in the group')
         return
       else if (cnt(items(j)) > 2) then
-        call set_error(stat, errmsg, STAT_INPUT, 'node ' // str(items(j)) // ' joins ' // str(cnt(items(j))) // &
+        call set_error(stat, errmsg, STAT_INPUT, 'node ' // str(m%node_tag(items(j))) // ' joins ' // str(cnt(items(j))) // &
           ' segments: the group is not a chain of element sides')
         return
       end if

@@ -332,14 +332,14 @@ contains
       call put_int(self%row, pos, j)
       call put_text(self%row, pos, ',')
       if (scn%conditions(j)%node_a > 0) then
-        call put_int(self%row, pos, scn%conditions(j)%node_a)
+        call put_int(self%row, pos, scn%mesh%node_tag(scn%conditions(j)%node_a))
         call put_text(self%row, pos, ' ')
       end if
       if (scn%conditions(j)%node_c > 0) then            ! a segment a-c, then the node b
-        call put_int(self%row, pos, scn%conditions(j)%node_c)
+        call put_int(self%row, pos, scn%mesh%node_tag(scn%conditions(j)%node_c))
         call put_text(self%row, pos, ' ')
       end if
-      call put_int(self%row, pos, scn%conditions(j)%node_b)
+      call put_int(self%row, pos, scn%mesh%node_tag(scn%conditions(j)%node_b))
       if (event%kind == EVENT_ESTABLISH) then
         call put_text(self%row, pos, ',establish,')
       else

@@ -274,8 +274,9 @@ contains
       if (first == 0) first = j
       if (nbad > 5) cycle
       associate (c => scn%conditions(j))
-        if (c%node_a > 0) list = list // merge('; ', '  ', nbad > 1) // 'node ' // str(c%node_a) // ' and'
-        list = list // merge('; ', '  ', nbad > 1 .and. c%node_a == 0) // ' node ' // str(c%node_b) // ' (x = ' // &
+        if (c%node_a > 0) list = list // merge('; ', '  ', nbad > 1) // 'node ' // str(scn%mesh%node_tag(c%node_a)) // ' and'
+        list = list // merge('; ', '  ', nbad > 1 .and. c%node_a == 0) // ' node ' // str(scn%mesh%node_tag(c%node_b)) // &
+          ' (x = ' // &
           str(scn%mesh%x(1, c%node_b)) // ', y = ' // str(scn%mesh%x(2, c%node_b)) // ') by ' // str(-g(j))
       end associate
     end do

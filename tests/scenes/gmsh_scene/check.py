@@ -50,3 +50,16 @@ if rc == 0:
     bound = 2.75**2 / (2.0 * 11.0)
     sc.report('roller: kinetic >= p^2 / 2m (vertical momentum conserved)', kmin >= bound * (1.0 - 1e-9),
               'min kinetic %.12g vs p^2/2m %.12g' % (kmin, bound))
+
+# tags.dat: the nodes of events.csv are Gmsh's tags (10, 20, 50 on the bottom side), and a
+# message about a node names its tag too (the same mesh with the wall above the bottom side).
+out = sc.run_ok(HERE + 'tags.dat')
+with open(os.path.join(out, 'events.csv')) as f:
+    f.readline()
+    nodes = sorted(set(int(line.split(',')[3]) for line in f))
+sc.report('events.csv names the Gmsh node tags 10, 20, 50', nodes == [10, 20, 50], str(nodes))
+with open(HERE + 'tags.dat') as f:
+    text = f.read().replace('POINT 0 -0.001', 'POINT 0 0.25').replace('../../data/', os.path.abspath('tests/data') + '/')
+rc, err, _ = sc.run(sc.write_scene('tags_inside.dat', text))
+sc.report('an initial penetration names the Gmsh tag (node 10, 20 or 50)', rc == 2 and any(
+    'node %d ' % t in err for t in (10, 20, 50)), err.strip()[:300])
