@@ -44,6 +44,7 @@ module mesh
     procedure :: find_elem_group
     procedure :: nen
     procedure :: node_tag
+    procedure :: subset_elements
   end type mesh_t
 
 contains
@@ -77,6 +78,30 @@ contains
     self%tag(id) = id
     if (present(tag)) self%tag(id) = tag
   end subroutine add_node
+
+  !> The mesh with the same nodes (and node groups) and only the elements keep(1:n) (in that
+  !> order); element groups keep their kept elements, renumbered.
+  subroutine subset_elements(self, keep, sub)
+    class(mesh_t), intent(in) :: self
+    integer, intent(in) :: keep(:)
+    type(mesh_t), intent(out) :: sub
+    integer, allocatable :: newid(:)
+    integer :: i, id, k
+    do i = 1, self%nnode
+      call sub%add_node(self%x(:, i), id, self%node_tag(i))
+    end do
+    allocate (newid(self%nelem))
+    newid = 0
+    do k = 1, size(keep)
+      call sub%add_element(self%etype(keep(k)), self%conn(1:self%nen(keep(k)), keep(k)), newid(keep(k)))
+    end do
+    do k = 1, self%nngroup
+      call sub%add_node_group(self%ngroups(k)%name, self%ngroups(k)%items)
+    end do
+    do k = 1, self%negroup
+      call sub%add_elem_group(self%egroups(k)%name, pack(newid(self%egroups(k)%items), newid(self%egroups(k)%items) > 0))
+    end do
+  end subroutine subset_elements
 
   !> The user's number of node n (messages, events.csv): Gmsh's tag for an imported node, else n.
   pure integer function node_tag(self, n)

@@ -6,6 +6,7 @@ module run_outputs
   use kinds, only: dp
   use errors, only: STAT_OK
   use scene, only: scene_t, condition_nodes
+  use mesh, only: mesh_t
   use assembly, only: system_t, element_stress, element_scalars, nodal_values, stored_energy
   use energy, only: energy_t
   use contact, only: contact_set_t, contact_event_t, EVENT_ESTABLISH
@@ -38,6 +39,8 @@ module run_outputs
     integer, allocatable :: cstat(:)
     real(dp), allocatable :: cimp(:, :), cforce(:, :)
     real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), reaction(:, :), escalar(:, :)
+    integer, allocatable :: kept(:)                   !< the elements fields.h5 shows: those of a MODEL
+    real(dp), allocatable :: wstress(:, :), wscalar(:, :)   !< their stresses and scalars
     real(dp), allocatable :: preals(:), hreals(:), htail(:)   !< htail: dissipated, stored, impact_dissipated, momenta, damping
   contains
     procedure :: open => outputs_open
@@ -62,6 +65,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     character(len=:), allocatable :: header
     character(len=32) :: part
+    type(mesh_t) :: shown
     integer :: i
     call remove_stale_temporaries(outdir, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -94,12 +98,26 @@ contains
         call self%contacts%open(outdir // '/contacts.csv', CONTACTS_HEADER, stat, errmsg)
     end if
     if (stat /= STAT_OK .or. .not. self%with_fields) return
-    if (step0 > 0) then
-      write (part, '(a,i6.6)') 'fields_restart_', step0
-      call self%fields%open(outdir, scn%mesh, stat, errmsg, basename=trim(part))
+    ! Cells of no MODEL (Gmsh boundary lines and points, ...) are not shown as stress-free elements.
+    self%kept = pack([(i, i = 1, scn%mesh%nelem)], scn%elem_model(1:scn%mesh%nelem) > 0)
+    allocate (self%wstress(4, size(self%kept)), self%wscalar(size(self%kept), 2))
+    part = ''
+    if (step0 > 0) write (part, '(a,i6.6)') 'fields_restart_', step0
+    if (size(self%kept) == scn%mesh%nelem) then
+      call open_fields(scn%mesh)
     else
-      call self%fields%open(outdir, scn%mesh, stat, errmsg)
+      call scn%mesh%subset_elements(self%kept, shown)
+      call open_fields(shown)
     end if
+  contains
+    subroutine open_fields(m)
+      type(mesh_t), intent(in) :: m
+      if (step0 > 0) then
+        call self%fields%open(outdir, m, stat, errmsg, basename=trim(part))
+      else
+        call self%fields%open(outdir, m, stat, errmsg)
+      end if
+    end subroutine open_fields
   end subroutine outputs_open
 
   !> A run killed while it replaced a file (a checkpoint, a resumed CSV, fields.xmf) leaves
@@ -175,13 +193,17 @@ contains
       call nodal_values(sys, v, self%nodal_v)
       call element_stress(sys, self%estress)
       call element_scalars(scn, sys, self%estress, self%escalar)
+      do k = 1, size(self%kept)                 ! (a loop: no temporary)
+        self%wstress(:, k) = self%estress(:, self%kept(k))
+        self%wscalar(k, :) = self%escalar(self%kept(k), :)
+      end do
       if (present(cs)) then
         call contact_reactions(self, scn, cs)
-        call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%estress, stat, errmsg, &
-          reaction=self%reaction, escalar=self%escalar)
+        call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%wstress, stat, errmsg, &
+          reaction=self%reaction, escalar=self%wscalar)
       else
-        call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%estress, stat, errmsg, &
-          escalar=self%escalar)
+        call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%wstress, stat, errmsg, &
+          escalar=self%wscalar)
       end if
     end if
   end subroutine outputs_write_step

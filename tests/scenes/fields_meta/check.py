@@ -89,3 +89,21 @@ def j2_block():
 cantilever()
 bar()
 j2_block()
+
+
+def unmodelled():
+    """The TRI3 L-plate of tests/scenes/lplate: its Gmsh boundary lines (BAR2) and corner point
+    (MASS) belong to no MODEL and are not written; the 126 triangles are, with their groups."""
+    out = sc.run_ok('tests/scenes/lplate/lplate.dat', ['GMSH.FILE=lplate_tri3.msh', 'OUTPUT.FIELDS=200',
+                                                       'TIME.END=1e-3'])
+    with h5py.File(os.path.join(out, 'fields.h5'), 'r') as f:
+        codes = set(int(c) for c in f['mesh/element_type'][()])
+        names = [text(x) for x in f['mesh/element_type_names'][()]]
+        n = len(f['mesh/element_type'][()])
+        s = sorted(k for k in f if k.startswith('step_'))[-1]
+        ok = f[s]['stress'].shape == (n, 4) and list(f['groups/elements/lp.plate'][()]) == list(range(n))
+    sc.report('cells of no MODEL not written: TRI3 only, stresses and group plate match',
+              [names[c - 1] for c in codes] == ['TRI3'] and ok, str(codes))
+
+
+unmodelled()
