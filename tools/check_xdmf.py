@@ -5,7 +5,8 @@ Usage: check_xdmf.py FILE.xmf [--grids N]
 
 Checks that the XML parses, that it holds a temporal collection of uniform grids each with a
 Time, a Mixed topology and an XYZ geometry, and that every HDF DataItem points to an existing
-dataset of the declared dimensions, number type and precision. The Mixed topology array is
+dataset of the declared dimensions, number type and precision (a HyperSlab DataItem: its
+selection inside its source dataset). The Mixed topology array is
 walked to check its element count and node ids. Attribute sizes are checked against the grid
 (Node: nnode rows, Cell: nelem rows; Vector: 3 components, Scalar: 1). rebond is 2-D, so a
 nodal Vector must have a zero z component (ParaView's "Warp By Vector" then stays in the
@@ -144,13 +145,35 @@ def main(argv):
             aname = att.get("Name")
             center, atype = att.get("Center"), att.get("AttributeType", "Scalar")
             kinds[aname] = (center, atype)
-            d = dataset(att.find("DataItem"))
-            if d is None:
-                continue
+            item = att.find("DataItem")
+            shape = None
+            if item is not None and item.get("ItemType") == "HyperSlab":
+                # a selection (start, stride, count rows of a 3 x rank XML array) of an HDF item
+                parts = item.findall("DataItem")
+                if len(parts) != 2 or parts[0].get("Format") != "XML":
+                    err(f"{name}/{aname}: a HyperSlab needs an XML selection and a source DataItem")
+                    continue
+                d = dataset(parts[1])
+                if d is None:
+                    continue
+                sel = np.array(parts[0].text.split(), dtype=int).reshape(3, -1)
+                start, stride, count = sel
+                if sel.shape[1] != len(d.shape) or np.any(start < 0) or np.any(
+                        start + stride * (count - 1) >= np.array(d.shape)):
+                    err(f"{name}/{aname}: hyperslab {sel.tolist()} outside {d.shape}")
+                shape = tuple(int(c) for c in count)
+                dims = tuple(int(x) for x in item.get("Dimensions", "").split())
+                if dims != shape:
+                    err(f"{name}/{aname}: hyperslab Dimensions {dims} but count {shape}")
+            else:
+                d = dataset(item)
+                if d is None:
+                    continue
+                shape = d.shape
             rows = {"Node": nnode, "Cell": nelem}.get(center)
-            if rows is None or d.shape[0] != rows:
-                err(f"{name}/{aname}: {d.shape[0]} rows for Center={center}")
-            ncomp = 1 if len(d.shape) == 1 else int(np.prod(d.shape[1:]))
+            if rows is None or shape[0] != rows:
+                err(f"{name}/{aname}: {shape[0]} rows for Center={center}")
+            ncomp = 1 if len(shape) == 1 else int(np.prod(shape[1:]))
             need = {"Scalar": 1, "Vector": 3, "Tensor": 9, "Tensor6": 6}.get(atype)
             if need is not None and ncomp != need:
                 err(f"{name}/{aname}: {ncomp} components for AttributeType={atype}")
