@@ -28,7 +28,7 @@ CELL_NODES = {1: None, 2: None, 3: None, 4: 3, 5: 4, 6: 4, 7: 5, 8: 6, 9: 8,
 
 # Nodal vector -> the nodal scalar holding its RZ component.
 ROTATIONAL_PART = {"displacement": "rotation", "velocity": "angular_velocity",
-                   "reaction": "reaction_moment"}
+                   "reaction": "reaction_moment", "support_reaction": "support_moment"}
 
 
 def main(argv):

@@ -535,17 +535,39 @@ contains
   subroutine reaction_map(scn, sys)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
-    integer, allocatable :: slot_of(:)
+    integer, allocatable :: slot_of(:), fslot(:, :)
     logical, allocatable :: member(:, :)
     real(dp), allocatable :: fn(:, :)
     logical :: mask(3)
-    integer :: k, s, e, a, d, n, loc
+    integer :: k, s, e, a, d, n, loc, nfix
     slot_of = pack([(k, k = 1, size(scn%probes))], [(scn%probes(k)%reaction, k = 1, size(scn%probes))])
-    sys%react%nslot = size(slot_of)
+    sys%react%nprobe = size(slot_of)
+    ! With FIELDS output, one more slot per fixed DOF of a modelled node: the support_reaction field.
+    allocate (fslot(3, scn%mesh%nnode))
+    fslot = 0
+    nfix = 0
+    if (scn%fields_every /= 0) then
+      do n = 1, scn%mesh%nnode
+        do d = 1, 3
+          if (sys%dofs%eqn(d, n) /= DOF_FIXED) cycle
+          nfix = nfix + 1
+          fslot(d, n) = sys%react%nprobe + nfix
+        end do
+      end do
+    end if
+    sys%react%nslot = sys%react%nprobe + nfix
     if (sys%react%nslot == 0) return
-    allocate (member(scn%mesh%nnode, sys%react%nslot))
+    allocate (sys%react%fnode(nfix), sys%react%fdof(nfix))
+    do n = 1, scn%mesh%nnode
+      do d = 1, 3
+        if (fslot(d, n) == 0) cycle
+        sys%react%fnode(fslot(d, n) - sys%react%nprobe) = n
+        sys%react%fdof(fslot(d, n) - sys%react%nprobe) = d
+      end do
+    end do
+    allocate (member(scn%mesh%nnode, sys%react%nprobe))
     member = .false.
-    do s = 1, sys%react%nslot
+    do s = 1, sys%react%nprobe
       member(scn%mesh%ngroups(scn%probes(slot_of(s))%ngroup)%items, s) = .true.
     end do
     allocate (sys%react%ent_ptr(scn%mesh%nelem + 1), sys%react%ent_loc(16), sys%react%ent_slot(16))
@@ -561,9 +583,10 @@ contains
           if (.not. mask(d)) cycle
           loc = loc + 1
           if (sys%dofs%eqn(d, n) /= DOF_FIXED) cycle
-          do s = 1, sys%react%nslot
+          do s = 1, sys%react%nprobe
             if (scn%probes(slot_of(s))%dof == d .and. member(n, s)) call sys%react%add_entry(e, loc, s)
           end do
+          if (fslot(d, n) > 0) call sys%react%add_entry(e, loc, fslot(d, n))
         end do
       end do
     end do
@@ -571,7 +594,12 @@ contains
     allocate (fn(3, scn%mesh%nnode))
     do k = 1, size(scn%loads)
       call load_nodal_forces(scn, scn%loads(k), fn)
-      do s = 1, sys%react%nslot
+      do n = 1, scn%mesh%nnode
+        do d = 1, 3
+          if (fslot(d, n) > 0) sys%react%load(k, fslot(d, n)) = fn(d, n)
+        end do
+      end do
+      do s = 1, sys%react%nprobe
         d = scn%probes(slot_of(s))%dof
         do n = 1, scn%mesh%nnode
           if (fn(d, n) /= 0.0_dp .and. sys%dofs%eqn(d, n) == DOF_FIXED .and. member(n, s)) &

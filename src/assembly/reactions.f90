@@ -18,6 +18,10 @@ module reactions
 
   type :: reaction_set_t
     integer :: nslot = 0
+    ! Slots 1..nprobe are the PROBE RX|RY|MZ sums; the next ones (FIELDS output) each fixed DOF:
+    ! slot nprobe + k is DOF fdof(k) of node fnode(k) (fields.h5 support_reaction).
+    integer :: nprobe = 0
+    integer, allocatable :: fnode(:), fdof(:)
     ! Entries: local DOF loc of element e belongs to slot; CSR over the elements.
     integer, allocatable :: ent_ptr(:), ent_loc(:), ent_slot(:)
     ! Couplings of the slots' rows to the free equations: Σ M_fa(slot, eq) x(eq) (and C).

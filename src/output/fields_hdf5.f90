@@ -282,7 +282,7 @@ contains
   !> Append one output step: group /step_NNNNNN in fields.h5, the /times and /steps series, a
   !> flush, then the rewritten fields.xmf. u, v, reaction are (3, nnode) holding UX, UY, RZ (each
   !> stored as an in-plane vector plus a scalar, see the module header); stress is (4, nelem).
-  subroutine fw_write_step(self, step, time, u, v, stress, stat, errmsg, reaction, escalar)
+  subroutine fw_write_step(self, step, time, u, v, stress, stat, errmsg, reaction, escalar, support)
     class(fields_writer_t), intent(inout) :: self
     integer, intent(in) :: step
     real(dp), intent(in) :: time
@@ -291,6 +291,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp), intent(in), optional :: reaction(:, :)
     real(dp), intent(in), optional :: escalar(:, :)   !< (nelem, 2): von Mises stress, equivalent plastic strain
+    real(dp), intent(in), optional :: support(:, :)   !< (3, nnode): the supports' mean reaction of the step
     character(len=:), allocatable :: grp
 
     stat = STAT_OK
@@ -315,7 +316,7 @@ contains
       end if
     end if
 
-    call check_room(self, step, present(reaction), stat, errmsg)
+    call check_room(self, step, present(reaction) .or. present(support), stat, errmsg)
     if (stat /= STAT_OK) return
     grp = step_group_name(step)
     if (self%h5%exists(grp, stat, errmsg)) then
@@ -331,6 +332,8 @@ contains
       stat, errmsg)
     if (present(reaction)) call write_planar(self, grp, reaction, 'reaction', 'reaction_moment', ['fx fy fz', 'mz      '], &
       ['N  ', 'N m'], stat, errmsg)
+    if (present(support)) call write_planar(self, grp, support, 'support_reaction', 'support_moment', &
+      ['fx fy fz', 'mz      '], ['N  ', 'N m'], stat, errmsg)
     call self%h5%write(grp // '/stress', stress, stat, errmsg)
     call describe(self, grp // '/stress', 'per element type: /mesh/stress_components', &
       'per element type: /mesh/stress_components', stat, errmsg)
@@ -350,7 +353,9 @@ contains
 
     self%nsteps = self%nsteps + 1
     call self%xmf%replace_tail(xdmf_step_grid(self%h5name, self%nnode, self%nelem, self%ntopo, &
-      xdmf_step_t(step=step, time=time, has_reaction=present(reaction), has_scalars=present(escalar))) // self%xtail, &
+      xdmf_step_t(step=step, time=time, has_reaction=present(reaction), has_scalars=present(escalar), &
+      has_support=present(support))) // &
+      self%xtail, &
       len(self%xtail), stat, errmsg)
   end subroutine fw_write_step
 
@@ -366,7 +371,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp) :: need, free
     stat = STAT_OK
-    need = 8.0_dp * (4.0_dp * self%nnode * merge(3, 2, with_reaction) + 6.0_dp * self%nelem)
+    need = 8.0_dp * (4.0_dp * self%nnode * merge(4, 2, with_reaction) + 6.0_dp * self%nelem)
     need = 2.0_dp * need + ROOM_MARGIN
     free = room_for(self%h5path)
     if (free >= 0.0_dp .and. free < need) call set_error(stat, errmsg, STAT_RUN, 'field output ' // self%h5path // &

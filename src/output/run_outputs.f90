@@ -41,6 +41,7 @@ module run_outputs
     real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), reaction(:, :), escalar(:, :)
     integer, allocatable :: kept(:)                   !< the elements fields.h5 shows: those of a MODEL
     real(dp), allocatable :: wstress(:, :), wscalar(:, :)   !< their stresses and scalars
+    real(dp), allocatable :: support(:, :)                  !< (3, nnode) the supports' reactions
     real(dp), allocatable :: preals(:), hreals(:), htail(:)   !< htail: dissipated, stored, impact_dissipated, momenta, damping
   contains
     procedure :: open => outputs_open
@@ -100,7 +101,8 @@ contains
     if (stat /= STAT_OK .or. .not. self%with_fields) return
     ! Cells of no MODEL (Gmsh boundary lines and points, ...) are not shown as stress-free elements.
     self%kept = pack([(i, i = 1, scn%mesh%nelem)], scn%elem_model(1:scn%mesh%nelem) > 0)
-    allocate (self%wstress(4, size(self%kept)), self%wscalar(size(self%kept), 2))
+    allocate (self%wstress(4, size(self%kept)), self%wscalar(size(self%kept), 2), self%support(3, scn%mesh%nnode))
+    self%support = 0.0_dp
     part = ''
     if (step0 > 0) write (part, '(a,i6.6)') 'fields_restart_', step0
     if (size(self%kept) == scn%mesh%nelem) then
@@ -197,13 +199,16 @@ contains
         self%wstress(:, k) = self%estress(:, self%kept(k))
         self%wscalar(k, :) = self%escalar(self%kept(k), :)
       end do
+      do k = 1, sys%react%nslot - sys%react%nprobe   ! the support_reaction field's slots
+        self%support(sys%react%fdof(k), sys%react%fnode(k)) = sys%react%value(sys%react%nprobe + k)
+      end do
       if (present(cs)) then
         call contact_reactions(self, scn, cs)
         call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%wstress, stat, errmsg, &
-          reaction=self%reaction, escalar=self%wscalar)
+          reaction=self%reaction, escalar=self%wscalar, support=self%support)
       else
         call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%wstress, stat, errmsg, &
-          escalar=self%wscalar)
+          escalar=self%wscalar, support=self%support)
       end if
     end if
   end subroutine outputs_write_step

@@ -27,6 +27,7 @@ module xdmf_writer
     real(dp) :: time = 0.0_dp
     logical :: has_reaction = .false.
     logical :: has_scalars = .false.          !< von_mises and plastic_strain (cell scalars)
+    logical :: has_support = .false.          !< support_reaction and support_moment (nodal)
   end type xdmf_step_t
 
   !> Growable character buffer: appending is amortised O(1), so a document of many steps is
@@ -173,6 +174,10 @@ contains
     if (st%has_reaction) then
       call node_attribute(tb, 'reaction', 'Vector', ndims, h5, grp)
       call node_attribute(tb, 'reaction_moment', 'Scalar', str(nnode), h5, grp)
+    end if
+    if (st%has_support) then
+      call node_attribute(tb, 'support_reaction', 'Vector', ndims, h5, grp)
+      call node_attribute(tb, 'support_moment', 'Scalar', str(nnode), h5, grp)
     end if
     call put(tb, I3 // '<Attribute Name="stress" AttributeType="Matrix" Center="Cell">' // NL)
     call put(tb, data_item(I4, cdims, 'Float', '8', h5 // ':/' // grp // '/stress'))

@@ -7,10 +7,13 @@ thickness 0.1 m), heavy Rayleigh damping (ALPHA). Asserted, each mesh:
 - |balance| <= 1e-10 of the external work, the damping column booked;
 and across meshes: MSH 2.2 and 4.1 of the same mesh give the same probes bit for bit; the corner's
 vertical displacement in TRI3 and QUAD8 within 1 % of TRI6's (measured 0.04 % and 0.1 %).
+fields.h5's support_reaction field (the supports' nodal reactions, N) sums to the probes' RX,
+RY at the last step (1e-9 of p L t).
 """
 import os
 import sys
 
+import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -27,6 +30,10 @@ for mesh in ['tri6_v22', 'tri6_v41', 'tri3', 'quad8']:
     sc.close('%s: RY at rest = p L t (1 %%)' % mesh, p['lp.bottom.RY'][-1], FORCE, 0.01)
     sc.report('%s: |RX| at rest <= 1e-3 p L t' % mesh, abs(p['lp.bottom.RX'][-1]) <= 1e-3 * FORCE,
               '%.3e N' % p['lp.bottom.RX'][-1])
+    with h5py.File(os.path.join(out, 'fields.h5'), 'r') as f:
+        r = f[sorted(k for k in f if k.startswith('step_'))[-1]]['support_reaction'][()]
+    d = max(abs(r[:, 0].sum() - p['lp.bottom.RX'][-1]), abs(r[:, 1].sum() - p['lp.bottom.RY'][-1]))
+    sc.report('%s: fields.h5 support_reaction sums to the probes RX, RY (1e-9)' % mesh, d <= 1e-9 * FORCE, '%.3e N' % d)
     bal = np.abs(h['balance']).max() / np.abs(h['external']).max()
     sc.report('%s: |balance| <= 1e-10 x external work (damping booked)' % mesh, bal <= 1e-10, '%.3e' % bal)
 same = all(np.array_equal(probes['tri6_v22'][k], probes['tri6_v41'][k]) for k in probes['tri6_v22'])
