@@ -1,5 +1,5 @@
-!> Reader for Gmsh ASCII meshes, MSH formats 4.1 ($MeshFormat 4.1 0 8) and 2.2 (2.2 0 8; its
-!> $Nodes and $Elements in gmsh_msh2), in the xy plane.
+!> Reader for Gmsh meshes, MSH formats 4.1 ($MeshFormat 4.1 0 8; binary 4.1 1 8 in gmsh_binary)
+!> and 2.2 (2.2 0 8; its $Nodes and $Elements in gmsh_msh2), in the xy plane.
 !>
 !> Sections read: $MeshFormat, $PhysicalNames, $Entities, $Nodes, $Elements; any other section is
 !> skipped. Element types: 15 (point) -> MASS, 1 (2-node line) -> BAR2, 2 (3-node triangle) ->
@@ -24,6 +24,7 @@ module gmsh_reader
   use gmsh_state, only: pname_t, gmsh_t, LINE3, node_of, too_many, node_coordinates, gmsh_type_name, data_line, &
     next_line_or_eof, header_ints, end_section, element_kind, store_element
   use gmsh_msh2, only: read_nodes_msh2, read_elements_msh2
+  use gmsh_binary, only: read_msh41_binary
   implicit none
   private
   public :: read_gmsh
@@ -78,6 +79,12 @@ contains
     end if
     call read_format(g, stat, errmsg)
     if (stat /= STAT_OK) return
+    if (g%binary) then
+      call close_reader(g)
+      call read_msh41_binary(g, stat, errmsg)
+      if (stat == STAT_OK) call commit(g, m, prefix)
+      return
+    end if
 
     do
       call next_line(g, ok, stat, errmsg)
@@ -154,13 +161,17 @@ contains
     end if
     call get_int(g, 2, 0, huge(1), 'the file type', ftype, stat, errmsg)
     if (stat /= STAT_OK) return
-    if (ftype /= 0) then
-      call fail(g, stat, errmsg, 'binary MSH files are not supported, expected file type 0 (ASCII; in Gmsh: ' // &
-        'Mesh.Binary = 0)')
-      return
-    end if
     call get_int(g, 3, 0, huge(1), 'the data size', dsize, stat, errmsg)
     if (stat /= STAT_OK) return
+    if (ftype /= 0) then
+      if (ftype /= 1 .or. g%version /= 41 .or. dsize /= 8) then
+        call fail(g, stat, errmsg, 'binary MSH files are read in format 4.1 with 8-byte sizes only (found "' // &
+          clip(g%line) // '"; in Gmsh: Mesh.MshFileVersion = 4.1, or Mesh.Binary = 0)')
+        return
+      end if
+      g%binary = .true.
+      return                                   ! gmsh_binary reads the rest, $EndMeshFormat included
+    end if
     call end_section(g, '$EndMeshFormat', stat, errmsg)
   end subroutine read_format
 

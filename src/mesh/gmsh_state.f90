@@ -46,6 +46,7 @@ module gmsh_state
     integer, allocatable :: etype(:), edim(:), eent(:), conn(:, :)   !< etype LINE3: a boundary curve's 3-node line
     logical :: have_nodes = .false., have_elements = .false., have_entities = .false.
     integer :: version = 41                         !< MSH 4.1 (41) or 2.2 (22)
+    logical :: binary = .false.                     !< file type 1 (MSH 4.1 binary, gmsh_binary)
   end type gmsh_t
 
 

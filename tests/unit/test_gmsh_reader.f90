@@ -287,7 +287,8 @@ contains
 
   subroutine test_errors()
     call check_error('bad_version.msh', 2, 'version')
-    call check_error('bad_binary.msh', 2, 'binary')
+    call check_binary_error('bad_binary.msh', 'byte order')
+    call check_binary_error('bad_binary_truncated.msh', 'beyond the file')
     call check_error('bad_truncated.msh', 12, 'end of file')
     call check_error('bad_unknown_node.msh', 19, 'unknown node tag 7')
     call check_error('bad_quad9.msh', 28, '9-node quadrangle')
@@ -338,6 +339,18 @@ contains
   end subroutine check_endless
 
   !> The file must be rejected with STAT_INPUT, a message starting "<path>:<line>: " and containing what.
+  !> A binary file's error: "<path>: byte N (binary MSH 4.1): ...what...", mesh untouched.
+  subroutine check_binary_error(file, what)
+    character(len=*), intent(in) :: file, what
+    type(mesh_t) :: m
+    integer :: stat
+    character(len=:), allocatable :: errmsg
+    call read_gmsh(m, dir // file, 'x', stat, errmsg)
+    if (.not. allocated(errmsg)) errmsg = ''
+    call check(stat == STAT_INPUT .and. index(errmsg, dir // file // ': byte ') == 1 .and. index(errmsg, what) > 0 &
+      .and. m%nnode == 0, 'error ' // file // ': message and mesh untouched', 'got "' // errmsg // '"')
+  end subroutine check_binary_error
+
   subroutine check_error(file, line, what)
     character(len=*), intent(in) :: file, what
     integer, intent(in) :: line

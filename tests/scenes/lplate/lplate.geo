@@ -2,6 +2,7 @@
 // Meshes (Gmsh 4.8.4), from this folder:
 //   gmsh -2 -order 2 -format msh22 lplate.geo -o lplate_tri6_v22.msh
 //   gmsh -2 -order 2 -format msh41 lplate.geo -o lplate_tri6_v41.msh
+//   gmsh -2 -order 2 -format msh41 -bin lplate.geo -o lplate_tri6_bin.msh
 //   gmsh -2 -order 1 -format msh41 lplate.geo -o lplate_tri3.msh
 //   gmsh -2 -order 2 -format msh41 -string "Mesh.RecombineAll=1;Mesh.SecondOrderIncomplete=1;" lplate.geo -o lplate_quad8.msh
 lc = 0.25;
