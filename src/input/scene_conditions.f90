@@ -9,6 +9,7 @@ module scene_conditions
     LOAD_TRACTION
   use mesh_segments, only: side_set_t, group_sides
   use scene_helpers, only: node_group
+  use mesh, only: MAX_COORD
   implicit none
   private
   public :: conditions_schema, conditions_statement
@@ -93,7 +94,8 @@ contains
     scn%fixes = [scn%fixes, fx]
   end subroutine do_fix
 
-  !> Values of a parameter with 2 or 3 numbers (x, y[, rotation]).
+  !> Values of a parameter with 2 or 3 numbers (x, y[, rotation]), each within ±MAX_COORD (1e100:
+  !> their squares, the energies, stay finite).
   subroutine get_vector(st, key, v, mask, stat, errmsg)
     type(statement_t), intent(in) :: st
     character(len=*), intent(in) :: key
@@ -108,6 +110,11 @@ contains
     do i = 1, size(st%params(k)%values)
       call to_real(st%params(k)%values(i), st, v(i), stat, errmsg)
       if (stat /= STAT_OK) return
+      if (abs(v(i)) > MAX_COORD) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, key // ' values must be within ±1e100', &
+          st%params(k)%values(i)))
+        return
+      end if
       mask(i) = .true.
     end do
     stat = STAT_OK
@@ -215,9 +222,11 @@ contains
     type(statement_t), intent(in) :: st
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    call get_real(st, 'GX', scn%gravity(1), stat, errmsg, default=0.0_dp)
+    call get_real(st, 'GX', scn%gravity(1), stat, errmsg, default=0.0_dp, lower=-MAX_COORD, lower_inclusive=.true., &
+      upper=MAX_COORD, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
-    call get_real(st, 'GY', scn%gravity(2), stat, errmsg, default=0.0_dp)
+    call get_real(st, 'GY', scn%gravity(2), stat, errmsg, default=0.0_dp, lower=-MAX_COORD, lower_inclusive=.true., &
+      upper=MAX_COORD, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
     call get_function(scn, st, scn%gravity_func, stat, errmsg)
   end subroutine do_gravity
@@ -298,7 +307,8 @@ contains
       return
     end if
     im%dof = findloc(flags, .true., 1)
-    call get_real(st, 'VALUE', im%value, stat, errmsg, default=1.0_dp)
+    call get_real(st, 'VALUE', im%value, stat, errmsg, default=1.0_dp, lower=-MAX_COORD, lower_inclusive=.true., &
+      upper=MAX_COORD, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
     if (find_param(st, 'FUNCTION') == 0) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter FUNCTION (the displacement ' // &

@@ -37,6 +37,9 @@ CASES = [
     ('layers_1e9', ['SECTION fib AREA 1e-4 HEIGHT 0.01 LAYERS 1000000000'], 4, '1000000000'),
     # A mesh file that never ends (read until memory ran out): refused at its first line.
     ('gmsh_dev_zero', ['GMSH m FILE /dev/zero'], 4, '/dev/zero'),
+    # An initial velocity of 1e308 overflowed the kinetic energy (SIGFPE under make check-debug).
+    ('initial_v_1e308', ['LINE b FROM 0 0 TO 1 0 ELEMENTS 2 TYPE BAR2', 'MODEL b MATERIAL st SECTION sc',
+                         'INITIAL b VELOCITY 1e308 0'], 6, '1e308'),
 ]
 
 
