@@ -8,6 +8,7 @@
 module element_quad
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
+  use element_iso, only: iso_cartesian, iso_b, iso_mass
   implicit none
   private
   public :: quad_ngauss, quad_shape, quad_b, quad_mass, quad_check, quad_elastic_d
@@ -90,38 +91,16 @@ contains
     end do
   end subroutine quad_shape
 
-  !> Cartesian derivatives dnx(1:2, 1:nen) and det J from natural ones.
-  pure subroutine quad_cartesian(nen, x, dn, dnx, detj)
-    integer, intent(in) :: nen
-    real(dp), intent(in) :: x(2, 8), dn(2, 8)
-    real(dp), intent(out) :: dnx(2, 8), detj
-    real(dp) :: jac(2, 2)
-    ! jac(a, k) = d x_k / d xi_a
-    jac = matmul(dn(:, 1:nen), transpose(x(:, 1:nen)))
-    detj = jac(1, 1) * jac(2, 2) - jac(1, 2) * jac(2, 1)
-    dnx = 0.0_dp
-    if (detj == 0.0_dp) return
-    dnx(1, 1:nen) = (jac(2, 2) * dn(1, 1:nen) - jac(1, 2) * dn(2, 1:nen)) / detj
-    dnx(2, 1:nen) = (-jac(2, 1) * dn(1, 1:nen) + jac(1, 1) * dn(2, 1:nen)) / detj
-  end subroutine quad_cartesian
-
   !> B (4 x 2 nen) and weight at Gauss point ig; x(2, 1:nen) used.
   pure subroutine quad_b(nen, x, thickness, ig, b, wt)
     integer, intent(in) :: nen, ig
     real(dp), intent(in) :: x(2, 8), thickness
     real(dp), intent(out) :: b(4, 16), wt
     real(dp) :: xi, eta, w, n(8), dn(2, 8), dnx(2, 8), detj
-    integer :: i
     call quad_gauss_point(nen, ig, xi, eta, w)
     call quad_shape(nen, xi, eta, n, dn)
-    call quad_cartesian(nen, x, dn, dnx, detj)
-    b = 0.0_dp
-    do i = 1, nen
-      b(1, 2 * i - 1) = dnx(1, i)
-      b(2, 2 * i) = dnx(2, i)
-      b(4, 2 * i - 1) = dnx(2, i)
-      b(4, 2 * i) = dnx(1, i)
-    end do
+    call iso_cartesian(nen, x, dn, dnx, detj)
+    call iso_b(nen, dnx, b)
     wt = w * detj * thickness
   end subroutine quad_b
 
@@ -133,37 +112,20 @@ contains
     real(dp), intent(in) :: x(2, 8), thickness, rho
     logical, intent(in) :: lumped
     real(dp), intent(out) :: me(16, 16)
-    real(dp) :: ms(8, 8), xi, eta, w, n(8), dn(2, 8), dnx(2, 8), detj, total, diag
-    integer :: ig, i, j
+    real(dp) :: ms(8, 8), xi, eta, w, n(8), dn(2, 8), dnx(2, 8), detj, total
+    integer :: ig, j
     ms = 0.0_dp
     total = 0.0_dp
     do ig = 1, quad_ngauss(nen)
       call quad_gauss_point(nen, ig, xi, eta, w)
       call quad_shape(nen, xi, eta, n, dn)
-      call quad_cartesian(nen, x, dn, dnx, detj)
+      call iso_cartesian(nen, x, dn, dnx, detj)
       do j = 1, nen
         ms(1:nen, j) = ms(1:nen, j) + rho * thickness * w * detj * n(1:nen) * n(j)
       end do
       total = total + rho * thickness * w * detj
     end do
-    me = 0.0_dp
-    if (lumped) then
-      diag = 0.0_dp
-      do i = 1, nen
-        diag = diag + ms(i, i)
-      end do
-      do i = 1, nen
-        me(2 * i - 1, 2 * i - 1) = ms(i, i) * total / diag
-        me(2 * i, 2 * i) = ms(i, i) * total / diag
-      end do
-    else
-      do j = 1, nen
-        do i = 1, nen
-          me(2 * i - 1, 2 * j - 1) = ms(i, j)
-          me(2 * i, 2 * j) = ms(i, j)
-        end do
-      end do
-    end if
+    call iso_mass(nen, ms, total, lumped, me)
   end subroutine quad_mass
 
   !> Reject a degenerate or inverted quad: det J <= zero_tol * ref^2 at a Gauss point or at a
@@ -182,7 +144,7 @@ contains
     if (nen == 8) name = 'QUAD8'
     do k = 1, 4
       call quad_shape(nen, XI_NODE(k), ETA_NODE(k), n, dn)
-      call quad_cartesian(nen, x, dn, dnx, detj)
+      call iso_cartesian(nen, x, dn, dnx, detj)
       if (detj <= tol) then
         call set_error(stat, errmsg, STAT_INPUT, 'degenerate or inverted ' // name // ': det J = ' // &
           str(detj) // ' <= 0 at corner node ' // str(k) // &
@@ -193,7 +155,7 @@ contains
     do ig = 1, quad_ngauss(nen)
       call quad_gauss_point(nen, ig, xi, eta, w)
       call quad_shape(nen, xi, eta, n, dn)
-      call quad_cartesian(nen, x, dn, dnx, detj)
+      call iso_cartesian(nen, x, dn, dnx, detj)
       if (detj <= tol) then
         call set_error(stat, errmsg, STAT_INPUT, 'degenerate or inverted ' // name // ': det J = ' // &
           str(detj) // ' <= 0 at Gauss point ' // str(ig) // &

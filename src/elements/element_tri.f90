@@ -11,6 +11,7 @@
 module element_tri
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
+  use element_iso, only: iso_cartesian, iso_b, iso_mass
   implicit none
   private
   public :: tri_ngauss, tri_shape, tri_b, tri_mass, tri_check
@@ -91,37 +92,16 @@ contains
     dn(:, 6) = [-4.0_dp * l3, 4.0_dp * (l1 - l3)]
   end subroutine tri_shape
 
-  !> Cartesian derivatives dnx(1:2, 1:nen) and det J from natural ones.
-  pure subroutine tri_cartesian(nen, x, dn, dnx, detj)
-    integer, intent(in) :: nen
-    real(dp), intent(in) :: x(2, 6), dn(2, 6)
-    real(dp), intent(out) :: dnx(2, 6), detj
-    real(dp) :: jac(2, 2)
-    jac = matmul(dn(:, 1:nen), transpose(x(:, 1:nen)))
-    detj = jac(1, 1) * jac(2, 2) - jac(1, 2) * jac(2, 1)
-    dnx = 0.0_dp
-    if (detj == 0.0_dp) return
-    dnx(1, 1:nen) = (jac(2, 2) * dn(1, 1:nen) - jac(1, 2) * dn(2, 1:nen)) / detj
-    dnx(2, 1:nen) = (-jac(2, 1) * dn(1, 1:nen) + jac(1, 1) * dn(2, 1:nen)) / detj
-  end subroutine tri_cartesian
-
   !> B (4 x 2 nen) and weight at stress point ig; x(2, 1:nen) used.
   pure subroutine tri_b(nen, x, thickness, ig, b, wt)
     integer, intent(in) :: nen, ig
     real(dp), intent(in) :: x(2, 6), thickness
     real(dp), intent(out) :: b(4, 12), wt
     real(dp) :: xi, eta, w, n(6), dn(2, 6), dnx(2, 6), detj
-    integer :: i
     call tri_point(tri_ngauss(nen), ig, xi, eta, w)
     call tri_shape(nen, xi, eta, n, dn)
-    call tri_cartesian(nen, x, dn, dnx, detj)
-    b = 0.0_dp
-    do i = 1, nen
-      b(1, 2 * i - 1) = dnx(1, i)
-      b(2, 2 * i) = dnx(2, i)
-      b(4, 2 * i - 1) = dnx(2, i)
-      b(4, 2 * i) = dnx(1, i)
-    end do
+    call iso_cartesian(nen, x, dn, dnx, detj)
+    call iso_b(nen, dnx, b)
     wt = w * detj * thickness
   end subroutine tri_b
 
@@ -131,38 +111,21 @@ contains
     real(dp), intent(in) :: x(2, 6), thickness, rho
     logical, intent(in) :: lumped
     real(dp), intent(out) :: me(12, 12)
-    real(dp) :: ms(6, 6), xi, eta, w, n(6), dn(2, 6), dnx(2, 6), detj, total, diag
-    integer :: ig, i, j, npt
+    real(dp) :: ms(6, 6), xi, eta, w, n(6), dn(2, 6), dnx(2, 6), detj, total
+    integer :: ig, j, npt
     ms = 0.0_dp
     total = 0.0_dp
     npt = merge(6, 3, nen == 6)
     do ig = 1, npt
       call tri_point(npt, ig, xi, eta, w)
       call tri_shape(nen, xi, eta, n, dn)
-      call tri_cartesian(nen, x, dn, dnx, detj)
+      call iso_cartesian(nen, x, dn, dnx, detj)
       do j = 1, nen
         ms(1:nen, j) = ms(1:nen, j) + rho * thickness * w * detj * n(1:nen) * n(j)
       end do
       total = total + rho * thickness * w * detj
     end do
-    me = 0.0_dp
-    if (lumped) then
-      diag = 0.0_dp
-      do i = 1, nen
-        diag = diag + ms(i, i)
-      end do
-      do i = 1, nen
-        me(2 * i - 1, 2 * i - 1) = ms(i, i) * total / diag
-        me(2 * i, 2 * i) = ms(i, i) * total / diag
-      end do
-    else
-      do j = 1, nen
-        do i = 1, nen
-          me(2 * i - 1, 2 * j - 1) = ms(i, j)
-          me(2 * i, 2 * j) = ms(i, j)
-        end do
-      end do
-    end if
+    call iso_mass(nen, ms, total, lumped, me)
   end subroutine tri_mass
 
   !> Reject a degenerate or inverted triangle: det J <= zero_tol * ref^2 at a node or at a
@@ -186,7 +149,7 @@ contains
         call tri_point(6, k - nen, xi, eta, w)
       end if
       call tri_shape(nen, xi, eta, n, dn)
-      call tri_cartesian(nen, x, dn, dnx, detj)
+      call iso_cartesian(nen, x, dn, dnx, detj)
       if (detj <= tol) then
         call set_error(stat, errmsg, STAT_INPUT, 'degenerate or inverted ' // name // ': det J = ' // &
           str(detj) // ' <= 0 ' // trim(merge('at node        ', 'at mass point  ', k <= nen)) // ' ' // &

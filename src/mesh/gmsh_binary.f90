@@ -11,9 +11,9 @@ module gmsh_binary
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use mesh, only: MAX_COORD
   use number_text, only: parse_int_text, NUM_OK
-  use array_utils, only: sort_by_key, grow
+  use array_utils, only: grow
   use words, only: is_blank, word_end
-  use gmsh_state, only: gmsh_t, pname_t, node_of, element_kind, store_element
+  use gmsh_state, only: gmsh_t, pname_t, node_of, element_kind, store_element, index_tags
   implicit none
   private
   public :: read_msh41_binary
@@ -322,9 +322,8 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer(int64) :: nblock, nnode, nb, b, k
-    integer, allocatable :: tags(:), perm(:)
-    integer(int64) :: range
-    integer :: param, i0
+    integer, allocatable :: tags(:)
+    integer :: param, i0, dup
     real(dp) :: xyz(3), z0
     stat = STAT_OK
     if (.not. has(c, 32_int64)) then
@@ -378,30 +377,10 @@ contains
       return
     end if
     g%tag_of = tags
-    g%tagmin = 1
-    g%tagmax = 0
-    if (nnode > 0) then
-      g%tagmin = minval(tags)
-      g%tagmax = maxval(tags)
-    end if
-    range = int(g%tagmax, int64) - g%tagmin + 1
-    g%dense = range <= max(10000000_int64, 4_int64 * nnode)
-    allocate (perm(nnode))
-    perm = [(int(k), k = 1, nnode)]
-    call sort_by_key(tags, perm)
-    do k = 2, nnode
-      if (tags(k) == tags(k - 1)) then
-        call bad(g, c, 'duplicate node tag ' // str(tags(k)), stat, errmsg)
-        return
-      end if
-    end do
-    if (g%dense) then
-      allocate (g%node_of_tag(g%tagmin:g%tagmax))
-      g%node_of_tag = 0
-      g%node_of_tag(tags) = perm
-    else
-      g%sorted_tag = tags
-      g%sorted_node = perm
+    call index_tags(g, dup)
+    if (dup /= 0) then
+      call bad(g, c, 'duplicate node tag ' // str(dup), stat, errmsg)
+      return
     end if
     g%have_nodes = .true.
     call end_block(g, c, '$EndNodes', stat, errmsg)

@@ -5,13 +5,11 @@
 !> MSH 2.2 has no $Entities: each (dimension, physical tag) of the elements becomes an entity with
 !> that one physical group, so that gmsh_reader's commit builds the same groups as from 4.1.
 module gmsh_msh2
-  use, intrinsic :: iso_fortran_env, only: int64
   use kinds, only: dp
   use errors, only: STAT_OK, str
-  use array_utils, only: sort_by_key
   use line_reader, only: get_int, fail, tok, clip
   use gmsh_state, only: gmsh_t, node_of, too_many, gmsh_type_name, data_line, header_ints, end_section, &
-    element_kind, store_element
+    element_kind, store_element, index_tags
   implicit none
   private
   public :: read_nodes_msh2, read_elements_msh2
@@ -23,10 +21,8 @@ contains
     type(gmsh_t), intent(inout) :: g
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: nnode, k, tag, ios
-    integer, allocatable :: tags(:), perm(:)
+    integer :: nnode, k, tag, ios, dup
     real(dp) :: xyz(3), z0
-    integer(int64) :: range
     character(len=:), allocatable :: what
     if (g%have_nodes) then
       call fail(g, stat, errmsg, 'second $Nodes section')
@@ -41,7 +37,7 @@ contains
       call fail(g, stat, errmsg, 'the file is too small to hold the ' // tok(g, 1) // ' nodes announced')
       return
     end if
-    allocate (g%x(2, nnode), tags(nnode), stat=ios)
+    allocate (g%x(2, nnode), g%tag_of(nnode), stat=ios)
     if (ios /= 0) then
       call fail(g, stat, errmsg, 'cannot allocate ' // tok(g, 1) // ' nodes')
       return
@@ -66,38 +62,13 @@ contains
         return
       end if
       g%x(:, k) = xyz(1:2)
-      tags(k) = tag
+      g%tag_of(k) = tag
     end do
     g%nnode = nnode
-    g%tag_of = tags
     call end_section(g, '$EndNodes', stat, errmsg)
     if (stat /= STAT_OK) return
-    ! The tag map, as for 4.1: a direct array over [min, max] unless the tags are sparse.
-    g%tagmin = 1
-    g%tagmax = 0
-    if (nnode > 0) then
-      g%tagmin = minval(tags)
-      g%tagmax = maxval(tags)
-    end if
-    range = int(g%tagmax, int64) - g%tagmin + 1
-    g%dense = range <= max(10000000_int64, 4_int64 * nnode)
-    allocate (perm(nnode))
-    perm = [(k, k = 1, nnode)]
-    call sort_by_key(tags, perm)
-    do k = 2, nnode
-      if (tags(k) == tags(k - 1)) then
-        call fail(g, stat, errmsg, 'duplicate node tag ' // str(tags(k)) // ' in this $Nodes section')
-        return
-      end if
-    end do
-    if (g%dense) then
-      allocate (g%node_of_tag(g%tagmin:g%tagmax))
-      g%node_of_tag = 0
-      g%node_of_tag(tags) = perm
-    else
-      g%sorted_tag = tags
-      g%sorted_node = perm
-    end if
+    call index_tags(g, dup)
+    if (dup /= 0) call fail(g, stat, errmsg, 'duplicate node tag ' // str(dup) // ' in this $Nodes section')
   end subroutine read_nodes_msh2
 
   !> The coordinates x y z of the current node line (words 2 to 4).

@@ -9,10 +9,11 @@ module gmsh_state
   use mesh, only: MAX_COORD
   use element_traits, only: etype_nen, etype_gmsh, etype_family
   use line_reader, only: line_reader_t, next_line, get_reals, fail, tok, clip
+  use array_utils, only: sort_by_key
   implicit none
   private
   public :: pname_t, gmsh_t, LINE3, node_of, too_many, node_coordinates, orient_surface, gmsh_type_name
-  public :: data_line, next_line_or_eof, header_ints, end_section, element_kind, store_element
+  public :: data_line, next_line_or_eof, header_ints, end_section, element_kind, store_element, index_tags
 
   !> The element kind of a 3-node line (Gmsh type 8, the boundary curves of second-order meshes):
   !> no rebond element, its nodes join its physical groups (node groups for FIX, PRESSURE ...).
@@ -79,6 +80,45 @@ contains
       dim = etype_family(et) - 1          ! point 0, line 1, surface 2
     end if
   end subroutine element_kind
+
+  !> The tag map of the nodes read, from their tags (g%tag_of(1:g%nnode)), as the 4.1 reader
+  !> builds it: a direct array over [min, max] unless the tags are sparse, then a sorted list.
+  !> dup: a tag given twice (0 if none).
+  subroutine index_tags(g, dup)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(out) :: dup
+    integer, allocatable :: tags(:), perm(:)
+    integer(int64) :: range
+    integer :: k, n
+    n = g%nnode
+    dup = 0
+    g%tagmin = 1
+    g%tagmax = 0
+    if (n > 0) then
+      g%tagmin = minval(g%tag_of(1:n))
+      g%tagmax = maxval(g%tag_of(1:n))
+    end if
+    range = int(g%tagmax, int64) - g%tagmin + 1
+    g%dense = range <= max(10000000_int64, 4_int64 * n)
+    allocate (tags(n), perm(n))
+    tags(:) = g%tag_of(1:n)
+    perm(:) = [(k, k = 1, n)]
+    call sort_by_key(tags, perm)
+    do k = 2, n
+      if (tags(k) == tags(k - 1)) then
+        dup = tags(k)
+        return
+      end if
+    end do
+    if (g%dense) then
+      allocate (g%node_of_tag(g%tagmin:g%tagmax))
+      g%node_of_tag = 0
+      g%node_of_tag(tags) = perm
+    else
+      g%sorted_tag = tags
+      g%sorted_node = perm
+    end if
+  end subroutine index_tags
 
   !> Append element number g%nelem + 1: kind et, dimension dim, entity ent (0: none), local nodes
   !> nodes(1:nen); a surface is made counter-clockwise (a zero-area one is refused).

@@ -1,0 +1,72 @@
+!> What the isoparametric plane elements (element_quad, element_tri) share: the Cartesian
+!> derivatives of the shape functions, the strain-displacement matrix of (exx, eyy, ezz, gxy)
+!> with engineering shear, and the 2-D mass matrix from the scalar one, consistent or HRZ-lumped
+!> (the diagonal scaled to the element's mass: every term positive, where row sums would give
+!> negative or zero corner masses to the quadratic elements).
+module element_iso
+  use kinds, only: dp
+  implicit none
+  private
+  public :: iso_cartesian, iso_b, iso_mass
+
+contains
+
+  !> Cartesian derivatives dnx(1:2, 1:nen) and det J from the natural ones dn at a point.
+  pure subroutine iso_cartesian(nen, x, dn, dnx, detj)
+    integer, intent(in) :: nen
+    real(dp), intent(in) :: x(:, :), dn(:, :)
+    real(dp), intent(out) :: dnx(:, :), detj
+    real(dp) :: jac(2, 2)
+    ! jac(a, k) = d x_k / d xi_a
+    jac = matmul(dn(:, 1:nen), transpose(x(:, 1:nen)))
+    detj = jac(1, 1) * jac(2, 2) - jac(1, 2) * jac(2, 1)
+    dnx = 0.0_dp
+    if (detj == 0.0_dp) return
+    dnx(1, 1:nen) = (jac(2, 2) * dn(1, 1:nen) - jac(1, 2) * dn(2, 1:nen)) / detj
+    dnx(2, 1:nen) = (-jac(2, 1) * dn(1, 1:nen) + jac(1, 1) * dn(2, 1:nen)) / detj
+  end subroutine iso_cartesian
+
+  !> B (4 x 2 nen, UX UY per node) from the Cartesian derivatives: rows exx, eyy, ezz (zero), gxy.
+  pure subroutine iso_b(nen, dnx, b)
+    integer, intent(in) :: nen
+    real(dp), intent(in) :: dnx(:, :)
+    real(dp), intent(out) :: b(:, :)
+    integer :: i
+    b = 0.0_dp
+    do i = 1, nen
+      b(1, 2 * i - 1) = dnx(1, i)
+      b(2, 2 * i) = dnx(2, i)
+      b(4, 2 * i - 1) = dnx(2, i)
+      b(4, 2 * i) = dnx(1, i)
+    end do
+  end subroutine iso_b
+
+  !> The mass matrix me (2 nen x 2 nen, x and y uncoupled) from the scalar consistent one
+  !> ms(1:nen, 1:nen) of total mass total: itself (consistent), or its diagonal scaled to total.
+  pure subroutine iso_mass(nen, ms, total, lumped, me)
+    integer, intent(in) :: nen
+    real(dp), intent(in) :: ms(:, :), total
+    logical, intent(in) :: lumped
+    real(dp), intent(out) :: me(:, :)
+    real(dp) :: diag
+    integer :: i, j
+    me = 0.0_dp
+    if (lumped) then
+      diag = 0.0_dp
+      do i = 1, nen
+        diag = diag + ms(i, i)
+      end do
+      do i = 1, nen
+        me(2 * i - 1, 2 * i - 1) = ms(i, i) * total / diag
+        me(2 * i, 2 * i) = ms(i, i) * total / diag
+      end do
+    else
+      do j = 1, nen
+        do i = 1, nen
+          me(2 * i - 1, 2 * j - 1) = ms(i, j)
+          me(2 * i, 2 * j) = ms(i, j)
+        end do
+      end do
+    end if
+  end subroutine iso_mass
+end module element_iso
