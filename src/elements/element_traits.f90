@@ -15,7 +15,8 @@ module element_traits
   public :: FAMILY_POINT, FAMILY_LINE, FAMILY_SURFACE
   public :: XDMF_POLYVERTEX, XDMF_POLYLINE, XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8, XDMF_TRIANGLE, XDMF_TRIANGLE_6
   public :: etype_name, etype_from_name, etype_nen, etype_family, etypes_of_family, etype_needs_material, &
-    etype_section_needs, etype_point_kind, etype_xdmf_cell, etype_gmsh, etype_segments, etype_sides, MAX_SEGMENTS
+    etype_section_needs, etype_point_kind, etype_xdmf_cell, etype_gmsh, etype_segments, etype_sides, MAX_SEGMENTS, &
+    etype_stress_names
 
   integer, parameter :: ET_MASS = 1, ET_SPRING = 2, ET_BAR2 = 3, ET_BEAM2 = 4, ET_QUAD4 = 5, ET_QUAD8 = 6, ET_TRI3 = 7, &
     ET_TRI6 = 8
@@ -29,6 +30,8 @@ module element_traits
   integer, parameter :: XDMF_POLYVERTEX = 1, XDMF_POLYLINE = 2, XDMF_TRIANGLE = 4, XDMF_QUADRILATERAL = 5, &
     XDMF_TRIANGLE_6 = 36, XDMF_QUADRILATERAL_8 = 37
 
+  character(len=*), parameter :: SIGMA2D = 'sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)'
+
   !> One row of the table.
   type :: etraits_t
     character(len=6) :: name
@@ -39,17 +42,19 @@ module element_traits
     integer :: point_kind            !< material_law PK_* (quads: PK_PSTRAIN, or PK_PSTRESS in plane stress)
     integer :: xdmf_cell             !< XDMF Mixed cell code
     integer :: gmsh                  !< Gmsh element type number (0: none)
+    character(len=56) :: stress      !< its stress columns with units (fields.h5 /mesh/stress_components)
   end type etraits_t
 
   type(etraits_t), parameter :: TRAITS(NUM_ETYPES) = [ &
-    etraits_t('MASS', 1, FAMILY_POINT, .false., 'MASS', 0, XDMF_POLYVERTEX, 15), &
-    etraits_t('SPRING', 2, FAMILY_LINE, .true., '', PK_1D, XDMF_POLYLINE, 0), &
-    etraits_t('BAR2', 2, FAMILY_LINE, .true., 'AREA', PK_1D, XDMF_POLYLINE, 1), &
-    etraits_t('BEAM2', 2, FAMILY_LINE, .true., 'AREA INERTIA', PK_BEAM, XDMF_POLYLINE, 0), &
-    etraits_t('QUAD4', 4, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_QUADRILATERAL, 3), &
-    etraits_t('QUAD8', 8, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_QUADRILATERAL_8, 16), &
-    etraits_t('TRI3', 3, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_TRIANGLE, 2), &
-    etraits_t('TRI6', 6, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_TRIANGLE_6, 9)]
+    etraits_t('MASS', 1, FAMILY_POINT, .false., 'MASS', 0, XDMF_POLYVERTEX, 15, 'none'), &
+    etraits_t('SPRING', 2, FAMILY_LINE, .true., '', PK_1D, XDMF_POLYLINE, 0, 'N (spring force, N)'), &
+    etraits_t('BAR2', 2, FAMILY_LINE, .true., 'AREA', PK_1D, XDMF_POLYLINE, 1, 'sigma (axial stress, Pa)'), &
+    etraits_t('BEAM2', 2, FAMILY_LINE, .true., 'AREA INERTIA', PK_BEAM, XDMF_POLYLINE, 0, &
+      'N (axial force, N), M (bending moment, N m)'), &
+    etraits_t('QUAD4', 4, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_QUADRILATERAL, 3, SIGMA2D), &
+    etraits_t('QUAD8', 8, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_QUADRILATERAL_8, 16, SIGMA2D), &
+    etraits_t('TRI3', 3, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_TRIANGLE, 2, SIGMA2D), &
+    etraits_t('TRI6', 6, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_TRIANGLE_6, 9, SIGMA2D)]
 
 contains
 
@@ -126,6 +131,13 @@ contains
       nhead = 2
     end if
   end subroutine etype_xdmf_cell
+
+  !> "NAME: its stress columns (units)", as fields.h5 describes them.
+  pure function etype_stress_names(et) result(s)
+    integer, intent(in) :: et
+    character(len=:), allocatable :: s
+    s = trim(TRAITS(et)%name) // ': ' // trim(TRAITS(et)%stress)
+  end function etype_stress_names
 
   !> The rebond type of a Gmsh element type number; 0 when rebond has none.
   pure integer function etype_gmsh(gmsh_type) result(et)

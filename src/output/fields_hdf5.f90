@@ -26,7 +26,8 @@ module fields_hdf5
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error, str
   use mesh, only: mesh_t
-  use element_traits, only: NUM_ETYPES, etype_nen, etype_xdmf_cell, etype_name, XDMF_POLYVERTEX, XDMF_POLYLINE, &
+  use element_traits, only: NUM_ETYPES, etype_nen, etype_xdmf_cell, etype_name, etype_stress_names, &
+    XDMF_POLYVERTEX, XDMF_POLYLINE, &
     XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
   use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic
   use os_utils, only: make_directory, room_for
@@ -40,16 +41,6 @@ module fields_hdf5
 
   character(len=*), parameter :: H5_NAME = 'fields.h5', XMF_NAME = 'fields.xmf'
   real(dp), parameter :: ROOM_MARGIN = 65536.0_dp   !< bytes kept free besides a step's data (check_room)
-  !> The four stress columns of each element type (element_traits' order), with units.
-  character(len=*), parameter :: STRESS_COMPONENTS(NUM_ETYPES) = [character(len=64) :: &
-    'MASS: none', &
-    'SPRING: N (spring force, N)', &
-    'BAR2: sigma (axial stress, Pa)', &
-    'BEAM2: N (axial force, N), M (bending moment, N m)', &
-    'QUAD4: sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)', &
-    'QUAD8: sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)', &
-    'TRI3: sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)', &
-    'TRI6: sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)']
 
   type :: fields_writer_t
     private
@@ -168,12 +159,16 @@ contains
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
     character(len=8) :: names(NUM_ETYPES)
+    character(len=64) :: comps(NUM_ETYPES)
     integer :: k
     do k = 1, NUM_ETYPES
       names(k) = etype_name(k)
     end do
     call self%h5%write_text('mesh/element_type_names', names, stat, errmsg)
-    call self%h5%write_text('mesh/stress_components', STRESS_COMPONENTS, stat, errmsg)
+    do k = 1, NUM_ETYPES
+      comps(k) = etype_stress_names(k)
+    end do
+    call self%h5%write_text('mesh/stress_components', comps, stat, errmsg)
     call self%h5%create_group('groups', stat, errmsg)
     call self%h5%create_group('groups/nodes', stat, errmsg)
     call self%h5%create_group('groups/elements', stat, errmsg)
