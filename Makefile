@@ -46,7 +46,7 @@ help:
 	@echo "make bench   QUAD4 plate benchmark (writes docs/performance.md)"
 	@echo "make studies run every studies/*.sweep under mpirun (results/studies/, docs/sweep.md)"
 	@echo "make check-debug  unit tests and every scene with -fcheck=all and FPE traps (build-debug/)"
-	@echo "make valgrind     memcheck of two short scenes with bin/rebond (docs/reliability.md)"
+	@echo "make valgrind     memcheck of four short scenes and a sweep with bin/rebond (docs/reliability.md)"
 	@echo "make reliability  hostile input, full disk, fuzz and kill/restart counts (docs/reliability.md)"
 	@echo "make validation   the paper's beam drops and the contact table (docs/validation.md, docs/contact-table.md)"
 	@echo "make contact-table  the impact modes on three exact benchmarks (docs/contact-table.md)"
@@ -125,7 +125,8 @@ DEBUG_BUILD  := build-debug
 DEBUG_BIN    := bin/rebond-debug
 DEBUG_FFLAGS := -g -O0 -fcheck=all -ffpe-trap=invalid,zero,overflow -fbacktrace
 DEBUG_CFLAGS := -g -O0
-VALGRIND_SCENES := inputs/cantilever_release.dat inputs/mass_bounce.dat $(wildcard studies/mass_bounce.sweep)
+VALGRIND_SCENES := inputs/cantilever_release.dat inputs/mass_bounce.dat tests/scenes/lplate/lplate.dat \
+  tests/scenes/gmsh_scene/tags.dat $(wildcard studies/mass_bounce.sweep)
 .PHONY: check-debug valgrind
 check-debug:
 	@DEBUG_BUILD='$(DEBUG_BUILD)' DEBUG_BIN='$(DEBUG_BIN)' DEBUG_FFLAGS='$(DEBUG_FFLAGS)' \
