@@ -49,7 +49,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(model_t) :: md
-    integer :: ig, e, i, et0, isec, imodel
+    integer :: ig, e, i, k, et0, isec, imodel
     character(len=:), allocatable :: w, msg
     real(dp) :: x(2, 8), msize
     md%group = st%lead(1)%text
@@ -177,7 +177,8 @@ contains
         call elem_check_geometry(md%etype, x(:, 1:etype_nen(md%etype)), md%sec, stat, msg, size_ref=msize)
         if (stat /= STAT_OK) then
           call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, etype_name(md%etype) // ' element ' // str(i) // &
-            ' of group ' // md%group // ' (nodes ' // node_list(scn%mesh%conn(1:etype_nen(md%etype), e)) // '): ' &
+            ' of group ' // md%group // ' (nodes ' // node_list([(scn%mesh%node_tag(scn%mesh%conn(k, e)), &
+            k = 1, etype_nen(md%etype))]) // '): ' &
             // msg, st%lead(1)))
           return
         end if
