@@ -5,7 +5,8 @@ with the segment's two ends (weights 1, -(1 - xi), -xi) along the segment's norm
 inclined.dat: a point mass thrown at a rigid line inclined at 30 deg (fixed BAR2 elements), hitting
 the second element at xi = 0.4. IMPACT PAPER on a point mass is an exact elastic reflection about
 the surface: v = (0, -1) -> (-sqrt(3)/2, 1/2), asserted to 1e-12; kinetic energy kept; one
-impact; the gap never below -1e-12 m.
+impact; the gap never below -1e-12 m. With RESTITUTION 0.5, Newton's law on the normal velocity:
+(-0.6495, 0.125) m/s, 0.5625 J booked as impact_dissipated, the balance at round-off.
 
 blocks.dat: two free steel blocks of equal impedance (nu = 0: bars along y, H = 0.2 m) meet
 through non-matching faces (7 against 4 elements). Exact 1D waves: contact 2H/c, the blocks
@@ -58,6 +59,19 @@ with open(os.path.join(out, 'events.csv')) as f:
     f.readline()
     nodes = f.readline().split(',')[3]
 sc.report('inclined: events.csv names the segment 2-3 and the node 6', nodes == '2 3 6', 'nodes "%s"' % nodes)
+# RESTITUTION 0.5: Newton's law on the normal velocity, v' = v_t - e v_n n: (-0.6495, 0.125), the
+# kinetic energy (1 - e^2) x 1/2 m v_n^2 = 0.5625 J booked as impact_dissipated.
+out = sc.run_ok(os.path.join(HERE, 'inclined.dat'), ['GAP.RESTITUTION=0.5'])
+p = sc.probes(out)
+h = sc.history(out)
+after = p['time'] > 0.6
+vn = math.sqrt(3.0) / 2.0                          # |v . n| before the impact
+for col, exact in [('ball.VX', -0.25 * math.sqrt(3.0) - 0.5 * vn * 0.5), ('ball.VY', -0.25 + 0.5 * vn * vn)]:
+    err = np.abs(p[col][after] - exact).max()
+    sc.report('inclined, RESTITUTION 0.5: %s after = %.6f (1e-12)' % (col, exact), err <= 1e-12, 'error %.3e' % err)
+sc.close('inclined, RESTITUTION 0.5: impact_dissipated = (1 - e^2) m vn^2 / 2', h['impact_dissipated'][-1],
+         0.75 * 0.5 * 2.0 * vn**2, 1e-12)
+cc.check_balance('inclined, RESTITUTION 0.5', out)
 
 # --- two free blocks ---------------------------------------------------------------------
 with open(os.path.join(sc.ROOT, HERE, 'blocks.dat')) as f:
