@@ -10,6 +10,9 @@ Exact: x = A wn^2/(wn^2 - w^2) (sin w t - (w/wn) sin wn t). Asserted:
   of the spring force k (u_b - x) on the massless base (1e-12);
 - the balance <= 1e-10 x the external work, which now holds the work of the imposed motion
   (about 0.3 J here, without it the balance would be that large).
+push.dat: a bar pushed by IMPOSE into a rigid wall (an equality and a unilateral row in one
+multiplier system), damped to rest: 100 N at both ends (0.1 %), the end at the wall, the balance
+with the imposed motion's work.
 Bad input (tests/scenes/bad_input): IMPOSE on a fixed DOF, on a DOF the node does not carry,
 without FUNCTION, with two DOFs.
 """
@@ -68,3 +71,15 @@ sc.report('response within 1e-3 of the amplitude at h = 1e-3', errs[0] <= 1e-3 *
 for i in range(2):
     r = errs[i] / errs[i + 1]
     sc.report('error ratio %d: %.3f = 4 (order 2) +- 10 %%' % (i + 1, r), abs(r / 4 - 1) <= 0.1, '%.4f' % r)
+
+# push.dat: IMPOSE and a contact in one multiplier system (an equality and a unilateral row).
+out = sc.run_ok(os.path.join(os.path.relpath(os.path.dirname(os.path.abspath(__file__)), sc.ROOT), 'push.dat'))
+p = sc.probes(out)
+c = sc.contacts(out)
+hist = sc.history(out)
+sc.close('push: the imposed end carries EA/L x 1 mm = 100 N at rest (0.1 %)', p['bar.start.RX'][-1], 100.0, 1e-3)
+sc.close('push: the wall pushes back 100 N (0.1 %)', -c['force_x'][-1], 100.0, 1e-3)
+sc.report('push: the bar end stops at the wall (x = 1.001 m, 1e-12 m)', np.abs(p['bar.end.UX'] - 0.001).max() <= 0.001 + 1e-12
+          and abs(p['bar.end.UX'][-1] - 0.001) <= 1e-12, '%.3e' % p['bar.end.UX'].max())
+bal = np.abs(hist['balance']).max() / np.abs(hist['external']).max()
+sc.report('push: |balance| <= 1e-10 x the external work', bal <= 1e-10, '%.3e' % bal)
