@@ -7,7 +7,7 @@ module element_iso
   use kinds, only: dp
   implicit none
   private
-  public :: iso_cartesian, iso_b, iso_mass
+  public :: iso_cartesian, iso_b, iso_mass, iso_add_mass
 
 contains
 
@@ -40,6 +40,18 @@ contains
       b(4, 2 * i) = dnx(1, i)
     end do
   end subroutine iso_b
+
+  !> One point of the mass rule: ms += dm n n', total += dm (dm = rho t w det J).
+  pure subroutine iso_add_mass(nen, n, dm, ms, total)
+    integer, intent(in) :: nen
+    real(dp), intent(in) :: n(:), dm
+    real(dp), intent(inout) :: ms(:, :), total
+    integer :: j
+    do j = 1, nen
+      ms(1:nen, j) = ms(1:nen, j) + dm * n(1:nen) * n(j)
+    end do
+    total = total + dm
+  end subroutine iso_add_mass
 
   !> The mass matrix me (2 nen x 2 nen, x and y uncoupled) from the scalar consistent one
   !> ms(1:nen, 1:nen) of total mass total: itself (consistent), or its diagonal scaled to total.

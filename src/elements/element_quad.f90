@@ -8,7 +8,7 @@
 module element_quad
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use element_iso, only: iso_cartesian, iso_b, iso_mass
+  use element_iso, only: iso_cartesian, iso_b, iso_mass, iso_add_mass
   implicit none
   private
   public :: quad_ngauss, quad_shape, quad_b, quad_mass, quad_check, quad_elastic_d
@@ -113,17 +113,14 @@ contains
     logical, intent(in) :: lumped
     real(dp), intent(out) :: me(16, 16)
     real(dp) :: ms(8, 8), xi, eta, w, n(8), dn(2, 8), dnx(2, 8), detj, total
-    integer :: ig, j
+    integer :: ig
     ms = 0.0_dp
     total = 0.0_dp
     do ig = 1, quad_ngauss(nen)
       call quad_gauss_point(nen, ig, xi, eta, w)
       call quad_shape(nen, xi, eta, n, dn)
       call iso_cartesian(nen, x, dn, dnx, detj)
-      do j = 1, nen
-        ms(1:nen, j) = ms(1:nen, j) + rho * thickness * w * detj * n(1:nen) * n(j)
-      end do
-      total = total + rho * thickness * w * detj
+      call iso_add_mass(nen, n, rho * thickness * w * detj, ms, total)
     end do
     call iso_mass(nen, ms, total, lumped, me)
   end subroutine quad_mass

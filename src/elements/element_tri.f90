@@ -11,7 +11,7 @@
 module element_tri
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use element_iso, only: iso_cartesian, iso_b, iso_mass
+  use element_iso, only: iso_cartesian, iso_b, iso_mass, iso_add_mass
   implicit none
   private
   public :: tri_ngauss, tri_shape, tri_b, tri_mass, tri_check
@@ -112,7 +112,7 @@ contains
     logical, intent(in) :: lumped
     real(dp), intent(out) :: me(12, 12)
     real(dp) :: ms(6, 6), xi, eta, w, n(6), dn(2, 6), dnx(2, 6), detj, total
-    integer :: ig, j, npt
+    integer :: ig, npt
     ms = 0.0_dp
     total = 0.0_dp
     npt = merge(6, 3, nen == 6)
@@ -120,10 +120,7 @@ contains
       call tri_point(npt, ig, xi, eta, w)
       call tri_shape(nen, xi, eta, n, dn)
       call iso_cartesian(nen, x, dn, dnx, detj)
-      do j = 1, nen
-        ms(1:nen, j) = ms(1:nen, j) + rho * thickness * w * detj * n(1:nen) * n(j)
-      end do
-      total = total + rho * thickness * w * detj
+      call iso_add_mass(nen, n, rho * thickness * w * detj, ms, total)
     end do
     call iso_mass(nen, ms, total, lumped, me)
   end subroutine tri_mass

@@ -9,7 +9,7 @@ module gmsh_msh2
   use errors, only: STAT_OK, str
   use line_reader, only: get_int, fail, tok, clip
   use gmsh_state, only: gmsh_t, node_of, too_many, gmsh_type_name, data_line, header_ints, end_section, &
-    element_kind, store_element, index_tags
+    element_kind, store_element, index_tags, alloc_elements
   implicit none
   private
   public :: read_nodes_msh2, read_elements_msh2
@@ -95,7 +95,7 @@ contains
     type(gmsh_t), intent(inout) :: g
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: nelem, k, j, tag, gtype, ntag, phys, et, nen, dim, ent, node, ios
+    integer :: nelem, k, j, tag, gtype, ntag, phys, et, nen, dim, ent, node
     integer :: nodes(8)
     if (g%have_elements) then
       call fail(g, stat, errmsg, 'second $Elements section')
@@ -110,15 +110,8 @@ contains
     if (stat /= STAT_OK) return
     call get_int(g, 1, 0, huge(1), 'the number of elements', nelem, stat, errmsg)
     if (stat /= STAT_OK) return
-    if (too_many(g, nelem, 6)) then
-      call fail(g, stat, errmsg, 'the file is too small to hold the ' // tok(g, 1) // ' elements announced')
-      return
-    end if
-    allocate (g%etype(nelem), g%edim(nelem), g%eent(nelem), g%conn(8, nelem), stat=ios)
-    if (ios /= 0) then
-      call fail(g, stat, errmsg, 'cannot allocate ' // tok(g, 1) // ' elements')
-      return
-    end if
+    call alloc_elements(g, nelem, 6, tok(g, 1), stat, errmsg)
+    if (stat /= STAT_OK) return
     allocate (g%ent_dim(0), g%ent_tag(0), g%ent_ptr(1), g%ent_phys(0))
     g%ent_ptr(1) = 1
     do k = 1, nelem

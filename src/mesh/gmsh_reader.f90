@@ -22,7 +22,7 @@ module gmsh_reader
   use line_reader, only: open_reader, close_reader, next_line, get_int, get_real_tok, fail, tok, clip
   use os_utils, only: is_directory
   use gmsh_state, only: pname_t, gmsh_t, LINE3, node_of, too_many, node_coordinates, gmsh_type_name, data_line, &
-    next_line_or_eof, header_ints, end_section, element_kind, store_element
+    next_line_or_eof, header_ints, end_section, element_kind, store_element, alloc_elements
   use gmsh_msh2, only: read_nodes_msh2, read_elements_msh2
   use gmsh_binary, only: read_msh41_binary
   implicit none
@@ -456,7 +456,7 @@ contains
     type(gmsh_t), intent(inout) :: g
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: nblock, nelem, b, edim, etag, gtype, nb, k, j, et, nen, dim, ent, tag, node, ios, etag_dummy
+    integer :: nblock, nelem, b, edim, etag, gtype, nb, k, j, et, nen, dim, ent, tag, node, etag_dummy
     integer :: nodes(8)
 
     if (g%have_elements) then
@@ -479,15 +479,8 @@ contains
     if (stat /= STAT_OK) return
     call get_int(g, 4, 0, huge(1), 'the maximum element tag', etag_dummy, stat, errmsg)
     if (stat /= STAT_OK) return
-    if (too_many(g, nelem, 4)) then
-      call fail(g, stat, errmsg, 'the file is too small to hold the ' // tok(g, 2) // ' elements announced')
-      return
-    end if
-    allocate (g%etype(nelem), g%edim(nelem), g%eent(nelem), g%conn(8, nelem), stat=ios)
-    if (ios /= 0) then
-      call fail(g, stat, errmsg, 'cannot allocate ' // tok(g, 2) // ' elements')
-      return
-    end if
+    call alloc_elements(g, nelem, 4, tok(g, 2), stat, errmsg)
+    if (stat /= STAT_OK) return
 
     do b = 1, nblock
       call header_ints(g, 4, 'an element block header "entityDim entityTag elementType numElementsInBlock"', &

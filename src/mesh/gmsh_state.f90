@@ -14,6 +14,7 @@ module gmsh_state
   private
   public :: pname_t, gmsh_t, LINE3, node_of, too_many, node_coordinates, orient_surface, gmsh_type_name
   public :: data_line, next_line_or_eof, header_ints, end_section, element_kind, store_element, index_tags
+  public :: alloc_elements
 
   !> The element kind of a 3-node line (Gmsh type 8, the boundary curves of second-order meshes):
   !> no rebond element, its nodes join its physical groups (node groups for FIX, PRESSURE ...).
@@ -119,6 +120,24 @@ contains
       g%sorted_node = perm
     end if
   end subroutine index_tags
+
+  !> Room for nelem elements (word: the header word holding the count, for messages); refused
+  !> when nelem records of at least minbytes bytes cannot fit in the file.
+  subroutine alloc_elements(g, nelem, minbytes, word, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(in) :: nelem, minbytes
+    character(len=*), intent(in) :: word
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: ios
+    stat = STAT_OK
+    if (too_many(g, nelem, minbytes)) then
+      call fail(g, stat, errmsg, 'the file is too small to hold the ' // word // ' elements announced')
+      return
+    end if
+    allocate (g%etype(nelem), g%edim(nelem), g%eent(nelem), g%conn(8, nelem), stat=ios)
+    if (ios /= 0) call fail(g, stat, errmsg, 'cannot allocate ' // word // ' elements')
+  end subroutine alloc_elements
 
   !> Append element number g%nelem + 1: kind et, dimension dim, entity ent (0: none), local nodes
   !> nodes(1:nen); a surface is made counter-clockwise (a zero-area one is refused).
