@@ -9,7 +9,7 @@ module gmsh_msh2
   use errors, only: STAT_OK, str
   use line_reader, only: get_int, fail, tok, clip
   use gmsh_state, only: gmsh_t, node_of, too_many, gmsh_type_name, data_line, header_ints, end_section, &
-    element_kind, store_element, index_tags, alloc_elements
+    element_kind, store_element, index_tags, alloc_elements, begin_elements
   implicit none
   private
   public :: read_nodes_msh2, read_elements_msh2
@@ -97,15 +97,8 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: nelem, k, j, tag, gtype, ntag, phys, et, nen, dim, ent, node
     integer :: nodes(8)
-    if (g%have_elements) then
-      call fail(g, stat, errmsg, 'second $Elements section')
-      return
-    end if
-    if (.not. g%have_nodes) then
-      call fail(g, stat, errmsg, '$Elements before $Nodes, expected the $Nodes section first')
-      return
-    end if
-    g%have_elements = .true.
+    call begin_elements(g, stat, errmsg)
+    if (stat /= STAT_OK) return
     call header_ints(g, 1, 'the number of elements', stat, errmsg)
     if (stat /= STAT_OK) return
     call get_int(g, 1, 0, huge(1), 'the number of elements', nelem, stat, errmsg)

@@ -22,7 +22,7 @@ module gmsh_reader
   use line_reader, only: open_reader, close_reader, next_line, get_int, get_real_tok, fail, tok, clip
   use os_utils, only: is_directory
   use gmsh_state, only: pname_t, gmsh_t, LINE3, node_of, too_many, node_coordinates, gmsh_type_name, data_line, &
-    next_line_or_eof, header_ints, end_section, element_kind, store_element, alloc_elements
+    next_line_or_eof, header_ints, end_section, element_kind, store_element, alloc_elements, begin_elements
   use gmsh_msh2, only: read_nodes_msh2, read_elements_msh2
   use gmsh_binary, only: read_msh41_binary
   implicit none
@@ -459,15 +459,8 @@ contains
     integer :: nblock, nelem, b, edim, etag, gtype, nb, k, j, et, nen, dim, ent, tag, node, etag_dummy
     integer :: nodes(8)
 
-    if (g%have_elements) then
-      call fail(g, stat, errmsg, 'second $Elements section')
-      return
-    end if
-    if (.not. g%have_nodes) then
-      call fail(g, stat, errmsg, '$Elements before $Nodes, expected the $Nodes section first')
-      return
-    end if
-    g%have_elements = .true.
+    call begin_elements(g, stat, errmsg)
+    if (stat /= STAT_OK) return
     call header_ints(g, 4, 'the element header "numEntityBlocks numElements minElementTag maxElementTag"', &
       stat, errmsg)
     if (stat /= STAT_OK) return

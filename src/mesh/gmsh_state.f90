@@ -14,7 +14,7 @@ module gmsh_state
   private
   public :: pname_t, gmsh_t, LINE3, node_of, too_many, node_coordinates, orient_surface, gmsh_type_name
   public :: data_line, next_line_or_eof, header_ints, end_section, element_kind, store_element, index_tags
-  public :: alloc_elements
+  public :: alloc_elements, begin_elements
 
   !> The element kind of a 3-node line (Gmsh type 8, the boundary curves of second-order meshes):
   !> no rebond element, its nodes join its physical groups (node groups for FIX, PRESSURE ...).
@@ -120,6 +120,20 @@ contains
       g%sorted_node = perm
     end if
   end subroutine index_tags
+
+  !> Entering an $Elements section: the first one, after $Nodes.
+  subroutine begin_elements(g, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (g%have_elements) then
+      call fail(g, stat, errmsg, 'second $Elements section')
+    else if (.not. g%have_nodes) then
+      call fail(g, stat, errmsg, '$Elements before $Nodes, expected the $Nodes section first')
+    end if
+    g%have_elements = .true.
+  end subroutine begin_elements
 
   !> Room for nelem elements (word: the header word holding the count, for messages); refused
   !> when nelem records of at least minbytes bytes cannot fit in the file.
