@@ -118,24 +118,27 @@ L.append("QUAD4`, `MODEL … MASS CONSISTENT PLANE STRAIN`, left edge fixed, rig
 L.append("`INITIAL … VELOCITY`, h = 1 µs, `OUTPUT HISTORY 0 FIELDS 0` (no I/O in the time loop). Linear")
 L.append("elastic, so each step is exactly one solve with the factor of S = K0 + 4M/h².\n")
 L.append("## Results\n")
+L.append("All times are CPU times of the benchmark process (`cpu_time`): the machine is shared, so")
+L.append("wall-clock time is noise; the step and the solve run on one thread.\n")
 L.append("| DOFs | mesh | nnz(K) upper | nnz(L) | prepare_run | factorization | bare solve | time per step | ratio step/solve | peak memory |")
 L.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 for d in rows:
     L.append(f"| {int(d['ndof']):,} | {d['nx']}×{d['ny']} | {big(d['nnzk'])} | {big(d['lnz'])} | {t(d['t_prepare'])} | "
-             f"{t(d['t_factor'])} | {t(d['t_solve'])} | {t(d['t_step'])} | **{f(d,'ratio'):.2f}** | {mib(d['hwm_kb'])} |")
+             f"{t(d['t_factor'])} | {t(d['t_solve'])} | {t(d['t_step_median'])} | **{f(d,'ratio'):.2f}** | {mib(d['hwm_kb'])} |")
 L.append("")
 L.append("- *prepare_run*: CHOLMOD analysis (AMD and METIS orderings, symbolic factorization) + numeric")
 L.append("  factorization of S + initial internal forces; paid once per run.")
 L.append("- *factorization*: a numeric refactorization of S on the same pattern (what a change of time step")
 L.append("  would cost).")
-L.append("- *bare solve*: median of repeated `factor%solve` calls (forward + backward substitution, CHOLMOD's")
+L.append("- *bare solve*: median of all the repeated `factor%solve` calls (forward + backward substitution, CHOLMOD's")
 L.append("  permutations and copies included) on a random right-hand side, same factor as the run.")
-L.append("- *time per step*: wall time of `run_newmark` divided by its number of steps "
+L.append("- *time per step*: median CPU time of a step of the replay below (the same library calls as")
+L.append("  `run_newmark`), over its steps; `run_newmark`'s own mean CPU time per step is in the next table "
          f"({', '.join(d['steps'] for d in rows)} steps).")
-L.append(f"- The machine may be shared (other jobs), so solves and runs are done in {rows[0]['nrep']} alternating rounds and")
-L.append("  the best round of each is reported; slowest rounds (solve / step): " +
+L.append(f"- The machine may be shared (other jobs), so solves and runs are done in {rows[0]['nrep']} alternating rounds;")
+L.append("  the solve is the median over all of them, `run_newmark` its best round; slowest rounds (median solve / run step): " +
          "; ".join(f"{int(d['ndof']):,}: {t(d['t_solve_max'])} / {t(d['t_step_max'])}" for d in rows) + ".")
-L.append("- *ratio*: time per step / bare solve. 1 would mean the step costs nothing but its solve; the goal")
+L.append("- *ratio*: median step / median bare solve. 1 would mean the step costs nothing but its solve; the goal")
 L.append("  is ≤ 1.3, i.e. everything else the step does (element loop, mass product, vector updates) costs")
 L.append("  at most 30 % of one solve.")
 L.append("- *peak memory*: VmHWM of the benchmark process at the end (it holds one factor).\n")
@@ -143,7 +146,7 @@ L.append("## Where the step goes\n")
 L.append("The benchmark replays the step of `run_newmark` after the run, with the same library calls in the")
 L.append("same order, timing each part (median over the steps; % of the replayed step):\n")
 keys = [("t_slv", "solve (in the loop)"), ("t_fint", "internal_force (element loop, Bσ)"),
-        ("t_mass", "mass_times (M·v)"), ("t_comm", "commit_state"), ("t_vec", "vector updates"),
+        ("t_mass", "eq (3) and M·v"), ("t_comm", "commit_state"), ("t_vec", "vector updates"),
         ("t_ext", "external_force")]
 L.append("| DOFs | " + " | ".join(k[1] for k in keys) + " | replayed step | measured step | K0·u product |")
 L.append("|---:|" + "---:|" * (len(keys) + 3))

@@ -4,10 +4,11 @@
 !> launched with an initial velocity, no output in the loop), then times through the library:
 !> load_scene, build_system, prepare_run (analysis + factorization of S = K0 + 4M/h²), a
 !> numeric refactorization of S, then NREP times (default 3): NSOLVE bare solves on that same
-!> factor (median) and run_newmark over NSTEPS steps. The machine may be shared, so the
-!> reported solve and step times are the best of the NREP rounds. A replay of the step's parts
-!> (same library calls, same order; median over the steps of each part) then splits the step
-!> time, and the sparse product K0 u (equal to Bσ for a linear elastic model from zero stress)
+!> factor (median) and run_newmark over NSTEPS steps. Times are CPU times (cpu_time: the
+!> machine is shared, wall-clock time is noise); the solve and run_newmark figures are the best
+!> of the NREP rounds. A replay of the step (same library calls, same order) gives the median
+!> CPU time of a step, which the ratio step/solve divides by the median solve, and splits it
+!> (median over the steps of each part), and the sparse product K0 u (equal to Bσ for a linear elastic model from zero stress)
 !> is timed as the floor of the internal-force evaluation. The last line, "RESULT k=v ...",
 !> is read by bench.sh.
 program bench_plate
@@ -15,9 +16,10 @@ program bench_plate
   use, intrinsic :: iso_fortran_env, only: int64
   use kinds, only: dp
   use errors, only: STAT_OK
-  use scene, only: scene_t, load_scene
-  use assembly, only: system_t, build_system, internal_force, mass_times, external_force, commit_state
-  use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark, velocity_eq3
+  use scene, only: scene_t
+  use scene_loader, only: load_scene
+  use assembly, only: system_t, build_system, external_force, commit_state
+  use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
   implicit none
 
   interface
@@ -35,7 +37,7 @@ program bench_plate
   ! Parts of a replayed step, in run_newmark's order.
   integer, parameter :: P_EXT = 1, P_VEC = 2, P_SOLVE = 3, P_FINT = 4, P_COMMIT = 5, P_MASS = 6, NPART = 6
   character(len=14), parameter :: PART_NAME(NPART) = [character(len=14) :: 'external_force', 'vector ops', &
-    'solve', 'internal_force', 'commit_state', 'mass_times']
+    'solve', 'internal_force', 'commit_state', 'eq (3), M v']
   character(len=*), parameter :: PART_KEY(NPART) = [character(len=6) :: 't_ext', 't_vec', 't_slv', 't_fint', &
     't_comm', 't_mass']
 
@@ -50,8 +52,8 @@ program bench_plate
   integer(c_int) :: rc, ordering, super
   real(c_double) :: lnz, xsize, fl
   real(dp) :: t0, t_load, t_build, t_analyze, t_prepare, t_factor, t_step, t_solve, h, dw, kin
-  real(dp) :: part(NPART), tp, t_kmv, kdiff
-  real(dp), allocatable :: b(:), x(:), ts(:), steps_t(:, :), solve_rep(:), step_rep(:)
+  real(dp) :: part(NPART), tp, t_kmv, kdiff, t_rmed
+  real(dp), allocatable :: b(:), x(:), ts(:), steps_t(:, :), solve_rep(:), step_rep(:), t_rstep(:)
   character(len=256) :: hw_prepare
 
   nx = int_arg(1)
@@ -89,12 +91,12 @@ program bench_plate
   call build_system(scn, sys, stat, errmsg)
   call check('build_system')
   t_build = wall() - t0
-  write (*, '(a,i0,a,i0,a,i0,a,i0,a)') 'plate ', nx, ' x ', ny, ': ', sys%neq, ' DOFs, nnz(K, upper) = ', sys%pat%nnz
+  write (*, '(a,i0,a,i0,a,i0,a,i0,a)') 'plate ', nx, ' x ', ny, ': ', sys%dofs%neq, ' DOFs, nnz(K, upper) = ', sys%ops%pat%nnz
 
   ! nnz(L) from a separate symbolic analysis with the shim's settings (before prepare_run, so
   ! it does not add to the peak memory of the factorization).
   t0 = wall()
-  rc = bench_chol_analyze(int(sys%neq, c_int), int(sys%pat%nnz, c_int), sys%pat%colptr, sys%pat%rowind, &
+  rc = bench_chol_analyze(int(sys%dofs%neq, c_int), int(sys%ops%pat%nnz, c_int), sys%ops%pat%colptr, sys%ops%pat%rowind, &
     lnz, xsize, fl, ordering, super)
   t_analyze = wall() - t0
   if (rc /= 0) then
@@ -122,17 +124,17 @@ program bench_plate
 
   ! Numeric factorization alone: same pattern, so CHOLMOD only refactorizes.
   t0 = wall()
-  call rs%factor%factorize(sys%pat, rs%sval, stat, errmsg, minor)
+  call rs%mat%factor%factorize(sys%ops%pat, rs%mat%sval, stat, errmsg, minor)
   call check('refactorize')
   t_factor = wall() - t0
 
   ! Rounds of bare solves on the factor the run uses (random right-hand side) and of the run
   ! itself (no history, no fields, quiet; each round continues the motion). The first solve
   ! allocates CHOLMOD's workspaces: warm-up, not timed.
-  allocate (b(sys%neq), x(sys%neq), ts(nsolve), solve_rep(nrep), step_rep(nrep))
+  allocate (b(sys%dofs%neq), x(sys%dofs%neq), ts(nsolve * nrep), solve_rep(nrep), step_rep(nrep))
   call random_number(b)
   b = b - 0.5_dp
-  call rs%factor%solve(b, x, stat, errmsg)
+  call rs%mat%factor%solve(b, x, stat, errmsg)
   call check('solve')
   opts%quiet = .true.
   do rep = 1, nrep
@@ -141,50 +143,44 @@ program bench_plate
     opts%outdir = workdir // '/out_' // itoa(nx) // 'x' // itoa(ny) // '_' // itoa(rep)
     do k = 1, nsolve
       t0 = wall()
-      call rs%factor%solve(b, x, stat, errmsg)
-      ts(k) = wall() - t0
+      call rs%mat%factor%solve(b, x, stat, errmsg)
+      ts((rep - 1) * nsolve + k) = wall() - t0
       call check('solve')
     end do
-    solve_rep(rep) = median(ts)
+    solve_rep(rep) = median(ts((rep - 1) * nsolve + 1:rep * nsolve))
     t0 = wall()
     call run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
     call check('run_newmark')
     step_rep(rep) = (wall() - t0) / summary%steps
   end do
-  t_solve = minval(solve_rep)
+  t_solve = median(ts)                      ! every solve of every round: a median, as for the step
   t_step = minval(step_rep)
 
   ! Replay of the linear step of run_newmark, part by part, to see where the step goes.
-  allocate (steps_t(nsteps, NPART))
+  allocate (steps_t(nsteps, NPART), t_rstep(nsteps))
   do i = 1, nsteps
     part = 0.0_dp
     tp = wall()
-    call external_force(scn, sys, scn%t_start + i * h, rs%f_np1)
+    call external_force(scn, sys, scn%t_start + i * h, rs%st%f_np1)
     call lap(P_EXT)
-    rs%rhs = rs%f_np1 + rs%f_n - rs%fint_n + (4.0_dp / h) * rs%mv
-    rs%du = 0.0_dp
-    rs%r = rs%rhs - rs%fint_n
+    call rs%st%begin_step()                 ! the right-hand side of (9), r = rhs - Bσ(n)
     call lap(P_VEC)
-    call rs%factor%solve(rs%r, rs%ddu, stat, errmsg)
+    call rs%mat%solve(rs%st%r, rs%st%ddu, stat, errmsg)
     call lap(P_SOLVE)
-    rs%du = rs%du + rs%ddu
-    rs%utrial = rs%u + rs%du
+    rs%st%du = rs%st%du + rs%st%ddu
     call lap(P_VEC)
-    call internal_force(scn, sys, rs%utrial, rs%fint, rs%fcorr, scn%energy_correction, allocated(sys%tval))
+    call rs%st%trial(scn, sys, scn%energy_correction)   ! Bσ(n+1) of u(n) + du
     call lap(P_FINT)
     call commit_state(sys)
     call lap(P_COMMIT)
-    dw = 0.5_dp * dot_product(rs%du, rs%f_n + rs%f_np1)
-    call velocity_eq3(h, rs%du, rs%v)
-    rs%u = rs%utrial
-    rs%fint_n = rs%fint
-    rs%f_n = rs%f_np1
-    call lap(P_VEC)
-    call mass_times(sys, rs%v, rs%mv)
+    dw = 0.5_dp * dot_product(rs%st%du, rs%st%f_n + rs%st%f_np1)
+    call rs%st%velocity(sys)                ! eq (3) and M v(n+1)
     call lap(P_MASS)
-    kin = 0.5_dp * dot_product(rs%v, rs%mv)
+    call rs%st%commit(sys)
     call lap(P_VEC)
+    kin = rs%st%kinetic
     steps_t(i, :) = part
+    t_rstep(i) = sum(part)
   end do
   do k = 1, NPART
     part(k) = median(steps_t(:, k))
@@ -194,24 +190,27 @@ program bench_plate
   ! could replace the element loop, and check the identity on the last state.
   do i = 1, nsteps
     t0 = wall()
-    call sys%pat%matvec(sys%kval, rs%utrial, rs%r)
+    call sys%ops%pat%matvec(sys%ops%kval, rs%st%utrial, rs%st%r)
     steps_t(i, 1) = wall() - t0
   end do
   t_kmv = median(steps_t(:, 1))
-  call internal_force(scn, sys, rs%utrial, rs%fint, rs%fcorr, scn%energy_correction, allocated(sys%tval))
-  kdiff = norm2(rs%r - rs%fint) / max(norm2(rs%fint), tiny(1.0_dp))
+  t_rmed = median(t_rstep)
+  rs%st%du = 0.0_dp                         ! Bσ at the committed u, the vector K0 u stands for
+  call rs%st%trial(scn, sys, scn%energy_correction)
+  call sys%ops%pat%matvec(sys%ops%kval, rs%st%utrial, rs%st%r)
+  kdiff = norm2(rs%st%r - rs%st%fint) / max(norm2(rs%st%fint), tiny(1.0_dp))
 
   write (*, '(a,f10.3,a)') '  load_scene            ', t_load, ' s'
   write (*, '(a,f10.3,a)') '  build_system          ', t_build, ' s'
   write (*, '(a,f10.3,a)') '  prepare_run           ', t_prepare, ' s  (analysis + factorization + initial state)'
   write (*, '(a,f10.3,a)') '  numeric factorization ', t_factor, ' s'
-  write (*, '(a,es10.3,a,i0,a,i0,a)') '  bare solve            ', t_solve, ' s  (best of ', nrep, &
-    ' rounds of the median of ', nsolve, ')'
+  write (*, '(a,es10.3,a,i0,a)') '  bare solve            ', t_solve, ' s  (median of ', nrep * nsolve, ' solves)'
   write (*, '(a,*(es10.3))') '    rounds:             ', solve_rep
   write (*, '(a,es10.3,a,i0,a,i0,a)') '  step (run_newmark)    ', t_step, ' s  (best of ', nrep, ' runs of ', &
     summary%steps, ' steps)'
   write (*, '(a,*(es10.3))') '    rounds:             ', step_rep
-  write (*, '(a,f8.3)') '  ratio step / solve    ', t_step / t_solve
+  write (*, '(a,es10.3,a)') '  replayed step         ', t_rmed, ' s  (median over the steps)'
+  write (*, '(a,f8.3)') '  ratio step / solve    ', t_rmed / t_solve
   write (*, '(a,es10.3,a,es10.3,a,es10.3,a)') '  nnz(L) = ', lnz, ' (stored ', xsize, '), factor flops ', fl, &
     ', ordering ' // ordname
   write (*, '(a)') '  replayed step (median over the steps of each part):'
@@ -224,27 +223,27 @@ program bench_plate
   write (*, '(a,a,a,a)') '  VmHWM after prepare_run ', trim(hw_prepare), ' kB, at end ', trim(vm_hwm()) // ' kB'
   write (*, '(a,es10.3,a,es10.3,a)') '  (replay end: kinetic energy ', kin, ' J, last external work ', dw, ' J)'
 
-  write (*, '(a)', advance='no') 'RESULT nx=' // itoa(nx) // ' ny=' // itoa(ny) // ' ndof=' // itoa(sys%neq) // &
-    ' nnzk=' // itoa(sys%pat%nnz) // ' steps=' // itoa(summary%steps) // ' nsolve=' // itoa(nsolve) // &
+  write (*, '(a)', advance='no') 'RESULT nx=' // itoa(nx) // ' ny=' // itoa(ny) // ' ndof=' // itoa(sys%dofs%neq) // &
+    ' nnzk=' // itoa(sys%ops%pat%nnz) // ' steps=' // itoa(summary%steps) // ' nsolve=' // itoa(nsolve) // &
     ' lnz=' // rtoa(lnz) // ' xsize=' // rtoa(xsize) // ' flops=' // rtoa(fl) // ' ordering=' // ordname // &
     ' t_load=' // rtoa(t_load) // ' t_build=' // rtoa(t_build) // ' t_analyze=' // rtoa(t_analyze) // &
     ' t_prepare=' // rtoa(t_prepare) // ' t_factor=' // rtoa(t_factor) // ' t_solve=' // rtoa(t_solve) // &
-    ' t_step=' // rtoa(t_step) // ' ratio=' // rtoa(t_step / t_solve) // ' nrep=' // itoa(nrep) // &
+    ' t_step=' // rtoa(t_step) // ' t_step_median=' // rtoa(t_rmed) // ' ratio=' // rtoa(t_rmed / t_solve) // &
+    ' nrep=' // itoa(nrep) // &
     ' t_solve_max=' // rtoa(maxval(solve_rep)) // ' t_step_max=' // rtoa(maxval(step_rep)) // &
     ' t_kmv=' // rtoa(t_kmv) // ' kdiff=' // rtoa(kdiff)
   do i = 1, NPART
     write (*, '(a)', advance='no') ' ' // trim(PART_KEY(i)) // '=' // rtoa(part(i))
   end do
   write (*, '(a)') ' hwm_prepare_kb=' // trim(hw_prepare) // ' hwm_kb=' // trim(vm_hwm())
-  call rs%factor%destroy()
+  call rs%mat%factor%destroy()
 
 contains
 
-  !> Wall-clock time in seconds.
+  !> CPU time of the process in seconds (the machine is shared: wall-clock time is noise; the
+  !> step and the solve run on one thread, so their CPU times compare).
   real(dp) function wall()
-    integer(int64) :: c, r
-    call system_clock(c, r)
-    wall = real(c, dp) / real(r, dp)
+    call cpu_time(wall)
   end function wall
 
   !> Add the time since tp to part p and restart the lap.
