@@ -419,17 +419,17 @@ contains
     type(system_t), intent(in) :: sys
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: k, i, k2
+    integer :: k
     logical :: held
+    logical, allocatable :: imposed(:, :)
     stat = STAT_OK
+    call imposed_dofs(scn, imposed)
     do k = 1, size(scn%probes)
       associate (p => scn%probes(k))
         if (p%reaction) then
-          held = any(sys%dofs%eqn(p%dof, scn%mesh%ngroups(p%ngroup)%items) == DOF_FIXED)
-          do i = 1, size(scn%imposes)             ! or imposed (IMPOSE) on a node of the group
-            if (scn%imposes(i)%dof == p%dof) held = held .or. any([(any(scn%mesh%ngroups(p%ngroup)%items == &
-              scn%mesh%ngroups(scn%imposes(i)%ngroup)%items(k2)), k2 = 1, size(scn%mesh%ngroups(scn%imposes(i)%ngroup)%items))])
-          end do
+          ! a fixed DOF, or an imposed one (IMPOSE), on a node of the group
+          held = any(sys%dofs%eqn(p%dof, scn%mesh%ngroups(p%ngroup)%items) == DOF_FIXED) .or. &
+            any(imposed(p%dof, scn%mesh%ngroups(p%ngroup)%items))
           if (held) cycle
           call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(p%line) // ': OUTPUT: PROBE ' // p%label // &
             ': no node of the group has this DOF fixed or imposed (a reaction is the force of a FIX or IMPOSE), at ''' // &
@@ -457,14 +457,10 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     logical, allocatable :: massless(:), imposed(:, :)
-    integer :: n, d, i, k
+    integer :: n, d, i
     stat = STAT_OK
     if (scn%impact == IMPACT_MASSLESS) call contact_nodes(scn, massless)
-    allocate (imposed(3, scn%mesh%nnode))       ! IMPOSE: the motion is given, not integrated
-    imposed = .false.
-    do k = 1, size(scn%imposes)
-      imposed(scn%imposes(k)%dof, scn%mesh%ngroups(scn%imposes(k)%ngroup)%items) = .true.
-    end do
+    call imposed_dofs(scn, imposed)             ! IMPOSE: the motion is given, not integrated
     do n = 1, scn%mesh%nnode
       do d = 1, size(sys%dofs%eqn, 1)
         i = sys%dofs%eqn(d, n)
@@ -480,6 +476,18 @@ contains
       end do
     end do
   end subroutine check_inertia
+
+  !> mask(d, n): DOF d of node n is imposed (IMPOSE).
+  pure subroutine imposed_dofs(scn, mask)
+    type(scene_t), intent(in) :: scn
+    logical, allocatable, intent(out) :: mask(:, :)
+    integer :: k
+    allocate (mask(3, scn%mesh%nnode))
+    mask = .false.
+    do k = 1, size(scn%imposes)
+      mask(scn%imposes(k)%dof, scn%mesh%ngroups(scn%imposes(k)%ngroup)%items) = .true.
+    end do
+  end subroutine imposed_dofs
 
   !> True when position k of the pattern is a diagonal entry.
   pure logical function is_diagonal_position(pat, k)

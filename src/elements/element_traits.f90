@@ -160,32 +160,16 @@ contains
     side = 0
     nside = 0
     nsn = 0
-    select case (et)
-    case (ET_QUAD4)
-      nside = 4
-      nsn = 2
-      do k = 1, 4
-        side(1:2, k) = [k, mod(k, 4) + 1]
-      end do
-    case (ET_QUAD8)
-      nside = 4
-      nsn = 3
-      do k = 1, 4
-        side(:, k) = [k, k + 4, mod(k, 4) + 1]
-      end do
-    case (ET_TRI3)
-      nside = 3
-      nsn = 2
-      do k = 1, 3
-        side(1:2, k) = [k, mod(k, 3) + 1]
-      end do
-    case (ET_TRI6)
-      nside = 3
-      nsn = 3
-      do k = 1, 3
-        side(:, k) = [k, k + 3, mod(k, 3) + 1]
-      end do
-    end select
+    if (TRAITS(et)%family /= FAMILY_SURFACE) return
+    nside = merge(3, 4, et == ET_TRI3 .or. et == ET_TRI6)     ! corners = sides
+    nsn = merge(3, 2, TRAITS(et)%nen > nside)                 ! mid-side nodes after the corners
+    do k = 1, nside
+      if (nsn == 2) then
+        side(1:2, k) = [k, mod(k, nside) + 1]
+      else
+        side(:, k) = [k, k + nside, mod(k, nside) + 1]
+      end if
+    end do
   end subroutine etype_sides
 
   !> The straight pieces of an element's outline, as local node pairs seg(:, 1:nseg), for

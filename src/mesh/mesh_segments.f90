@@ -8,6 +8,7 @@ module mesh_segments
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use mesh, only: mesh_t
+  use array_utils, only: grow
   use element_traits, only: etype_sides, etype_family, FAMILY_LINE
   implicit none
   private
@@ -39,29 +40,33 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     logical, allocatable :: in(:), on(:)
-    integer, allocatable :: lo(:), hi(:), own(:), node(:, :), nsn(:), elem(:)
+    integer, allocatable :: lo(:), hi(:), own(:), nd(:), nsn(:), elem(:)
     integer :: e, k, side(3, 4), nside, ns, nc, i, j
     stat = STAT_OK
     allocate (in(m%nnode), on(m%nnode))
     in = .false.
     in(items) = .true.
+    ! Candidates: the sides with all their nodes in the group, side c at nd(3c-2:3c).
     nc = 0
-    allocate (lo(16), hi(16), own(16), node(3, 16), nsn(16), elem(16))
+    allocate (nd(48), nsn(16), elem(16))
     do e = 1, m%nelem
       call etype_sides(m%etype(e), side, nside, ns)
       do k = 1, nside
         if (.not. all(in(m%conn(side(1:ns, k), e)))) cycle
-        if (nc == size(lo)) call grow_sides(lo, hi, own, node, nsn, elem)
         nc = nc + 1
-        node(:, nc) = 0
-        node(1:ns, nc) = m%conn(side(1:ns, k), e)
+        call grow(nd, 3 * nc)
+        call grow(nsn, nc)
+        call grow(elem, nc)
+        nd(3 * nc - 2:3 * nc) = 0
+        nd(3 * nc - 2:3 * nc - 3 + ns) = m%conn(side(1:ns, k), e)
         nsn(nc) = ns
         elem(nc) = e
-        lo(nc) = node(1, nc)
-        hi(nc) = node(ns, nc)
-        own(nc) = 1
       end do
     end do
+    allocate (lo(nc), hi(nc), own(nc))
+    lo = [(nd(3 * i - 2), i = 1, nc)]
+    hi = [(nd(3 * i - 3 + nsn(i)), i = 1, nc)]
+    own = 1
     ! A side listed twice (by its two elements) lies inside the body: not a free side.
     call drop_shared(lo, hi, own, nc, m%nnode)
     sides%n = count(own(1:nc) == 1)
@@ -71,10 +76,10 @@ contains
     do i = 1, nc
       if (own(i) /= 1) cycle
       j = j + 1
-      sides%node(:, j) = node(:, i)
+      sides%node(:, j) = nd(3 * i - 2:3 * i)
       sides%nsn(j) = nsn(i)
       sides%elem(j) = elem(i)
-      on(node(1:nsn(i), i)) = .true.
+      on(nd(3 * i - 2:3 * i - 3 + nsn(i))) = .true.
     end do
     do i = 1, size(items)
       if (.not. on(items(i))) then
@@ -173,31 +178,6 @@ contains
       head(key) = i
     end do
   end subroutine drop_shared
-
-  pure subroutine grow_sides(lo, hi, own, node, nsn, elem)
-    integer, allocatable, intent(inout) :: lo(:), hi(:), own(:), node(:, :), nsn(:), elem(:)
-    integer, allocatable :: t(:), t2(:, :)
-    integer :: n
-    n = size(lo)
-    allocate (t(2 * n))
-    t(1:n) = lo
-    call move_alloc(t, lo)
-    allocate (t(2 * n))
-    t(1:n) = hi
-    call move_alloc(t, hi)
-    allocate (t(2 * n))
-    t(1:n) = own
-    call move_alloc(t, own)
-    allocate (t(2 * n))
-    t(1:n) = nsn
-    call move_alloc(t, nsn)
-    allocate (t(2 * n))
-    t(1:n) = elem
-    call move_alloc(t, elem)
-    allocate (t2(3, 2 * n))
-    t2(:, 1:n) = node
-    call move_alloc(t2, node)
-  end subroutine grow_sides
 
   !> The segment closest to point x among those that do not hold node skip and onto which x
   !> projects (parameter xi in [0, 1] along p -> q, within tol), with the point's distance d, its

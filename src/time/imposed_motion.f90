@@ -9,6 +9,7 @@ module imposed_motion
   use scene, only: scene_t, function_value, function_slope
   use assembly, only: system_t
   use dof_map, only: DOF_FIXED, DOF_ABSENT
+  use array_utils, only: grow
   use contact, only: contact_set_t, contact_add, contact_set_bilateral, contact_set_gap0
   implicit none
   private
@@ -93,9 +94,10 @@ contains
     type(scene_t), intent(in) :: scn
     integer, allocatable, intent(out) :: row(:), slot(:)
     logical, allocatable :: member(:)
-    integer :: k, i, j, s, p, np
-    allocate (row(0), slot(0), member(scn%mesh%nnode))
+    integer :: k, i, j, s, p, np, npair
+    allocate (row(8), slot(8), member(scn%mesh%nnode))
     s = 0
+    npair = 0
     do p = 1, size(scn%probes)
       if (.not. scn%probes(p)%reaction) cycle
       s = s + 1
@@ -108,11 +110,16 @@ contains
           j = j + 1
           if (scn%imposes(k)%dof /= scn%probes(p)%dof) cycle
           if (.not. member(scn%mesh%ngroups(scn%imposes(k)%ngroup)%items(i))) cycle
-          row = [row, j]
-          slot = [slot, s]
+          npair = npair + 1
+          call grow(row, npair)
+          call grow(slot, npair)
+          row(npair) = j
+          slot(npair) = s
         end do
       end do
     end do
+    row = row(1:npair)
+    slot = slot(1:npair)
   end subroutine imposed_probe_map
 
   !> After a step: the mean force of the step at each imposed DOF, half its multiplier (which
