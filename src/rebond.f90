@@ -6,6 +6,7 @@
 program rebond
   use errors, only: STAT_OK, STAT_INPUT, STAT_RUN, str
   use scene, only: scene_t
+  use contact_modes, only: IMPACT_NAMES
   use scene_loader, only: load_scene
   use assembly, only: system_t, build_system
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
@@ -126,6 +127,8 @@ contains
         write (*, '(a)') 'rebond ' // VERSION // ': ' // scene_path
       end if
       write (*, '(a,i0,a,i0,a,i0,a)') '  ', scn%mesh%nnode, ' nodes, ', scn%mesh%nelem, ' elements, ', sys%dofs%neq, ' equations'
+      if (size(scn%conditions) > 0) write (*, '(a,i0,a)') '  contact conditions: ', size(scn%conditions), ', IMPACT ' // &
+        trim(IMPACT_NAMES(scn%impact)) // trim(merge(' (AUTO)', '       ', scn%impact_auto))
     end if
     call run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
     if (stat /= STAT_OK) then

@@ -3,12 +3,19 @@
 module contact_modes
   implicit none
   private
-  public :: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
+  public :: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_AUTO, IMPACT_NAMES
+  public :: SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
 
   !> SCHEME IMPACT: plain Newmark, the paper's (10)-(16), the persistent-contact variant, or
   !> massless contact nodes (their mass moved to their neighbours, the energy lost at
   !> establishment given back by scaling the body; docs/contact.md).
   integer, parameter :: IMPACT_OFF = 0, IMPACT_PAPER = 1, IMPACT_PERSIST = 2, IMPACT_MASSLESS = 3
+  !> SCHEME IMPACT AUTO (default): MASSLESS where every contact node can give its mass away and
+  !> every impact is elastic, PERSIST otherwise; resolved when the scene is loaded (scene_contacts),
+  !> so that the contact code only ever sees one of the four above.
+  integer, parameter :: IMPACT_AUTO = 4
+  !> The words of the codes (IMPACT_NAMES(code)), for messages.
+  character(len=*), parameter :: IMPACT_NAMES(0:4) = ['OFF     ', 'PAPER   ', 'PERSIST ', 'MASSLESS', 'AUTO    ']
   !> SCHEME MULTIPLIERS: Schur columns up to AUGMENTED_ABOVE active conditions then the
   !> augmented system (AUTO), or one of them always.
   integer, parameter :: SOLVER_AUTO = 0, SOLVER_SCHUR = 1, SOLVER_AUGMENTED = 2

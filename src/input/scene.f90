@@ -9,7 +9,7 @@ module scene
   use element_traits, only: etype_point_kind
   use section, only: section_t
   use material_law, only: material_t
-  use contact_modes, only: IMPACT_PAPER, SOLVER_AUTO, SWITCH_DEFAULT
+  use contact_modes, only: IMPACT_AUTO, SOLVER_AUTO, SWITCH_DEFAULT
   implicit none
   private
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
@@ -132,7 +132,8 @@ module scene
     integer :: checkpoint_every = 0           !< OUTPUT CHECKPOINT EVERY k (0: none)
     type(probe_t), allocatable :: probes(:)
     type(condition_t), allocatable :: conditions(:)   !< unilateral contacts (OBSTACLE, GAP)
-    integer :: impact = IMPACT_PAPER                  !< SCHEME IMPACT
+    integer :: impact = IMPACT_AUTO                   !< SCHEME IMPACT (AUTO resolved at load: scene_contacts)
+    logical :: impact_auto = .false.                  !< the treatment was chosen by IMPACT AUTO
     integer :: multipliers = SOLVER_AUTO              !< SCHEME MULTIPLIERS (contact_modes)
     integer :: augmented_above = SWITCH_DEFAULT       !< SCHEME AUGMENTED_ABOVE (AUTO's switch)
     character(len=:), allocatable :: fingerprint      !< what a checkpoint's state means (scene_fingerprint)

@@ -6,12 +6,14 @@ module scene_contacts
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use statement, only: statement_t, token_t, stmt_error, find_param, get
   use statement_schema, only: schema_t
-  use scene, only: scene_t, condition_t
+  use scene, only: scene_t, condition_t, condition_nodes
+  use contact_modes, only: IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS
+  use element_traits, only: ET_MASS, ET_SPRING
   use scene_helpers, only: node_group, get_point, model_size, get_unit
   use mesh_segments, only: segment_set_t, group_segments, closest_segment
   implicit none
   private
-  public :: contacts_schema, contacts_statement
+  public :: contacts_schema, contacts_statement, resolve_impact
 
 contains
 
@@ -350,4 +352,65 @@ contains
       end if
     end do
   end subroutine check_matching
+
+  !> SCHEME IMPACT after every statement is read: AUTO becomes MASSLESS when every contact node
+  !> can give its mass away (none of its elements with mass has contact nodes only: not a point
+  !> mass, not a body touching with all its nodes) and every impact is elastic, PERSIST otherwise
+  !> (docs/contact.md, "The default"). MASSLESS has no velocity at the contact nodes to apply
+  !> Newton's law to: RESTITUTION e < 1 with IMPACT MASSLESS is refused, naming the statement.
+  subroutine resolve_impact(scn, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: j
+    stat = STAT_OK
+    if (scn%impact == IMPACT_MASSLESS) then
+      j = findloc(scn%conditions%restitution < 1.0_dp, .true., 1)
+      if (j > 0) then
+        call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(scn%conditions(j)%line) // ': ' // &
+          trim(merge('OBSTACLE', 'GAP     ', scn%conditions(j)%node_a == 0)) // &
+          ' ' // scn%conditions(j)%source // ': RESTITUTION < 1 needs IMPACT PERSIST or PAPER (IMPACT MASSLESS leaves ' // &
+          "no velocity at the contact nodes for Newton's law), at 'RESTITUTION'")
+        return
+      end if
+    end if
+    if (scn%impact /= IMPACT_AUTO) return
+    scn%impact_auto = .true.
+    if (size(scn%conditions) == 0) then
+      scn%impact = IMPACT_PAPER                   ! (no contact: the choice changes nothing)
+    else if (all(scn%conditions%restitution >= 1.0_dp) .and. contact_mass_movable(scn)) then
+      scn%impact = IMPACT_MASSLESS
+    else
+      scn%impact = IMPACT_PERSIST
+    end if
+  end subroutine resolve_impact
+
+  !> Whether every contact node can give its translational mass to a neighbour: no element that
+  !> carries mass has contact nodes only (assembly's move_contact_mass would leave it there).
+  logical function contact_mass_movable(scn) result(ok)
+    type(scene_t), intent(in) :: scn
+    logical, allocatable :: contact(:)
+    integer :: j, e, im, nodes(3)
+    real(dp) :: w(3)
+    logical :: massive
+    allocate (contact(scn%mesh%nnode))
+    contact = .false.
+    do j = 1, size(scn%conditions)
+      call condition_nodes(scn%conditions(j), nodes, w)
+      where (nodes > 0) contact(max(nodes, 1)) = .true.
+    end do
+    ok = .true.
+    do e = 1, scn%mesh%nelem
+      im = scn%elem_model(e)
+      if (im == 0) cycle
+      associate (md => scn%models(im))
+        massive = md%etype == ET_MASS
+        if (md%etype /= ET_SPRING .and. md%material > 0) massive = scn%materials(md%material)%density > 0.0_dp
+      end associate
+      if (massive .and. all(contact(scn%mesh%conn(1:scn%mesh%nen(e), e)))) then
+        ok = .false.
+        return
+      end if
+    end do
+  end function contact_mass_movable
 end module scene_contacts

@@ -12,7 +12,7 @@ module scene_loader
   use scene_materials, only: materials_schema, materials_statement
   use scene_models, only: models_schema, models_statement
   use scene_conditions, only: conditions_schema, conditions_statement
-  use scene_contacts, only: contacts_schema, contacts_statement
+  use scene_contacts, only: contacts_schema, contacts_statement, resolve_impact
   use scene_run, only: run_schema, run_statement
   use scene_fingerprint, only: fingerprint_text
   implicit none
@@ -80,6 +80,7 @@ contains
       return
     end if
     call check_required(st, sch, path, stat, errmsg)
+    if (stat == STAT_OK) call resolve_impact(scn, stat, errmsg)
     if (stat == STAT_OK) scn%fingerprint = fingerprint_text(st, scn%mesh)
   end subroutine load_scene
 end module scene_loader

@@ -6,7 +6,7 @@ module scene_run
   use mesh, only: DOF_UX, DOF_UY, DOF_RZ
   use statement, only: statement_t, token_t, stmt_error, find_param, count_param, get_real, get_int, to_int
   use statement_schema, only: schema_t
-  use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, SOLVER_AUTO, SOLVER_SCHUR, &
+  use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_AUTO, SOLVER_AUTO, SOLVER_SCHUR, &
     SOLVER_AUGMENTED, &
     SWITCH_DEFAULT
   use scene, only: scene_t, probe_t
@@ -16,7 +16,7 @@ module scene_run
   public :: run_schema, run_statement
 
   !> SCHEME IMPACT and MULTIPLIERS: the codes of each word, in the words' order.
-  integer, parameter :: IMPACT_MODES(4) = [IMPACT_PAPER, IMPACT_PERSIST, IMPACT_OFF, IMPACT_MASSLESS]
+  integer, parameter :: IMPACT_MODES(5) = [IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_OFF, IMPACT_MASSLESS]
   integer, parameter :: SOLVERS(3) = [SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED]
 
 contains
@@ -107,7 +107,7 @@ contains
     call get_choice(st, 'ITERATION', ['ELASTIC', 'TANGENT'], 'ELASTIC', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%tangent = k == 2
-    call get_choice(st, 'IMPACT', ['PAPER   ', 'PERSIST ', 'OFF     ', 'MASSLESS'], 'PAPER', k, stat, errmsg)
+    call get_choice(st, 'IMPACT', ['AUTO    ', 'PAPER   ', 'PERSIST ', 'OFF     ', 'MASSLESS'], 'AUTO', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%impact = IMPACT_MODES(k)
     call get_choice(st, 'PRECISION', ['DOUBLE  ', 'EXTENDED'], 'DOUBLE', k, stat, errmsg)

@@ -129,6 +129,8 @@ CASES = [
     ('negative RESTITUTION', BASE + ['GAP g PAIRS a b RESTITUTION -0.1'], None, [], 15, 'GAP g', '-0.1'),
     ('MASSLESS on a point mass', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0', 'SCHEME IMPACT MASSLESS'], None,
      [], 15, 'OBSTACLE wall', 'wall'),
+    ('MASSLESS with RESTITUTION below 1', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0 RESTITUTION 0.5',
+                                                  'SCHEME IMPACT MASSLESS'], None, [], 15, 'OBSTACLE wall', 'RESTITUTION'),
     ('GAP on coincident nodes without NORMAL', BASE + ['NODE c AT 1 0', 'GAP g NODES b WITH c'], None, [], 16, 'GAP g',
      'g'),
     ('GAP on non-matching meshes, ga finer', BLOCKS + ['GAP g NODES lo.top WITH up.bottom NORMAL 0 1'], None, [], 10,

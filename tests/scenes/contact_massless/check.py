@@ -17,6 +17,10 @@ step, with 6 contact onsets); one onset; contact from t = 1 (3 steps) to the rel
 both about 10 steps before t = 2, the consistent-mass wave's dispersion); the contact force's
 mean over the contact within 1 % of 1/2; the snap's loss (the end element's strain energy,
 f^2/(2k) = 1/(8N) = 1.5625e-3) booked in impact_dissipated, so the balance stays <= 1e-10.
+
+The default, SCHEME IMPACT AUTO: MASSLESS on the bar (the same history bit for bit, and said so on
+stdout), PERSIST where a contact node cannot give its mass away (a point mass) or an impact is
+inelastic (RESTITUTION e < 1, which MASSLESS cannot apply: refused there, tests/scenes/bad_input).
 """
 import os
 import sys
@@ -82,3 +86,25 @@ sc.close('clamped bar MASSLESS: mean contact force = 1/2 (1 %)', c['impulse_x'].
 snap = h['impact_dissipated'][-1]
 sc.report('clamped bar MASSLESS: snap loss booked, about f^2/(2k) = 1/(8N)', 0.0 < snap <= 1.05 / (8 * NB),
           '%.6e vs %.6e' % (snap, 1.0 / (8 * NB)))
+
+# --- the default: IMPACT AUTO ---------------------------------------------------------------
+def stdout_of(scene, sets):
+    cmd = [sc.REBOND, scene, '-o', sc.new_dir()]
+    for s in sets:
+        cmd += ['--set', s]
+    p = sc.run_limited(cmd, 120, cwd=sc.ROOT, capture_output=True, text=True)
+    return p.returncode, p.stdout, cmd[3]
+
+
+BAR = os.path.join(HERE, 'sdnv100_bar.dat')
+rc, text, auto = stdout_of(BAR, ['SCHEME.IMPACT=AUTO'])
+sc.report('IMPACT AUTO on the bar: MASSLESS, said on stdout', rc == 0 and 'IMPACT MASSLESS (AUTO)' in text,
+          text.split('\n')[2] if rc == 0 else 'exit %d' % rc)
+with open(os.path.join(auto, 'history.csv')) as fa, open(os.path.join(sc.run_ok(BAR), 'history.csv')) as fm:
+    sc.report('IMPACT AUTO on the bar: history.csv = MASSLESS bit for bit', fa.read() == fm.read())
+MB = os.path.join('inputs', 'mass_bounce.dat')
+rc, text, _ = stdout_of(MB, ['SCHEME.IMPACT=AUTO', 'TIME.END=0.5'])
+sc.report('IMPACT AUTO on a point mass: PERSIST', rc == 0 and 'IMPACT PERSIST (AUTO)' in text)
+rc, text, _ = stdout_of(BAR, ['SCHEME.IMPACT=AUTO', 'OBSTACLE.wall.RESTITUTION=0.5'])
+sc.report('IMPACT AUTO with RESTITUTION 0.5: PERSIST', rc == 0 and 'IMPACT PERSIST (AUTO)' in text)
+
