@@ -3,7 +3,8 @@
 # ground (`make validation`).
 #
 # For each scene $INPUTS/<scene>.dat (default inputs/) that exists, runs
-#   - the three impact treatments at the scene's step:   --set SCHEME.IMPACT=PAPER|PERSIST|OFF
+#   - the impact treatments at the scene's step:   --set SCHEME.IMPACT=PAPER|PERSIST|AUTO|OFF
+#     (AUTO, the default, is MASSLESS on the beams: docs/contact.md)
 #   - PAPER at the scene's step times each STEP_FACTOR:  --set TIME.STEP=<h*f>
 # into results/validation/<scene>/<run>/, draws the figures into docs/figures/ with
 # tools/plot_energy.py and tools/plot_compare.py, and writes docs/validation.md with
@@ -72,7 +73,7 @@ s = SceneInfo('$file'); print(repr(s.step) if s.step else '')")
     echo "$scene (step $h)"
     rm -rf "${OUT:?}/$scene"
     mkdir -p "$OUT/$scene"
-    for mode in PAPER PERSIST OFF; do
+    for mode in PAPER PERSIST AUTO OFF; do
         run "$scene" "$mode" "$mode" "$h"
     done
     for f in $FACTORS; do
@@ -82,7 +83,7 @@ s = SceneInfo('$file'); print(repr(s.step) if s.step else '')")
     done
 
     # Figures: one energy figure per impact mode, the modes overlaid, the steps overlaid.
-    for mode in PAPER PERSIST OFF; do
+    for mode in PAPER PERSIST AUTO OFF; do
         # shellcheck disable=SC2086
         "$PY" tools/plot_energy.py "$OUT/$scene/$mode" --scene "$file" $PROBES \
             --title "$scene, IMPACT $mode, step $h s" -o "$FIG/${scene}_energy_$mode.png" \
@@ -90,7 +91,7 @@ s = SceneInfo('$file'); print(repr(s.step) if s.step else '')")
     done
     # shellcheck disable=SC2086
     "$PY" tools/plot_compare.py "PAPER=$OUT/$scene/PAPER" "PERSIST=$OUT/$scene/PERSIST" \
-        "OFF=$OUT/$scene/OFF" --scene "$file" $PROBES \
+        "AUTO=$OUT/$scene/AUTO" "OFF=$OUT/$scene/OFF" --scene "$file" $PROBES \
         --title "$scene: impact treatments, step $h s" -o "$FIG/${scene}_modes.png" \
         || echo "  (no mode comparison figure)"
     specs=()

@@ -175,7 +175,7 @@ def reading(scene_name, modes, steps, spreads):
     """Sentences generated from the measures."""
     out = []
     by = {e["mode"]: s for e, s, _ in modes if s is not None}
-    for m in ("PAPER", "PERSIST"):
+    for m in ("PAPER", "PERSIST", "AUTO"):
         s = by.get(m)
         if s is None:
             continue
@@ -197,10 +197,10 @@ def reading(scene_name, modes, steps, spreads):
         out.append(bounce_sentence(s))
     if by:
         out.append("- Contact establishments: " + ", ".join(f"{m} {by[m]['establish']}" for m in
-                                                            ("PAPER", "PERSIST", "OFF") if m in by)
+                                                            ("PAPER", "PERSIST", "AUTO", "OFF") if m in by)
                    + "; per bounce: " + ", ".join(
                        f"{m} {by[m]['establish'] / max(1, len(by[m]['apex_heights']) - 1):.1f}"
-                       for m in ("PAPER", "PERSIST", "OFF") if m in by) + ".")
+                       for m in ("PAPER", "PERSIST", "AUTO", "OFF") if m in by) + ".")
     if steps:
         good = [(e, s) for e, s, _ in steps if s is not None]
         worst = max((s["max_balance_rel"] for _, s in good), default=0.0)
@@ -223,7 +223,7 @@ def reading(scene_name, modes, steps, spreads):
                            "release drop; the bounce times drift apart from one step to the other "
                            "(« différents en temps »).")
     if scene_name == "beam_drop_inclined" and "PAPER" in by:
-        for m in ("PAPER", "PERSIST"):
+        for m in ("PAPER", "PERSIST", "AUTO"):
             if m not in by or not by[m]["impacts"]:
                 continue
             imp, ends = by[m]["impacts"], by[m]["ends"]
@@ -271,8 +271,8 @@ def main(argv=None):
          "Re-run it to refresh every number and figure.", "",
          "The paper validates the method (section 3.4) on two scenes with no closed-form solution: a "
          "vertical beam and an inclined beam dropped on a rigid ground. Each scene is run with the "
-         "three treatments of contact establishment (`--set SCHEME.IMPACT=PAPER|PERSIST|OFF`, "
-         "docs/contact.md) at its own step, and with PAPER at several steps (`--set TIME.STEP=…`).", "",
+         "treatments of contact establishment (`--set SCHEME.IMPACT=PAPER|PERSIST|AUTO|OFF`, "
+         "docs/contact.md; AUTO, the default, is MASSLESS on a beam) at its own step, and with PAPER at several steps (`--set TIME.STEP=…`).", "",
          "Measures (tools/rebond_results.py):", "",
          "- **E** = max over the run of kinetic + strain energy: the scale of every relative figure.",
          "- **total** = kinetic + internal − external = kinetic + strain + gravity potential "
@@ -286,7 +286,7 @@ def main(argv=None):
          "inside the flight. Apex 0 is the release position; *bounces* counts the others.",
          "- **establish / release**: contact events in events.csv. **Σ E_j**: the energy the scheme loses "
          "at those establishments, eq (10) (the `energy_restored` column): given back as kinetic energy "
-         "by PAPER and PERSIST, lost with OFF.",
+         "by PAPER, PERSIST and AUTO, lost with OFF.",
          "- **centre-of-mass rise**: at each bounce, the rise of the centre of mass from its lowest point "
          "since the previous apex, over its first drop, measured on the gravity potential.", ""]
 
@@ -306,7 +306,7 @@ def main(argv=None):
         for e in entries:
             s, err = load(e, scene, a.probe)
             rows.append((e, s, err))
-        modes = [r for r in rows if r[0]["label"] in ("PAPER", "PERSIST", "OFF")]
+        modes = [r for r in rows if r[0]["label"] in ("PAPER", "PERSIST", "AUTO", "OFF")]
         steps = sorted([r for r in rows if r[0]["mode"] == "PAPER"], key=lambda r: r[0]["step"])
         claim = CLAIMS.get(name)
         L += ["### Reference", ""]
@@ -323,12 +323,13 @@ def main(argv=None):
         tab, spreads = apex_table(steps)
         L += [f"Apex heights across steps ({ylab}):", "", tab, ""]
         L += ["### Figures", ""]
-        for fig, cap in ((f"{name}_modes.png", "PAPER, PERSIST and OFF overlaid: probe height, apex heights, "
+        for fig, cap in ((f"{name}_modes.png", "PAPER, PERSIST, AUTO and OFF overlaid: probe height, apex heights, "
                           "energy error (log scale)."),
                          (f"{name}_steps.png", "PAPER at several steps overlaid."),
                          (f"{name}_energy_PAPER.png", "PAPER: energy components, energy error, probe height "
                           "and apexes."),
                          (f"{name}_energy_PERSIST.png", "PERSIST: the same."),
+                         (f"{name}_energy_AUTO.png", "AUTO (MASSLESS): the same."),
                          (f"{name}_energy_OFF.png", "OFF: the same.")):
             path = os.path.join(a.figures, fig)
             if os.path.exists(path):
