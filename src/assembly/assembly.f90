@@ -8,7 +8,7 @@ module assembly
   use element_traits, only: ET_BEAM2, ET_BAR2, etype_needs_material, etype_family, FAMILY_SURFACE
   use contact_modes, only: IMPACT_MASSLESS
   use loads, only: load_nodal_forces
-  use scene, only: scene_t, function_value, model_point_kind, condition_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
+  use scene, only: scene_t, function_value, model_point_kind, contact_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
   use dof_map, only: build_dof_map, DOF_ABSENT, DOF_FIXED
   use sparse_matrix, only: sym_csc_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
@@ -335,20 +335,6 @@ contains
       end associate
     end do
   end subroutine assemble_operators
-
-  !> The nodes of the contact conditions (both sides of a GAP): massless under IMPACT MASSLESS.
-  subroutine contact_nodes(scn, mark)
-    type(scene_t), intent(in) :: scn
-    logical, allocatable, intent(out) :: mark(:)
-    integer :: j, nodes(3)
-    real(dp) :: w(3)
-    allocate (mark(scn%mesh%nnode))
-    mark = .false.
-    do j = 1, size(scn%conditions)
-      call condition_nodes(scn%conditions(j), nodes, w)
-      where (nodes > 0) mark(max(nodes, 1)) = .true.
-    end do
-  end subroutine contact_nodes
 
   !> IMPACT MASSLESS (docs/contact.md): the translational mass of the element's contact nodes
   !> moved to its other nodes (Khenous, Laborde and Renard's mass redistribution): rows and

@@ -130,6 +130,7 @@ module contact
     procedure :: lcp_iterations => cs_lcp_iterations
     procedure :: counters => cs_counters
     procedure :: warm_start => cs_warm_start
+    procedure :: last_active_set => cs_last_active_set
     procedure :: set_solver => cs_set_solver
     procedure :: save => cs_save
     procedure :: load => cs_load
@@ -310,6 +311,13 @@ contains
     logical, intent(in) :: active(:)
     self%st%active_iter = active
   end subroutine cs_warm_start
+
+  !> The trial active set the next LCP would start from (to start a step again: warm_start).
+  pure subroutine cs_last_active_set(self, active)
+    class(contact_set_t), intent(in) :: self
+    logical, intent(out) :: active(:)
+    active = self%st%active_iter
+  end subroutine cs_last_active_set
 
   !> Change how the multipliers are computed (SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED).
   pure subroutine cs_set_solver(self, solver)

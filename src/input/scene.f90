@@ -14,7 +14,7 @@ module scene
   private
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
   public :: function_value, model_point_kind
-  public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t, condition_nodes, impose_t, function_slope
+  public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t, condition_nodes, contact_nodes, impose_t, function_slope
 
 
   integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3
@@ -124,6 +124,7 @@ module scene
     real(dp) :: t_start = 0.0_dp, t_end = 0.0_dp, dt = 0.0_dp
     real(dp) :: tolerance = 1.0e-10_dp
     integer :: max_iterations = 25
+    integer :: retry = 4                      !< SCHEME RETRY: a failed step is retried as up to 2^retry sub-steps
     logical :: energy_correction = .true.     !< add Bσc of eq (9)
     logical :: tangent = .false.              !< iteration matrix: consistent tangent (else K0 + 4M/h²)
     logical :: extended = .false.             !< SCHEME PRECISION EXTENDED
@@ -153,6 +154,20 @@ contains
     if (c%node_c == 0) w(2) = -1.0_dp
     where (nodes == 0) w = 0.0_dp
   end subroutine condition_nodes
+
+  !> mark(n): node n is in a contact condition (either side of a GAP, a segment's ends).
+  pure subroutine contact_nodes(scn, mark)
+    type(scene_t), intent(in) :: scn
+    logical, allocatable, intent(out) :: mark(:)
+    integer :: j, nodes(3)
+    real(dp) :: w(3)
+    allocate (mark(scn%mesh%nnode))
+    mark = .false.
+    do j = 1, size(scn%conditions)
+      call condition_nodes(scn%conditions(j), nodes, w)
+      where (nodes > 0) mark(max(nodes, 1)) = .true.
+    end do
+  end subroutine contact_nodes
 
   !> Material-point kind of a model's integration points (material_law PK_*; 0 for masses).
   pure integer function model_point_kind(md) result(pk)

@@ -6,7 +6,7 @@ module scene_contacts
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use statement, only: statement_t, token_t, stmt_error, find_param, get
   use statement_schema, only: schema_t
-  use scene, only: scene_t, condition_t, condition_nodes
+  use scene, only: scene_t, condition_t, contact_nodes
   use contact_modes, only: IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS
   use element_traits, only: ET_MASS, ET_SPRING
   use scene_helpers, only: node_group, get_point, model_size, get_unit
@@ -390,15 +390,9 @@ contains
   logical function contact_mass_movable(scn) result(ok)
     type(scene_t), intent(in) :: scn
     logical, allocatable :: contact(:)
-    integer :: j, e, im, nodes(3)
-    real(dp) :: w(3)
+    integer :: e, im
     logical :: massive
-    allocate (contact(scn%mesh%nnode))
-    contact = .false.
-    do j = 1, size(scn%conditions)
-      call condition_nodes(scn%conditions(j), nodes, w)
-      where (nodes > 0) contact(max(nodes, 1)) = .true.
-    end do
+    call contact_nodes(scn, contact)
     ok = .true.
     do e = 1, scn%mesh%nelem
       im = scn%elem_model(e)

@@ -37,6 +37,7 @@ contains
     call sch%add_param('SCHEME', 'PRECISION', 1, 1)
     call sch%add_param('SCHEME', 'MULTIPLIERS', 1, 1)
     call sch%add_param('SCHEME', 'AUGMENTED_ABOVE', 1, 1)
+    call sch%add_param('SCHEME', 'RETRY', 1, 1)
     call sch%add_keyword('OUTPUT', 0, 0, once=.true.)
     call sch%add_param('OUTPUT', 'HISTORY', 1, 2)
     call sch%add_param('OUTPUT', 'FIELDS', 1, 2)
@@ -100,6 +101,10 @@ contains
       lower_inclusive=.false.)
     if (stat /= STAT_OK) return
     call get_int(st, 'MAX_ITERATIONS', scn%max_iterations, stat, errmsg, default=25, lower=1, lower_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    ! RETRY n: a step whose iteration fails is taken again as 2, 4, ..., 2^n sub-steps (0: stop).
+    call get_int(st, 'RETRY', scn%retry, stat, errmsg, default=4, lower=0, lower_inclusive=.true., upper=20, &
+      upper_inclusive=.true.)
     if (stat /= STAT_OK) return
     call get_choice(st, 'ENERGY_CORRECTION', ['ON ', 'OFF'], 'ON', k, stat, errmsg)
     if (stat /= STAT_OK) return

@@ -109,21 +109,24 @@ contains
     end do
   end function count_commas
 
-  !> One line: step, then reals (17 significant digits), then integers, then more reals.
+  !> One line: step, then reals (17 significant digits), then integers, then more reals, then
+  !> more integers.
   !> Built in the buffer by text_format (the characters of I0 and ES24.16E3 without blanks),
   !> not by internal WRITEs, which allocate in the Fortran runtime at every statement.
-  subroutine write_row(self, step, reals, ints, stat, errmsg, tail)
+  subroutine write_row(self, step, reals, ints, stat, errmsg, tail, tail_ints)
     class(csv_file_t), intent(inout) :: self
     integer, intent(in) :: step
     real(dp), intent(in) :: reals(:)
     integer, intent(in) :: ints(:)
     real(dp), intent(in), optional :: tail(:)
+    integer, intent(in), optional :: tail_ints(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: pos, i, need
     stat = STAT_OK
     need = 12 * (1 + size(ints)) + (ES_MAX_LEN + 1) * size(reals)
     if (present(tail)) need = need + (ES_MAX_LEN + 1) * size(tail)
+    if (present(tail_ints)) need = need + 12 * size(tail_ints)
     if (len(self%buf) < need) then
       ! More values than the header has columns: grow once.
       deallocate (self%buf)
@@ -143,6 +146,12 @@ contains
       do i = 1, size(tail)
         call put_text(self%buf, pos, ',')
         call put_es(self%buf, pos, tail(i))
+      end do
+    end if
+    if (present(tail_ints)) then
+      do i = 1, size(tail_ints)
+        call put_text(self%buf, pos, ',')
+        call put_int(self%buf, pos, tail_ints(i))
       end do
     end if
     call self%f%write_line(self%buf(1:pos), stat, errmsg)

@@ -20,7 +20,7 @@ module run_outputs
 
   character(len=*), parameter :: HISTORY_HEADER = &
     'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored,' // &
-    'impact_dissipated,momentum_x,momentum_y,angular_momentum,damping'
+    'impact_dissipated,momentum_x,momentum_y,angular_momentum,damping,substeps'
   character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored,' &
     // 'contact'
   character(len=*), parameter :: CONTACTS_HEADER = 'step,time,contact,active,force_x,force_y,impulse_x,impulse_y,min_gap'
@@ -48,10 +48,18 @@ module run_outputs
     procedure :: write_step => outputs_write_step
     procedure :: write_events => outputs_write_events
     procedure :: add_contact_impulses => outputs_add_contact_impulses
+    procedure :: set_step => outputs_set_step
     procedure :: close => outputs_close
   end type output_set_t
 
 contains
+
+  !> The step h of the impulses that follow (h/2 Λ_j): SCHEME RETRY's sub-steps, and back.
+  pure subroutine outputs_set_step(self, h)
+    class(output_set_t), intent(inout) :: self
+    real(dp), intent(in) :: h
+    self%h = h
+  end subroutine outputs_set_step
 
   !> Open the files under outdir for a run of nsteps steps; step0 > 0 resumes after a
   !> checkpoint of step step0 (lines written past it are dropped, the fields of the continued
@@ -140,11 +148,12 @@ contains
 
   !> The history and probe lines of a step (every HISTORY EVERY steps and the last one) and its
   !> fields (every FIELDS EVERY steps, the first and the last).
-  subroutine outputs_write_step(self, scn, sys, step, t, iter, nactive, en, u, v, mv, rig, stat, errmsg, cs)
+  subroutine outputs_write_step(self, scn, sys, step, t, iter, nactive, nsub, en, u, v, mv, rig, stat, errmsg, cs)
     class(output_set_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
     integer, intent(in) :: step, iter, nactive
+    integer, intent(in) :: nsub                  !< the sub-steps the step took (SCHEME RETRY; 1 without)
     real(dp), intent(in) :: t
     type(energy_t), intent(in) :: en
     real(dp), intent(in) :: u(:), v(:)
@@ -168,7 +177,7 @@ contains
           self%htail(3 + k) = dot_product(rig(:, k), mv)
         end do
         self%htail(7) = en%damping()
-        call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail)
+        call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail, [nsub])
         if (stat /= STAT_OK) return
         self%preals(1) = t
         r = 0

@@ -23,6 +23,7 @@ module iteration_matrix
     logical :: fallback = .false.                !< this step went back to K0 + 4M/h²
   contains
     procedure :: setup => mat_setup
+    procedure :: step => mat_step
     procedure :: begin_step => mat_begin_step
     procedure :: update => mat_update
     procedure :: check_stall => mat_check_stall
@@ -60,6 +61,12 @@ contains
       self%sval = kvals + self%c4 * sys%ops%mval
     end if
   end subroutine step_matrix
+
+  !> The step h of the current S (0 before setup).
+  pure real(dp) function mat_step(self)
+    class(iteration_matrix_t), intent(in) :: self
+    mat_step = self%h
+  end function mat_step
 
   pure subroutine mat_begin_step(self)
     class(iteration_matrix_t), intent(inout) :: self

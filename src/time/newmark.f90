@@ -39,6 +39,8 @@ module newmark
     real(dp) :: wall = 0.0_dp
     real(dp) :: max_rel_balance = 0.0_dp
     integer :: iterations = 0
+    integer :: retried = 0                   !< steps taken again as sub-steps (SCHEME RETRY)
+    integer :: max_substeps = 1              !< the most sub-steps one step took
     ! Contact multipliers (contact_multipliers): Schur columns computed (solves with S), trial
     ! active sets solved by Schur / by the augmented system, its LU factorizations.
     integer(8) :: schur_columns = 0, schur_solves = 0, augmented_solves = 0, augmented_factorizations = 0
@@ -50,6 +52,8 @@ module newmark
     real(dp) :: h = 0.0_dp
     type(step_state_t) :: st                 !< u, v and the iterate of the step
     type(iteration_matrix_t) :: mat          !< S and its policy
+    type(iteration_matrix_t) :: mat_sub      !< S of SCHEME RETRY's sub-steps (set up at the first retry)
+    integer :: retried = 0, max_sub = 1      !< steps retried as sub-steps, the most sub-steps of one
     type(energy_t) :: en
     ! Unilateral contact (method.md section 3).
     logical :: has_contact = .false.
@@ -59,6 +63,7 @@ module newmark
     ! the reference configuration) and M times them: the momenta of history.csv, PERSIST.
     real(dp), allocatable :: rig(:, :), mrig(:, :)
     real(dp), allocatable :: lam(:)          !< step multipliers of the last iterate
+    logical, allocatable :: act0(:)          !< the LCP's warm start at the start of a step (retries)
     integer, allocatable :: imp_row(:), imp_slot(:)   !< IMPOSE rows summed by reaction probes
   end type run_state_t
 
@@ -180,7 +185,7 @@ contains
     call contact_set_rigid_modes(rs%cs, rs%rig, rs%mrig, stat, errmsg)
     if (stat /= STAT_OK) return
     call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, rs%body)
-    allocate (rs%lam(rs%cs%n_conditions()))
+    allocate (rs%lam(rs%cs%n_conditions()), rs%act0(rs%cs%n_conditions()))
     rs%lam = 0.0_dp
   end subroutine setup_contact
 
@@ -300,10 +305,9 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(output_set_t) :: outs
     type(step_report_t) :: rep
-    type(contact_report_t) :: crep
-    integer :: step, step0, total_iter, nactive, done
+    integer :: step, step0, total_iter, nactive, done, iters, nsub
     integer(8) :: c0, crate, clast
-    real(dp) :: t, dw_ext, dw_corr, e_rest
+    real(dp) :: t, tfail
 
     call system_clock(c0, crate)
     clast = c0
@@ -322,65 +326,33 @@ contains
     if (stat == STAT_OK) call outs%open(scn, opts%outdir, step0, rs%nsteps, rs%has_contact, stat, errmsg)
     nactive = 0
     if (rs%has_contact) nactive = rs%cs%n_active()
-    if (stat == STAT_OK .and. step0 == 0) call write_outputs(outs, scn, sys, rs, 0, scn%t_start, 0, nactive, stat, errmsg)
+    if (stat == STAT_OK .and. step0 == 0) call write_outputs(outs, scn, sys, rs, 0, scn%t_start, 0, nactive, 0, stat, errmsg)
 
     do step = step0 + 1, rs%nsteps
       if (stat /= STAT_OK) exit
       t = scn%t_start + step * rs%h
-      call external_force(scn, sys, t, rs%st%f_np1)
-      if (size(scn%imposes) > 0) call imposed_targets(scn, rs%cs, t)
-      if (rs%has_contact) then
-        call iterate_eq9(scn, sys, rs%st, rs%mat, rep, stat, errmsg, rs%cs, rs%lam)
-      else
-        call iterate_eq9(scn, sys, rs%st, rs%mat, rep, stat, errmsg)
-      end if
-      if (stat /= STAT_OK) then
-        errmsg = at_step(step, t) // errmsg
-        exit
-      end if
+      iters = 0
+      nsub = 0
+      call advance(scn, sys, rs, outs, step, scn%t_start + (step - 1) * rs%h, t, rs%h, 0, iters, nsub, nactive, rep, &
+        tfail, stat, errmsg)
+      total_iter = total_iter + iters
+      if (stat /= STAT_OK) exit
       if (rep%outcome /= STEP_CONVERGED) then
-        call step_failure(scn, sys, rs, rep, opts%outdir, step, t, total_iter, stat, errmsg)
+        call step_failure(scn, sys, rs, rep, opts%outdir, step, tfail, nsub, total_iter, stat, errmsg)
         exit
       end if
-      total_iter = total_iter + rep%iterations
-      if (rs%has_contact) then
-        call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg, rs%cs, rs%body, crep)
-        if (stat /= STAT_OK) then
-          errmsg = at_step(step, t) // errmsg
-          exit
-        end if
-        nactive = crep%n_active
-        dw_ext = dw_ext + crep%imposed_work      ! IMPOSE: the work of the imposed motion
-        ! RESTITUTION e < 1: the kinetic energy the impact removed is dissipated, not lost by the
-        ! scheme; the correction is what was given back (the measured change plus that).
-        if (crep%impact_dissipated /= 0.0_dp) then
-          call rs%en%add_impact(crep%impact_dissipated)
-          e_rest = e_rest + crep%impact_dissipated
-        end if
-        if (crep%snap_dissipated /= 0.0_dp) call rs%en%add_impact(crep%snap_dissipated)
-        if (crep%fp_failures > 0) write (0, '(a)') 'rebond: warning: ' // at_step(step, t) // &
-          'the coupled impulses (14) have no all-negative solution; decoupled roots of (13) scaled to restore ' // &
-          'the lost energy exactly'
-        call outs%write_events(scn, step, t, rs%cs, stat, errmsg)
-        if (stat /= STAT_OK) exit
-        call outs%add_contact_impulses(scn, rs%cs)
-      else
-        call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg)
+      if (nsub > 1) then
+        rs%retried = rs%retried + 1
+        rs%max_sub = max(rs%max_sub, nsub)
       end if
-      call reaction_update(scn, sys, rs%st%u, rs%st%v, t, rs%h, .false.)
-      if (size(rs%imp_row) > 0) call imposed_reactions(rs%cs, rs%imp_row, rs%imp_slot, sys%react%value)
-      ! MODEL DAMPING: the step's damping work du'C du/h is booked, so that the balance holds.
-      call rs%en%add_damping(rs%st%damping_work(sys))
-      call rs%en%add_step(rs%st%kinetic, rs%st%inc%work, dw_ext, dw_corr + e_rest, rs%st%inc%dissipated, &
-        rs%st%inc%elastic)
       if (.not. (abs(rs%en%balance()) <= huge(1.0_dp))) then
-        call write_outputs(outs, scn, sys, rs, step, t, rep%iterations, nactive, stat, errmsg)
+        call write_outputs(outs, scn, sys, rs, step, t, iters, nactive, nsub, stat, errmsg)
         call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'the energies overflowed (kinetic ' // &
           str(rs%en%kinetic) // ', internal ' // str(rs%en%internal()) // &
           '): displacements or velocities beyond what double precision can square')
         exit
       end if
-      call write_outputs(outs, scn, sys, rs, step, t, rep%iterations, nactive, stat, errmsg)
+      call write_outputs(outs, scn, sys, rs, step, t, iters, nactive, nsub, stat, errmsg)
       if (stat /= STAT_OK) exit
       if (scn%checkpoint_every > 0) then
         if (mod(step, scn%checkpoint_every) == 0 .or. step == rs%nsteps) &
@@ -406,6 +378,138 @@ contains
 
   end subroutine run_newmark
 
+  !> The step from t0 to t1 = t0 + h (level 0: a time step; level k: one of its 2^k sub-steps):
+  !> F(t1), the iteration of eq (9), then the end of the step. An iteration that fails (not
+  !> converged, diverged, not finite) with SCHEME RETRY levels left is taken again as two half
+  !> steps, each exact in energy as any step; iters counts every iteration spent, nsub the
+  !> sub-steps done. On a failure at the last level rep tells how, tfail its time.
+  recursive subroutine advance(scn, sys, rs, outs, step, t0, t1, h, level, iters, nsub, nactive, rep, tfail, &
+      stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(run_state_t), intent(inout), target :: rs
+    type(output_set_t), intent(inout) :: outs
+    integer, intent(in) :: step, level
+    real(dp), intent(in) :: t0, t1, h
+    integer, intent(inout) :: iters, nsub, nactive
+    type(step_report_t), intent(out) :: rep
+    real(dp), intent(out) :: tfail
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: tm
+    tfail = t1
+    call external_force(scn, sys, t1, rs%st%f_np1)
+    if (size(scn%imposes) > 0) call imposed_targets(scn, rs%cs, t1)
+    if (rs%has_contact) call rs%cs%last_active_set(rs%act0)
+    if (level == 0) then
+      call attempt(rs%mat)
+    else
+      call attempt(rs%mat_sub)
+    end if
+    if (stat /= STAT_OK) then
+      errmsg = at_step(step, t1) // errmsg
+      return
+    end if
+    iters = iters + rep%iterations
+    if (rep%outcome == STEP_CONVERGED) then
+      nsub = nsub + 1
+      call finish_step(scn, sys, rs, outs, step, t1, h, nactive, stat, errmsg)
+      return
+    end if
+    if (level >= scn%retry) return
+    ! Nothing was committed: the same interval again as two half steps.
+    if (rs%has_contact) call rs%cs%warm_start(rs%act0)
+    call use_step(sys, rs, outs, 0.5_dp * h, level + 1, stat, errmsg)
+    if (stat /= STAT_OK) return
+    tm = t0 + 0.5_dp * (t1 - t0)
+    call advance(scn, sys, rs, outs, step, t0, tm, 0.5_dp * h, level + 1, iters, nsub, nactive, rep, tfail, stat, errmsg)
+    if (stat /= STAT_OK .or. rep%outcome /= STEP_CONVERGED) return
+    call advance(scn, sys, rs, outs, step, tm, t1, 0.5_dp * h, level + 1, iters, nsub, nactive, rep, tfail, stat, errmsg)
+    if (stat /= STAT_OK .or. rep%outcome /= STEP_CONVERGED) return
+    call use_step(sys, rs, outs, h, level, stat, errmsg)
+  contains
+    subroutine attempt(mat)
+      type(iteration_matrix_t), intent(inout), target :: mat
+      if (rs%has_contact) then
+        call iterate_eq9(scn, sys, rs%st, mat, rep, stat, errmsg, rs%cs, rs%lam)
+      else
+        call iterate_eq9(scn, sys, rs%st, mat, rep, stat, errmsg)
+      end if
+    end subroutine attempt
+  end subroutine advance
+
+  !> The step h for the steps that follow: the run's S (level 0) or the sub-steps' S, factorized
+  !> when its step changes (the first retry allocates its factor); the contact multipliers'
+  !> columns follow S.
+  subroutine use_step(sys, rs, outs, h, level, stat, errmsg)
+    type(system_t), intent(in) :: sys
+    type(run_state_t), intent(inout), target :: rs
+    type(output_set_t), intent(inout) :: outs
+    real(dp), intent(in) :: h
+    integer, intent(in) :: level
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(iteration_matrix_t), pointer :: mat
+    integer :: minor
+    stat = STAT_OK
+    mat => rs%mat
+    if (level > 0) then
+      mat => rs%mat_sub
+      if (mat%step() /= h) call mat%setup(sys, h, stat, errmsg, minor)
+      if (stat /= STAT_OK) return
+    end if
+    call rs%st%set_step(h)
+    call outs%set_step(h)
+    if (rs%has_contact) call contact_prepare(rs%cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
+  end subroutine use_step
+
+  !> The end of a converged step (or sub-step) at t: the state committed with the impact
+  !> correction, the events and contact impulses, the reactions and the step's energies.
+  subroutine finish_step(scn, sys, rs, outs, step, t, h, nactive, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(run_state_t), intent(inout) :: rs
+    type(output_set_t), intent(inout) :: outs
+    integer, intent(in) :: step
+    real(dp), intent(in) :: t, h
+    integer, intent(inout) :: nactive
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(contact_report_t) :: crep
+    real(dp) :: dw_ext, dw_corr, e_rest
+    if (rs%has_contact) then
+      call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg, rs%cs, rs%body, crep)
+      if (stat /= STAT_OK) then
+        errmsg = at_step(step, t) // errmsg
+        return
+      end if
+      nactive = crep%n_active
+      dw_ext = dw_ext + crep%imposed_work      ! IMPOSE: the work of the imposed motion
+      ! RESTITUTION e < 1: the kinetic energy the impact removed is dissipated, not lost by the
+      ! scheme; the correction is what was given back (the measured change plus that).
+      if (crep%impact_dissipated /= 0.0_dp) then
+        call rs%en%add_impact(crep%impact_dissipated)
+        e_rest = e_rest + crep%impact_dissipated
+      end if
+      if (crep%snap_dissipated /= 0.0_dp) call rs%en%add_impact(crep%snap_dissipated)
+      if (crep%fp_failures > 0) write (0, '(a)') 'rebond: warning: ' // at_step(step, t) // &
+        'the coupled impulses (14) have no all-negative solution; decoupled roots of (13) scaled to restore ' // &
+        'the lost energy exactly'
+      call outs%write_events(scn, step, t, rs%cs, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call outs%add_contact_impulses(scn, rs%cs)
+    else
+      call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
+    call reaction_update(scn, sys, rs%st%u, rs%st%v, t, h, .false.)
+    if (size(rs%imp_row) > 0) call imposed_reactions(rs%cs, rs%imp_row, rs%imp_slot, sys%react%value)
+    ! MODEL DAMPING: the step's damping work du'C du/h is booked, so that the balance holds.
+    call rs%en%add_damping(rs%st%damping_work(sys))
+    call rs%en%add_step(rs%st%kinetic, rs%st%inc%work, dw_ext, dw_corr + e_rest, rs%st%inc%dissipated, &
+      rs%st%inc%elastic)
+  end subroutine finish_step
+
   !> "step N (t = T): ", the prefix of the messages of a step.
   function at_step(step, t) result(s)
     integer, intent(in) :: step
@@ -414,23 +518,30 @@ contains
     s = 'step ' // str(step) // ' (t = ' // str(t) // '): '
   end function at_step
 
-  !> The messages of a step whose iteration did not end well; the state of the last good
-  !> step is saved when the iterate is not finite.
-  subroutine step_failure(scn, sys, rs, rep, outdir, step, t, total_iter, stat, errmsg)
+  !> The messages of a step whose iteration did not end well (at time t, after nsub of its
+  !> SCHEME RETRY sub-steps); the state of the last good step is saved when the iterate is not
+  !> finite and no sub-step of this one was committed.
+  subroutine step_failure(scn, sys, rs, rep, outdir, step, t, nsub, total_iter, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
     type(run_state_t), intent(in) :: rs
     type(step_report_t), intent(in) :: rep
     character(len=*), intent(in) :: outdir
-    integer, intent(in) :: step, total_iter
+    integer, intent(in) :: step, nsub, total_iter
     real(dp), intent(in) :: t
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     character(len=:), allocatable :: where
     where = ''
+    if (scn%retry > 0) where = '; retried as sub-steps down to h/' // str(2**scn%retry) // ' (SCHEME RETRY ' // &
+      str(scn%retry) // ')'
     if (rep%outcome == STEP_DIVERGED .or. rep%outcome == STEP_NONFINITE) then
-      call save_checkpoint(scn, outdir, sys, rs, step - 1, t - rs%h, total_iter, stat, errmsg)
-      where = '; the state of step ' // str(step - 1) // ' is in ' // outdir // '/checkpoint.h5'
+      if (nsub == 0) then
+        call save_checkpoint(scn, outdir, sys, rs, step - 1, scn%t_start + (step - 1) * rs%h, total_iter, stat, errmsg)
+        where = where // '; the state of step ' // str(step - 1) // ' is in ' // outdir // '/checkpoint.h5'
+      else
+        where = where // '; ' // str(nsub) // ' of its sub-steps were done, so no checkpoint is written'
+      end if
     end if
     select case (rep%outcome)
     case (STEP_DIVERGED)
@@ -445,7 +556,7 @@ contains
     case default
       call set_error(stat, errmsg, STAT_RUN, 'step ' // str(step) // ' (t = ' // str(t) // ') did not converge in ' &
         // str(rep%iterations) // ' iterations (tolerance ' // str(scn%tolerance) // ' x force scale ' // &
-        str(rep%force_scale) // '); residual norms: ' // history_text(rs%st%res_hist(1:rep%iterations)))
+        str(rep%force_scale) // '); residual norms: ' // history_text(rs%st%res_hist(1:rep%iterations)) // where)
     end select
   end subroutine step_failure
 
@@ -458,6 +569,8 @@ contains
     integer(8) :: c1
     summary%steps = last
     summary%iterations = total_iter
+    summary%retried = rs%retried
+    summary%max_substeps = rs%max_sub
     summary%max_rel_balance = rs%en%relative_balance()
     if (rs%has_contact) then
       associate (k => rs%cs%counters())
@@ -471,20 +584,20 @@ contains
     summary%wall = real(c1 - c0, dp) / real(crate, dp)
   end subroutine fill_summary
 
-  subroutine write_outputs(outs, scn, sys, rs, step, t, iter, nactive, stat, errmsg)
+  subroutine write_outputs(outs, scn, sys, rs, step, t, iter, nactive, nsub, stat, errmsg)
     type(output_set_t), intent(inout) :: outs
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
     type(run_state_t), intent(in) :: rs
-    integer, intent(in) :: step, iter, nactive
+    integer, intent(in) :: step, iter, nactive, nsub
     real(dp), intent(in) :: t
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     if (rs%has_contact) then
-      call outs%write_step(scn, sys, step, t, iter, nactive, rs%en, rs%st%u, rs%st%v, rs%st%mv, rs%rig, stat, errmsg, &
+      call outs%write_step(scn, sys, step, t, iter, nactive, nsub, rs%en, rs%st%u, rs%st%v, rs%st%mv, rs%rig, stat, errmsg, &
         rs%cs)
     else
-      call outs%write_step(scn, sys, step, t, iter, nactive, rs%en, rs%st%u, rs%st%v, rs%st%mv, rs%rig, stat, errmsg)
+      call outs%write_step(scn, sys, step, t, iter, nactive, nsub, rs%en, rs%st%u, rs%st%v, rs%st%mv, rs%rig, stat, errmsg)
     end if
   end subroutine write_outputs
 

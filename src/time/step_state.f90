@@ -34,6 +34,7 @@ module step_state
     procedure :: init => state_init
     procedure :: set_initial => state_set_initial
     procedure :: begin_step => state_begin_step
+    procedure :: set_step => state_set_step
     procedure :: trial => state_trial
     procedure :: residual => state_residual
     procedure :: velocity => state_velocity
@@ -86,6 +87,15 @@ contains
       self%kinetic = real(0.5_qp * sum(self%v_q * self%mv_q), dp)
     end if
   end subroutine state_set_initial
+
+  !> The step size of the steps that follow (SCHEME RETRY's sub-steps, and back).
+  pure subroutine state_set_step(self, h)
+    class(step_state_t), intent(inout) :: self
+    real(dp), intent(in) :: h
+    self%h = h
+    self%c4 = 4.0_dp / h**2
+    self%a = 2.0_qp / real(h, qp)
+  end subroutine state_set_step
 
   !> Start a step (F(n+1) in f_np1): the right-hand side of (9) and the residual of the first
   !> iterate du = 0, where Bσ(n+1) = Bσ(n) and Bσc = 0.

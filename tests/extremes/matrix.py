@@ -416,9 +416,13 @@ def build_cases():
     pbar = SC + 'plastic_bar.dat'
     ey = 2.5e8 / 2.1e11
     c.append(Case('plastic_bar_1step_elastic_iter', 'plastic',
-                  'massless perfectly plastic bar + 1 kg, one step of ~990 yield strains, ITERATION ELASTIC',
-                  pbar, [], expect='refuse', code=1, message='did not converge', fast=True,
-                  note='K0 iteration contracts by EA/L / (EA/L + 4m/h^2) = 0.84 per iteration'))
+                  'massless perfectly plastic bar + 1 kg, one step of ~990 yield strains, ITERATION ELASTIC, '
+                  'SCHEME RETRY 0', pbar, ['SCHEME.RETRY=0'], expect='refuse', code=1, message='did not converge',
+                  fast=True, note='K0 iteration contracts by EA/L / (EA/L + 4m/h^2) = 0.84 per iteration'))
+    c.append(Case('plastic_bar_1step_retry', 'plastic',
+                  'the same with the default SCHEME RETRY 4: the step is taken again as 2 sub-steps (K0 iteration '
+                  'contracts by EA/L / (EA/L + 16m/h^2) = 0.57)', pbar, [], bound=1e-9, fast=True,
+                  checks=[plastic_path_energy(1.0, 1190.0, 2.5e4, ey, 1.0, 1e-3)]))
     c.append(Case('plastic_bar_1step', 'plastic',
                   'the same, ITERATION TANGENT', pbar, ['SCHEME.ITERATION=TANGENT'], bound=1e-12, fast=True,
                   checks=[plastic_path_energy(1.0, 1190.0, 2.5e4, ey, 1.0, 1e-3)]))
