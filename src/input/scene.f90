@@ -126,7 +126,8 @@ module scene
     integer :: max_iterations = 25
     integer :: retry = 4                      !< SCHEME RETRY: a failed step is retried as up to 2^retry sub-steps
     logical :: energy_correction = .true.     !< add Bσc of eq (9)
-    logical :: tangent = .false.              !< iteration matrix: consistent tangent (else K0 + 4M/h²)
+    logical :: tangent = .false.              !< the consistent tangent is assembled (ITERATION TANGENT or AUTO)
+    logical :: iter_auto = .false.            !< ITERATION AUTO: K0 + 4M/h² until the tangent pays (iteration_matrix)
     logical :: extended = .false.             !< SCHEME PRECISION EXTENDED
     integer :: history_every = 1
     integer :: fields_every = -1              !< -1: first and last step only; 0: never

@@ -109,9 +109,10 @@ contains
     call get_choice(st, 'ENERGY_CORRECTION', ['ON ', 'OFF'], 'ON', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%energy_correction = k == 1
-    call get_choice(st, 'ITERATION', ['ELASTIC', 'TANGENT'], 'ELASTIC', k, stat, errmsg)
+    call get_choice(st, 'ITERATION', ['ELASTIC', 'TANGENT', 'AUTO   '], 'ELASTIC', k, stat, errmsg)
     if (stat /= STAT_OK) return
-    scn%tangent = k == 2
+    scn%tangent = k >= 2
+    scn%iter_auto = k == 3
     call get_choice(st, 'IMPACT', ['AUTO    ', 'PAPER   ', 'PERSIST ', 'OFF     ', 'MASSLESS'], 'AUTO', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%impact = IMPACT_MODES(k)

@@ -23,7 +23,7 @@ module cholmod_binding
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use sparse_matrix, only: sym_csc_t
-  use c_interfaces, only: rb_chol_new, rb_chol_free, rb_chol_is_factored, rb_chol_version, rb_chol_factorize, &
+  use c_interfaces, only: rb_chol_new, rb_chol_free, rb_chol_is_factored, rb_chol_version, rb_chol_factorize, rb_chol_cost_ratio, &
     rb_chol_solve, rb_umf_new, rb_umf_free, rb_umf_is_factored, rb_umf_version, rb_umf_analyze, rb_umf_factorize, &
     rb_umf_solve
   implicit none
@@ -37,6 +37,7 @@ module cholmod_binding
     procedure :: factorize
     procedure :: solve
     procedure :: is_factored
+    procedure :: cost_ratio
     procedure :: destroy
     final :: cholmod_factor_final
   end type cholmod_factor_t
@@ -143,6 +144,14 @@ contains
                      str(nb))
     end if
   end subroutine check_solve
+
+  !> A numeric factorization's cost in solves (flops of the factorization over those of a solve,
+  !> from CHOLMOD's analysis; 0 before the first factorization).
+  real(dp) function cost_ratio(self)
+    class(cholmod_factor_t), intent(in) :: self
+    cost_ratio = 0.0_dp
+    if (c_associated(self%handle)) cost_ratio = real(rb_chol_cost_ratio(self%handle), dp)
+  end function cost_ratio
 
   !> True when the last factorize succeeded and destroy has not been called since.
   logical function is_factored(self)

@@ -108,7 +108,7 @@ contains
     call imposed_start(scn, sys, rs%st%u, rs%st%v, stat, errmsg)
     if (stat /= STAT_OK) return
     call imposed_probe_map(scn, rs%imp_row, rs%imp_slot)
-    call rs%mat%setup(sys, rs%h, stat, errmsg, minor)
+    call rs%mat%setup(sys, rs%h, stat, errmsg, minor, scn%iter_auto)
     if (stat /= STAT_OK) then
       call set_error(stat, errmsg, STAT_INPUT, dof_origin(scn, sys, minor) // ': singular system K0 + 4M/h2 at ' // &
         dof_label(scn, sys, minor) // ' (no mass and no stiffness on this mode)')
@@ -419,14 +419,14 @@ contains
     if (level >= scn%retry) return
     ! Nothing was committed: the same interval again as two half steps.
     if (rs%has_contact) call rs%cs%warm_start(rs%act0)
-    call use_step(sys, rs, outs, 0.5_dp * h, level + 1, stat, errmsg)
+    call use_step(scn, sys, rs, outs, 0.5_dp * h, level + 1, stat, errmsg)
     if (stat /= STAT_OK) return
     tm = t0 + 0.5_dp * (t1 - t0)
     call advance(scn, sys, rs, outs, step, t0, tm, 0.5_dp * h, level + 1, iters, nsub, nactive, rep, tfail, stat, errmsg)
     if (stat /= STAT_OK .or. rep%outcome /= STEP_CONVERGED) return
     call advance(scn, sys, rs, outs, step, tm, t1, 0.5_dp * h, level + 1, iters, nsub, nactive, rep, tfail, stat, errmsg)
     if (stat /= STAT_OK .or. rep%outcome /= STEP_CONVERGED) return
-    call use_step(sys, rs, outs, h, level, stat, errmsg)
+    call use_step(scn, sys, rs, outs, h, level, stat, errmsg)
   contains
     subroutine attempt(mat)
       type(iteration_matrix_t), intent(inout), target :: mat
@@ -438,10 +438,11 @@ contains
     end subroutine attempt
   end subroutine advance
 
-  !> The step h for the steps that follow: the run's S (level 0) or the sub-steps' S, factorized
-  !> when its step changes (the first retry allocates its factor); the contact multipliers'
-  !> columns follow S.
-  subroutine use_step(sys, rs, outs, h, level, stat, errmsg)
+  !> The step h for the steps that follow: the run's S (level 0) or the sub-steps' S, set up
+  !> afresh (K0 + 4M/h², so that a retry never depends on an earlier one: restarts stay bit for
+  !> bit; the first retry allocates its factor); the contact multipliers' columns follow S.
+  subroutine use_step(scn, sys, rs, outs, h, level, stat, errmsg)
+    type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
     type(run_state_t), intent(inout), target :: rs
     type(output_set_t), intent(inout) :: outs
@@ -455,7 +456,7 @@ contains
     mat => rs%mat
     if (level > 0) then
       mat => rs%mat_sub
-      if (mat%step() /= h) call mat%setup(sys, h, stat, errmsg, minor)
+      call mat%setup(sys, h, stat, errmsg, minor, scn%iter_auto)
       if (stat /= STAT_OK) return
     end if
     call rs%st%set_step(h)
@@ -621,6 +622,7 @@ contains
     call ck%put('iterations', iters, stat, errmsg)
     call ck%put('neq', sys%dofs%neq, stat, errmsg)
     call rs%st%save(ck, stat, errmsg)
+    call rs%mat%save(ck, stat, errmsg)
     call save_points(sys, ck, stat, errmsg)
     call rs%en%save(ck, stat, errmsg)
     if (rs%has_contact) call rs%cs%save(ck, stat, errmsg)
@@ -661,6 +663,7 @@ contains
         ' steps)')
     end if
     call rs%st%load(ck, stat, errmsg)
+    call rs%mat%load(sys, ck, stat, errmsg)
     call load_points(sys, ck, stat, errmsg)
     call rs%en%load(ck, stat, errmsg)
     if (rs%has_contact) call rs%cs%load(ck, stat, errmsg)

@@ -47,7 +47,7 @@ contains
     type(contact_set_t), intent(inout), optional :: cs
     real(dp), intent(inout), optional :: lam(:)
     integer :: iter
-    logical :: refactored
+    logical :: refactored, switch
     call st%begin_step()
     call mat%begin_step()
     do iter = 1, scn%max_iterations
@@ -71,7 +71,7 @@ contains
       else
         st%du = st%du + st%ddu
       end if
-      call st%trial(scn, sys, scn%energy_correction)
+      call st%trial(scn, sys, scn%energy_correction, mat%wants_tangent())
       if (sys%elems%linear .and. .not. st%extended) exit
       call st%residual(sys)
       ! st%r is the residual without the contact forces: the next unconstrained iterate is
@@ -104,6 +104,13 @@ contains
       if (stat == STAT_OK .and. refactored .and. present(cs)) &
         call contact_prepare(cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
       if (stat /= STAT_OK) return
+      ! ITERATION AUTO: the tangent where it pays (its assembly at this iterate, then the next
+      ! update factorizes it), or back to K0 + 4M/h² after a tangent that stalled.
+      call mat%consider(sys, st%res_hist, iter, scn%tolerance * force_scale(st), switch, refactored, stat, errmsg)
+      if (stat == STAT_OK .and. refactored .and. present(cs)) &
+        call contact_prepare(cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
+      if (stat /= STAT_OK) return
+      if (switch) call st%trial(scn, sys, scn%energy_correction, .true.)
       if (iter == scn%max_iterations) then
         rep%outcome = STEP_NOT_CONVERGED
         rep%force_scale = force_scale(st)

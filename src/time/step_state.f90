@@ -114,19 +114,23 @@ contains
 
   !> The trial state u(n) + du: strains, stresses along the step's path, Bσ(n+1) and, with
   !> correct, the correction force Bσc of eq (9).
-  subroutine state_trial(self, scn, sys, correct)
+  subroutine state_trial(self, scn, sys, correct, tangent)
     class(step_state_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     logical, intent(in) :: correct
+    logical, intent(in), optional :: tangent   !< assemble the tangent (default: when it exists)
+    logical :: kt
+    kt = allocated(sys%ops%tval)
+    if (present(tangent)) kt = kt .and. tangent
     if (self%extended) then
       self%utrial_q = self%u_q + real(self%du, qp)
       self%utrial = real(self%utrial_q, dp)
-      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, allocated(sys%ops%tval), self%inc, &
+      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, kt, self%inc, &
         uq=self%utrial_q)
     else
       self%utrial = self%u + self%du
-      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, allocated(sys%ops%tval), self%inc)
+      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, kt, self%inc)
     end if
   end subroutine state_trial
 
