@@ -49,6 +49,7 @@ module assembly
     integer, allocatable :: pk(:)            !< (nmodel) material-point kind
     logical, allocatable :: model_linear(:)  !< (nmodel) law linear: no sub-increments, sigma_c = 0
     logical :: linear = .true.               !< every law linear: one solve per step, no iteration
+    logical :: any_large = .false.           !< some model has KINEMATICS LARGE (K0 holds only the reference axes)
   end type element_table_t
 
   !> The integration-point states: committed (end of the last step) and trial; q internal
@@ -192,7 +193,9 @@ contains
             call elem_elastic_d(md%etype, scn%materials(md%material)%young, scn%materials(md%material)%poisson, &
               md%sec, sys%elems%dmat(1:nstr, 1:nstr, im))
           end if
-          sys%elems%model_linear(im) = law_is_linear(scn%materials(md%material))
+          ! KINEMATICS LARGE: the strain is not linear in u, so the step iterates (docs/large-displacements.md).
+          sys%elems%model_linear(im) = law_is_linear(scn%materials(md%material)) .and. .not. md%large
+          sys%elems%any_large = sys%elems%any_large .or. md%large
           sys%elems%linear = sys%elems%linear .and. sys%elems%model_linear(im)
           sys%pts%nq = max(sys%pts%nq, law_nstate(scn%materials(md%material), sys%elems%pk(im), md%sec))
         end if

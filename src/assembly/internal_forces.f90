@@ -8,6 +8,7 @@ module internal_forces
   use scene, only: scene_t
   use assembly, only: system_t
   use elements, only: MAX_EDOF, MAX_NSTRAIN
+  use element_traits, only: ET_BAR2
   use material_law, only: law_update, law_nstate, law_step_t
   use subincrement, only: correction_stress
   implicit none
@@ -25,6 +26,8 @@ module internal_forces
   type :: model_view_t
     integer :: im = 0, mat = 0, nq = 0, nsub = 0
     logical :: linear = .true.
+    logical :: large = .false.       !< KINEMATICS LARGE (BAR2, SPRING)
+    logical :: per_length = .false.  !< the strain is an elongation over the length (BAR2), not an elongation (SPRING)
   end type model_view_t
 
 contains
@@ -38,7 +41,9 @@ contains
   !> assembled into sys%ops%tval. Every trial point (eps_t, sig_t, q_t) is written before it is
   !> read, so commit_state may swap the trial and committed arrays. uq: u unrounded
   !> (PRECISION EXTENDED: the linear elastic points are then evaluated in quadruple precision).
-  subroutine internal_force(scn, sys, u, fint, fcorr, correct, tangent, inc, uq)
+  !> un: the committed displacements u(n), which KINEMATICS LARGE elements need (absent: zero,
+  !> the path from the reference configuration).
+  subroutine internal_force(scn, sys, u, fint, fcorr, correct, tangent, inc, uq, un)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     real(dp), intent(in) :: u(:)
@@ -46,9 +51,10 @@ contains
     logical, intent(in) :: correct, tangent
     type(work_increment_t), intent(out) :: inc
     real(qp), intent(in), optional :: uq(:)
+    real(dp), intent(in), optional :: un(:)
     type(model_view_t) :: mv
     integer :: e, ndof, nstr, ng, g0, k, j, e0
-    real(dp) :: ue(MAX_EDOF), fe(MAX_EDOF), fc(MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), wsum, dsum, esum
+    real(dp) :: ue(MAX_EDOF), une(MAX_EDOF), fe(MAX_EDOF), fc(MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), wsum, dsum, esum
     real(qp) :: esumq
     logical :: any_c
     fint = 0.0_dp
@@ -82,7 +88,16 @@ contains
         cycle
       end if
       if (tangent) ke(1:ndof, 1:ndof) = 0.0_dp
-      if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1)) then
+      if (mv%large) then
+        une(1:ndof) = 0.0_dp
+        if (present(un)) then
+          do k = 1, ndof
+            j = sys%elems%edof(e0 + k - 1)
+            if (j > 0) une(k) = un(j)
+          end do
+        end if
+        call large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
+      else if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1)) then
         call linear_element(sys, g0, ng, ndof, nstr, mv%im, ue, tangent, fe, ke, esum)
       else
         call nonlinear_element(scn, sys, mv, g0, ng, ndof, nstr, ue, correct, tangent, fe, fc, ke, any_c, wsum, dsum, &
@@ -119,6 +134,8 @@ contains
     mv%im = im
     mv%linear = sys%elems%model_linear(im)
     mv%nsub = scn%models(im)%substeps
+    mv%large = scn%models(im)%large
+    mv%per_length = scn%models(im)%etype == ET_BAR2
     mv%mat = scn%models(im)%material
     mv%nq = 0
     if (mv%mat > 0) mv%nq = law_nstate(scn%materials(mv%mat), sys%elems%pk(im), scn%models(im)%sec)
@@ -275,6 +292,111 @@ contains
     end do
 
   end subroutine nonlinear_element
+
+  !> KINEMATICS LARGE, BAR2 and SPRING (docs/large-displacements.md): the axial strain of the
+  !> current length, eps = (l - L)/s (computed without cancellation) (s = L for BAR2, 1 for SPRING: an elongation), through the
+  !> law along the straight strain path from eps(n) to eps(n+1). Bσ(n+1) = w σ(n+1) B(n+1)', with
+  !> B = [-e, e]/s and e the current unit axis. The correction of eq (9) makes the step's internal
+  !> work exact along the large-displacement path: the step force is the discrete gradient
+  !> f̄ = w σ̄ B_d', B_d = [-d, d], d = (x(n) + x(n+1)) / (s (l(n) + l(n+1))), so that B_d Δu = Δeps
+  !> exactly and f̄'Δu = w σ̄ Δeps, the law's path work (for the elastic law ½ w E Δ(eps²):
+  !> exact energy); f̄ lies along x(n) + x(n+1), so it has no moment about the step's midpoint
+  !> configuration and the trapezoidal rule keeps angular momentum. As Bσc of eq (9) (which
+  !> enters as ½ Bσc): fc = 2 f̄ - f(n) - f(n+1).
+  !> The tangent (TANGENT, AUTO): the material part w dσ/deps B'B and the geometric part
+  !> w max(σ, 0) /(s l) (I - e e') on the [-1 1; -1 1] blocks. The current B is kept in the element
+  !> table, so that the support reactions read the current axis.
+  subroutine large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(model_view_t), intent(in) :: mv
+    integer, intent(in) :: e, g0, ng
+    real(dp), intent(in) :: ue(:), une(:)
+    logical, intent(in) :: correct, tangent
+    real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum, dsum
+    logical, intent(inout) :: any_c
+    real(dp) :: x0(2), xn(2), x1(2), ln, l1, len0, s, epsn, eps1, deps(1), b1(4), bn(4), bd(4), d(2), ax(2), w, &
+      gmat(2, 2), dhat(2), sigbar, g
+    type(law_step_t) :: r
+    integer :: igp, p, a, b
+    x0 = scn%mesh%x(:, scn%mesh%conn(2, e)) - scn%mesh%x(:, scn%mesh%conn(1, e))
+    len0 = norm2(x0)
+    s = 1.0_dp
+    if (mv%per_length) s = len0
+    xn = x0 + une(3:4) - une(1:2)
+    x1 = x0 + ue(3:4) - ue(1:2)
+    ln = norm2(xn)
+    l1 = norm2(x1)
+    ! l - L = (2 X.Δu + Δu.Δu) / (l + L), Δu the relative displacement: no cancellation when
+    ! the strain is small (l - L itself would lose it to round-off: 1e-16 of strain is 2e-5 Pa
+    ! of a steel bar's stress, and the energy balance would see it).
+    epsn = stretch(une(3:4) - une(1:2), ln) / s
+    eps1 = stretch(ue(3:4) - ue(1:2), l1) / s
+    ax = x1 / max(l1, tiny(1.0_dp))
+    b1 = [-ax, ax] / s
+    bn = [-xn, xn] / (s * max(ln, tiny(1.0_dp)))
+    d = (xn + x1) / (s * max(ln + l1, tiny(1.0_dp)))
+    bd = [-d, d]
+    fc(1:4) = 0.0_dp
+    do igp = g0, g0 + ng - 1
+      p = sys%elems%b_ptr(igp)
+      w = sys%elems%wt(igp)
+      deps(1) = eps1 - epsn
+      call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%elems%pk(mv%im), &
+        sys%elems%dmat(1:1, 1:1, mv%im), mv%nsub, [epsn], deps, sys%pts%sig(1:1, igp), &
+        sys%pts%q(1:mv%nq, igp), sys%pts%q_t(1:mv%nq, igp), r)
+      sys%pts%eps_t(1, igp) = eps1
+      sys%pts%sig_t(1, igp) = r%sig(1)
+      sys%elems%bmat(p:p + 3) = b1
+      fe(1:4) = fe(1:4) + w * r%sig(1) * b1
+      sigbar = r%sigbar(1)
+      wsum = wsum + w * sigbar * deps(1)
+      dsum = dsum + w * r%dissip
+      if (correct) then
+        any_c = .true.
+        fc(1:4) = fc(1:4) + w * (2.0_dp * sigbar * bd - sys%pts%sig(1, igp) * bn - r%sig(1) * b1)
+      end if
+      if (tangent) then
+        ! With the correction, eq (9) carries f(n+1) + fc = 2 f̄, whose derivative is, to first
+        ! order in the step's rotation, w dσ/deps d d' + 2 w σ̄ / (s (l(n) + l(n+1))) (I - d̂ d̂')
+        ! (d̂ = d/|d|: the chord of the step, where f̄ acts); without it, f(n+1)'s:
+        ! (w dσ/deps / s²) e e' + w σ / (s l) (I - e e'). Both are symmetric and, with compression
+        ! and softening left out, positive semi-definite however far an iterate goes (the
+        ! residual, not the matrix, sets the answer).
+        if (correct) then
+          dhat = d / max(norm2(d), tiny(1.0_dp))
+          g = 2.0_dp * w * max(sigbar, 0.0_dp) / (s * max(ln + l1, tiny(1.0_dp)))
+          gmat = w * max(r%dtan(1, 1), 0.0_dp) * outer2(d, d) - g * outer2(dhat, dhat)
+        else
+          g = w * max(r%sig(1), 0.0_dp) / (s * max(l1, tiny(1.0_dp)))
+          gmat = (w * max(r%dtan(1, 1), 0.0_dp) / s**2 - g) * outer2(ax, ax)
+        end if
+        gmat(1, 1) = gmat(1, 1) + g
+        gmat(2, 2) = gmat(2, 2) + g
+        do a = 0, 1
+          do b = 0, 1
+            ke(2 * a + 1:2 * a + 2, 2 * b + 1:2 * b + 2) = ke(2 * a + 1:2 * a + 2, 2 * b + 1:2 * b + 2) + &
+              merge(1.0_dp, -1.0_dp, a == b) * gmat
+          end do
+        end do
+      end if
+    end do
+  contains
+    pure real(dp) function stretch(du, l)
+      real(dp), intent(in) :: du(2), l
+      stretch = (2.0_dp * dot_product(x0, du) + dot_product(du, du)) / (l + len0)
+    end function stretch
+    pure function outer2(x, y) result(m)
+      real(dp), intent(in) :: x(2), y(2)
+      real(dp) :: m(2, 2)
+      m = spread(x, 2, 2) * spread(y, 1, 2)
+    end function outer2
+    pure function outer4(x, y) result(m)
+      real(dp), intent(in) :: x(4), y(4)
+      real(dp) :: m(4, 4)
+      m = spread(x, 2, 4) * spread(y, 1, 4)
+    end function outer4
+  end subroutine large_axial_element
 
   !> Linear elastic QUAD points of one element: eps = B ue, sigma = D eps, fe += w B'sigma,
   !> esum += w sigma.eps / 2. b: the ng consecutive B (4 x ndof); eps, sig: trial state columns.

@@ -46,6 +46,7 @@ module scene
     type(section_t) :: sec        !< copy of the section, with the model's plane option
     logical :: lumped = .false.
     integer :: substeps = 0       !< sub-increments of the laws (Cast3M SOUS_INCREMENT); 0 = AUTO
+    logical :: large = .false.    !< KINEMATICS LARGE: strains from the current configuration
     real(dp) :: alpha = 0.0_dp    !< DAMPING ALPHA: Rayleigh C = alpha M + beta K0 of the model (1/s)
     real(dp) :: beta = 0.0_dp     !< DAMPING BETA (s)
     integer :: line = 0
@@ -128,6 +129,7 @@ module scene
     logical :: energy_correction = .true.     !< add Bσc of eq (9)
     logical :: tangent = .false.              !< the consistent tangent is assembled (ITERATION TANGENT or AUTO)
     logical :: iter_auto = .false.            !< ITERATION AUTO: K0 + 4M/h² until the tangent pays (iteration_matrix)
+    logical :: iteration_given = .false.      !< SCHEME ITERATION was given (else AUTO with KINEMATICS LARGE)
     logical :: extended = .false.             !< SCHEME PRECISION EXTENDED
     integer :: history_every = 1
     integer :: fields_every = -1              !< -1: first and last step only; 0: never

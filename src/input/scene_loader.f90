@@ -81,6 +81,12 @@ contains
     end if
     call check_required(st, sch, path, stat, errmsg)
     if (stat == STAT_OK) call resolve_impact(scn, stat, errmsg)
+    ! KINEMATICS LARGE: K0 + 4M/h² holds the reference axes, which a rotating stiff member leaves:
+    ! unless the scene says otherwise, the iteration takes the tangent where it pays (AUTO).
+    if (stat == STAT_OK .and. .not. scn%iteration_given .and. any(scn%models%large)) then
+      scn%tangent = .true.
+      scn%iter_auto = .true.
+    end if
     if (stat == STAT_OK) scn%fingerprint = fingerprint_text(st, scn%mesh)
   end subroutine load_scene
 end module scene_loader

@@ -10,7 +10,7 @@ module scene_models
   use scene, only: scene_t, model_t, MAX_SUBSTEPS, model_point_kind
   use scene_helpers, only: get_etype, model_size
   use element_traits, only: FAMILY_LINE, etype_family, etypes_of_family, etype_needs_material, etype_section_needs, &
-    etype_name, etype_nen
+    etype_name, etype_nen, ET_BAR2, ET_SPRING
   implicit none
   private
   public :: models_schema, models_statement
@@ -26,6 +26,7 @@ contains
     call sch%add_param('MODEL', 'MASS', 1, 1)
     call sch%add_param('MODEL', 'PLANE', 1, 1)
     call sch%add_param('MODEL', 'SUBSTEPS', 1, 1)
+    call sch%add_param('MODEL', 'KINEMATICS', 1, 1)
     call sch%add_param('MODEL', 'DAMPING', 2, 4)
   end subroutine models_schema
 
@@ -157,6 +158,7 @@ contains
       return
     end select
     call get_damping(st, md, stat, errmsg)
+    if (stat == STAT_OK) call get_kinematics(st, md, stat, errmsg)
     if (stat /= STAT_OK) return
     if (md%material > 0) then
       call check_model_law(st, md, scn%materials(md%material), stat, errmsg)
@@ -235,6 +237,35 @@ contains
   end subroutine check_model_law
   !> DAMPING ALPHA a BETA b (either or both, a, b >= 0): Rayleigh damping C = a M + b K0 of the
   !> model's elements (K0: the initial stiffness).
+  !> KINEMATICS SMALL | LARGE (default SMALL). LARGE exists for BAR2 and SPRING (the axial
+  !> strain of the current length, docs/large-displacements.md); a SPRING with a DIRECTION (zero
+  !> length) has no current axis.
+  subroutine get_kinematics(st, md, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(model_t), intent(inout) :: md
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: w
+    call get_word(st, 'KINEMATICS', w, stat, errmsg, default='SMALL')
+    if (stat /= STAT_OK) return
+    select case (upper(w))
+    case ('SMALL')
+      md%large = .false.
+    case ('LARGE')
+      md%large = .true.
+      if (md%etype /= ET_BAR2 .and. md%etype /= ET_SPRING) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'KINEMATICS LARGE has no form for ' // &
+          etype_name(md%etype) // ' elements yet (BAR2 and SPRING have one)', st%params(find_param(st, 'KINEMATICS'))%values(1)))
+      else if (md%sec%has_direction) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'KINEMATICS LARGE: a SPRING with a DIRECTION has no ' // &
+          'current axis', st%params(find_param(st, 'KINEMATICS'))%values(1)))
+      end if
+    case default
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected SMALL or LARGE', &
+        st%params(find_param(st, 'KINEMATICS'))%values(1)))
+    end select
+  end subroutine get_kinematics
+
   subroutine get_damping(st, md, stat, errmsg)
     type(statement_t), intent(in) :: st
     type(model_t), intent(inout) :: md

@@ -113,6 +113,7 @@ contains
     if (stat /= STAT_OK) return
     scn%tangent = k >= 2
     scn%iter_auto = k == 3
+    scn%iteration_given = find_param(st, 'ITERATION') > 0
     call get_choice(st, 'IMPACT', ['AUTO    ', 'PAPER   ', 'PERSIST ', 'OFF     ', 'MASSLESS'], 'AUTO', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%impact = IMPACT_MODES(k)

@@ -176,6 +176,8 @@ contains
         do k = 1, 3
           self%htail(3 + k) = dot_product(rig(:, k), mv)
         end do
+        ! KINEMATICS LARGE: the angular momentum about the origin of the current configuration.
+        if (any(scn%models%large)) self%htail(6) = current_angular_momentum(scn, sys, u, mv)
         self%htail(7) = en%damping()
         call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail, [nsub])
         if (stat /= STAT_OK) return
@@ -221,6 +223,31 @@ contains
       end if
     end if
   end subroutine outputs_write_step
+
+  !> Σ (x + u) × (M v) over the nodes' free translations, plus the rotations' M v: the angular
+  !> momentum about the origin in the current configuration (KINEMATICS LARGE).
+  pure real(dp) function current_angular_momentum(scn, sys, u, mv) result(am)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: u(:), mv(:)
+    real(dp) :: pos(2), p(2)
+    integer :: n, d, j
+    am = 0.0_dp
+    do n = 1, scn%mesh%nnode
+      pos = scn%mesh%x(:, n)
+      p = 0.0_dp
+      do d = 1, 2
+        j = sys%dofs%eqn(d, n)
+        if (j > 0) then
+          pos(d) = pos(d) + u(j)
+          p(d) = mv(j)
+        end if
+      end do
+      am = am + pos(1) * p(2) - pos(2) * p(1)
+      j = sys%dofs%eqn(3, n)
+      if (j > 0) am = am + mv(j)
+    end do
+  end function current_angular_momentum
 
   !> The contact force of a step on each node (docs/contact.md, "Contact force"): its impulse
   !> over the step, h/2 Λ_j (the step multiplier stands for R(n) + R(n+1)) plus the impulse of

@@ -129,7 +129,7 @@ contains
     if (.not. self%auto .or. self%fallback .or. iter < 2) return
     self%since = self%since + 1
     rho = res(iter) / max(res(iter - 1), tiny(1.0_dp))
-    if (self%switched .and. self%since == 1 .and. rho >= 0.99_dp) then
+    if (self%switched .and. self%since == 1 .and. rho >= 0.99_dp .and. .not. sys%elems%any_large) then
       self%fallback = .true.
       self%on_tangent = .false.
       refactored = .true.
@@ -169,6 +169,15 @@ contains
       self%on_tangent = .true.
       self%switched = .true.
       self%since = 0
+      if (stat /= STAT_OK .and. .not. sys%elems%any_large) then
+        ! AUTO: a tangent that is not positive definite (a far iterate, a member in compression)
+        ! is not used: K0 + 4M/h² for the rest of the step.
+        self%on_tangent = .false.
+        self%fallback = .true.
+        call step_matrix(self, sys, sys%ops%kval)
+        call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg)
+        self%n_factor = self%n_factor + 1
+      end if
     end if
   end subroutine mat_update
 
@@ -186,7 +195,9 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
     refactored = .false.
-    if (.not. self%tangent .or. self%fallback .or. iter < 4) return
+    ! (KINEMATICS LARGE: K0 + 4M/h² holds the reference axes, which a rotated member has left:
+    ! no fallback; a stalled step ends in MAX_ITERATIONS and SCHEME RETRY.)
+    if (.not. self%tangent .or. self%fallback .or. iter < 4 .or. sys%elems%any_large) return
     if (res(iter) >= 0.99_dp * res(iter - 1) .and. res(iter - 1) >= 0.99_dp * res(iter - 2)) then
       self%fallback = .true.
       refactored = .true.

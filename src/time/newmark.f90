@@ -319,6 +319,7 @@ contains
     if (allocated(opts%restart)) call load_checkpoint(scn, opts%restart, sys, rs, step0, total_iter, stat, errmsg)
     if (stat == STAT_OK) call make_directory(opts%outdir, stat, errmsg)
     done = step0
+    if (stat == STAT_OK .and. step0 > 0 .and. sys%elems%any_large) call rs%st%refresh_geometry(scn, sys)
     ! After a restart the reactions start again from the loaded state (all state functions).
     if (stat == STAT_OK .and. step0 > 0) call reaction_update(scn, sys, rs%st%u, rs%st%v, scn%t_start + step0 * rs%h, &
       rs%h, .true.)

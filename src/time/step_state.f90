@@ -36,6 +36,7 @@ module step_state
     procedure :: begin_step => state_begin_step
     procedure :: set_step => state_set_step
     procedure :: trial => state_trial
+    procedure :: refresh_geometry => state_refresh_geometry
     procedure :: residual => state_residual
     procedure :: velocity => state_velocity
     procedure :: absorb_velocity_change => state_absorb
@@ -127,12 +128,21 @@ contains
       self%utrial_q = self%u_q + real(self%du, qp)
       self%utrial = real(self%utrial_q, dp)
       call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, kt, self%inc, &
-        uq=self%utrial_q)
+        uq=self%utrial_q, un=self%u)
     else
       self%utrial = self%u + self%du
-      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, kt, self%inc)
+      call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, kt, self%inc, un=self%u)
     end if
   end subroutine state_trial
+
+  !> KINEMATICS LARGE after a restart: the elements' current axes (kept in the element table for
+  !> the support reactions) from the loaded u, through a trial of no increment.
+  subroutine state_refresh_geometry(self, scn, sys)
+    class(step_state_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    call internal_force(scn, sys, self%u, self%fint, self%fcorr, .false., .false., self%inc, un=self%u)
+  end subroutine state_refresh_geometry
 
   !> r = the residual of eq (9) at the trial state (without the contact forces).
   subroutine state_residual(self, sys)

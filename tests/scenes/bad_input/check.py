@@ -129,6 +129,9 @@ CASES = [
     ('negative RESTITUTION', BASE + ['GAP g PAIRS a b RESTITUTION -0.1'], None, [], 15, 'GAP g', '-0.1'),
     ('MASSLESS on a point mass', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0', 'SCHEME IMPACT MASSLESS'], None,
      [], 15, 'OBSTACLE wall', 'wall'),
+    ('KINEMATICS LARGE on a QUAD4', edit(QUAD, 5, 'ELEMENT q TYPE QUAD4 NODES p1 p2 p3 p4') [:7] +
+     ['MODEL q MATERIAL st SECTION sl KINEMATICS LARGE'] + QUAD[8:], None, [], 8, 'MODEL', 'LARGE'),
+    ('unknown KINEMATICS', edit(BASE, 8, BASE[7] + ' KINEMATICS HUGE'), None, [], 8, 'MODEL', 'HUGE'),
     ('MASSLESS with RESTITUTION below 1', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0 RESTITUTION 0.5',
                                                   'SCHEME IMPACT MASSLESS'], None, [], 15, 'OBSTACLE wall', 'RESTITUTION'),
     ('GAP on coincident nodes without NORMAL', BASE + ['NODE c AT 1 0', 'GAP g NODES b WITH c'], None, [], 16, 'GAP g',
