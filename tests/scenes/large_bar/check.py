@@ -15,6 +15,11 @@ energy correction along the large-displacement path; item 3: momentum). docs/lar
 - ENERGY_CORRECTION OFF (plain Newmark with large rotations) drifts: the pendulum at h = 1.2e-2
   loses > 1e-4 of E where the correction keeps 1e-10.
 - A restart continues bit for bit (the AUTO iteration's matrix is in the checkpoint).
+- spinning_plastic.dat: the spinning bar yielding under twice its yield force (ELASTOPLASTIC,
+  LARGE): it stretches plastically (> 10 %), dissipates, and keeps angular momentum (1e-10),
+  linear momentum (1e-13 of the masses' momenta) and kinetic + strain + plastic work (|balance| <= 1e-10).
+- pendulum_wall.dat: the pendulum hitting a wall (OBSTACLE with LARGE kinematics): |balance|
+  <= 1e-9 of E through two impacts, the wall never crossed by more than 1e-10 m.
 """
 import os
 import sys
@@ -127,3 +132,28 @@ same = all(open(os.path.join(full, f), 'rb').read() == open(os.path.join(part, f
            for f in ('history.csv', 'probes.csv'))
 sc.report('pendulum: restart at t = 2 s, history and probes bit for bit', rc == 0 and r.returncode == 0 and same,
           'exit %d, %d: %s' % (rc, r.returncode, r.stderr[-200:]))
+
+# --- plasticity in large displacements --------------------------------------------------------
+out = sc.run_ok(os.path.join(HERE, 'spinning_plastic.dat'))
+h, p = sc.history(out), sc.probes(out)
+am = h['angular_momentum']
+drift = np.max(np.abs(am - am[0])) / abs(am[0])
+length = np.hypot(0.5 + p['b.UX'] + 0.5 - p['a.UX'], p['b.UY'] - p['a.UY'])
+sc.report('plastic spinning bar: stretched plastically (> 10 %) with plastic work',
+          length[-1] > 1.1 and h['dissipated'][-1] > 0, 'length %.4f m, plastic work %.1f J' % (length[-1], h['dissipated'][-1]))
+sc.report('plastic spinning bar: angular momentum 160 kept to 1e-10', abs(am[0] - 160) <= 1e-12 and drift <= 1e-10,
+          '%.2e' % drift)
+mom = max(np.max(np.abs(h['momentum_x'])), np.max(np.abs(h['momentum_y'])))
+sc.report('plastic spinning bar: linear momentum zero to 1e-13 of the masses\' momenta (320 N s)', mom <= 1e-13 * 320,
+          '%.2e N s' % mom)
+bal = rel_balance(h)
+sc.report('plastic spinning bar: |balance| <= 1e-10 (kinetic + strain + plastic work)', bal <= 1e-10, '%.2e' % bal)
+
+# --- contact in large displacements -----------------------------------------------------------
+out = sc.run_ok(os.path.join(HERE, 'pendulum_wall.dat'))
+h, p = sc.history(out), sc.probes(out)
+bal = rel_balance(h)
+sc.report('pendulum on a wall: |balance| <= 1e-9 of E through the impacts', bal <= 1e-9, '%.2e' % bal)
+pen = -0.5 - np.min(1.0 + p['bob.UX'])
+sc.report('pendulum on a wall: the wall is reached and never crossed (1e-10 m)', -1e-9 <= pen <= 1e-10, '%.2e m' % pen)
+
