@@ -7,7 +7,9 @@ module scene_loader
   use statement, only: statement_t
   use statement_schema, only: schema_t
   use scene_parser, only: parse_file, apply_override, check_required
-  use scene, only: scene_t
+  use scene, only: scene_t, INIT_STATIC
+  use errors, only: str
+  use kinds, only: dp
   use scene_mesh, only: mesh_schema, mesh_statement
   use scene_materials, only: materials_schema, materials_statement
   use scene_models, only: models_schema, models_statement
@@ -81,6 +83,7 @@ contains
     end if
     call check_required(st, sch, path, stat, errmsg)
     if (stat == STAT_OK) call resolve_impact(scn, stat, errmsg)
+    if (stat == STAT_OK) call check_large(scn, stat, errmsg)
     ! KINEMATICS LARGE: K0 + 4M/h² holds the reference axes, which a rotating stiff member leaves:
     ! unless the scene says otherwise, the iteration takes the tangent where it pays (AUTO).
     if (stat == STAT_OK .and. .not. scn%iteration_given .and. any(scn%models%large)) then
@@ -89,4 +92,36 @@ contains
     end if
     if (stat == STAT_OK) scn%fingerprint = fingerprint_text(st, scn%mesh)
   end subroutine load_scene
+
+  !> What KINEMATICS LARGE cannot be combined with, named: stiffness-proportional damping (BETA K0,
+  !> the reference configuration's stiffness, would resist the members' rigid rotation) and
+  !> INITIAL STATIC (it solves K0 u = f, a small-displacement equilibrium).
+  subroutine check_large(scn, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: i, k
+    stat = STAT_OK
+    k = findloc(scn%models%large, .true., 1)
+    if (k == 0) return
+    do i = 1, size(scn%models)
+      associate (md => scn%models(i))
+        if (md%large .and. md%beta > 0.0_dp) then
+          call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(md%line) // ': MODEL ' // md%group // &
+            ': DAMPING BETA (K0 of the reference configuration) would resist the rotation of a KINEMATICS LARGE ' // &
+            "member; use ALPHA, at 'BETA'")
+          return
+        end if
+      end associate
+    end do
+    do i = 1, size(scn%initials)
+      if (scn%initials(i)%kind == INIT_STATIC) then
+        call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(scn%initials(i)%line) // ': INITIAL: STATIC ' // &
+          'solves K0 u = f, a small-displacement equilibrium, and MODEL ' // scn%models(k)%group // ' (line ' // &
+          str(scn%models(k)%line) // ") has KINEMATICS LARGE, at 'STATIC'")
+        return
+      end if
+    end do
+  end subroutine check_large
 end module scene_loader
+

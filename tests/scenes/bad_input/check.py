@@ -131,6 +131,10 @@ CASES = [
      [], 15, 'OBSTACLE wall', 'wall'),
     ('KINEMATICS LARGE on a QUAD4', edit(QUAD, 5, 'ELEMENT q TYPE QUAD4 NODES p1 p2 p3 p4') [:7] +
      ['MODEL q MATERIAL st SECTION sl KINEMATICS LARGE'] + QUAD[8:], None, [], 8, 'MODEL', 'LARGE'),
+    ('KINEMATICS LARGE with DAMPING BETA', edit(BASE, 8, BASE[7] + ' KINEMATICS LARGE DAMPING BETA 1e-4'), None, [], 8,
+     'MODEL', 'BETA'),
+    ('KINEMATICS LARGE with INITIAL STATIC', edit(BASE, 8, BASE[7] + ' KINEMATICS LARGE') + ['INITIAL b STATIC FORCE 1 0'], None,
+     [], 15, 'INITIAL', 'STATIC'),
     ('unknown KINEMATICS', edit(BASE, 8, BASE[7] + ' KINEMATICS HUGE'), None, [], 8, 'MODEL', 'HUGE'),
     ('MASSLESS with RESTITUTION below 1', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0 RESTITUTION 0.5',
                                                   'SCHEME IMPACT MASSLESS'], None, [], 15, 'OBSTACLE wall', 'RESTITUTION'),
