@@ -251,7 +251,7 @@ contains
     logical, intent(inout) :: any_c
     real(dp) :: deps(MAX_NSTRAIN), sc(MAX_NSTRAIN), w
     type(law_step_t) :: r
-    integer :: igp, p, n, pass
+    integer :: igp, p
     fc(1:ndof) = 0.0_dp
     do igp = g0, g0 + ng - 1
       p = sys%elems%b_ptr(igp)
@@ -259,21 +259,7 @@ contains
       ! eps = B ue (B stored column-major, nstr x ndof)
       call b_times(nstr, ndof, sys%elems%bmat(p), ue, sys%pts%eps_t(1, igp))
       deps(1:nstr) = sys%pts%eps_t(1:nstr, igp) - sys%pts%eps(1:nstr, igp)
-      ! SUBSTEPS AUTO (nsub <= 0): the count may only grow during the iterations of a step; a
-      ! count that changes back and forth makes the residual of eq (9) jump and cycle. So a
-      ! point that asks for fewer sub-increments than before in this step is redone with them.
-      n = mv%nsub
-      do pass = 1, 2
-        call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%elems%pk(mv%im), &
-          sys%elems%dmat(1:nstr, 1:nstr, mv%im), n, sys%pts%eps(1:nstr, igp), deps(1:nstr), sys%pts%sig(1:nstr, igp), &
-          sys%pts%q(1:mv%nq, igp), sys%pts%q_t(1:mv%nq, igp), r)
-        if (mv%nsub > 0 .or. pass == 2) exit
-        if (r%nused >= sys%pts%nsub_pt(igp)) then
-          sys%pts%nsub_pt(igp) = r%nused
-          exit
-        end if
-        n = sys%pts%nsub_pt(igp)
-      end do
+      call point_update(scn, sys, mv, igp, sys%pts%eps(1:nstr, igp), deps(1:nstr), r)
       sys%pts%sig_t(1:nstr, igp) = r%sig(1:nstr)
       if (tangent) call add_btdb(nstr, ndof, sys%elems%bmat(p), r%dtan, w, ke)
       if (mv%linear) then
@@ -342,9 +328,7 @@ contains
       p = sys%elems%b_ptr(igp)
       w = sys%elems%wt(igp)
       deps(1) = eps1 - epsn
-      call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%elems%pk(mv%im), &
-        sys%elems%dmat(1:1, 1:1, mv%im), mv%nsub, [epsn], deps, sys%pts%sig(1:1, igp), &
-        sys%pts%q(1:mv%nq, igp), sys%pts%q_t(1:mv%nq, igp), r)
+      call point_update(scn, sys, mv, igp, [epsn], deps, r)
       sys%pts%eps_t(1, igp) = eps1
       sys%pts%sig_t(1, igp) = r%sig(1)
       sys%elems%bmat(p:p + 3) = b1
@@ -397,6 +381,34 @@ contains
       m = spread(x, 2, 4) * spread(y, 1, 4)
     end function outer4
   end subroutine large_axial_element
+
+  !> One point through its law (material_law's law_update, sub-incremented along the step from
+  !> the committed state eps_n with the increment deps). SUBSTEPS AUTO (nsub <= 0): the count may
+  !> only grow during the iterations of a step; a count that changes back and forth makes the
+  !> residual of eq (9) jump and cycle. So a point that asks for fewer sub-increments than before
+  !> in this step is redone with them.
+  subroutine point_update(scn, sys, mv, igp, eps_n, deps, r)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(model_view_t), intent(in) :: mv
+    integer, intent(in) :: igp
+    real(dp), intent(in) :: eps_n(:), deps(:)
+    type(law_step_t), intent(out) :: r
+    integer :: n, pass, nstr
+    nstr = size(deps)
+    n = mv%nsub
+    do pass = 1, 2
+      call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%elems%pk(mv%im), &
+        sys%elems%dmat(1:nstr, 1:nstr, mv%im), n, eps_n, deps, sys%pts%sig(1:nstr, igp), &
+        sys%pts%q(1:mv%nq, igp), sys%pts%q_t(1:mv%nq, igp), r)
+      if (mv%nsub > 0 .or. pass == 2) exit
+      if (r%nused >= sys%pts%nsub_pt(igp)) then
+        sys%pts%nsub_pt(igp) = r%nused
+        exit
+      end if
+      n = sys%pts%nsub_pt(igp)
+    end do
+  end subroutine point_update
 
   !> Linear elastic QUAD points of one element: eps = B ue, sigma = D eps, fe += w B'sigma,
   !> esum += w sigma.eps / 2. b: the ng consecutive B (4 x ndof); eps, sig: trial state columns.
