@@ -276,6 +276,7 @@ contains
     integer :: e, et, im, nen, ndof, nstr, igp, k, a, d, ast
     logical :: mask(3)
     real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho
+    real(dp) :: mlump(MAX_EDOF, MAX_EDOF)
     logical, allocatable :: massless(:)
     logical :: damped
     if (scn%impact == IMPACT_MASSLESS) call contact_nodes(scn, massless)
@@ -314,6 +315,11 @@ contains
         rho = 0.0_dp
         if (scn%models(im)%material > 0) rho = scn%materials(scn%models(im)%material)%density
         call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, scn%models(im)%lumped, me(1:ndof, 1:ndof))
+        if (scn%models(im)%mixed) then
+          ! MASS MIXED: the average of the consistent and the lumped mass (docs/contact.md).
+          call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, .true., mlump(1:ndof, 1:ndof))
+          me(1:ndof, 1:ndof) = 0.5_dp * (me(1:ndof, 1:ndof) + mlump(1:ndof, 1:ndof))
+        end if
         if (allocated(massless)) call move_contact_mass(scn%mesh%conn(1:nen, e), elem_dof_mask(et), massless, &
           me(1:ndof, 1:ndof))
         call sys%ops%pat%add_element(sys%ops%mval, dofs, me(1:ndof, 1:ndof))

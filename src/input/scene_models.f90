@@ -129,8 +129,10 @@ contains
       md%lumped = .false.
     case ('LUMPED')
       md%lumped = .true.
+    case ('MIXED')
+      md%mixed = .true.
     case default
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected CONSISTENT or LUMPED', &
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected CONSISTENT, LUMPED or MIXED', &
         st%params(find_param(st, 'MASS'))%values(1)))
       return
     end select
