@@ -142,6 +142,8 @@ contains
   subroutine print_summary()
     write (*, '(a,i0,a,f0.3,a)') '  ', summary%steps, ' steps in ', summary%wall, ' s'
     write (*, '(a,es10.3)') '  max |balance| / max(kinetic + internal) = ', summary%max_rel_balance
+    if (summary%factorizations > 1) write (*, '(a,i0,a)') '  iteration matrix factorized ', summary%factorizations, &
+      ' times (ITERATION TANGENT or AUTO, SCHEME RETRY)'
     if (summary%retried > 0) write (*, '(a,i0,a,i0,a)') '  ', summary%retried, &
       ' steps did not converge and were taken again as sub-steps (SCHEME RETRY; up to ', summary%max_substeps, ' per step)'
     if (summary%schur_solves + summary%augmented_solves > 0) write (*, '(a,4(i0,a))') '  contact multipliers: ', &

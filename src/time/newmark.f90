@@ -41,6 +41,7 @@ module newmark
     integer :: iterations = 0
     integer :: retried = 0                   !< steps taken again as sub-steps (SCHEME RETRY)
     integer :: max_substeps = 1              !< the most sub-steps one step took
+    integer(8) :: factorizations = 0         !< of the iteration matrix S (setup, TANGENT, AUTO, RETRY)
     ! Contact multipliers (contact_multipliers): Schur columns computed (solves with S), trial
     ! active sets solved by Schur / by the augmented system, its LU factorizations.
     integer(8) :: schur_columns = 0, schur_solves = 0, augmented_solves = 0, augmented_factorizations = 0
@@ -572,6 +573,7 @@ contains
     summary%steps = last
     summary%iterations = total_iter
     summary%retried = rs%retried
+    summary%factorizations = rs%mat%n_factor + rs%mat_sub%n_factor
     summary%max_substeps = rs%max_sub
     summary%max_rel_balance = rs%en%relative_balance()
     if (rs%has_contact) then

@@ -20,6 +20,12 @@ only past 64 simultaneous conditions). The augmented system is not exercised her
 allocates its numeric object at each refactorization, i.e. when the active set changes
 (docs/performance.md).
 
+ITERATION AUTO (and TANGENT) refactorize the iteration matrix inside the loop, and CHOLMOD's
+supernodal numeric factorization allocates its workspace at each call (freed before it returns):
+on block_j2 and cantilever_plastic under AUTO every allocation of the window is CHOLMOD's
+(tools/alloc_per_step.sh --where), and their number is a fixed count per factorization (8 with
+Debian's SuiteSparse; at most 16 asserted), the factorizations counted from rebond's run summary.
+
 Each window is also checked to contain what it is meant to exercise (plastic work growing,
 an impact), from a normal run of 2N steps, so that a shorter scene cannot make the test vacuous.
 """
@@ -92,3 +98,36 @@ for scene, n, what, sets in CASES:
           % (name, a1, n, a2, 2 * n, per_step))
     sc.report('%s: zero heap allocations per time step, output off' % name, a2 == a1,
               '%.2f allocations per step (%d extra over steps %d..%d)' % (per_step, a2 - a1, n + 1, 2 * n))
+
+
+# --- ITERATION AUTO: the allocations are CHOLMOD's, a fixed number per refactorization ----------
+def factorizations(scene, steps, sets):
+    """The iteration matrix's factorizations in a run of `steps` steps (rebond's summary)."""
+    cmd = [sc.REBOND, scene, '-o', sc.new_dir(), '--set', 'TIME.END=%r' % (steps * step_of(scene)),
+           '--set', 'OUTPUT.HISTORY=0', '--set', 'OUTPUT.FIELDS=0']
+    for x in sets:
+        cmd += ['--set', x]
+    p = sc.run_limited(cmd, 300, cwd=sc.ROOT, capture_output=True, text=True)
+    for line in p.stdout.splitlines():
+        if 'iteration matrix factorized' in line:
+            return int(line.split('factorized')[1].split()[0])
+    return 1
+
+
+for scene, n in (('inputs/block_j2.dat', 60), ('inputs/cantilever_plastic.dat', 60)):
+    sets = ['SCHEME.ITERATION=AUTO']
+    name = os.path.basename(scene) + ' AUTO'
+    df = factorizations(scene, 2 * n, sets) - factorizations(scene, n, sets)
+    args = ['bash', TOOL, '--mode', 'none', scene, str(n), '--set', sets[0]]
+    fields = sc.run_limited(args, 300, cwd=sc.ROOT, capture_output=True, text=True).stdout.split()
+    da = int(fields[3]) - int(fields[2])
+    sc.report('%s: the extra allocations are a fixed number (<= 16) per refactorization' % name,
+              df > 0 and da % df == 0 and da // df <= 16, '%d allocations, %d factorizations over steps %d..%d'
+              % (da, df, n + 1, 2 * n))
+    where = sc.run_limited(['bash', TOOL, '--where', scene, str(n), '--set', sets[0]], 300, cwd=sc.ROOT,
+                           capture_output=True, text=True).stdout.splitlines()
+    stacks = [ln for ln in where[1:] if ln.strip() and not ln.strip().endswith('total')]
+    sc.report('%s: every allocation in the window is CHOLMOD\'s factorization' % name,
+              len(stacks) > 0 and all('cholmod_malloc <- rb_chol_factorize' in ln for ln in stacks),
+              '; '.join(ln.strip()[:60] for ln in stacks))
+
