@@ -50,6 +50,7 @@ module assembly
     logical, allocatable :: model_linear(:)  !< (nmodel) law linear: no sub-increments, sigma_c = 0
     logical :: linear = .true.               !< every law linear: one solve per step, no iteration
     logical :: any_large = .false.           !< some model has KINEMATICS LARGE (K0 holds only the reference axes)
+    integer :: inverted = 0                  !< the first LARGE element of the last trial that inverted (0: none)
   end type element_table_t
 
   !> The integration-point states: committed (end of the last step) and trial; q internal

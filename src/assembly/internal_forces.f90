@@ -66,6 +66,7 @@ contains
     dsum = 0.0_dp
     if (tangent) sys%ops%tval = 0.0_dp
     if (sys%react%nslot > 0) sys%react%fc_t = 0.0_dp
+    sys%elems%inverted = 0
     do e = 1, scn%mesh%nelem
       if (scn%elem_model(e) == 0) cycle
       g0 = sys%elems%gp_ptr(e)
@@ -313,6 +314,10 @@ contains
     x1 = x0 + ue(3:4) - ue(1:2)
     ln = norm2(xn)
     l1 = norm2(x1)
+    ! A member whose axis turns by 90 degrees or more in one step, or whose length vanishes, is
+    ! inverted: its strain (from |x|) would not see it. Reported to the step (iterate_eq9).
+    if (sys%elems%inverted == 0 .and. (dot_product(xn, x1) <= 0.0_dp .or. l1 <= 1.0e-9_dp * len0)) &
+      sys%elems%inverted = e
     ! l - L = (2 X.Δu + Δu.Δu) / (l + L), Δu the relative displacement: no cancellation when
     ! the strain is small (l - L itself would lose it to round-off: 1e-16 of strain is 2e-5 Pa
     ! of a steel bar's stress, and the energy balance would see it).

@@ -18,7 +18,7 @@ module newmark
   use step_state, only: step_state_t
   use iteration_matrix, only: iteration_matrix_t
   use newmark_step, only: step_report_t, iterate_eq9, end_step, STEP_CONVERGED, STEP_DIVERGED, STEP_NOT_CONVERGED, &
-    STEP_NONFINITE
+    STEP_NONFINITE, STEP_INVERTED
   use run_outputs, only: output_set_t, HISTORY_HEADER, EVENTS_HEADER
   use os_utils, only: make_directory, install_signal_handlers, signal_received
   use checkpoint, only: ckpt_file_t
@@ -538,7 +538,7 @@ contains
     where = ''
     if (scn%retry > 0) where = '; retried as sub-steps down to h/' // str(2**scn%retry) // ' (SCHEME RETRY ' // &
       str(scn%retry) // ')'
-    if (rep%outcome == STEP_DIVERGED .or. rep%outcome == STEP_NONFINITE) then
+    if (rep%outcome == STEP_DIVERGED .or. rep%outcome == STEP_NONFINITE .or. rep%outcome == STEP_INVERTED) then
       if (nsub == 0) then
         call save_checkpoint(scn, outdir, sys, rs, step - 1, scn%t_start + (step - 1) * rs%h, total_iter, stat, errmsg)
         where = where // '; the state of step ' // str(step - 1) // ' is in ' // outdir // '/checkpoint.h5'
@@ -553,6 +553,11 @@ contains
         // dof_label(scn, sys, rep%bad_equation) // '; residual norms: ' // &
         history_text(rs%st%res_hist(1:rep%iterations)) // '); try a smaller TIME STEP or SCHEME ITERATION ' // &
         'TANGENT' // where)
+    case (STEP_INVERTED)
+      call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'element ' // str(rep%element) // ' (nodes ' // &
+        str(scn%mesh%node_tag(scn%mesh%conn(1, rep%element))) // ' and ' // &
+        str(scn%mesh%node_tag(scn%mesh%conn(2, rep%element))) // ', KINEMATICS LARGE) turned inside out: its axis ' // &
+        'turned by 90 degrees or more in one step, or its length vanished' // where)
     case (STEP_NONFINITE)
       call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'non-finite displacement or internal force at ' // &
         dof_label(scn, sys, rep%bad_equation) // where)

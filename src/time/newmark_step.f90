@@ -13,18 +13,21 @@ module newmark_step
   use iteration_matrix, only: iteration_matrix_t
   implicit none
   private
-  public :: step_report_t, iterate_eq9, end_step, STEP_CONVERGED, STEP_DIVERGED, STEP_NOT_CONVERGED, STEP_NONFINITE
+  public :: step_report_t, iterate_eq9, end_step, STEP_CONVERGED, STEP_DIVERGED, STEP_NOT_CONVERGED, STEP_NONFINITE, &
+    STEP_INVERTED
 
   !> How the iteration of a step ended.
   integer, parameter :: STEP_CONVERGED = 0       !< converged (or a linear step refined to round-off)
   integer, parameter :: STEP_DIVERGED = 1        !< a residual norm is not finite
   integer, parameter :: STEP_NOT_CONVERGED = 2   !< MAX_ITERATIONS reached
   integer, parameter :: STEP_NONFINITE = 3       !< converged on a non-finite du or Bσ
+  integer, parameter :: STEP_INVERTED = 4        !< converged on a KINEMATICS LARGE member turned inside out
 
   type :: step_report_t
     integer :: outcome = STEP_CONVERGED
     integer :: iterations = 0
     integer :: bad_equation = 0              !< first non-finite entry (STEP_DIVERGED, STEP_NONFINITE)
+    integer :: element = 0                   !< the inverted element (STEP_INVERTED)
     real(dp) :: force_scale = 0.0_dp         !< of the convergence test (STEP_NOT_CONVERGED)
   end type step_report_t
 
@@ -120,6 +123,10 @@ contains
     rep%bad_equation = first_nonfinite(st%du)
     if (rep%bad_equation == 0) rep%bad_equation = first_nonfinite(st%fint)
     if (rep%bad_equation > 0) rep%outcome = STEP_NONFINITE
+    if (rep%outcome == STEP_CONVERGED .and. sys%elems%inverted > 0) then
+      rep%outcome = STEP_INVERTED
+      rep%element = sys%elems%inverted
+    end if
   end subroutine iterate_eq9
 
   !> End of a converged step: the points' state committed, the works of the step (external

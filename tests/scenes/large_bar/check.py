@@ -18,6 +18,9 @@ energy correction along the large-displacement path; item 3: momentum). docs/lar
 - spinning_plastic.dat: the spinning bar yielding under twice its yield force (ELASTOPLASTIC,
   LARGE): it stretches plastically (> 10 %), dissipates, and keeps angular momentum (1e-10),
   linear momentum (1e-13 of the masses' momenta) and kinetic + strain + plastic work (|balance| <= 1e-10).
+- A spring whose two masses run into each other (length -> 0): exit 1 naming the element and its
+  nodes ("turned inside out"), history complete up to the last good step, its checkpoint
+  written; never a silent inversion (the strain from |x| would not see it).
 - pendulum_wall.dat: the pendulum hitting a wall (OBSTACLE with LARGE kinematics): |balance|
   <= 1e-9 of E through two impacts, the wall never crossed by more than 1e-10 m.
 """
@@ -156,4 +159,26 @@ bal = rel_balance(h)
 sc.report('pendulum on a wall: |balance| <= 1e-9 of E through the impacts', bal <= 1e-9, '%.2e' % bal)
 pen = -0.5 - np.min(1.0 + p['bob.UX'])
 sc.report('pendulum on a wall: the wall is reached and never crossed (1e-10 m)', -1e-9 <= pen <= 1e-10, '%.2e m' % pen)
+
+# --- a member turned inside out is an error, not a silent answer --------------------------------
+COLLAPSE = """NODE a AT -0.5 0
+NODE b AT 0.5 0
+ELEMENT sp TYPE SPRING NODES a b
+ELEMENT pa TYPE MASS NODES a
+ELEMENT pb TYPE MASS NODES b
+GROUP ends ELEMENTS pa pb
+MATERIAL soft ELASTIC YOUNG 1
+SECTION m1 MASS 1
+MODEL sp MATERIAL soft KINEMATICS LARGE
+MODEL ends SECTION m1
+INITIAL a VELOCITY 10 0
+INITIAL b VELOCITY -10 0
+TIME STEP 1e-3 END 0.1
+"""
+rc, err, out = sc.run(sc.write_scene('collapse.dat', COLLAPSE))
+h = sc.history(out)
+sc.report('spring run through itself: exit 1, "turned inside out", naming the element and its nodes',
+          rc == 1 and 'turned inside out' in err and 'element 1 (nodes 1 and 2' in err, err.strip()[-200:])
+sc.report('spring run through itself: history up to the last good step (t = 0.05 s), checkpoint written',
+          h['step'][-1] == 50 and os.path.exists(os.path.join(out, 'checkpoint.h5')), 'last step %d' % h['step'][-1])
 
