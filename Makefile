@@ -50,6 +50,7 @@ help:
 	@echo "make reliability  hostile input, full disk, fuzz and kill/restart counts (docs/reliability.md)"
 	@echo "make validation   the paper's beam drops and the contact table (docs/validation.md, docs/contact-table.md)"
 	@echo "make contact-table  the impact modes on three exact benchmarks (docs/contact-table.md)"
+	@echo "make large   the energy correction in large displacements, by step (docs/large-displacements.md)"
 
 # Dependencies: installed once by `make deps`, checked by every build.
 deps:
@@ -111,6 +112,12 @@ clean:
 validation: bin/rebond
 	@bash tools/make_validation.sh
 	@/usr/bin/python3 tools/contact_table.py
+
+# Large displacements (docs/large-displacements.md): the energy correction against plain Newmark
+# on the stiff bar pendulum, by step, with the figure docs/figures/large_energy_vs_h.png.
+.PHONY: large
+large: bin/rebond
+	@/usr/bin/python3 tools/large_study.py
 
 # The contact comparison (docs/contact-table.md): three impact benchmarks with exact solutions,
 # every impact mode at every mesh size.
