@@ -45,6 +45,7 @@ module assembly
     integer, allocatable :: gp_ptr(:)        !< (nelem+1) integration points of each element
     integer, allocatable :: b_ptr(:)         !< (ngp+1) offsets of each B in bmat
     real(dp), allocatable :: bmat(:), wt(:)
+    real(dp), allocatable :: bref(:)         !< KINEMATICS LARGE surface elements: the reference B (bmat then holds the current one)
     real(dp), allocatable :: dmat(:, :, :)   !< (MAX_NSTRAIN, MAX_NSTRAIN, nmodel) elastic matrices
     integer, allocatable :: pk(:)            !< (nmodel) material-point kind
     logical, allocatable :: model_linear(:)  !< (nmodel) law linear: no sub-increments, sigma_c = 0
@@ -264,6 +265,9 @@ contains
         sys%elems%wt(igp) = w
         sys%elems%b_ptr(igp + 1) = sys%elems%b_ptr(igp) + nstr * ndof
       end do
+    end do
+    do k = 1, size(scn%models)
+      if (scn%models(k)%large .and. etype_family(scn%models(k)%etype) == FAMILY_SURFACE) sys%elems%bref = sys%elems%bmat
     end do
   end subroutine element_table
 

@@ -97,7 +97,11 @@ contains
             if (j > 0) une(k) = un(j)
           end do
         end if
-        call large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
+        if (mv%per_length .or. nstr == 1) then
+          call large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
+        else
+          call large_plane_element(sys, mv, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum)
+        end if
       else if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1)) then
         call linear_element(sys, g0, ng, ndof, nstr, mv%im, ue, tangent, fe, ke, esum)
       else
@@ -386,6 +390,132 @@ contains
       m = spread(x, 2, 4) * spread(y, 1, 4)
     end function outer4
   end subroutine large_axial_element
+
+  !> KINEMATICS LARGE, QUAD4/QUAD8/TRI3/TRI6 with the ELASTIC law: total Lagrangian, St Venant-
+  !> Kirchhoff (docs/large-displacements.md). At each point F = I + Σ u_a ⊗ ∇N_a (∇N from the
+  !> reference B, bref), the Green-Lagrange strain E = ½(F'F - I) (as xx, yy, zz = 0, 2xy) and the
+  !> second Piola-Kirchhoff stress S = D E. Bσ(n+1) = w B_NL(F(n+1))' S(n+1), B_NL(F) the
+  !> derivative of E. E is quadratic in u, so B_NL(F_mid) Δu = ΔE exactly (F_mid = (F(n) + F(n+1))/2),
+  !> and with S̄ = D (E(n) + E(n+1))/2 the step force f̄ = w B_NL(F_mid)' S̄ does the work
+  !> S̄ ΔE = Δψ exactly (Simo and Tarnow's energy-momentum step for this material): Bσc of eq (9)
+  !> is 2 f̄ - f(n) - f(n+1). The tangent: w B_NL' D B_NL + the geometric part with the tensile
+  !> part of S (positive definite however far an iterate goes). bmat keeps B_NL(F(n+1)) for the
+  !> support reactions; the points report E and S.
+  subroutine large_plane_element(sys, mv, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum)
+    type(system_t), intent(inout) :: sys
+    type(model_view_t), intent(in) :: mv
+    integer, intent(in) :: g0, ng, ndof
+    real(dp), intent(in) :: ue(:), une(:)
+    logical, intent(in) :: correct, tangent
+    real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum
+    logical, intent(inout) :: any_c
+    real(dp), parameter :: eye(2, 2) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 2])
+    real(dp) :: dn(2, MAX_EDOF / 2), fn(2, 2), f1(2, 2), fm(2, 2), hn(2, 2), h1(2, 2), en(4), e1(4), s1(4), sn(4), sbar(4), &
+      bn(4, MAX_EDOF), b1(4, MAX_EDOF), bm(4, MAX_EDOF), w, st(2, 2), lam(2), g
+    integer :: igp, p, nen, a, b, i
+    nen = ndof / 2
+    fc(1:ndof) = 0.0_dp
+    do igp = g0, g0 + ng - 1
+      p = sys%elems%b_ptr(igp)
+      w = sys%elems%wt(igp)
+      do a = 1, nen
+        dn(1, a) = sys%elems%bref(p + (2 * a - 2) * 4)          ! B(1, 2a-1) = dN_a/dX
+        dn(2, a) = sys%elems%bref(p + (2 * a - 1) * 4 + 1)      ! B(2, 2a)   = dN_a/dY
+      end do
+      hn = grad(une)
+      h1 = grad(ue)
+      fn = hn + eye
+      f1 = h1 + eye
+      fm = 0.5_dp * (fn + f1)
+      en = green(hn)
+      e1 = green(h1)
+      sn = sys%pts%sig(1:4, igp)
+      s1 = matmul(sys%elems%dmat(1:4, 1:4, mv%im), e1)
+      sys%pts%eps_t(1:4, igp) = e1
+      sys%pts%sig_t(1:4, igp) = s1
+      call bnl(f1, b1)
+      call bnl(fn, bn)
+      call bnl(fm, bm)
+      sys%elems%bmat(p:p + 4 * ndof - 1) = reshape(b1(:, 1:ndof), [4 * ndof])
+      fe(1:ndof) = fe(1:ndof) + w * matmul(s1, b1(:, 1:ndof))
+      sbar = 0.5_dp * (sn + s1)
+      wsum = wsum + w * dot_product(sbar, e1 - en)
+      if (correct) then
+        any_c = .true.
+        fc(1:ndof) = fc(1:ndof) + w * (2.0_dp * matmul(sbar, bm(:, 1:ndof)) - matmul(sn, bn(:, 1:ndof)) - &
+          matmul(s1, b1(:, 1:ndof)))
+      end if
+      if (tangent) then
+        ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + w * matmul(transpose(b1(:, 1:ndof)), &
+          matmul(sys%elems%dmat(1:4, 1:4, mv%im), b1(:, 1:ndof)))
+        ! Geometric part ∇N_a' S ∇N_b on both directions, with the tensile part of S.
+        st = reshape([s1(1), s1(4), s1(4), s1(2)], [2, 2])
+        call tensile_part(st, lam)
+        do a = 1, nen
+          do b = 1, nen
+            g = w * dot_product(dn(:, a), matmul(st, dn(:, b)))
+            do i = 1, 2
+              ke(2 * a - 2 + i, 2 * b - 2 + i) = ke(2 * a - 2 + i, 2 * b - 2 + i) + g
+            end do
+          end do
+        end do
+      end if
+    end do
+  contains
+    !> The displacement gradient H = Σ u_a ⊗ ∇N_a (F = I + H).
+    pure function grad(u) result(f)
+      real(dp), intent(in) :: u(:)
+      real(dp) :: f(2, 2)
+      integer :: k
+      f = 0.0_dp
+      do k = 1, nen
+        f(1, :) = f(1, :) + u(2 * k - 1) * dn(:, k)
+        f(2, :) = f(2, :) + u(2 * k) * dn(:, k)
+      end do
+    end function grad
+    !> E = ½(H + H' + H'H) as [Exx, Eyy, 0, 2 Exy] (the engineering shear, as the small strain's
+    !> γ), from H: ½(F'F - I) would lose a small strain to round-off.
+    pure function green(h) result(e)
+      real(dp), intent(in) :: h(2, 2)
+      real(dp) :: e(4), c(2, 2)
+      c = matmul(transpose(h), h)
+      e = [h(1, 1) + 0.5_dp * c(1, 1), h(2, 2) + 0.5_dp * c(2, 2), 0.0_dp, h(1, 2) + h(2, 1) + c(1, 2)]
+    end function green
+    !> dE = B_NL(F) du (rows as green's; columns u_x, u_y of each node).
+    pure subroutine bnl(f, bb)
+      real(dp), intent(in) :: f(2, 2)
+      real(dp), intent(out) :: bb(:, :)
+      integer :: k
+      bb = 0.0_dp
+      do k = 1, nen
+        bb(1, 2 * k - 1) = f(1, 1) * dn(1, k)
+        bb(1, 2 * k) = f(2, 1) * dn(1, k)
+        bb(2, 2 * k - 1) = f(1, 2) * dn(2, k)
+        bb(2, 2 * k) = f(2, 2) * dn(2, k)
+        bb(4, 2 * k - 1) = f(1, 1) * dn(2, k) + f(1, 2) * dn(1, k)
+        bb(4, 2 * k) = f(2, 1) * dn(2, k) + f(2, 2) * dn(1, k)
+      end do
+    end subroutine bnl
+    !> The symmetric 2 x 2 s replaced by its positive part (eigenvalues below 0 set to 0).
+    pure subroutine tensile_part(s, l)
+      real(dp), intent(inout) :: s(2, 2)
+      real(dp), intent(out) :: l(2)
+      real(dp) :: m, r, v(2), v2(2)
+      m = 0.5_dp * (s(1, 1) + s(2, 2))
+      r = sqrt((0.5_dp * (s(1, 1) - s(2, 2)))**2 + s(1, 2)**2)
+      l = [m + r, m - r]
+      if (r == 0.0_dp) then
+        v = [1.0_dp, 0.0_dp]
+      else if (abs(s(1, 2)) > 0.0_dp) then
+        v = [l(1) - s(2, 2), s(1, 2)]
+        v = v / norm2(v)
+      else
+        v = merge([1.0_dp, 0.0_dp], [0.0_dp, 1.0_dp], s(1, 1) >= s(2, 2))
+      end if
+      v2 = [-v(2), v(1)]
+      s = max(l(1), 0.0_dp) * spread(v, 2, 2) * spread(v, 1, 2) + max(l(2), 0.0_dp) * spread(v2, 2, 2) * spread(v2, 1, 2)
+    end subroutine tensile_part
+  end subroutine large_plane_element
 
   !> One point through its law (material_law's law_update, sub-incremented along the step from
   !> the committed state eps_n with the increment deps). SUBSTEPS AUTO (nsub <= 0): the count may

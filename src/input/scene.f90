@@ -130,7 +130,7 @@ module scene
     logical :: energy_correction = .true.     !< add Bσc of eq (9)
     logical :: tangent = .false.              !< the consistent tangent is assembled (ITERATION TANGENT or AUTO)
     logical :: iter_auto = .false.            !< ITERATION AUTO: K0 + 4M/h² until the tangent pays (iteration_matrix)
-    logical :: iteration_given = .false.      !< SCHEME ITERATION was given (else AUTO with KINEMATICS LARGE)
+    logical :: iteration_given = .false.      !< SCHEME ITERATION was given (else TANGENT with KINEMATICS LARGE)
     logical :: extended = .false.             !< SCHEME PRECISION EXTENDED
     integer :: history_every = 1
     integer :: fields_every = -1              !< -1: first and last step only; 0: never

@@ -631,6 +631,9 @@ contains
     call ck%put('neq', sys%dofs%neq, stat, errmsg)
     call rs%st%save(ck, stat, errmsg)
     call rs%mat%save(ck, stat, errmsg)
+    ! ITERATION TANGENT and AUTO start a step from the tangent of the last iterate: kept, so that
+    ! a restart iterates with the same matrix (bit for bit).
+    if (allocated(sys%ops%tval)) call ck%put('tangent', sys%ops%tval, stat, errmsg)
     call save_points(sys, ck, stat, errmsg)
     call rs%en%save(ck, stat, errmsg)
     if (rs%has_contact) call rs%cs%save(ck, stat, errmsg)
@@ -672,6 +675,7 @@ contains
     end if
     call rs%st%load(ck, stat, errmsg)
     call rs%mat%load(sys, ck, stat, errmsg)
+    if (allocated(sys%ops%tval)) call ck%get('tangent', sys%ops%tval, stat, errmsg)
     call load_points(sys, ck, stat, errmsg)
     call rs%en%load(ck, stat, errmsg)
     if (rs%has_contact) call rs%cs%load(ck, stat, errmsg)
