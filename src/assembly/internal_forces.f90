@@ -100,7 +100,7 @@ contains
         if (mv%per_length .or. nstr == 1) then
           call large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
         else
-          call large_plane_element(sys, mv, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum)
+          call large_plane_element(sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum)
         end if
       else if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1)) then
         call linear_element(sys, g0, ng, ndof, nstr, mv%im, ue, tangent, fe, ke, esum)
@@ -401,10 +401,10 @@ contains
   !> is 2 f̄ - f(n) - f(n+1). The tangent: w B_NL' D B_NL + the geometric part with the tensile
   !> part of S (positive definite however far an iterate goes). bmat keeps B_NL(F(n+1)) for the
   !> support reactions; the points report E and S.
-  subroutine large_plane_element(sys, mv, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum)
+  subroutine large_plane_element(sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum)
     type(system_t), intent(inout) :: sys
     type(model_view_t), intent(in) :: mv
-    integer, intent(in) :: g0, ng, ndof
+    integer, intent(in) :: e, g0, ng, ndof
     real(dp), intent(in) :: ue(:), une(:)
     logical, intent(in) :: correct, tangent
     real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum
@@ -426,6 +426,9 @@ contains
       h1 = grad(ue)
       fn = hn + eye
       f1 = h1 + eye
+      ! An element turned inside out (det F <= 0) has no strain energy of its own to show it:
+      ! reported to the step (iterate_eq9), as for the axial members.
+      if (sys%elems%inverted == 0 .and. f1(1, 1) * f1(2, 2) - f1(1, 2) * f1(2, 1) <= 0.0_dp) sys%elems%inverted = e
       fm = 0.5_dp * (fn + f1)
       en = green(hn)
       e1 = green(h1)

@@ -534,7 +534,8 @@ contains
     real(dp), intent(in) :: t
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=:), allocatable :: where
+    character(len=:), allocatable :: where, nodes
+    integer :: k
     where = ''
     if (scn%retry > 0) where = '; retried as sub-steps down to h/' // str(2**scn%retry) // ' (SCHEME RETRY ' // &
       str(scn%retry) // ')'
@@ -554,10 +555,14 @@ contains
         history_text(rs%st%res_hist(1:rep%iterations)) // '); try a smaller TIME STEP or SCHEME ITERATION ' // &
         'TANGENT' // where)
     case (STEP_INVERTED)
+      nodes = ''
+      do k = 1, scn%mesh%nen(rep%element)
+        if (k > 1) nodes = nodes // ' '
+        nodes = nodes // str(scn%mesh%node_tag(scn%mesh%conn(k, rep%element)))
+      end do
       call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'element ' // str(rep%element) // ' (nodes ' // &
-        str(scn%mesh%node_tag(scn%mesh%conn(1, rep%element))) // ' and ' // &
-        str(scn%mesh%node_tag(scn%mesh%conn(2, rep%element))) // ', KINEMATICS LARGE) turned inside out: its axis ' // &
-        'turned by 90 degrees or more in one step, or its length vanished' // where)
+        nodes // ', KINEMATICS LARGE) turned inside out: an axis turned by 90 degrees or more in one step, ' // &
+        'a length vanished, or det F <= 0' // where)
     case (STEP_NONFINITE)
       call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'non-finite displacement or internal force at ' // &
         dof_label(scn, sys, rep%bad_equation) // where)
