@@ -26,6 +26,10 @@ energy correction along the large-displacement path; item 3: momentum). docs/lar
   the quadratic Green-Lagrange strain); a rigid rotation by 90 degrees of a QUAD4 and of a TRI3
   leaves no strain energy (1e-9 J; SMALL: of order E t); cantilever_small.dat at small amplitude:
   LARGE = SMALL to 1e-6.
+- inputs/ring_impact.dat: an elastic ring (LARGE QUAD4) thrown against a wall: |balance| <= 1e-10,
+  never through the wall (1e-12 m), y momentum and angular momentum zero by symmetry (1e-9 of
+  m v0 and m v0 R), the contact released within the run and the ring leaving the wall slower
+  than it came (its vibration keeps the rest).
 - pendulum_wall.dat: the pendulum hitting a wall (OBSTACLE with LARGE kinematics): |balance|
   <= 1e-9 of E through two impacts, the wall never crossed by more than 1e-10 m.
 """
@@ -246,4 +250,19 @@ h = sc.history(out)
 sc.report('QUAD4 crushed through itself (det F <= 0): exit 1 naming the element and its 4 nodes, history to step 10',
           rc == 1 and 'turned inside out' in err and 'element 1 (nodes 1 2 3 4,' in err and h['step'][-1] == 10,
           err.strip()[-160:])
+
+# --- the ring against a wall (inputs/ring_impact.dat) ------------------------------------------
+out = sc.run_ok('inputs/ring_impact.dat')
+h, c = sc.history(out), sc.contacts(out)
+bal = rel_balance(h)
+sc.report('ring against a wall: |balance| <= 1e-10 of E through the impact', bal <= 1e-10, '%.2e' % bal)
+sc.report('ring against a wall: never through the wall (1e-12 m)', c['min_gap'].min() >= -1e-12, '%.2e m' % c['min_gap'].min())
+p0 = h['momentum_x'][0]
+sc.report('ring against a wall: y momentum and angular momentum zero by symmetry (1e-9 of m v0, m v0 R)',
+          np.max(np.abs(h['momentum_y'])) <= 1e-9 * p0 and np.max(np.abs(h['angular_momentum'])) <= 1e-9 * p0 * 0.1,
+          '%.1e, %.1e' % (np.max(np.abs(h['momentum_y'])), np.max(np.abs(h['angular_momentum']))))
+ratio = -h['momentum_x'][-1] / p0
+on = np.nonzero(c['active'] > 0)[0]
+sc.report('ring against a wall: released within the run, leaving slower than it came', 0.5 < ratio < 1.0 and
+          c['time'][on[-1]] < h['time'][-1], 'leaves at %.3f of its speed; contact until %.4f s' % (ratio, c['time'][on[-1]]))
 
