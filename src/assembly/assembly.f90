@@ -266,8 +266,11 @@ contains
         sys%elems%b_ptr(igp + 1) = sys%elems%b_ptr(igp) + nstr * ndof
       end do
     end do
-    do k = 1, size(scn%models)
-      if (scn%models(k)%large .and. etype_family(scn%models(k)%etype) == FAMILY_SURFACE) sys%elems%bref = sys%elems%bmat
+    do k = 1, size(scn%models)        ! (once, whatever the number of such models)
+      if (scn%models(k)%large .and. etype_family(scn%models(k)%etype) == FAMILY_SURFACE) then
+        sys%elems%bref = sys%elems%bmat
+        exit
+      end if
     end do
   end subroutine element_table
 

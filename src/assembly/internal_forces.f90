@@ -285,18 +285,18 @@ contains
   end subroutine nonlinear_element
 
   !> KINEMATICS LARGE, BAR2 and SPRING (docs/large-displacements.md): the axial strain of the
-  !> current length, eps = (l - L)/s (computed without cancellation) (s = L for BAR2, 1 for SPRING: an elongation), through the
-  !> law along the straight strain path from eps(n) to eps(n+1). Bσ(n+1) = w σ(n+1) B(n+1)', with
-  !> B = [-e, e]/s and e the current unit axis. The correction of eq (9) makes the step's internal
-  !> work exact along the large-displacement path: the step force is the discrete gradient
+  !> current length, eps = (l - L)/s (s = L for BAR2, 1 for SPRING: an elongation; computed
+  !> without cancellation), through the law along the straight strain path from eps(n) to
+  !> eps(n+1). Bσ(n+1) = w σ(n+1) B(n+1)', with B = [-e, e]/s and e the current unit axis. The
+  !> correction of eq (9) makes the step's internal work exact along the large-displacement path:
+  !> the step force is the discrete gradient
   !> f̄ = w σ̄ B_d', B_d = [-d, d], d = (x(n) + x(n+1)) / (s (l(n) + l(n+1))), so that B_d Δu = Δeps
   !> exactly and f̄'Δu = w σ̄ Δeps, the law's path work (for the elastic law ½ w E Δ(eps²):
   !> exact energy); f̄ lies along x(n) + x(n+1), so it has no moment about the step's midpoint
   !> configuration and the trapezoidal rule keeps angular momentum. As Bσc of eq (9) (which
   !> enters as ½ Bσc): fc = 2 f̄ - f(n) - f(n+1).
-  !> The tangent (TANGENT, AUTO): the material part w dσ/deps B'B and the geometric part
-  !> w max(σ, 0) /(s l) (I - e e') on the [-1 1; -1 1] blocks. The current B is kept in the element
-  !> table, so that the support reactions read the current axis.
+  !> The tangent (TANGENT, AUTO): that of the forces eq (9) carries, positive semi-definite (below).
+  !> The current B is kept in the element table, so that the support reactions read the current axis.
   subroutine large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
@@ -384,11 +384,6 @@ contains
       real(dp) :: m(2, 2)
       m = spread(x, 2, 2) * spread(y, 1, 2)
     end function outer2
-    pure function outer4(x, y) result(m)
-      real(dp), intent(in) :: x(4), y(4)
-      real(dp) :: m(4, 4)
-      m = spread(x, 2, 4) * spread(y, 1, 4)
-    end function outer4
   end subroutine large_axial_element
 
   !> KINEMATICS LARGE, QUAD4/QUAD8/TRI3/TRI6 with the ELASTIC law: total Lagrangian, St Venant-
@@ -411,7 +406,7 @@ contains
     logical, intent(inout) :: any_c
     real(dp), parameter :: eye(2, 2) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 2])
     real(dp) :: dn(2, MAX_EDOF / 2), fn(2, 2), f1(2, 2), fm(2, 2), hn(2, 2), h1(2, 2), en(4), e1(4), s1(4), sn(4), sbar(4), &
-      bn(4, MAX_EDOF), b1(4, MAX_EDOF), bm(4, MAX_EDOF), w, st(2, 2), lam(2), g
+      bn(4, MAX_EDOF), b1(4, MAX_EDOF), bm(4, MAX_EDOF), w, st(2, 2), g
     integer :: igp, p, nen, a, b, i
     nen = ndof / 2
     fc(1:ndof) = 0.0_dp
@@ -453,7 +448,7 @@ contains
           matmul(sys%elems%dmat(1:4, 1:4, mv%im), b1(:, 1:ndof)))
         ! Geometric part ∇N_a' S ∇N_b on both directions, with the tensile part of S.
         st = reshape([s1(1), s1(4), s1(4), s1(2)], [2, 2])
-        call tensile_part(st, lam)
+        call tensile_part(st)
         do a = 1, nen
           do b = 1, nen
             g = w * dot_product(dn(:, a), matmul(st, dn(:, b)))
@@ -500,10 +495,9 @@ contains
       end do
     end subroutine bnl
     !> The symmetric 2 x 2 s replaced by its positive part (eigenvalues below 0 set to 0).
-    pure subroutine tensile_part(s, l)
+    pure subroutine tensile_part(s)
       real(dp), intent(inout) :: s(2, 2)
-      real(dp), intent(out) :: l(2)
-      real(dp) :: m, r, v(2), v2(2)
+      real(dp) :: m, r, v(2), v2(2), l(2)
       m = 0.5_dp * (s(1, 1) + s(2, 2))
       r = sqrt((0.5_dp * (s(1, 1) - s(2, 2)))**2 + s(1, 2)**2)
       l = [m + r, m - r]

@@ -14,7 +14,8 @@ module scene
   private
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
   public :: function_value, model_point_kind
-  public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t, condition_nodes, contact_nodes, impose_t, function_slope
+  public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t, condition_nodes, contact_nodes, condition_keyword
+  public :: impose_t, function_slope
 
 
   integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3
@@ -158,6 +159,17 @@ contains
     if (c%node_c == 0) w(2) = -1.0_dp
     where (nodes == 0) w = 0.0_dp
   end subroutine condition_nodes
+
+  !> The statement a condition comes from, for messages: OBSTACLE (no node a) or GAP.
+  pure function condition_keyword(c) result(k)
+    type(condition_t), intent(in) :: c
+    character(len=:), allocatable :: k
+    if (c%node_a == 0) then
+      k = 'OBSTACLE'
+    else
+      k = 'GAP'
+    end if
+  end function condition_keyword
 
   !> mark(n): node n is in a contact condition (either side of a GAP, a segment's ends).
   pure subroutine contact_nodes(scn, mark)

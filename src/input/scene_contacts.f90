@@ -6,7 +6,7 @@ module scene_contacts
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use statement, only: statement_t, token_t, stmt_error, find_param, get
   use statement_schema, only: schema_t
-  use scene, only: scene_t, condition_t, contact_nodes
+  use scene, only: scene_t, condition_t, contact_nodes, condition_keyword
   use contact_modes, only: IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS
   use element_traits, only: ET_MASS, ET_SPRING
   use scene_helpers, only: node_group, get_point, model_size, get_unit
@@ -368,7 +368,7 @@ contains
       j = findloc(scn%conditions%restitution < 1.0_dp, .true., 1)
       if (j > 0) then
         call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(scn%conditions(j)%line) // ': ' // &
-          trim(merge('OBSTACLE', 'GAP     ', scn%conditions(j)%node_a == 0)) // &
+          condition_keyword(scn%conditions(j)) // &
           ' ' // scn%conditions(j)%source // ': RESTITUTION < 1 needs IMPACT PERSIST or PAPER (IMPACT MASSLESS leaves ' // &
           "no velocity at the contact nodes for Newton's law), at 'RESTITUTION'")
         return

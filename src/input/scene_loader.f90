@@ -3,12 +3,11 @@
 !> Statements are interpreted in two passes so that the order of definitions and their uses
 !> does not matter, except inside the mesh (a GROUP or ELEMENT refers to groups defined above it).
 module scene_loader
-  use errors, only: STAT_OK, STAT_INPUT, set_error
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use statement, only: statement_t
   use statement_schema, only: schema_t
   use scene_parser, only: parse_file, apply_override, check_required
   use scene, only: scene_t, INIT_STATIC
-  use errors, only: str
   use kinds, only: dp
   use element_traits, only: etype_family, FAMILY_SURFACE
   use material_law, only: LAW_ELASTIC

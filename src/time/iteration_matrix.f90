@@ -35,11 +35,9 @@ module iteration_matrix
     integer(8), public :: n_factor = 0           !< factorizations made (setup included)
   contains
     procedure :: setup => mat_setup
-    procedure :: step => mat_step
     procedure :: begin_step => mat_begin_step
     procedure :: update => mat_update
-    procedure :: check_stall => mat_check_stall
-    procedure :: consider => mat_consider
+    procedure :: after_residual => mat_after_residual
     procedure :: wants_tangent => mat_wants_tangent
     procedure :: solve => mat_solve
     procedure :: save => mat_save
@@ -86,12 +84,6 @@ contains
     end if
   end subroutine step_matrix
 
-  !> The step h of the current S (0 before setup).
-  pure real(dp) function mat_step(self)
-    class(iteration_matrix_t), intent(in) :: self
-    mat_step = self%h
-  end function mat_step
-
   pure subroutine mat_begin_step(self)
     class(iteration_matrix_t), intent(inout) :: self
     self%fallback = .false.
@@ -115,7 +107,7 @@ contains
   !> monotonically (as TANGENT's fallback). switch: the caller assembles the tangent at this
   !> iterate (the next update factorizes it).
   subroutine mat_consider(self, sys, res, iter, target, switch, refactored, stat, errmsg)
-    class(iteration_matrix_t), intent(inout) :: self
+    type(iteration_matrix_t), intent(inout) :: self
     type(system_t), intent(in) :: sys
     real(dp), intent(in) :: res(:), target
     integer, intent(in) :: iter
@@ -130,12 +122,8 @@ contains
     self%since = self%since + 1
     rho = res(iter) / max(res(iter - 1), tiny(1.0_dp))
     if (self%switched .and. self%since == 1 .and. rho >= 0.99_dp .and. .not. sys%elems%any_large) then
-      self%fallback = .true.
-      self%on_tangent = .false.
       refactored = .true.
-      call step_matrix(self, sys, sys%ops%kval)
-      call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg)
-      self%n_factor = self%n_factor + 1
+      call fall_back(self, sys, stat, errmsg)
       return
     end if
     if (self%since < 2) return
@@ -172,11 +160,7 @@ contains
       if (stat /= STAT_OK .and. .not. sys%elems%any_large) then
         ! AUTO: a tangent that is not positive definite (a far iterate, a member in compression)
         ! is not used: K0 + 4M/h² for the rest of the step.
-        self%on_tangent = .false.
-        self%fallback = .true.
-        call step_matrix(self, sys, sys%ops%kval)
-        call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg)
-        self%n_factor = self%n_factor + 1
+        call fall_back(self, sys, stat, errmsg)
       end if
     end if
   end subroutine mat_update
@@ -186,7 +170,7 @@ contains
   !> fourth iterate on, switch to K0 + 4M/h², which contracts monotonically, for the rest of the
   !> step (refactored tells that S changed).
   subroutine mat_check_stall(self, sys, res, iter, refactored, stat, errmsg)
-    class(iteration_matrix_t), intent(inout) :: self
+    type(iteration_matrix_t), intent(inout) :: self
     type(system_t), intent(in) :: sys
     real(dp), intent(in) :: res(:)
     integer, intent(in) :: iter
@@ -199,13 +183,42 @@ contains
     ! no fallback; a stalled step ends in MAX_ITERATIONS and SCHEME RETRY.)
     if (.not. self%tangent .or. self%fallback .or. iter < 4 .or. sys%elems%any_large) return
     if (res(iter) >= 0.99_dp * res(iter - 1) .and. res(iter - 1) >= 0.99_dp * res(iter - 2)) then
-      self%fallback = .true.
       refactored = .true.
-      call step_matrix(self, sys, sys%ops%kval)
-      call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg)
-      self%n_factor = self%n_factor + 1
+      call fall_back(self, sys, stat, errmsg)
     end if
   end subroutine mat_check_stall
+
+  !> After the residual res(iter) of an iterate that did not converge (target: the converged
+  !> residual): the policy's reaction, TANGENT's stall fallback or AUTO's choice (refactored: S
+  !> changed; switch: the caller assembles the tangent at this iterate for the next update).
+  subroutine mat_after_residual(self, sys, res, iter, target, switch, refactored, stat, errmsg)
+    class(iteration_matrix_t), intent(inout) :: self
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: res(:), target
+    integer, intent(in) :: iter
+    logical, intent(out) :: switch, refactored
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    switch = .false.
+    if (self%auto) then
+      call mat_consider(self, sys, res, iter, target, switch, refactored, stat, errmsg)
+    else
+      call mat_check_stall(self, sys, res, iter, refactored, stat, errmsg)
+    end if
+  end subroutine mat_after_residual
+
+  !> TANGENT's and AUTO's fallback: K0 + 4M/h² factorized for the rest of the step.
+  subroutine fall_back(self, sys, stat, errmsg)
+    type(iteration_matrix_t), intent(inout) :: self
+    type(system_t), intent(in) :: sys
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    self%fallback = .true.
+    self%on_tangent = .false.
+    call step_matrix(self, sys, sys%ops%kval)
+    call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg)
+    self%n_factor = self%n_factor + 1
+  end subroutine fall_back
 
   !> x = S⁻¹ b.
   subroutine mat_solve(self, b, x, stat, errmsg)

@@ -6,7 +6,7 @@
 module newmark
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
-  use scene, only: scene_t, condition_nodes
+  use scene, only: scene_t, condition_nodes, condition_keyword
   use contact_modes, only: IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS
   use dof_map, only: equation_bodies
   use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions
@@ -53,7 +53,7 @@ module newmark
     real(dp) :: h = 0.0_dp
     type(step_state_t) :: st                 !< u, v and the iterate of the step
     type(iteration_matrix_t) :: mat          !< S and its policy
-    type(iteration_matrix_t) :: mat_sub      !< S of SCHEME RETRY's sub-steps (set up at the first retry)
+    type(iteration_matrix_t) :: mat_sub      !< S of SCHEME RETRY's sub-steps (set up at each retry)
     integer :: retried = 0, max_sub = 1      !< steps retried as sub-steps, the most sub-steps of one
     type(energy_t) :: en
     ! Unilateral contact (method.md section 3).
@@ -242,7 +242,7 @@ contains
           if (n <= 0) cycle
           if (any(dm(pack(sys%dofs%eqn(1:2, n), sys%dofs%eqn(1:2, n) > 0)) > 0.0_dp)) then
             call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(c%line) // ': ' // &
-              trim(merge('OBSTACLE', 'GAP     ', c%node_a == 0)) // ' ' // c%source // ': SCHEME IMPACT MASSLESS ' // &
+              condition_keyword(c) // ' ' // c%source // ': SCHEME IMPACT MASSLESS ' // &
               'cannot move the mass of node ' // str(n) // ' (its elements have contact nodes only: a point mass, or ' // &
               'a body touching with all its nodes); use IMPACT PAPER or PERSIST' // ", at '" // c%source // "'")
             return
@@ -289,7 +289,7 @@ contains
     if (nbad == 0) return
     associate (c => scn%conditions(first))
       call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(c%line) // ': ' // &
-        trim(merge('OBSTACLE', 'GAP     ', c%node_a == 0)) // ' ' // c%source // ': the initial displacement puts ' // &
+        condition_keyword(c) // ' ' // c%source // ': the initial displacement puts ' // &
         str(nbad) // ' contact node(s) inside: ' // trim(adjustl(list)) // trim(merge(' ...', '    ', nbad > 5)) // &
         ", at '" // c%source // "'")
     end associate
@@ -442,7 +442,8 @@ contains
 
   !> The step h for the steps that follow: the run's S (level 0) or the sub-steps' S, set up
   !> afresh (K0 + 4M/h², so that a retry never depends on an earlier one: restarts stay bit for
-  !> bit; the first retry allocates its factor); the contact multipliers' columns follow S.
+  !> bit; the first retry allocates its factor, later ones refactorize it); the contact multipliers'
+  !> columns follow S.
   subroutine use_step(scn, sys, rs, outs, h, level, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys

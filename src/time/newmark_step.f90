@@ -103,13 +103,9 @@ contains
         cycle
       end if
       if (st%res_hist(iter) <= scn%tolerance * force_scale(st)) exit
-      call mat%check_stall(sys, st%res_hist, iter, refactored, stat, errmsg)
-      if (stat == STAT_OK .and. refactored .and. present(cs)) &
-        call contact_prepare(cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
-      if (stat /= STAT_OK) return
-      ! ITERATION AUTO: the tangent where it pays (its assembly at this iterate, then the next
-      ! update factorizes it), or back to K0 + 4M/h² after a tangent that stalled.
-      call mat%consider(sys, st%res_hist, iter, scn%tolerance * force_scale(st), switch, refactored, stat, errmsg)
+      ! The iteration matrix's policy after a residual: TANGENT's fallback on a stall; AUTO's
+      ! tangent where it pays (assembled at this iterate, factorized by the next update).
+      call mat%after_residual(sys, st%res_hist, iter, scn%tolerance * force_scale(st), switch, refactored, stat, errmsg)
       if (stat == STAT_OK .and. refactored .and. present(cs)) &
         call contact_prepare(cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
       if (stat /= STAT_OK) return
