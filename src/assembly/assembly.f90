@@ -52,6 +52,9 @@ module assembly
     logical :: linear = .true.               !< every law linear: one solve per step, no iteration
     logical :: any_large = .false.           !< some model has KINEMATICS LARGE (K0 holds only the reference axes)
     integer :: inverted = 0                  !< the first LARGE element of the last trial that inverted (0: none)
+    !> Round-off floor of the last trial's residual from its LARGE axial members: the force one ulp
+    !> of the nodal positions makes in each (k ulp(|x|), k the axial stiffness), summed in squares.
+    real(dp) :: round_floor = 0.0_dp
   end type element_table_t
 
   !> The integration-point states: committed (end of the last step) and trial; q internal
@@ -322,10 +325,11 @@ contains
         x(:, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
         rho = 0.0_dp
         if (scn%models(im)%material > 0) rho = scn%materials(scn%models(im)%material)%density
-        call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, scn%models(im)%lumped, me(1:ndof, 1:ndof))
+        call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, scn%models(im)%lumped, me(1:ndof, 1:ndof), &
+          scn%models(im)%large)
         if (scn%models(im)%mixed) then
           ! MASS MIXED: the average of the consistent and the lumped mass (docs/contact.md).
-          call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, .true., mlump(1:ndof, 1:ndof))
+          call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, .true., mlump(1:ndof, 1:ndof), scn%models(im)%large)
           me(1:ndof, 1:ndof) = 0.5_dp * (me(1:ndof, 1:ndof) + mlump(1:ndof, 1:ndof))
         end if
         if (allocated(massless)) call move_contact_mass(scn%mesh%conn(1:nen, e), elem_dof_mask(et), massless, &

@@ -8,8 +8,9 @@ module internal_forces
   use scene, only: scene_t
   use assembly, only: system_t
   use elements, only: MAX_EDOF, MAX_NSTRAIN
-  use element_traits, only: ET_BAR2
-  use material_law, only: law_update, law_nstate, law_step_t
+  use material_law, only: law_step_t
+  use element_points, only: model_view_t, view_model, point_update
+  use large_kinematics, only: large_axial_element, large_plane_element, large_beam_element
   use subincrement, only: correction_stress
   implicit none
   private
@@ -21,14 +22,6 @@ module internal_forces
     real(dp) :: elastic = 0.0_dp     !< strain energy ½ σ·ε of the trial state at the linear elastic points
     real(dp) :: dissipated = 0.0_dp  !< plastic work of the increment
   end type work_increment_t
-
-  !> What the points of one element need to know of their model.
-  type :: model_view_t
-    integer :: im = 0, mat = 0, nq = 0, nsub = 0
-    logical :: linear = .true.
-    logical :: large = .false.       !< KINEMATICS LARGE (BAR2, SPRING)
-    logical :: per_length = .false.  !< the strain is an elongation over the length (BAR2), not an elongation (SPRING)
-  end type model_view_t
 
 contains
 
@@ -67,6 +60,7 @@ contains
     if (tangent) sys%ops%tval = 0.0_dp
     if (sys%react%nslot > 0) sys%react%fc_t = 0.0_dp
     sys%elems%inverted = 0
+    sys%elems%round_floor = 0.0_dp
     do e = 1, scn%mesh%nelem
       if (scn%elem_model(e) == 0) cycle
       g0 = sys%elems%gp_ptr(e)
@@ -97,7 +91,10 @@ contains
             if (j > 0) une(k) = un(j)
           end do
         end if
-        if (mv%per_length .or. nstr == 1) then
+        if (mv%beam) then
+          call large_beam_element(scn, sys, mv, e, g0, ng, ue, une, present(un), correct, tangent, fe, fc, ke, any_c, &
+            wsum, dsum)
+        else if (mv%per_length .or. nstr == 1) then
           call large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
         else
           call large_plane_element(sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum)
@@ -124,27 +121,13 @@ contains
       ! Support reactions (PROBE … RX|RY|MZ) take the correction force of eq (9) on their rows.
       if (any_c .and. sys%react%nslot > 0) call sys%react%add_correction(e, fc)
     end do
+    sys%elems%round_floor = sqrt(sys%elems%round_floor)
     if (sys%extended) then
       fint = real(sys%fint_q, dp)
       esum = real(esumq + real(esum, qp), dp)
     end if
     inc = work_increment_t(wsum, esum, dsum)
   end subroutine internal_force
-
-  subroutine view_model(scn, sys, im, mv)
-    type(scene_t), intent(in) :: scn
-    type(system_t), intent(in) :: sys
-    integer, intent(in) :: im
-    type(model_view_t), intent(out) :: mv
-    mv%im = im
-    mv%linear = sys%elems%model_linear(im)
-    mv%nsub = scn%models(im)%substeps
-    mv%large = scn%models(im)%large
-    mv%per_length = scn%models(im)%etype == ET_BAR2
-    mv%mat = scn%models(im)%material
-    mv%nq = 0
-    if (mv%mat > 0) mv%nq = law_nstate(scn%materials(mv%mat), sys%elems%pk(im), scn%models(im)%sec)
-  end subroutine view_model
 
   !> Linear elastic points of one element: fixed-size kernels over the element's points (B,
   !> w, eps_t and sig_t of consecutive points are contiguous; passed by sequence association,
@@ -284,263 +267,6 @@ contains
 
   end subroutine nonlinear_element
 
-  !> KINEMATICS LARGE, BAR2 and SPRING (docs/large-displacements.md): the axial strain of the
-  !> current length, eps = (l - L)/s (s = L for BAR2, 1 for SPRING: an elongation; computed
-  !> without cancellation), through the law along the straight strain path from eps(n) to
-  !> eps(n+1). Bσ(n+1) = w σ(n+1) B(n+1)', with B = [-e, e]/s and e the current unit axis. The
-  !> correction of eq (9) makes the step's internal work exact along the large-displacement path:
-  !> the step force is the discrete gradient
-  !> f̄ = w σ̄ B_d', B_d = [-d, d], d = (x(n) + x(n+1)) / (s (l(n) + l(n+1))), so that B_d Δu = Δeps
-  !> exactly and f̄'Δu = w σ̄ Δeps, the law's path work (for the elastic law ½ w E Δ(eps²):
-  !> exact energy); f̄ lies along x(n) + x(n+1), so it has no moment about the step's midpoint
-  !> configuration and the trapezoidal rule keeps angular momentum. As Bσc of eq (9) (which
-  !> enters as ½ Bσc): fc = 2 f̄ - f(n) - f(n+1).
-  !> The tangent (TANGENT, AUTO): that of the forces eq (9) carries, positive semi-definite (below).
-  !> The current B is kept in the element table, so that the support reactions read the current axis.
-  subroutine large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
-    type(scene_t), intent(in) :: scn
-    type(system_t), intent(inout) :: sys
-    type(model_view_t), intent(in) :: mv
-    integer, intent(in) :: e, g0, ng
-    real(dp), intent(in) :: ue(:), une(:)
-    logical, intent(in) :: correct, tangent
-    real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum, dsum
-    logical, intent(inout) :: any_c
-    real(dp) :: x0(2), xn(2), x1(2), ln, l1, len0, s, epsn, eps1, deps(1), b1(4), bn(4), bd(4), d(2), ax(2), w, &
-      gmat(2, 2), dhat(2), sigbar, g
-    type(law_step_t) :: r
-    integer :: igp, p, a, b
-    x0 = scn%mesh%x(:, scn%mesh%conn(2, e)) - scn%mesh%x(:, scn%mesh%conn(1, e))
-    len0 = norm2(x0)
-    s = 1.0_dp
-    if (mv%per_length) s = len0
-    xn = x0 + une(3:4) - une(1:2)
-    x1 = x0 + ue(3:4) - ue(1:2)
-    ln = norm2(xn)
-    l1 = norm2(x1)
-    ! A member whose axis turns by 90 degrees or more in one step, or whose length vanishes, is
-    ! inverted: its strain (from |x|) would not see it. Reported to the step (iterate_eq9).
-    if (sys%elems%inverted == 0 .and. (dot_product(xn, x1) <= 0.0_dp .or. l1 <= 1.0e-9_dp * len0)) &
-      sys%elems%inverted = e
-    ! l - L = (2 X.Δu + Δu.Δu) / (l + L), Δu the relative displacement: no cancellation when
-    ! the strain is small (l - L itself would lose it to round-off: 1e-16 of strain is 2e-5 Pa
-    ! of a steel bar's stress, and the energy balance would see it).
-    epsn = stretch(une(3:4) - une(1:2), ln) / s
-    eps1 = stretch(ue(3:4) - ue(1:2), l1) / s
-    ax = x1 / max(l1, tiny(1.0_dp))
-    b1 = [-ax, ax] / s
-    bn = [-xn, xn] / (s * max(ln, tiny(1.0_dp)))
-    d = (xn + x1) / (s * max(ln + l1, tiny(1.0_dp)))
-    bd = [-d, d]
-    fc(1:4) = 0.0_dp
-    do igp = g0, g0 + ng - 1
-      p = sys%elems%b_ptr(igp)
-      w = sys%elems%wt(igp)
-      deps(1) = eps1 - epsn
-      call point_update(scn, sys, mv, igp, [epsn], deps, r)
-      sys%pts%eps_t(1, igp) = eps1
-      sys%pts%sig_t(1, igp) = r%sig(1)
-      sys%elems%bmat(p:p + 3) = b1
-      fe(1:4) = fe(1:4) + w * r%sig(1) * b1
-      sigbar = r%sigbar(1)
-      wsum = wsum + w * sigbar * deps(1)
-      dsum = dsum + w * r%dissip
-      if (correct) then
-        any_c = .true.
-        fc(1:4) = fc(1:4) + w * (2.0_dp * sigbar * bd - sys%pts%sig(1, igp) * bn - r%sig(1) * b1)
-      end if
-      if (tangent) then
-        ! With the correction, eq (9) carries f(n+1) + fc = 2 f̄, whose derivative is, to first
-        ! order in the step's rotation, w dσ/deps d d' + 2 w σ̄ / (s (l(n) + l(n+1))) (I - d̂ d̂')
-        ! (d̂ = d/|d|: the chord of the step, where f̄ acts); without it, f(n+1)'s:
-        ! (w dσ/deps / s²) e e' + w σ / (s l) (I - e e'). Both are symmetric and, with compression
-        ! and softening left out, positive semi-definite however far an iterate goes (the
-        ! residual, not the matrix, sets the answer).
-        if (correct) then
-          dhat = d / max(norm2(d), tiny(1.0_dp))
-          g = 2.0_dp * w * max(sigbar, 0.0_dp) / (s * max(ln + l1, tiny(1.0_dp)))
-          gmat = w * max(r%dtan(1, 1), 0.0_dp) * outer2(d, d) - g * outer2(dhat, dhat)
-        else
-          g = w * max(r%sig(1), 0.0_dp) / (s * max(l1, tiny(1.0_dp)))
-          gmat = (w * max(r%dtan(1, 1), 0.0_dp) / s**2 - g) * outer2(ax, ax)
-        end if
-        gmat(1, 1) = gmat(1, 1) + g
-        gmat(2, 2) = gmat(2, 2) + g
-        do a = 0, 1
-          do b = 0, 1
-            ke(2 * a + 1:2 * a + 2, 2 * b + 1:2 * b + 2) = ke(2 * a + 1:2 * a + 2, 2 * b + 1:2 * b + 2) + &
-              merge(1.0_dp, -1.0_dp, a == b) * gmat
-          end do
-        end do
-      end if
-    end do
-  contains
-    pure real(dp) function stretch(du, l)
-      real(dp), intent(in) :: du(2), l
-      stretch = (2.0_dp * dot_product(x0, du) + dot_product(du, du)) / (l + len0)
-    end function stretch
-    pure function outer2(x, y) result(m)
-      real(dp), intent(in) :: x(2), y(2)
-      real(dp) :: m(2, 2)
-      m = spread(x, 2, 2) * spread(y, 1, 2)
-    end function outer2
-  end subroutine large_axial_element
-
-  !> KINEMATICS LARGE, QUAD4/QUAD8/TRI3/TRI6 with the ELASTIC law: total Lagrangian, St Venant-
-  !> Kirchhoff (docs/large-displacements.md). At each point F = I + Σ u_a ⊗ ∇N_a (∇N from the
-  !> reference B, bref), the Green-Lagrange strain E = ½(F'F - I) (as xx, yy, zz = 0, 2xy) and the
-  !> second Piola-Kirchhoff stress S = D E. Bσ(n+1) = w B_NL(F(n+1))' S(n+1), B_NL(F) the
-  !> derivative of E. E is quadratic in u, so B_NL(F_mid) Δu = ΔE exactly (F_mid = (F(n) + F(n+1))/2),
-  !> and with S̄ = D (E(n) + E(n+1))/2 the step force f̄ = w B_NL(F_mid)' S̄ does the work
-  !> S̄ ΔE = Δψ exactly (Simo and Tarnow's energy-momentum step for this material): Bσc of eq (9)
-  !> is 2 f̄ - f(n) - f(n+1). The tangent: w B_NL' D B_NL + the geometric part with the tensile
-  !> part of S (positive definite however far an iterate goes). bmat keeps B_NL(F(n+1)) for the
-  !> support reactions; the points report E and S.
-  subroutine large_plane_element(sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum)
-    type(system_t), intent(inout) :: sys
-    type(model_view_t), intent(in) :: mv
-    integer, intent(in) :: e, g0, ng, ndof
-    real(dp), intent(in) :: ue(:), une(:)
-    logical, intent(in) :: correct, tangent
-    real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum
-    logical, intent(inout) :: any_c
-    real(dp), parameter :: eye(2, 2) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 2])
-    real(dp) :: dn(2, MAX_EDOF / 2), fn(2, 2), f1(2, 2), fm(2, 2), hn(2, 2), h1(2, 2), en(4), e1(4), s1(4), sn(4), sbar(4), &
-      bn(4, MAX_EDOF), b1(4, MAX_EDOF), bm(4, MAX_EDOF), w, st(2, 2), g
-    integer :: igp, p, nen, a, b, i
-    nen = ndof / 2
-    fc(1:ndof) = 0.0_dp
-    do igp = g0, g0 + ng - 1
-      p = sys%elems%b_ptr(igp)
-      w = sys%elems%wt(igp)
-      do a = 1, nen
-        dn(1, a) = sys%elems%bref(p + (2 * a - 2) * 4)          ! B(1, 2a-1) = dN_a/dX
-        dn(2, a) = sys%elems%bref(p + (2 * a - 1) * 4 + 1)      ! B(2, 2a)   = dN_a/dY
-      end do
-      hn = grad(une)
-      h1 = grad(ue)
-      fn = hn + eye
-      f1 = h1 + eye
-      ! An element turned inside out (det F <= 0) has no strain energy of its own to show it:
-      ! reported to the step (iterate_eq9), as for the axial members.
-      if (sys%elems%inverted == 0 .and. f1(1, 1) * f1(2, 2) - f1(1, 2) * f1(2, 1) <= 0.0_dp) sys%elems%inverted = e
-      fm = 0.5_dp * (fn + f1)
-      en = green(hn)
-      e1 = green(h1)
-      sn = sys%pts%sig(1:4, igp)
-      s1 = matmul(sys%elems%dmat(1:4, 1:4, mv%im), e1)
-      sys%pts%eps_t(1:4, igp) = e1
-      sys%pts%sig_t(1:4, igp) = s1
-      call bnl(f1, b1)
-      call bnl(fn, bn)
-      call bnl(fm, bm)
-      sys%elems%bmat(p:p + 4 * ndof - 1) = reshape(b1(:, 1:ndof), [4 * ndof])
-      fe(1:ndof) = fe(1:ndof) + w * matmul(s1, b1(:, 1:ndof))
-      sbar = 0.5_dp * (sn + s1)
-      wsum = wsum + w * dot_product(sbar, e1 - en)
-      if (correct) then
-        any_c = .true.
-        fc(1:ndof) = fc(1:ndof) + w * (2.0_dp * matmul(sbar, bm(:, 1:ndof)) - matmul(sn, bn(:, 1:ndof)) - &
-          matmul(s1, b1(:, 1:ndof)))
-      end if
-      if (tangent) then
-        ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + w * matmul(transpose(b1(:, 1:ndof)), &
-          matmul(sys%elems%dmat(1:4, 1:4, mv%im), b1(:, 1:ndof)))
-        ! Geometric part ∇N_a' S ∇N_b on both directions, with the tensile part of S.
-        st = reshape([s1(1), s1(4), s1(4), s1(2)], [2, 2])
-        call tensile_part(st)
-        do a = 1, nen
-          do b = 1, nen
-            g = w * dot_product(dn(:, a), matmul(st, dn(:, b)))
-            do i = 1, 2
-              ke(2 * a - 2 + i, 2 * b - 2 + i) = ke(2 * a - 2 + i, 2 * b - 2 + i) + g
-            end do
-          end do
-        end do
-      end if
-    end do
-  contains
-    !> The displacement gradient H = Σ u_a ⊗ ∇N_a (F = I + H).
-    pure function grad(u) result(f)
-      real(dp), intent(in) :: u(:)
-      real(dp) :: f(2, 2)
-      integer :: k
-      f = 0.0_dp
-      do k = 1, nen
-        f(1, :) = f(1, :) + u(2 * k - 1) * dn(:, k)
-        f(2, :) = f(2, :) + u(2 * k) * dn(:, k)
-      end do
-    end function grad
-    !> E = ½(H + H' + H'H) as [Exx, Eyy, 0, 2 Exy] (the engineering shear, as the small strain's
-    !> γ), from H: ½(F'F - I) would lose a small strain to round-off.
-    pure function green(h) result(e)
-      real(dp), intent(in) :: h(2, 2)
-      real(dp) :: e(4), c(2, 2)
-      c = matmul(transpose(h), h)
-      e = [h(1, 1) + 0.5_dp * c(1, 1), h(2, 2) + 0.5_dp * c(2, 2), 0.0_dp, h(1, 2) + h(2, 1) + c(1, 2)]
-    end function green
-    !> dE = B_NL(F) du (rows as green's; columns u_x, u_y of each node).
-    pure subroutine bnl(f, bb)
-      real(dp), intent(in) :: f(2, 2)
-      real(dp), intent(out) :: bb(:, :)
-      integer :: k
-      bb = 0.0_dp
-      do k = 1, nen
-        bb(1, 2 * k - 1) = f(1, 1) * dn(1, k)
-        bb(1, 2 * k) = f(2, 1) * dn(1, k)
-        bb(2, 2 * k - 1) = f(1, 2) * dn(2, k)
-        bb(2, 2 * k) = f(2, 2) * dn(2, k)
-        bb(4, 2 * k - 1) = f(1, 1) * dn(2, k) + f(1, 2) * dn(1, k)
-        bb(4, 2 * k) = f(2, 1) * dn(2, k) + f(2, 2) * dn(1, k)
-      end do
-    end subroutine bnl
-    !> The symmetric 2 x 2 s replaced by its positive part (eigenvalues below 0 set to 0).
-    pure subroutine tensile_part(s)
-      real(dp), intent(inout) :: s(2, 2)
-      real(dp) :: m, r, v(2), v2(2), l(2)
-      m = 0.5_dp * (s(1, 1) + s(2, 2))
-      r = sqrt((0.5_dp * (s(1, 1) - s(2, 2)))**2 + s(1, 2)**2)
-      l = [m + r, m - r]
-      if (r == 0.0_dp) then
-        v = [1.0_dp, 0.0_dp]
-      else if (abs(s(1, 2)) > 0.0_dp) then
-        v = [l(1) - s(2, 2), s(1, 2)]
-        v = v / norm2(v)
-      else
-        v = merge([1.0_dp, 0.0_dp], [0.0_dp, 1.0_dp], s(1, 1) >= s(2, 2))
-      end if
-      v2 = [-v(2), v(1)]
-      s = max(l(1), 0.0_dp) * spread(v, 2, 2) * spread(v, 1, 2) + max(l(2), 0.0_dp) * spread(v2, 2, 2) * spread(v2, 1, 2)
-    end subroutine tensile_part
-  end subroutine large_plane_element
-
-  !> One point through its law (material_law's law_update, sub-incremented along the step from
-  !> the committed state eps_n with the increment deps). SUBSTEPS AUTO (nsub <= 0): the count may
-  !> only grow during the iterations of a step; a count that changes back and forth makes the
-  !> residual of eq (9) jump and cycle. So a point that asks for fewer sub-increments than before
-  !> in this step is redone with them.
-  subroutine point_update(scn, sys, mv, igp, eps_n, deps, r)
-    type(scene_t), intent(in) :: scn
-    type(system_t), intent(inout) :: sys
-    type(model_view_t), intent(in) :: mv
-    integer, intent(in) :: igp
-    real(dp), intent(in) :: eps_n(:), deps(:)
-    type(law_step_t), intent(out) :: r
-    integer :: n, pass, nstr
-    nstr = size(deps)
-    n = mv%nsub
-    do pass = 1, 2
-      call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%elems%pk(mv%im), &
-        sys%elems%dmat(1:nstr, 1:nstr, mv%im), n, eps_n, deps, sys%pts%sig(1:nstr, igp), &
-        sys%pts%q(1:mv%nq, igp), sys%pts%q_t(1:mv%nq, igp), r)
-      if (mv%nsub > 0 .or. pass == 2) exit
-      if (r%nused >= sys%pts%nsub_pt(igp)) then
-        sys%pts%nsub_pt(igp) = r%nused
-        exit
-      end if
-      n = sys%pts%nsub_pt(igp)
-    end do
-  end subroutine point_update
 
   !> Linear elastic QUAD points of one element: eps = B ue, sigma = D eps, fe += w B'sigma,
   !> esum += w sigma.eps / 2. b: the ng consecutive B (4 x ndof); eps, sig: trial state columns.

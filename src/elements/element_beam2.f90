@@ -110,10 +110,14 @@ contains
   !> Mass matrix (6 x 6, global). Consistent: axial rho A L/6 [2 1; 1 2] on (u1, u2) plus the
   !> Hermite bending matrix rho A L/420 [...] on (v1, th1, v2, th2), rotated to global.
   !> Lumped (HRZ): rho A L/2 per translation, rho A L^3/78 per rotation.
-  pure subroutine beam2_mass(x, area, rho, lumped, me)
+  !> Isotropic (KINEMATICS LARGE, consistent): rho A L/6 [2 1; 1 2] on both translations and the
+  !> lumped rotations: the Hermite matrix couples the translations to the element's axis, which
+  !> turns in large rotations; this one is the same in every frame (and exact for a rigid motion).
+  pure subroutine beam2_mass(x, area, rho, lumped, me, isotropic)
     real(dp), intent(in) :: x(2, 2), area, rho
     logical, intent(in) :: lumped
     real(dp), intent(out) :: me(6, 6)
+    logical, intent(in), optional :: isotropic
     real(dp) :: ml(6, 6), t(6, 6), len, c, s, m
     integer :: i
     call beam2_axis(x, len, c, s)
@@ -126,6 +130,16 @@ contains
         me(i + 3, i + 3) = m * len**2 / 78.0_dp
       end do
       return
+    end if
+    if (present(isotropic)) then
+      if (isotropic) then
+        do i = 1, 2
+          me([i, i + 3], [i, i + 3]) = m / 6.0_dp * reshape([2.0_dp, 1.0_dp, 1.0_dp, 2.0_dp], [2, 2])
+        end do
+        me(3, 3) = m * len**2 / 78.0_dp
+        me(6, 6) = m * len**2 / 78.0_dp
+        return
+      end if
     end if
     ml = 0.0_dp
     ml(1, 1) = 2.0_dp * m / 6.0_dp

@@ -138,13 +138,15 @@ contains
   end subroutine elem_gauss_b
 
   !> Element mass matrix (at least ndof x ndof, full symmetric). rho is the material density
-  !> (unused by MASS, which takes sec%mass, and by SPRING, which is massless).
-  pure subroutine elem_mass(et, x, sec, rho, lumped, me)
+  !> (unused by MASS, which takes sec%mass, and by SPRING, which is massless). large: the model
+  !> has KINEMATICS LARGE (a BEAM2 then takes the mass that is the same in every frame).
+  pure subroutine elem_mass(et, x, sec, rho, lumped, me, large)
     integer, intent(in) :: et
     real(dp), intent(in) :: x(:, :), rho
     type(section_t), intent(in) :: sec
     logical, intent(in) :: lumped
     real(dp), intent(out) :: me(:, :)
+    logical, intent(in), optional :: large
     real(dp) :: xl(2, MAX_NEN), ml(MAX_EDOF, MAX_EDOF), m2(2, 2), m4(4, 4), m6(6, 6)
     integer :: nd
     call local_coords(et, x, xl)
@@ -157,7 +159,7 @@ contains
       call bar2_mass(xl(:, 1:2), sec%area, rho, lumped, m4)
       ml(1:4, 1:4) = m4
     case (ET_BEAM2)
-      call beam2_mass(xl(:, 1:2), sec%area, rho, lumped, m6)
+      call beam2_mass(xl(:, 1:2), sec%area, rho, lumped, m6, large)
       ml(1:6, 1:6) = m6
     case (ET_QUAD4)
       call quad_mass(4, xl, sec%thickness, rho, lumped, ml)

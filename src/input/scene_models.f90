@@ -10,7 +10,7 @@ module scene_models
   use scene, only: scene_t, model_t, MAX_SUBSTEPS, model_point_kind
   use scene_helpers, only: get_etype, model_size
   use element_traits, only: FAMILY_LINE, etype_family, etypes_of_family, etype_needs_material, etype_section_needs, &
-    etype_name, etype_nen, ET_BEAM2, ET_MASS
+    etype_name, etype_nen, ET_MASS
   implicit none
   private
   public :: models_schema, models_statement
@@ -240,7 +240,7 @@ contains
   !> DAMPING ALPHA a BETA b (either or both, a, b >= 0): Rayleigh damping C = a M + b K0 of the
   !> model's elements (K0: the initial stiffness).
   !> KINEMATICS SMALL | LARGE (default SMALL). LARGE exists for BAR2 and SPRING (the axial
-  !> strain of the current length) and for the surface elements (total Lagrangian, St Venant-
+  !> strain of the current length), BEAM2 (corotational) and for the surface elements (total Lagrangian, St Venant-
   !> Kirchhoff: ELASTIC law only, checked with the scene), docs/large-displacements.md; a SPRING
   !> with a DIRECTION (zero length) has no current axis.
   subroutine get_kinematics(st, md, stat, errmsg)
@@ -256,9 +256,10 @@ contains
       md%large = .false.
     case ('LARGE')
       md%large = .true.
-      if (md%etype == ET_BEAM2 .or. md%etype == ET_MASS) then
+      if (md%etype == ET_MASS) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'KINEMATICS LARGE has no form for ' // &
-          etype_name(md%etype) // ' elements yet (BAR2, SPRING, QUAD4, QUAD8, TRI3 and TRI6 have one)', &
+          etype_name(md%etype) // ' elements (a point mass has no strain; BAR2, SPRING, BEAM2, QUAD4, QUAD8, TRI3 ' // &
+          'and TRI6 have one)', &
           st%params(find_param(st, 'KINEMATICS'))%values(1)))
       else if (md%sec%has_direction) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'KINEMATICS LARGE: a SPRING with a DIRECTION has no ' // &

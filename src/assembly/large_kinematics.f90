@@ -1,0 +1,414 @@
+!> The KINEMATICS LARGE element kernels (docs/large-displacements.md): the strains of the current
+!> configuration, the forces Bσ(n+1), and the correction force of eq (9) built from a discrete
+!> gradient so that the step's internal work is the exact path work of the laws.
+module large_kinematics
+  use kinds, only: dp
+  use scene, only: scene_t
+  use assembly, only: system_t
+  use elements, only: MAX_EDOF
+  use element_beam2, only: gauss_legendre, BEAM2_MAX_GAUSS
+  use material_law, only: law_step_t
+  use element_points, only: model_view_t, point_update
+  implicit none
+  private
+  public :: large_axial_element, large_plane_element, large_beam_element
+
+  real(dp), parameter :: TWO_PI = 2.0_dp * acos(-1.0_dp)
+
+contains
+
+  !> KINEMATICS LARGE, BAR2 and SPRING (docs/large-displacements.md): the axial strain of the
+  !> current length, eps = (l - L)/s (s = L for BAR2, 1 for SPRING: an elongation; computed
+  !> without cancellation), through the law along the straight strain path from eps(n) to
+  !> eps(n+1). Bσ(n+1) = w σ(n+1) B(n+1)', with B = [-e, e]/s and e the current unit axis. The
+  !> correction of eq (9) makes the step's internal work exact along the large-displacement path:
+  !> the step force is the discrete gradient
+  !> f̄ = w σ̄ B_d', B_d = [-d, d], d = (x(n) + x(n+1)) / (s (l(n) + l(n+1))), so that B_d Δu = Δeps
+  !> exactly and f̄'Δu = w σ̄ Δeps, the law's path work (for the elastic law ½ w E Δ(eps²):
+  !> exact energy); f̄ lies along x(n) + x(n+1), so it has no moment about the step's midpoint
+  !> configuration and the trapezoidal rule keeps angular momentum. As Bσc of eq (9) (which
+  !> enters as ½ Bσc): fc = 2 f̄ - f(n) - f(n+1).
+  !> The tangent (TANGENT, AUTO): that of the forces eq (9) carries, positive semi-definite (below).
+  !> The current B is kept in the element table, so that the support reactions read the current axis.
+  subroutine large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(model_view_t), intent(in) :: mv
+    integer, intent(in) :: e, g0, ng
+    real(dp), intent(in) :: ue(:), une(:)
+    logical, intent(in) :: correct, tangent
+    real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum, dsum
+    logical, intent(inout) :: any_c
+    real(dp) :: x0(2), xn(2), x1(2), ln, l1, len0, s, epsn, eps1, deps(1), b1(4), bn(4), bd(4), d(2), ax(2), w, &
+      gmat(2, 2), dhat(2), sigbar, g
+    type(law_step_t) :: r
+    integer :: igp, p, a, b
+    x0 = scn%mesh%x(:, scn%mesh%conn(2, e)) - scn%mesh%x(:, scn%mesh%conn(1, e))
+    len0 = norm2(x0)
+    s = 1.0_dp
+    if (mv%per_length) s = len0
+    xn = x0 + une(3:4) - une(1:2)
+    x1 = x0 + ue(3:4) - ue(1:2)
+    ln = norm2(xn)
+    l1 = norm2(x1)
+    ! A member whose axis turns by 90 degrees or more in one step, or whose length vanishes, is
+    ! inverted: its strain (from |x|) would not see it. Reported to the step (iterate_eq9).
+    if (sys%elems%inverted == 0 .and. (dot_product(xn, x1) <= 0.0_dp .or. l1 <= 1.0e-9_dp * len0)) &
+      sys%elems%inverted = e
+    ! l - L = (2 X.Δu + Δu.Δu) / (l + L), Δu the relative displacement: no cancellation when
+    ! the strain is small (l - L itself would lose it to round-off: 1e-16 of strain is 2e-5 Pa
+    ! of a steel bar's stress, and the energy balance would see it).
+    epsn = stretch(une(3:4) - une(1:2), ln) / s
+    eps1 = stretch(ue(3:4) - ue(1:2), l1) / s
+    ax = x1 / max(l1, tiny(1.0_dp))
+    b1 = [-ax, ax] / s
+    bn = [-xn, xn] / (s * max(ln, tiny(1.0_dp)))
+    d = (xn + x1) / (s * max(ln + l1, tiny(1.0_dp)))
+    bd = [-d, d]
+    fc(1:4) = 0.0_dp
+    do igp = g0, g0 + ng - 1
+      p = sys%elems%b_ptr(igp)
+      w = sys%elems%wt(igp)
+      deps(1) = eps1 - epsn
+      call point_update(scn, sys, mv, igp, [epsn], deps, r)
+      sys%pts%eps_t(1, igp) = eps1
+      sys%pts%sig_t(1, igp) = r%sig(1)
+      call add_round_floor(sys, w * abs(r%dtan(1, 1)) / s**2, [x0, ue(1:4)])
+      sys%elems%bmat(p:p + 3) = b1
+      fe(1:4) = fe(1:4) + w * r%sig(1) * b1
+      sigbar = r%sigbar(1)
+      wsum = wsum + w * sigbar * deps(1)
+      dsum = dsum + w * r%dissip
+      if (correct) then
+        any_c = .true.
+        fc(1:4) = fc(1:4) + w * (2.0_dp * sigbar * bd - sys%pts%sig(1, igp) * bn - r%sig(1) * b1)
+      end if
+      if (tangent) then
+        ! With the correction, eq (9) carries f(n+1) + fc = 2 f̄, whose derivative is, to first
+        ! order in the step's rotation, w dσ/deps d d' + 2 w σ̄ / (s (l(n) + l(n+1))) (I - d̂ d̂')
+        ! (d̂ = d/|d|: the chord of the step, where f̄ acts); without it, f(n+1)'s:
+        ! (w dσ/deps / s²) e e' + w σ / (s l) (I - e e'). Both are symmetric and, with compression
+        ! and softening left out, positive semi-definite however far an iterate goes (the
+        ! residual, not the matrix, sets the answer).
+        if (correct) then
+          dhat = d / max(norm2(d), tiny(1.0_dp))
+          g = 2.0_dp * w * max(sigbar, 0.0_dp) / (s * max(ln + l1, tiny(1.0_dp)))
+          gmat = w * max(r%dtan(1, 1), 0.0_dp) * outer2(d, d) - g * outer2(dhat, dhat)
+        else
+          g = w * max(r%sig(1), 0.0_dp) / (s * max(l1, tiny(1.0_dp)))
+          gmat = (w * max(r%dtan(1, 1), 0.0_dp) / s**2 - g) * outer2(ax, ax)
+        end if
+        gmat(1, 1) = gmat(1, 1) + g
+        gmat(2, 2) = gmat(2, 2) + g
+        do a = 0, 1
+          do b = 0, 1
+            ke(2 * a + 1:2 * a + 2, 2 * b + 1:2 * b + 2) = ke(2 * a + 1:2 * a + 2, 2 * b + 1:2 * b + 2) + &
+              merge(1.0_dp, -1.0_dp, a == b) * gmat
+          end do
+        end do
+      end if
+    end do
+  contains
+    pure real(dp) function stretch(du, l)
+      real(dp), intent(in) :: du(2), l
+      stretch = (2.0_dp * dot_product(x0, du) + dot_product(du, du)) / (l + len0)
+    end function stretch
+    pure function outer2(x, y) result(m)
+      real(dp), intent(in) :: x(2), y(2)
+      real(dp) :: m(2, 2)
+      m = spread(x, 2, 2) * spread(y, 1, 2)
+    end function outer2
+  end subroutine large_axial_element
+
+  !> KINEMATICS LARGE, QUAD4/QUAD8/TRI3/TRI6 with the ELASTIC law: total Lagrangian, St Venant-
+  !> Kirchhoff (docs/large-displacements.md). At each point F = I + Σ u_a ⊗ ∇N_a (∇N from the
+  !> reference B, bref), the Green-Lagrange strain E = ½(F'F - I) (as xx, yy, zz = 0, 2xy) and the
+  !> second Piola-Kirchhoff stress S = D E. Bσ(n+1) = w B_NL(F(n+1))' S(n+1), B_NL(F) the
+  !> derivative of E. E is quadratic in u, so B_NL(F_mid) Δu = ΔE exactly (F_mid = (F(n) + F(n+1))/2),
+  !> and with S̄ = D (E(n) + E(n+1))/2 the step force f̄ = w B_NL(F_mid)' S̄ does the work
+  !> S̄ ΔE = Δψ exactly (Simo and Tarnow's energy-momentum step for this material): Bσc of eq (9)
+  !> is 2 f̄ - f(n) - f(n+1). The tangent: w B_NL' D B_NL + the geometric part with the tensile
+  !> part of S (positive definite however far an iterate goes). bmat keeps B_NL(F(n+1)) for the
+  !> support reactions; the points report E and S.
+  subroutine large_plane_element(sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum)
+    type(system_t), intent(inout) :: sys
+    type(model_view_t), intent(in) :: mv
+    integer, intent(in) :: e, g0, ng, ndof
+    real(dp), intent(in) :: ue(:), une(:)
+    logical, intent(in) :: correct, tangent
+    real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum
+    logical, intent(inout) :: any_c
+    real(dp), parameter :: eye(2, 2) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 2])
+    real(dp) :: dn(2, MAX_EDOF / 2), fn(2, 2), f1(2, 2), fm(2, 2), hn(2, 2), h1(2, 2), en(4), e1(4), s1(4), sn(4), sbar(4), &
+      bn(4, MAX_EDOF), b1(4, MAX_EDOF), bm(4, MAX_EDOF), w, st(2, 2), g
+    integer :: igp, p, nen, a, b, i
+    nen = ndof / 2
+    fc(1:ndof) = 0.0_dp
+    do igp = g0, g0 + ng - 1
+      p = sys%elems%b_ptr(igp)
+      w = sys%elems%wt(igp)
+      do a = 1, nen
+        dn(1, a) = sys%elems%bref(p + (2 * a - 2) * 4)          ! B(1, 2a-1) = dN_a/dX
+        dn(2, a) = sys%elems%bref(p + (2 * a - 1) * 4 + 1)      ! B(2, 2a)   = dN_a/dY
+      end do
+      hn = grad(une)
+      h1 = grad(ue)
+      fn = hn + eye
+      f1 = h1 + eye
+      ! An element turned inside out (det F <= 0) has no strain energy of its own to show it:
+      ! reported to the step (iterate_eq9), as for the axial members.
+      if (sys%elems%inverted == 0 .and. f1(1, 1) * f1(2, 2) - f1(1, 2) * f1(2, 1) <= 0.0_dp) sys%elems%inverted = e
+      fm = 0.5_dp * (fn + f1)
+      en = green(hn)
+      e1 = green(h1)
+      sn = sys%pts%sig(1:4, igp)
+      s1 = matmul(sys%elems%dmat(1:4, 1:4, mv%im), e1)
+      sys%pts%eps_t(1:4, igp) = e1
+      sys%pts%sig_t(1:4, igp) = s1
+      call bnl(f1, b1)
+      call bnl(fn, bn)
+      call bnl(fm, bm)
+      sys%elems%bmat(p:p + 4 * ndof - 1) = reshape(b1(:, 1:ndof), [4 * ndof])
+      fe(1:ndof) = fe(1:ndof) + w * matmul(s1, b1(:, 1:ndof))
+      sbar = 0.5_dp * (sn + s1)
+      wsum = wsum + w * dot_product(sbar, e1 - en)
+      if (correct) then
+        any_c = .true.
+        fc(1:ndof) = fc(1:ndof) + w * (2.0_dp * matmul(sbar, bm(:, 1:ndof)) - matmul(sn, bn(:, 1:ndof)) - &
+          matmul(s1, b1(:, 1:ndof)))
+      end if
+      if (tangent) then
+        ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + w * matmul(transpose(b1(:, 1:ndof)), &
+          matmul(sys%elems%dmat(1:4, 1:4, mv%im), b1(:, 1:ndof)))
+        ! Geometric part ∇N_a' S ∇N_b on both directions, with the tensile part of S.
+        st = reshape([s1(1), s1(4), s1(4), s1(2)], [2, 2])
+        call tensile_part(st)
+        do a = 1, nen
+          do b = 1, nen
+            g = w * dot_product(dn(:, a), matmul(st, dn(:, b)))
+            do i = 1, 2
+              ke(2 * a - 2 + i, 2 * b - 2 + i) = ke(2 * a - 2 + i, 2 * b - 2 + i) + g
+            end do
+          end do
+        end do
+      end if
+    end do
+  contains
+    !> The displacement gradient H = Σ u_a ⊗ ∇N_a (F = I + H).
+    pure function grad(u) result(f)
+      real(dp), intent(in) :: u(:)
+      real(dp) :: f(2, 2)
+      integer :: k
+      f = 0.0_dp
+      do k = 1, nen
+        f(1, :) = f(1, :) + u(2 * k - 1) * dn(:, k)
+        f(2, :) = f(2, :) + u(2 * k) * dn(:, k)
+      end do
+    end function grad
+    !> E = ½(H + H' + H'H) as [Exx, Eyy, 0, 2 Exy] (the engineering shear, as the small strain's
+    !> γ), from H: ½(F'F - I) would lose a small strain to round-off.
+    pure function green(h) result(e)
+      real(dp), intent(in) :: h(2, 2)
+      real(dp) :: e(4), c(2, 2)
+      c = matmul(transpose(h), h)
+      e = [h(1, 1) + 0.5_dp * c(1, 1), h(2, 2) + 0.5_dp * c(2, 2), 0.0_dp, h(1, 2) + h(2, 1) + c(1, 2)]
+    end function green
+    !> dE = B_NL(F) du (rows as green's; columns u_x, u_y of each node).
+    pure subroutine bnl(f, bb)
+      real(dp), intent(in) :: f(2, 2)
+      real(dp), intent(out) :: bb(:, :)
+      integer :: k
+      bb = 0.0_dp
+      do k = 1, nen
+        bb(1, 2 * k - 1) = f(1, 1) * dn(1, k)
+        bb(1, 2 * k) = f(2, 1) * dn(1, k)
+        bb(2, 2 * k - 1) = f(1, 2) * dn(2, k)
+        bb(2, 2 * k) = f(2, 2) * dn(2, k)
+        bb(4, 2 * k - 1) = f(1, 1) * dn(2, k) + f(1, 2) * dn(1, k)
+        bb(4, 2 * k) = f(2, 1) * dn(2, k) + f(2, 2) * dn(1, k)
+      end do
+    end subroutine bnl
+    !> The symmetric 2 x 2 s replaced by its positive part (eigenvalues below 0 set to 0).
+    pure subroutine tensile_part(s)
+      real(dp), intent(inout) :: s(2, 2)
+      real(dp) :: m, r, v(2), v2(2), l(2)
+      m = 0.5_dp * (s(1, 1) + s(2, 2))
+      r = sqrt((0.5_dp * (s(1, 1) - s(2, 2)))**2 + s(1, 2)**2)
+      l = [m + r, m - r]
+      if (r == 0.0_dp) then
+        v = [1.0_dp, 0.0_dp]
+      else if (abs(s(1, 2)) > 0.0_dp) then
+        v = [l(1) - s(2, 2), s(1, 2)]
+        v = v / norm2(v)
+      else
+        v = merge([1.0_dp, 0.0_dp], [0.0_dp, 1.0_dp], s(1, 1) >= s(2, 2))
+      end if
+      v2 = [-v(2), v(1)]
+      s = max(l(1), 0.0_dp) * spread(v, 2, 2) * spread(v, 1, 2) + max(l(2), 0.0_dp) * spread(v2, 2, 2) * spread(v2, 1, 2)
+    end subroutine tensile_part
+  end subroutine large_plane_element
+
+  !> KINEMATICS LARGE, BEAM2: corotational (docs/large-displacements.md). The chord of the element
+  !> turns by α (from the reference chord); in that frame the beam is the small-strain BEAM2, with
+  !> the natural deformations q = (e, θ̄1, θ̄2): e = l - L the elongation of the chord (computed
+  !> without cancellation), θ̄a = θa - α the nodal rotations relative to the chord. The points see
+  !> eps = e/L and kappa = (k1 θ̄1 + k2 θ̄2)/L (k1 = 6r - 4, k2 = 6r - 2: the Hermite curvature with
+  !> no transverse displacement in the chord's frame), so the section laws (elastic, fibre
+  !> plasticity) work unchanged. Bσ(n+1) = G(n+1)' Q(n+1), G = dq/du and Q = Σ w T' σ the natural
+  !> forces (N and the two end moments). Eq (9)'s correction uses a discrete gradient Gd, Gd Δu = Δq
+  !> exactly: for e the chord form of the bars; for θ̄a, the chord's exact rotation Δα of the step
+  !> and ā = ∇α(c_mid) + (Δα - ∇α(c_mid)·Δc) Δc/|Δc|² (Gonzalez), so ā·Δc = Δα. The step force
+  !> f̄ = Gd' Q̄ then does the law's path work: the energy identity holds to round-off at any step.
+  !> Linear momentum is kept exactly; angular momentum to O(h²) (f̄ has a moment about the step's
+  !> middle configuration of (Q̄2 + Q̄3)(Δα - Δα̃)(Δc·J c_mid)/|Δc|², Δα̃ = ∇α(c_mid)·Δc: with
+  !> additive rotations no force can keep both exactly, docs/large-displacements.md). from_n: une
+  !> is the committed state (else zero, the path from the reference configuration).
+  subroutine large_beam_element(scn, sys, mv, e, g0, ng, ue, une, from_n, correct, tangent, fe, fc, ke, any_c, wsum, &
+                                dsum)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(model_view_t), intent(in) :: mv
+    integer, intent(in) :: e, g0, ng
+    real(dp), intent(in) :: ue(:), une(:)
+    logical, intent(in) :: from_n, correct, tangent
+    real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum, dsum
+    logical, intent(inout) :: any_c
+    real(dp) :: x0(2), len0, cn(2), c1(2), dc(2), cm(2), ln, l1, am(2), ab(2), dalpha, d(2), gd(3, 6), gn(3, 6), g1(3, 6), &
+      dq(3), qn(3), q1(3), qb(3), kq(3, 3), t(2, 3), en, e1, epsn(2), deps(2), w, r01
+    type(law_step_t) :: r
+    integer :: igp, p
+    x0 = scn%mesh%x(:, scn%mesh%conn(2, e)) - scn%mesh%x(:, scn%mesh%conn(1, e))
+    len0 = norm2(x0)
+    cn = x0 + une(4:5) - une(1:2)
+    c1 = x0 + ue(4:5) - ue(1:2)
+    ln = norm2(cn)
+    l1 = norm2(c1)
+    if (sys%elems%inverted == 0 .and. (dot_product(cn, c1) <= 0.0_dp .or. l1 <= 1.0e-9_dp * len0)) sys%elems%inverted = e
+    en = stretch(une(4:5) - une(1:2), ln)
+    e1 = stretch(ue(4:5) - ue(1:2), l1)
+    call natural_gradient(cn, ln, gn)
+    call natural_gradient(c1, l1, g1)
+    ! The discrete gradient: the chord form for e, the step's exact chord rotation for θ̄.
+    ! Δc from the increments, and cn x c1 = cn x Δc: the step's rotation Δα and its midpoint
+    ! estimate ∇α(c_mid)·Δc are then both exact to a relative round-off, and so is their difference
+    ! (O(Δα³)), which the Gonzalez term divides by |Δc|. (From c1 - cn, a step of 1e-8 rad would
+    ! carry 1e-8 of relative error into Δα and the residual would stall at 1e-7 of the moments.)
+    dc = (ue(4:5) - une(4:5)) - (ue(1:2) - une(1:2))
+    cm = cn + 0.5_dp * dc
+    am = [-cm(2), cm(1)] / max(dot_product(cm, cm), tiny(1.0_dp))
+    dalpha = atan2(cn(1) * dc(2) - cn(2) * dc(1), ln * ln + dot_product(cn, dc))
+    ab = am
+    if (dot_product(dc, dc) > 0.0_dp) ab = am + (dalpha - dot_product(am, dc)) * dc / dot_product(dc, dc)
+    d = (cn + c1) / max(ln + l1, tiny(1.0_dp))
+    gd(1, :) = [-d(1), -d(2), 0.0_dp, d(1), d(2), 0.0_dp]
+    gd(2, :) = [ab(1), ab(2), 1.0_dp, -ab(1), -ab(2), 0.0_dp]
+    gd(3, :) = [ab(1), ab(2), 0.0_dp, -ab(1), -ab(2), 1.0_dp]
+    dq = matmul(gd, ue(1:6) - une(1:6))
+    dq(1) = e1 - en
+    ! Relative rotations modulo 2 pi: an INITIAL DISPLACEMENT may turn the nodes by whole turns in
+    ! one jump from the reference, which Δα (in (-pi, pi]) does not count (a step cannot: STEP_INVERTED).
+    dq(2:3) = dq(2:3) - TWO_PI * anint(dq(2:3) / TWO_PI)
+    qn = 0.0_dp
+    q1 = 0.0_dp
+    qb = 0.0_dp
+    kq = 0.0_dp
+    fc(1:6) = 0.0_dp
+    do igp = g0, g0 + ng - 1
+      p = sys%elems%b_ptr(igp)
+      w = sys%elems%wt(igp)
+      r01 = gauss_r(igp - g0 + 1)
+      t = 0.0_dp
+      t(1, 1) = 1.0_dp / len0
+      t(2, 2) = (6.0_dp * r01 - 4.0_dp) / len0
+      t(2, 3) = (6.0_dp * r01 - 2.0_dp) / len0
+      epsn = [en / len0, 0.0_dp]
+      if (from_n) epsn(2) = sys%pts%eps(2, igp)
+      deps = matmul(t, dq)
+      call point_update(scn, sys, mv, igp, epsn, deps, r)
+      sys%pts%eps_t(1:2, igp) = [e1 / len0, epsn(2) + deps(2)]
+      call add_round_floor(sys, w * abs(r%dtan(1, 1)) / len0**2, [x0, ue(1:2), ue(4:5)])
+      sys%pts%sig_t(1:2, igp) = r%sig(1:2)
+      sys%elems%bmat(p:p + 11) = reshape(matmul(t, g1), [12])
+      q1 = q1 + w * matmul(r%sig(1:2), t)
+      qb = qb + w * matmul(r%sigbar(1:2), t)
+      qn = qn + w * matmul(sys%pts%sig(1:2, igp), t)
+      wsum = wsum + w * dot_product(r%sigbar(1:2), deps)
+      dsum = dsum + w * r%dissip
+      if (tangent) kq = kq + w * matmul(transpose(t), matmul(r%dtan(1:2, 1:2), t))
+    end do
+    fe(1:6) = fe(1:6) + matmul(q1, g1)
+    if (correct) then
+      any_c = .true.
+      fc(1:6) = 2.0_dp * matmul(qb, gd) - matmul(qn, gn) - matmul(q1, g1)
+    end if
+    if (.not. tangent) return
+    if (correct) then
+      call beam_tangent(gd, kq, qb, 0.5_dp * (ln + l1), d, cm, ke)
+    else
+      call beam_tangent(g1, kq, q1, l1, c1, c1, ke)
+    end if
+  contains
+    pure real(dp) function stretch(du, l)
+      real(dp), intent(in) :: du(2), l
+      stretch = (2.0_dp * dot_product(x0, du) + dot_product(du, du)) / (l + len0)
+    end function stretch
+    !> dq/du at the chord c (length l): e along ĉ, θ̄a = θa - α with ∇α = J c/l².
+    pure subroutine natural_gradient(c, l, g)
+      real(dp), intent(in) :: c(2), l
+      real(dp), intent(out) :: g(3, 6)
+      real(dp) :: u(2), a(2)
+      u = c / max(l, tiny(1.0_dp))
+      a = [-c(2), c(1)] / max(l * l, tiny(1.0_dp))
+      g(1, :) = [-u(1), -u(2), 0.0_dp, u(1), u(2), 0.0_dp]
+      g(2, :) = [a(1), a(2), 1.0_dp, -a(1), -a(2), 0.0_dp]
+      g(3, :) = [a(1), a(2), 0.0_dp, -a(1), -a(2), 1.0_dp]
+    end subroutine natural_gradient
+    !> x'/L of Gauss point k of the element's rule.
+    real(dp) function gauss_r(k)
+      integer, intent(in) :: k
+      real(dp) :: xi(BEAM2_MAX_GAUSS), wg(BEAM2_MAX_GAUSS)
+      call gauss_legendre(ng, xi, wg)
+      gauss_r = 0.5_dp * (1.0_dp + xi(k))
+    end function gauss_r
+  end subroutine large_beam_element
+
+  !> The tangent of the forces eq (9) carries for a corotational BEAM2 (2 f̄ with the correction,
+  !> f(n+1) without), into ke: the material part G' Kq G (G = Gd, or G(n+1); of the symmetric
+  !> forms of 2 f̄'s Jacobian Gd' Kq G(n+1) + ..., Gd' Kq Gd converges best: 13.6 iterations per
+  !> step on beam_flying at h = 0.1 where (Gd + G(n+1))/2 needs retries), and the geometric parts
+  !> on the translations: the chord's tension N (I - ĉĉ')/l (ĉ along dir; compression left out, as
+  !> the bars) and the positive part of the end moments' -(M1 + M2) ∂²α/∂c² at the chord c (trace-
+  !> free: its positive part is half of it plus half its eigenvalue). Kept positive semi-definite:
+  !> the full geometric terms make K + 4M/h² indefinite on beam_flying at h = 0.1 (CHOLMOD stops).
+  pure subroutine beam_tangent(g, kq, q, l, dir, c, ke)
+    real(dp), intent(in) :: g(3, 6), kq(3, 3), q(3), l, dir(2), c(2)
+    real(dp), intent(inout) :: ke(:, :)
+    real(dp) :: ch(2), nax, gm(2, 2), hm(2, 2), lam
+    integer :: a, b
+    ke(1:6, 1:6) = ke(1:6, 1:6) + matmul(transpose(g), matmul(kq, g))
+    nax = max(q(1), 0.0_dp) / max(l, tiny(1.0_dp))
+    ch = dir / max(norm2(dir), tiny(1.0_dp))
+    gm = -nax * spread(ch, 2, 2) * spread(ch, 1, 2)
+    hm = -(q(2) + q(3)) / max(dot_product(c, c)**2, tiny(1.0_dp)) * &
+      reshape([2.0_dp * c(1) * c(2), c(2)**2 - c(1)**2, c(2)**2 - c(1)**2, -2.0_dp * c(1) * c(2)], [2, 2])
+    lam = sqrt(hm(1, 1)**2 + hm(1, 2)**2)
+    gm = gm + 0.5_dp * hm
+    gm(1, 1) = gm(1, 1) + nax + 0.5_dp * lam
+    gm(2, 2) = gm(2, 2) + nax + 0.5_dp * lam
+    do a = 0, 1
+      do b = 0, 1
+        ke(3 * a + 1:3 * a + 2, 3 * b + 1:3 * b + 2) = ke(3 * a + 1:3 * a + 2, 3 * b + 1:3 * b + 2) + &
+          merge(1.0_dp, -1.0_dp, a == b) * gm
+      end do
+    end do
+  end subroutine beam_tangent
+
+  !> One LARGE axial member's share of the residual's round-off floor: its axial stiffness k times
+  !> one ulp of the largest coordinate its chord is computed from (the chord X + u2 - u1 cannot be
+  !> known better, so neither can its force: a convergence test below this would never pass).
+  pure subroutine add_round_floor(sys, k, x)
+    type(system_t), intent(inout) :: sys
+    real(dp), intent(in) :: k, x(:)
+    sys%elems%round_floor = sys%elems%round_floor + (k * spacing(maxval(abs(x))))**2
+  end subroutine add_round_floor
+end module large_kinematics
