@@ -6,7 +6,8 @@ module element_points
   use scene, only: scene_t
   use assembly, only: system_t
   use element_traits, only: ET_BAR2, ET_BEAM2
-  use material_law, only: law_update, law_nstate, law_step_t
+  use material_law, only: law_update, law_nstate, law_step_t, LAW_HYPERELASTIC
+  use law_hyperelastic, only: nh_lame
   implicit none
   private
   public :: model_view_t, view_model, point_update
@@ -17,6 +18,8 @@ module element_points
     logical :: linear = .true.
     logical :: large = .false.       !< KINEMATICS LARGE
     logical :: beam = .false.        !< BEAM2 (corotational when large)
+    logical :: hyper = .false.       !< HYPERELASTIC (neo-Hookean; surface elements, large)
+    real(dp) :: lame(2) = 0.0_dp     !< its Lamé constants (lambda, mu)
     logical :: per_length = .false.  !< the strain is an elongation over the length (BAR2), not an elongation (SPRING)
   end type model_view_t
 
@@ -37,6 +40,9 @@ contains
     mv%mat = scn%models(im)%material
     mv%nq = 0
     if (mv%mat > 0) mv%nq = law_nstate(scn%materials(mv%mat), sys%elems%pk(im), scn%models(im)%sec)
+    mv%hyper = .false.
+    if (mv%mat > 0) mv%hyper = scn%materials(mv%mat)%law == LAW_HYPERELASTIC
+    if (mv%hyper) mv%lame = nh_lame(scn%materials(mv%mat)%young, scn%materials(mv%mat)%poisson)
   end subroutine view_model
 
   !> One point through its law (material_law's law_update, sub-incremented along the step from

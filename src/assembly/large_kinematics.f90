@@ -9,6 +9,7 @@ module large_kinematics
   use element_beam2, only: gauss_legendre, BEAM2_MAX_GAUSS
   use material_law, only: law_step_t
   use element_points, only: model_view_t, point_update
+  use law_hyperelastic, only: nh_stress, nh_tangent, nh_discrete_stress
   implicit none
   private
   public :: large_axial_element, large_plane_element, large_beam_element
@@ -121,7 +122,8 @@ contains
   end subroutine large_axial_element
 
   !> KINEMATICS LARGE, QUAD4/QUAD8/TRI3/TRI6 with the ELASTIC law: total Lagrangian, St Venant-
-  !> Kirchhoff (docs/large-displacements.md). At each point F = I + Σ u_a ⊗ ∇N_a (∇N from the
+  !> Kirchhoff (docs/large-displacements.md); with HYPERELASTIC, neo-Hookean: S = S(E) of
+  !> law_hyperelastic and S̄ its discrete stress (S̄·ΔE = Δψ exactly, symmetric), the rest alike. At each point F = I + Σ u_a ⊗ ∇N_a (∇N from the
   !> reference B, bref), the Green-Lagrange strain E = ½(F'F - I) (as xx, yy, zz = 0, 2xy) and the
   !> second Piola-Kirchhoff stress S = D E. Bσ(n+1) = w B_NL(F(n+1))' S(n+1), B_NL(F) the
   !> derivative of E. E is quadratic in u, so B_NL(F_mid) Δu = ΔE exactly (F_mid = (F(n) + F(n+1))/2),
@@ -140,7 +142,7 @@ contains
     logical, intent(inout) :: any_c
     real(dp), parameter :: eye(2, 2) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 2])
     real(dp) :: dn(2, MAX_EDOF / 2), fn(2, 2), f1(2, 2), fm(2, 2), hn(2, 2), h1(2, 2), en(4), e1(4), s1(4), sn(4), sbar(4), &
-      bn(4, MAX_EDOF), b1(4, MAX_EDOF), bm(4, MAX_EDOF), w, st(2, 2), g
+      bn(4, MAX_EDOF), b1(4, MAX_EDOF), bm(4, MAX_EDOF), w, st(2, 2), g, dm(4, 4)
     integer :: igp, p, nen, a, b, i
     nen = ndof / 2
     fc(1:ndof) = 0.0_dp
@@ -162,7 +164,11 @@ contains
       en = green(hn)
       e1 = green(h1)
       sn = sys%pts%sig(1:4, igp)
-      s1 = matmul(sys%elems%dmat(1:4, 1:4, mv%im), e1)
+      if (mv%hyper) then
+        s1 = nh_stress(mv%lame, e1)
+      else
+        s1 = matmul(sys%elems%dmat(1:4, 1:4, mv%im), e1)
+      end if
       sys%pts%eps_t(1:4, igp) = e1
       sys%pts%sig_t(1:4, igp) = s1
       call bnl(f1, b1)
@@ -170,7 +176,11 @@ contains
       call bnl(fm, bm)
       sys%elems%bmat(p:p + 4 * ndof - 1) = reshape(b1(:, 1:ndof), [4 * ndof])
       fe(1:ndof) = fe(1:ndof) + w * matmul(s1, b1(:, 1:ndof))
-      sbar = 0.5_dp * (sn + s1)
+      if (mv%hyper) then
+        sbar = nh_discrete_stress(mv%lame, en, e1)
+      else
+        sbar = 0.5_dp * (sn + s1)
+      end if
       wsum = wsum + w * dot_product(sbar, e1 - en)
       if (correct) then
         any_c = .true.
@@ -178,8 +188,12 @@ contains
           matmul(s1, b1(:, 1:ndof)))
       end if
       if (tangent) then
-        ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + w * matmul(transpose(b1(:, 1:ndof)), &
-          matmul(sys%elems%dmat(1:4, 1:4, mv%im), b1(:, 1:ndof)))
+        if (mv%hyper) then
+          dm = nh_tangent(mv%lame, e1)
+        else
+          dm = sys%elems%dmat(1:4, 1:4, mv%im)
+        end if
+        ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + w * matmul(transpose(b1(:, 1:ndof)), matmul(dm, b1(:, 1:ndof)))
         ! Geometric part ∇N_a' S ∇N_b on both directions, with the tensile part of S.
         st = reshape([s1(1), s1(4), s1(4), s1(2)], [2, 2])
         call tensile_part(st)

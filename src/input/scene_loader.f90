@@ -10,7 +10,7 @@ module scene_loader
   use scene, only: scene_t, INIT_STATIC
   use kinds, only: dp
   use element_traits, only: etype_family, FAMILY_SURFACE
-  use material_law, only: LAW_ELASTIC
+  use material_law, only: LAW_ELASTIC, LAW_HYPERELASTIC
   use scene_mesh, only: mesh_schema, mesh_statement
   use scene_materials, only: materials_schema, materials_statement
   use scene_models, only: models_schema, models_statement
@@ -96,7 +96,8 @@ contains
     if (stat == STAT_OK) scn%fingerprint = fingerprint_text(st, scn%mesh)
   end subroutine load_scene
 
-  !> What KINEMATICS LARGE cannot be combined with, named: stiffness-proportional damping (BETA K0,
+  !> HYPERELASTIC without KINEMATICS LARGE, and what KINEMATICS LARGE cannot be combined with, named:
+  !> another law than ELASTIC or HYPERELASTIC on surface elements, stiffness-proportional damping (BETA K0,
   !> the reference configuration's stiffness, would resist the members' rigid rotation) and
   !> INITIAL STATIC (it solves K0 u = f, a small-displacement equilibrium).
   subroutine check_large(scn, stat, errmsg)
@@ -105,15 +106,26 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: i, k
     stat = STAT_OK
+    do i = 1, size(scn%models)
+      associate (md => scn%models(i))
+        if (md%material == 0 .or. md%large) cycle
+        if (scn%materials(md%material)%law == LAW_HYPERELASTIC) then
+          call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(md%line) // ': MODEL ' // md%group // &
+            ': HYPERELASTIC (neo-Hookean) is a finite-strain law: the model needs KINEMATICS LARGE, at ''' // &
+            scn%materials(md%material)%name // "'")
+          return
+        end if
+      end associate
+    end do
     k = findloc(scn%models%large, .true., 1)
     if (k == 0) return
     do i = 1, size(scn%models)
       associate (md => scn%models(i))
         if (md%large .and. etype_family(md%etype) == FAMILY_SURFACE .and. md%material > 0) then
-          if (scn%materials(md%material)%law /= LAW_ELASTIC) then
+          if (scn%materials(md%material)%law /= LAW_ELASTIC .and. scn%materials(md%material)%law /= LAW_HYPERELASTIC) then
             call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(md%line) // ': MODEL ' // md%group // &
-              ': KINEMATICS LARGE on surface elements is St Venant-Kirchhoff: it needs the ELASTIC law (no ' // &
-              "finite-strain plasticity yet), at 'LARGE'")
+              ': KINEMATICS LARGE on surface elements needs the ELASTIC (St Venant-Kirchhoff) or HYPERELASTIC ' // &
+              "(neo-Hookean) law (no finite-strain plasticity yet), at 'LARGE'")
             return
           end if
         end if

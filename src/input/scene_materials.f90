@@ -4,7 +4,8 @@ module scene_materials
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
   use section, only: section_t
-  use material_law, only: material_t, LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES
+  use material_law, only: material_t, LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES, &
+    LAW_HYPERELASTIC
   use statement, only: statement_t, stmt_error, find_param, get_real, get_int, to_real
   use statement_schema, only: schema_t
   use scene, only: scene_t, function_t, MAX_LAYERS
@@ -22,6 +23,7 @@ contains
     call sch%add_param('MATERIAL', 'NONLINEAR_ELASTIC', 0, 0)
     call sch%add_param('MATERIAL', 'ELASTOPLASTIC', 0, 0)
     call sch%add_param('MATERIAL', 'VON_MISES', 0, 0)
+    call sch%add_param('MATERIAL', 'HYPERELASTIC', 0, 0)
     call sch%add_param('MATERIAL', 'B', 1, 1)
     call sch%add_param('MATERIAL', 'YIELD', 1, 1)
     call sch%add_param('MATERIAL', 'H_ISO', 1, 1)
@@ -75,16 +77,17 @@ contains
     end do
     mat%name = st%lead(1)%text
     nlaw = count([find_param(st, 'ELASTIC') > 0, find_param(st, 'NONLINEAR_ELASTIC') > 0, &
-      find_param(st, 'ELASTOPLASTIC') > 0, find_param(st, 'VON_MISES') > 0])
+      find_param(st, 'ELASTOPLASTIC') > 0, find_param(st, 'VON_MISES') > 0, find_param(st, 'HYPERELASTIC') > 0])
     if (nlaw /= 1) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give exactly one law (ELASTIC, NONLINEAR_ELASTIC, ' // &
-        'ELASTOPLASTIC or VON_MISES)', st%lead(1)))
+        'ELASTOPLASTIC, VON_MISES or HYPERELASTIC)', st%lead(1)))
       return
     end if
     mat%law = LAW_ELASTIC
     if (find_param(st, 'NONLINEAR_ELASTIC') > 0) mat%law = LAW_NONLINEAR_ELASTIC
     if (find_param(st, 'ELASTOPLASTIC') > 0) mat%law = LAW_ELASTOPLASTIC
     if (find_param(st, 'VON_MISES') > 0) mat%law = LAW_VON_MISES
+    if (find_param(st, 'HYPERELASTIC') > 0) mat%law = LAW_HYPERELASTIC
     call check_law_params(st, mat%law, stat, errmsg)
     if (stat /= STAT_OK) return
     call get_real(st, 'B', mat%nl_b, stat, errmsg, default=0.0_dp)

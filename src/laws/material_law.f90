@@ -10,6 +10,8 @@
 !>   NONLINEAR_ELASTIC  PK_1D, PK_BEAM with layers > 0   sigma = E eps (1 + nl_b eps^2)
 !>   ELASTOPLASTIC      PK_1D, PK_BEAM with layers > 0   bilinear, yield, h_iso, h_kin
 !>   VON_MISES          PK_PSTRAIN, PK_PSTRESS           J2, yield, h_iso, h_kin
+!>   HYPERELASTIC       PK_PSTRAIN, KINEMATICS LARGE     compressible neo-Hookean (law_hyperelastic;
+!>                      its stress is formed by the large-displacement kernel, not by law_update)
 !> User documentation: docs/materials.md.
 module material_law
   use kinds, only: dp
@@ -19,6 +21,7 @@ module material_law
   use law_elastic, only: elastic_update
   use law_nonlinear_elastic, only: nle_path, nle_auto_nsub, nle_energy, nle_stress
   use law_plastic_1d, only: P1D_NSTATE, plastic_1d_path, plastic_auto_nsub
+  use law_hyperelastic, only: nh_lame, nh_energy
   use law_von_mises, only: VM_NSTATE, vm_path, vm_trial_ratio, vm_stored, vm_d3, vm_dps
   use beam_fibre, only: FIB_ELASTIC, FIB_NONLINEAR, FIB_PLASTIC, fibre_update, fibre_stored, &
                         fibre_elastic_matrix, fibre_nstate
@@ -26,10 +29,11 @@ module material_law
   private
   public :: material_t, law_step_t, law_update, law_is_linear, law_nstate, law_name, law_code, law_check
   public :: law_stored, law_elastic_matrix
-  public :: LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES
+  public :: LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES, LAW_HYPERELASTIC
   public :: PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS, pk_nstrain
 
-  integer, parameter :: LAW_ELASTIC = 1, LAW_NONLINEAR_ELASTIC = 2, LAW_ELASTOPLASTIC = 3, LAW_VON_MISES = 4
+  integer, parameter :: LAW_ELASTIC = 1, LAW_NONLINEAR_ELASTIC = 2, LAW_ELASTOPLASTIC = 3, LAW_VON_MISES = 4, &
+    LAW_HYPERELASTIC = 5
   integer, parameter :: PK_1D = 1, PK_BEAM = 2, PK_PSTRAIN = 3, PK_PSTRESS = 4
 
   !> A scene's material: its name, its law and density, and the law's constants (law_params_t:
@@ -55,6 +59,8 @@ contains
       name = 'ELASTOPLASTIC'
     case (LAW_VON_MISES)
       name = 'VON_MISES'
+    case (LAW_HYPERELASTIC)
+      name = 'HYPERELASTIC'
     case default
       name = '?'
     end select
@@ -65,7 +71,7 @@ contains
     character(len=*), intent(in) :: name
     integer :: k
     law_code = 0
-    do k = LAW_ELASTIC, LAW_VON_MISES
+    do k = LAW_ELASTIC, LAW_HYPERELASTIC
       if (trim(name) == law_name(k)) law_code = k
     end do
   end function law_code
@@ -163,14 +169,20 @@ contains
     else if ((pk == PK_PSTRAIN .or. pk == PK_PSTRESS) .and. &
              .not. (mat%poisson > -1.0_dp .and. mat%poisson < 0.5_dp)) then
       call set_error(stat, errmsg, STAT_INPUT, 'POISSON must be in (-1, 0.5) (got ' // str(mat%poisson) // ')')
-    else if (mat%law < LAW_ELASTIC .or. mat%law > LAW_VON_MISES) then
+    else if (mat%law < LAW_ELASTIC .or. mat%law > LAW_HYPERELASTIC) then
       call set_error(stat, errmsg, STAT_INPUT, 'unknown law code ' // str(mat%law))
-    else if (mat%law == LAW_VON_MISES .neqv. (pk == PK_PSTRAIN .or. pk == PK_PSTRESS)) then
+    else if (mat%law == LAW_HYPERELASTIC .and. pk /= PK_PSTRAIN) then
+      if (pk == PK_PSTRESS) then
+        call set_error(stat, errmsg, STAT_INPUT, 'HYPERELASTIC is a plane-strain law (no plane-stress form yet)')
+      else
+        call set_error(stat, errmsg, STAT_INPUT, 'HYPERELASTIC applies to QUAD4, QUAD8, TRI3 and TRI6 only')
+      end if
+    else if (mat%law /= LAW_HYPERELASTIC .and. (mat%law == LAW_VON_MISES .neqv. (pk == PK_PSTRAIN .or. pk == PK_PSTRESS))) then
       if (mat%law == LAW_VON_MISES) then
         call set_error(stat, errmsg, STAT_INPUT, 'VON_MISES applies to QUAD4, QUAD8, TRI3 and TRI6 only')
       else if (mat%law /= LAW_ELASTIC) then
         call set_error(stat, errmsg, STAT_INPUT, law_name(mat%law) // &
-          ' applies to SPRING, BAR2 and layered BEAM2 only (quads: VON_MISES)')
+          ' applies to SPRING, BAR2 and layered BEAM2 only (quads: VON_MISES, HYPERELASTIC)')
       end if
     end if
     if (stat /= STAT_OK) return
@@ -263,6 +275,8 @@ contains
       end if
     case (LAW_VON_MISES)
       w = vm_stored(mat%young, mat%poisson, sig(1:4))
+    case (LAW_HYPERELASTIC)
+      w = nh_energy(nh_lame(mat%young, mat%poisson), eps(1:4))
     case default
       w = 0.5_dp * dot_product(sig(1:ns), eps(1:ns))
     end select

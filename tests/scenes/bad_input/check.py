@@ -138,6 +138,14 @@ CASES = [
     ('KINEMATICS LARGE with INITIAL STATIC', edit(BASE, 8, BASE[7] + ' KINEMATICS LARGE') + ['INITIAL b STATIC FORCE 1 0'], None,
      [], 15, 'INITIAL', 'STATIC'),
     ('unknown KINEMATICS', edit(BASE, 8, BASE[7] + ' KINEMATICS HUGE'), None, [], 8, 'MODEL', 'HUGE'),
+    ('HYPERELASTIC without KINEMATICS LARGE', edit(QUAD, 5, 'ELEMENT q TYPE QUAD4 NODES p1 p2 p3 p4')[:5] +
+     ['MATERIAL rub HYPERELASTIC YOUNG 1e7 POISSON 0.45 DENSITY 1000', 'SECTION sl THICKNESS 0.1',
+      'MODEL q MATERIAL rub SECTION sl'] + QUAD[8:], None, [], 8, 'MODEL q', 'rub'),
+    ('HYPERELASTIC in plane stress', edit(QUAD, 5, 'ELEMENT q TYPE QUAD4 NODES p1 p2 p3 p4')[:5] +
+     ['MATERIAL rub HYPERELASTIC YOUNG 1e7 POISSON 0.45 DENSITY 1000', 'SECTION sl THICKNESS 0.1',
+      'MODEL q MATERIAL rub SECTION sl PLANE STRESS KINEMATICS LARGE'] + QUAD[8:], None, [], 8, 'MODEL', 'rub'),
+    ('HYPERELASTIC on a SPRING', edit(BASE, 6, 'MATERIAL k HYPERELASTIC YOUNG 8'), None, [], 8, 'MODEL', 'k'),
+    ('two laws on one MATERIAL', edit(BASE, 6, 'MATERIAL k ELASTIC HYPERELASTIC YOUNG 8'), None, [], 6, 'MATERIAL', 'k'),
     ('MASSLESS with RESTITUTION below 1', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0 RESTITUTION 0.5',
                                                   'SCHEME IMPACT MASSLESS'], None, [], 15, 'OBSTACLE wall', 'RESTITUTION'),
     ('GAP on coincident nodes without NORMAL', BASE + ['NODE c AT 1 0', 'GAP g NODES b WITH c'], None, [], 16, 'GAP g',

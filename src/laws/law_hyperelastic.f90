@@ -1,0 +1,126 @@
+!> HYPERELASTIC: the compressible neo-Hookean solid in plane strain, for KINEMATICS LARGE surface
+!> elements (total Lagrangian). With C = I + 2E (in plane; C33 = 1) and J = det F = sqrt(det C):
+!>   psi(E) = mu/2 (tr C - 2) - mu ln J + lambda/2 (ln J)^2
+!>   S = mu (I - C^-1) + lambda ln J C^-1,   S33 = lambda ln J (plane strain),
+!> mu and lambda the Lame constants of YOUNG and POISSON (at small strain: the ELASTIC law).
+!> psi grows without bound as J -> 0: unlike St Venant-Kirchhoff, which softens in compression and
+!> lets an element collapse, a neo-Hookean element resists being squashed.
+!> Strains and stresses as the surface elements store them: [xx, yy, zz, 2xy] and [xx, yy, zz, xy].
+!> The step of eq (9) uses nh_discrete_stress, S̄ with S̄ : ΔE = Δpsi exactly (Gonzalez's midpoint
+!> discrete gradient in E, which keeps S̄ symmetric and so the angular momentum): docs/materials.md.
+module law_hyperelastic
+  use kinds, only: dp
+  implicit none
+  private
+  public :: nh_lame, nh_energy, nh_stress, nh_tangent, nh_discrete_stress
+
+contains
+
+  !> log(1 + x) accurate for small x (Goldberg: the rounding of 1 + x cancels out).
+  pure real(dp) function log1p_(x)
+    real(dp), intent(in) :: x
+    real(dp) :: u
+    u = 1.0_dp + x
+    if (u == 1.0_dp) then
+      log1p_ = x
+    else
+      log1p_ = log(u) * (x / (u - 1.0_dp))
+    end if
+  end function log1p_
+
+  !> Lame constants (lambda, mu) of YOUNG and POISSON.
+  pure function nh_lame(young, poisson) result(lm)
+    real(dp), intent(in) :: young, poisson
+    real(dp) :: lm(2)
+    lm(2) = young / (2.0_dp * (1.0_dp + poisson))
+    lm(1) = young * poisson / ((1.0_dp + poisson) * (1.0_dp - 2.0_dp * poisson))
+  end function nh_lame
+
+  !> det C - 1 and ln J of a strain e, without cancellation at small strain.
+  pure subroutine det_parts(e, dm1, lnj)
+    real(dp), intent(in) :: e(4)
+    real(dp), intent(out) :: dm1, lnj
+    dm1 = 2.0_dp * (e(1) + e(2)) + 4.0_dp * e(1) * e(2) - e(4)**2
+    lnj = 0.5_dp * log1p_(dm1)
+  end subroutine det_parts
+
+  !> Stored energy per unit reference volume. Written as mu (tr E - ln J) + lambda/2 (ln J)^2 with
+  !> tr E - ln J = ½ (tr C - 2 - log(det C)) taken from log1p's complement, so that a small strain
+  !> keeps its relative accuracy.
+  pure real(dp) function nh_energy(lm, e) result(psi)
+    real(dp), intent(in) :: lm(2), e(4)
+    real(dp) :: dm1, lnj
+    call det_parts(e, dm1, lnj)
+    psi = lm(2) * ((e(1) + e(2)) - lnj) + 0.5_dp * lm(1) * lnj**2
+  end function nh_energy
+
+  !> C^-1 (as xx, yy, xy) and ln J of a strain e.
+  pure subroutine c_inverse(e, ci, lnj)
+    real(dp), intent(in) :: e(4)
+    real(dp), intent(out) :: ci(3), lnj
+    real(dp) :: dm1, det
+    call det_parts(e, dm1, lnj)
+    det = 1.0_dp + dm1
+    ci = [1.0_dp + 2.0_dp * e(2), 1.0_dp + 2.0_dp * e(1), -e(4)] / det
+  end subroutine c_inverse
+
+  !> Second Piola-Kirchhoff stress [xx, yy, zz, xy]. I - C^-1 = (C - I) C^-1 = 2 E C^-1 keeps a
+  !> small strain's accuracy.
+  pure function nh_stress(lm, e) result(s)
+    real(dp), intent(in) :: lm(2), e(4)
+    real(dp) :: s(4), ci(3), lnj, exy
+    call c_inverse(e, ci, lnj)
+    exy = 0.5_dp * e(4)
+    ! 2 E C^-1 (symmetric for these commuting tensors): components xx, yy, xy.
+    s(1) = lm(2) * 2.0_dp * (e(1) * ci(1) + exy * ci(3)) + lm(1) * lnj * ci(1)
+    s(2) = lm(2) * 2.0_dp * (exy * ci(3) + e(2) * ci(2)) + lm(1) * lnj * ci(2)
+    s(4) = lm(2) * 2.0_dp * (e(1) * ci(3) + exy * ci(2)) + lm(1) * lnj * ci(3)
+    s(3) = lm(1) * lnj
+  end function nh_stress
+
+  !> dS/dE as a 4 x 4 matrix on [xx, yy, zz, 2xy] (the zz column zero: E33 = 0 in plane strain):
+  !> C_IJKL = lambda Ci_IJ Ci_KL + (mu - lambda ln J)(Ci_IK Ci_JL + Ci_IL Ci_JK), Ci = C^-1.
+  pure function nh_tangent(lm, e) result(d)
+    real(dp), intent(in) :: lm(2), e(4)
+    real(dp) :: d(4, 4), ci(3), lnj, g
+    integer, parameter :: ii(3) = [1, 2, 1], jj(3) = [1, 2, 2], row(3) = [1, 2, 4]
+    real(dp) :: cm(2, 2)
+    integer :: a, b
+    call c_inverse(e, ci, lnj)
+    cm = reshape([ci(1), ci(3), ci(3), ci(2)], [2, 2])
+    g = lm(2) - lm(1) * lnj
+    d = 0.0_dp
+    do a = 1, 3
+      do b = 1, 3
+        d(row(a), row(b)) = lm(1) * cm(ii(a), jj(a)) * cm(ii(b), jj(b)) + &
+          g * (cm(ii(a), ii(b)) * cm(jj(a), jj(b)) + cm(ii(a), jj(b)) * cm(jj(a), ii(b)))
+      end do
+      d(3, row(a)) = lm(1) * cm(ii(a), jj(a))
+    end do
+  end function nh_tangent
+
+  !> The step's stress: S̄ = S(E_mid) + c ΔE^ (ΔE^ the tensor ΔE as [xx, yy, 0, xy]), c such that
+  !> S̄ . ΔE = psi(E1) - psi(En) exactly (the strain vectors' dot product is S : ΔE). Δpsi is
+  !> taken as a difference of terms that each keep the increment's accuracy; where the defect
+  !> Δpsi - S(E_mid) . ΔE (of order |ΔE|^3) is below the round-off of those terms, c = 0 (the
+  !> identity then holds to that round-off).
+  pure function nh_discrete_stress(lm, en, e1) result(sb)
+    real(dp), intent(in) :: lm(2), en(4), e1(4)
+    real(dp) :: sb(4), de(4), dw(4), sm(4), dn, d1, ln, l1, dlnj, dpsi, defect, noise, nrm
+    de = e1 - en
+    sm = nh_stress(lm, 0.5_dp * (en + e1))
+    call det_parts(en, dn, ln)
+    call det_parts(e1, d1, l1)
+    ! ln J1 - ln Jn = ½ log1p_((det C1 - det Cn) / det Cn), det C1 - det Cn from the increments.
+    dlnj = 0.5_dp * log1p_((2.0_dp * (de(1) + de(2)) + 4.0_dp * (de(1) * e1(2) + en(1) * de(2)) - de(4) * (e1(4) + en(4))) &
+      / (1.0_dp + dn))
+    dpsi = lm(2) * ((de(1) + de(2)) - dlnj) + 0.5_dp * lm(1) * (l1 + ln) * dlnj
+    defect = dpsi - dot_product(sm, de)
+    noise = 64.0_dp * epsilon(1.0_dp) * (lm(2) * (abs(de(1) + de(2)) + abs(dlnj)) + lm(1) * abs((l1 + ln) * dlnj) + &
+      sum(abs(sm * de)))
+    dw = [de(1), de(2), 0.0_dp, 0.5_dp * de(4)]
+    nrm = dot_product(dw, de)
+    sb = sm
+    if (abs(defect) > noise .and. nrm > 0.0_dp) sb = sm + defect / nrm * dw
+  end function nh_discrete_stress
+end module law_hyperelastic
