@@ -124,7 +124,8 @@ contains
   !> KINEMATICS LARGE, QUAD4/QUAD8/TRI3/TRI6 with the ELASTIC law: total Lagrangian, St Venant-
   !> Kirchhoff (docs/large-displacements.md); with HYPERELASTIC, neo-Hookean: S = S(E) of
   !> law_hyperelastic and S̄ its discrete stress (S̄·ΔE = Δψ exactly, symmetric), the rest alike.
-  !> At each point F = I + Σ u_a ⊗ ∇N_a (∇N from the reference B, bref), the Green-Lagrange strain E = ½(F'F - I) (as xx, yy, zz = 0, 2xy) and the
+  !> At each point F = I + Σ u_a ⊗ ∇N_a (∇N from the reference B, bref), the Green-Lagrange
+  !> strain E = ½(F'F - I) (as xx, yy, zz = 0, 2xy) and the
   !> second Piola-Kirchhoff stress S = D E. Bσ(n+1) = w B_NL(F(n+1))' S(n+1), B_NL(F) the
   !> derivative of E. E is quadratic in u, so B_NL(F_mid) Δu = ΔE exactly (F_mid = (F(n) + F(n+1))/2),
   !> and with S̄ = D (E(n) + E(n+1))/2 the step force f̄ = w B_NL(F_mid)' S̄ does the work
