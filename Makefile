@@ -119,6 +119,12 @@ validation: bin/rebond
 large: bin/rebond
 	@/usr/bin/python3 tools/large_study.py
 
+# The iteration of eq (9) (docs/nonlinear-performance.md): ELASTIC, TANGENT and AUTO with and
+# without the energy test, on the nonlinear scenes.
+.PHONY: iterations
+iterations: bin/rebond
+	@/usr/bin/python3 tools/iteration_study.py
+
 # The contact comparison (docs/contact-table.md): three impact benchmarks with exact solutions,
 # every impact mode at every mesh size.
 .PHONY: contact-table

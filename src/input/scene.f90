@@ -129,6 +129,7 @@ module scene
     integer :: max_iterations = 25
     integer :: retry = 4                      !< SCHEME RETRY: a failed step is retried as up to 2^retry sub-steps
     logical :: energy_correction = .true.     !< add Bσc of eq (9)
+    logical :: energy_test = .true.           !< SCHEME ENERGY_TEST: the residual's work in eq (9)'s convergence test
     logical :: tangent = .false.              !< the consistent tangent is assembled (ITERATION TANGENT or AUTO)
     logical :: iter_auto = .false.            !< ITERATION AUTO: K0 + 4M/h² until the tangent pays (iteration_matrix)
     logical :: iteration_given = .false.      !< SCHEME ITERATION was given (else TANGENT with KINEMATICS LARGE)

@@ -32,6 +32,7 @@ contains
     call sch%add_param('SCHEME', 'TOLERANCE', 1, 1)
     call sch%add_param('SCHEME', 'MAX_ITERATIONS', 1, 1)
     call sch%add_param('SCHEME', 'ENERGY_CORRECTION', 1, 1)
+    call sch%add_param('SCHEME', 'ENERGY_TEST', 1, 1)
     call sch%add_param('SCHEME', 'ITERATION', 1, 1)
     call sch%add_param('SCHEME', 'IMPACT', 1, 1)
     call sch%add_param('SCHEME', 'PRECISION', 1, 1)
@@ -109,6 +110,11 @@ contains
     call get_choice(st, 'ENERGY_CORRECTION', ['ON ', 'OFF'], 'ON', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%energy_correction = k == 1
+    ! ENERGY_TEST ON: eq (9) converges when the residual's work on the step is also within
+    ! TOLERANCE x the step's exchanged work (newmark_step); OFF: the force test alone.
+    call get_choice(st, 'ENERGY_TEST', ['ON ', 'OFF'], 'ON', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%energy_test = k == 1
     call get_choice(st, 'ITERATION', ['ELASTIC', 'TANGENT', 'AUTO   '], 'ELASTIC', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%tangent = k >= 2
