@@ -115,7 +115,7 @@ contains
     call get_choice(st, 'ENERGY_TEST', ['ON ', 'OFF'], 'ON', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%energy_test = k == 1
-    call get_choice(st, 'ITERATION', ['ELASTIC', 'TANGENT', 'AUTO   '], 'ELASTIC', k, stat, errmsg)
+    call get_choice(st, 'ITERATION', ['ELASTIC', 'TANGENT', 'AUTO   '], 'AUTO', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%tangent = k >= 2
     scn%iter_auto = k == 3
