@@ -6,7 +6,7 @@ module element_points
   use scene, only: scene_t
   use assembly, only: system_t
   use element_traits, only: ET_BAR2, ET_BEAM2
-  use material_law, only: law_update, law_nstate, law_step_t, LAW_HYPERELASTIC
+  use material_law, only: law_update, law_nstate, law_step_t, LAW_HYPERELASTIC, PK_PSTRESS
   use law_hyperelastic, only: nh_lame
   implicit none
   private
@@ -20,6 +20,7 @@ module element_points
     logical :: beam = .false.        !< BEAM2 (corotational when large)
     logical :: hyper = .false.       !< HYPERELASTIC (neo-Hookean; surface elements, large)
     real(dp) :: lame(2) = 0.0_dp     !< its Lamé constants (lambda, mu)
+    logical :: pstress = .false.     !< plane stress (surface elements)
     logical :: per_length = .false.  !< the strain is an elongation over the length (BAR2), not an elongation (SPRING)
   end type model_view_t
 
@@ -43,6 +44,7 @@ contains
     mv%hyper = .false.
     if (mv%mat > 0) mv%hyper = scn%materials(mv%mat)%law == LAW_HYPERELASTIC
     if (mv%hyper) mv%lame = nh_lame(scn%materials(mv%mat)%young, scn%materials(mv%mat)%poisson)
+    mv%pstress = sys%elems%pk(im) == PK_PSTRESS
   end subroutine view_model
 
   !> One point through its law (material_law's law_update, sub-incremented along the step from

@@ -43,7 +43,7 @@ contains
     real(dp) :: x0(2), xn(2), x1(2), ln, l1, len0, s, epsn, eps1, deps(1), b1(4), bn(4), bd(4), d(2), ax(2), w, &
       gmat(2, 2), dhat(2), sigbar, g
     type(law_step_t) :: r
-    integer :: igp, p, a, b
+    integer :: igp, p
     x0 = scn%mesh%x(:, scn%mesh%conn(2, e)) - scn%mesh%x(:, scn%mesh%conn(1, e))
     len0 = norm2(x0)
     s = 1.0_dp
@@ -101,12 +101,7 @@ contains
         end if
         gmat(1, 1) = gmat(1, 1) + g
         gmat(2, 2) = gmat(2, 2) + g
-        do a = 0, 1
-          do b = 0, 1
-            ke(2 * a + 1:2 * a + 2, 2 * b + 1:2 * b + 2) = ke(2 * a + 1:2 * a + 2, 2 * b + 1:2 * b + 2) + &
-              merge(1.0_dp, -1.0_dp, a == b) * gmat
-          end do
-        end do
+        call add_chord_block(ke, gmat, 2)
       end if
     end do
   contains
@@ -166,7 +161,7 @@ contains
       e1 = green(h1)
       sn = sys%pts%sig(1:4, igp)
       if (mv%hyper) then
-        s1 = nh_stress(mv%lame, e1)
+        s1 = nh_stress(mv%lame, e1, mv%pstress)
       else
         s1 = matmul(sys%elems%dmat(1:4, 1:4, mv%im), e1)
       end if
@@ -178,7 +173,7 @@ contains
       sys%elems%bmat(p:p + 4 * ndof - 1) = reshape(b1(:, 1:ndof), [4 * ndof])
       fe(1:ndof) = fe(1:ndof) + w * matmul(s1, b1(:, 1:ndof))
       if (mv%hyper) then
-        sbar = nh_discrete_stress(mv%lame, en, e1)
+        sbar = nh_discrete_stress(mv%lame, en, e1, mv%pstress)
       else
         sbar = 0.5_dp * (sn + s1)
       end if
@@ -190,7 +185,7 @@ contains
       end if
       if (tangent) then
         if (mv%hyper) then
-          dm = nh_tangent(mv%lame, e1)
+          dm = nh_tangent(mv%lame, e1, mv%pstress)
         else
           dm = sys%elems%dmat(1:4, 1:4, mv%im)
         end if
@@ -399,7 +394,6 @@ contains
     real(dp), intent(in) :: g(3, 6), kq(3, 3), q(3), l, dir(2), c(2)
     real(dp), intent(inout) :: ke(:, :)
     real(dp) :: ch(2), nax, gm(2, 2), hm(2, 2), lam
-    integer :: a, b
     ke(1:6, 1:6) = ke(1:6, 1:6) + matmul(transpose(g), matmul(kq, g))
     nax = max(q(1), 0.0_dp) / max(l, tiny(1.0_dp))
     ch = dir / max(norm2(dir), tiny(1.0_dp))
@@ -410,13 +404,23 @@ contains
     gm = gm + 0.5_dp * hm
     gm(1, 1) = gm(1, 1) + nax + 0.5_dp * lam
     gm(2, 2) = gm(2, 2) + nax + 0.5_dp * lam
+    call add_chord_block(ke, gm, 3)
+  end subroutine beam_tangent
+
+  !> A 2 x 2 stiffness g of a two-node member's chord (x2 - x1) into ke: +g on each node's
+  !> translations, -g between them; stride = the DOFs per node (2: BAR2, SPRING; 3: BEAM2).
+  pure subroutine add_chord_block(ke, g, stride)
+    real(dp), intent(inout) :: ke(:, :)
+    real(dp), intent(in) :: g(2, 2)
+    integer, intent(in) :: stride
+    integer :: a, b
     do a = 0, 1
       do b = 0, 1
-        ke(3 * a + 1:3 * a + 2, 3 * b + 1:3 * b + 2) = ke(3 * a + 1:3 * a + 2, 3 * b + 1:3 * b + 2) + &
-          merge(1.0_dp, -1.0_dp, a == b) * gm
+        ke(stride * a + 1:stride * a + 2, stride * b + 1:stride * b + 2) = &
+          ke(stride * a + 1:stride * a + 2, stride * b + 1:stride * b + 2) + merge(1.0_dp, -1.0_dp, a == b) * g
       end do
     end do
-  end subroutine beam_tangent
+  end subroutine add_chord_block
 
   !> One LARGE axial member's share of the residual's round-off floor: its axial stiffness k times
   !> one ulp of the largest coordinate its chord is computed from (the chord X + u2 - u1 cannot be

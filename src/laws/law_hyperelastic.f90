@@ -1,7 +1,10 @@
-!> HYPERELASTIC: the compressible neo-Hookean solid in plane strain, for KINEMATICS LARGE surface
-!> elements (total Lagrangian). With C = I + 2E (in plane; C33 = 1) and J = det F = sqrt(det C):
-!>   psi(E) = mu/2 (tr C - 2) - mu ln J + lambda/2 (ln J)^2
-!>   S = mu (I - C^-1) + lambda ln J C^-1,   S33 = lambda ln J (plane strain),
+!> HYPERELASTIC: the compressible neo-Hookean solid, for KINEMATICS LARGE surface elements (total
+!> Lagrangian). With C = I + 2E (in plane; C33 = 1 in plane strain) and J = sqrt(det C):
+!>   psi(E) = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2
+!>   S = mu (I - C^-1) + lambda ln J C^-1,   S33 = lambda ln J (plane strain).
+!> Plane stress: C33 = c is the root of S33 = 0, mu (c - 1) + lambda ln J = 0 (J^2 = det C c; one
+!> root, found by Newton from c = 1), and then S = mu (I - c C^-1) in the plane; psi at that c is
+!> the plane-stress energy (its derivative in c vanishes, so S = dpsi/dE still).
 !> mu and lambda the Lame constants of YOUNG and POISSON (at small strain: the ELASTIC law).
 !> psi grows without bound as J -> 0: unlike St Venant-Kirchhoff, which softens in compression and
 !> lets an element collapse, a neo-Hookean element resists being squashed.
@@ -12,7 +15,7 @@ module law_hyperelastic
   use kinds, only: dp
   implicit none
   private
-  public :: nh_lame, nh_energy, nh_stress, nh_tangent, nh_discrete_stress
+  public :: nh_lame, nh_energy, nh_stress, nh_tangent, nh_discrete_stress, nh_c33
 
 contains
 
@@ -47,12 +50,25 @@ contains
   !> Stored energy per unit reference volume. Written as mu (tr E - ln J) + lambda/2 (ln J)^2 with
   !> tr E - ln J = ½ (tr C - 2 - log(det C)) taken from log1p's complement, so that a small strain
   !> keeps its relative accuracy.
-  pure real(dp) function nh_energy(lm, e) result(psi)
+  !> pstress: plane stress (psi at the C33 of S33 = 0: mu (tr E + (c - 1)/2 - ln J) + ...).
+  pure real(dp) function nh_energy(lm, e, pstress) result(psi)
     real(dp), intent(in) :: lm(2), e(4)
-    real(dp) :: dm1, lnj
+    logical, intent(in), optional :: pstress
+    real(dp) :: dm1, lnj, d
     call det_parts(e, dm1, lnj)
-    psi = lm(2) * ((e(1) + e(2)) - lnj) + 0.5_dp * lm(1) * lnj**2
+    d = 0.0_dp
+    if (is_ps(pstress)) then
+      d = nh_c33(lm, e)
+      lnj = lnj + 0.5_dp * log1p_(d)
+    end if
+    psi = lm(2) * ((e(1) + e(2)) + 0.5_dp * d - lnj) + 0.5_dp * lm(1) * lnj**2
   end function nh_energy
+
+  pure logical function is_ps(pstress)
+    logical, intent(in), optional :: pstress
+    is_ps = .false.
+    if (present(pstress)) is_ps = pstress
+  end function is_ps
 
   !> C^-1 (as xx, yy, xy) and ln J of a strain e.
   pure subroutine c_inverse(e, ci, lnj)
@@ -66,36 +82,51 @@ contains
 
   !> Second Piola-Kirchhoff stress [xx, yy, zz, xy]. I - C^-1 = (C - I) C^-1 = 2 E C^-1 keeps a
   !> small strain's accuracy.
-  pure function nh_stress(lm, e) result(s)
+  !> Plane stress (pstress): S = mu (I - c C^-1) = mu 2 E C^-1 - mu (c - 1) C^-1, S33 = 0.
+  pure function nh_stress(lm, e, pstress) result(s)
     real(dp), intent(in) :: lm(2), e(4)
-    real(dp) :: s(4), ci(3), lnj, exy
+    logical, intent(in), optional :: pstress
+    real(dp) :: s(4), ci(3), lnj, exy, p
     call c_inverse(e, ci, lnj)
     exy = 0.5_dp * e(4)
+    ! The isotropic part p C^-1: lambda ln J, or in plane stress -mu (c - 1).
+    p = lm(1) * lnj
+    if (is_ps(pstress)) p = -lm(2) * nh_c33(lm, e)
     ! 2 E C^-1 (symmetric for these commuting tensors): components xx, yy, xy.
-    s(1) = lm(2) * 2.0_dp * (e(1) * ci(1) + exy * ci(3)) + lm(1) * lnj * ci(1)
-    s(2) = lm(2) * 2.0_dp * (exy * ci(3) + e(2) * ci(2)) + lm(1) * lnj * ci(2)
-    s(4) = lm(2) * 2.0_dp * (e(1) * ci(3) + exy * ci(2)) + lm(1) * lnj * ci(3)
+    s(1) = lm(2) * 2.0_dp * (e(1) * ci(1) + exy * ci(3)) + p * ci(1)
+    s(2) = lm(2) * 2.0_dp * (exy * ci(3) + e(2) * ci(2)) + p * ci(2)
+    s(4) = lm(2) * 2.0_dp * (e(1) * ci(3) + exy * ci(2)) + p * ci(3)
     s(3) = lm(1) * lnj
+    if (is_ps(pstress)) s(3) = 0.0_dp
   end function nh_stress
 
   !> dS/dE as a 4 x 4 matrix on [xx, yy, zz, 2xy] (the zz column zero: E33 = 0 in plane strain):
-  !> C_IJKL = lambda Ci_IJ Ci_KL + (mu - lambda ln J)(Ci_IK Ci_JL + Ci_IL Ci_JK), Ci = C^-1.
-  pure function nh_tangent(lm, e) result(d)
+  !> C_IJKL = a Ci_IJ Ci_KL + g (Ci_IK Ci_JL + Ci_IL Ci_JK), Ci = C^-1, with a = lambda and
+  !> g = mu - lambda ln J (plane strain), or, C33 = c following S33 = 0, a = mu lambda /
+  !> (mu + lambda/(2c)) and g = mu c (plane stress; its zz row zero).
+  pure function nh_tangent(lm, e, pstress) result(d)
     real(dp), intent(in) :: lm(2), e(4)
-    real(dp) :: d(4, 4), ci(3), lnj, g
+    logical, intent(in), optional :: pstress
+    real(dp) :: d(4, 4), ci(3), lnj, g, a0, c
     integer, parameter :: ii(3) = [1, 2, 1], jj(3) = [1, 2, 2], row(3) = [1, 2, 4]
     real(dp) :: cm(2, 2)
     integer :: a, b
     call c_inverse(e, ci, lnj)
     cm = reshape([ci(1), ci(3), ci(3), ci(2)], [2, 2])
+    a0 = lm(1)
     g = lm(2) - lm(1) * lnj
+    if (is_ps(pstress)) then
+      c = 1.0_dp + nh_c33(lm, e)
+      a0 = lm(2) * lm(1) / (lm(2) + 0.5_dp * lm(1) / c)
+      g = lm(2) * c
+    end if
     d = 0.0_dp
     do a = 1, 3
       do b = 1, 3
-        d(row(a), row(b)) = lm(1) * cm(ii(a), jj(a)) * cm(ii(b), jj(b)) + &
+        d(row(a), row(b)) = a0 * cm(ii(a), jj(a)) * cm(ii(b), jj(b)) + &
           g * (cm(ii(a), ii(b)) * cm(jj(a), jj(b)) + cm(ii(a), jj(b)) * cm(jj(a), ii(b)))
       end do
-      d(3, row(a)) = lm(1) * cm(ii(a), jj(a))
+      if (.not. is_ps(pstress)) d(3, row(a)) = lm(1) * cm(ii(a), jj(a))
     end do
   end function nh_tangent
 
@@ -103,24 +134,49 @@ contains
   !> S̄ . ΔE = psi(E1) - psi(En) exactly (the strain vectors' dot product is S : ΔE). Δpsi is
   !> taken as a difference of terms that each keep the increment's accuracy; where the defect
   !> Δpsi - S(E_mid) . ΔE (of order |ΔE|^3) is below the round-off of those terms, c = 0 (the
-  !> identity then holds to that round-off).
-  pure function nh_discrete_stress(lm, en, e1) result(sb)
+  !> identity then holds to that round-off). Plane stress (pstress): Δpsi = psi(E1) - psi(En), the
+  !> noise then that of psi itself.
+  pure function nh_discrete_stress(lm, en, e1, pstress) result(sb)
     real(dp), intent(in) :: lm(2), en(4), e1(4)
-    real(dp) :: sb(4), de(4), dw(4), sm(4), dn, d1, ln, l1, dlnj, dpsi, defect, noise, nrm
+    logical, intent(in), optional :: pstress
+    real(dp) :: sb(4), de(4), dw(4), sm(4), dn, d1, ln, l1, dlnj, dpsi, defect, noise, nrm, psi1, psin
     de = e1 - en
-    sm = nh_stress(lm, 0.5_dp * (en + e1))
+    sm = nh_stress(lm, 0.5_dp * (en + e1), pstress)
     call det_parts(en, dn, ln)
     call det_parts(e1, d1, l1)
     ! ln J1 - ln Jn = ½ log1p_((det C1 - det Cn) / det Cn), det C1 - det Cn from the increments.
     dlnj = 0.5_dp * log1p_((2.0_dp * (de(1) + de(2)) + 4.0_dp * (de(1) * e1(2) + en(1) * de(2)) - de(4) * (e1(4) + en(4))) &
       / (1.0_dp + dn))
     dpsi = lm(2) * ((de(1) + de(2)) - dlnj) + 0.5_dp * lm(1) * (l1 + ln) * dlnj
-    defect = dpsi - dot_product(sm, de)
     noise = 64.0_dp * epsilon(1.0_dp) * (lm(2) * (abs(de(1) + de(2)) + abs(dlnj)) + lm(1) * abs((l1 + ln) * dlnj) + &
       sum(abs(sm * de)))
+    if (is_ps(pstress)) then
+      psi1 = nh_energy(lm, e1, pstress)
+      psin = nh_energy(lm, en, pstress)
+      dpsi = psi1 - psin
+      noise = 64.0_dp * epsilon(1.0_dp) * (abs(psi1) + abs(psin) + sum(abs(sm * de)))
+    end if
+    defect = dpsi - dot_product(sm, de)
     dw = [de(1), de(2), 0.0_dp, 0.5_dp * de(4)]
     nrm = dot_product(dw, de)
     sb = sm
     if (abs(defect) > noise .and. nrm > 0.0_dp) sb = sm + defect / nrm * dw
   end function nh_discrete_stress
+
+  !> Plane stress: C33 - 1 of a strain e, the root of mu (c - 1) + lambda/2 (ln det C + ln c) = 0
+  !> (increasing in c: one root), by Newton on d = c - 1 from 0 (quadratic; converged to 4 ulps).
+  pure real(dp) function nh_c33(lm, e) result(d)
+    real(dp), intent(in) :: lm(2), e(4)
+    real(dp) :: dm1, lnj2, f, fp, step
+    integer :: it
+    call det_parts(e, dm1, lnj2)
+    d = 0.0_dp
+    do it = 1, 60
+      f = lm(2) * d + lm(1) * (lnj2 + 0.5_dp * log1p_(d))
+      fp = lm(2) + 0.5_dp * lm(1) / (1.0_dp + d)
+      step = f / fp
+      d = max(d - step, -1.0_dp + 1.0e-300_dp)
+      if (abs(step) <= 4.0_dp * epsilon(1.0_dp) * (1.0_dp + abs(d))) exit
+    end do
+  end function nh_c33
 end module law_hyperelastic

@@ -10,7 +10,7 @@
 !>   NONLINEAR_ELASTIC  PK_1D, PK_BEAM with layers > 0   sigma = E eps (1 + nl_b eps^2)
 !>   ELASTOPLASTIC      PK_1D, PK_BEAM with layers > 0   bilinear, yield, h_iso, h_kin
 !>   VON_MISES          PK_PSTRAIN, PK_PSTRESS           J2, yield, h_iso, h_kin
-!>   HYPERELASTIC       PK_PSTRAIN, KINEMATICS LARGE     compressible neo-Hookean (law_hyperelastic;
+!>   HYPERELASTIC       PK_PSTRAIN, PK_PSTRESS, LARGE    compressible neo-Hookean (law_hyperelastic;
 !>                      its stress is formed by the large-displacement kernel, not by law_update)
 !> User documentation: docs/materials.md.
 module material_law
@@ -171,12 +171,8 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, 'POISSON must be in (-1, 0.5) (got ' // str(mat%poisson) // ')')
     else if (mat%law < LAW_ELASTIC .or. mat%law > LAW_HYPERELASTIC) then
       call set_error(stat, errmsg, STAT_INPUT, 'unknown law code ' // str(mat%law))
-    else if (mat%law == LAW_HYPERELASTIC .and. pk /= PK_PSTRAIN) then
-      if (pk == PK_PSTRESS) then
-        call set_error(stat, errmsg, STAT_INPUT, 'HYPERELASTIC is a plane-strain law (no plane-stress form yet)')
-      else
-        call set_error(stat, errmsg, STAT_INPUT, 'HYPERELASTIC applies to QUAD4, QUAD8, TRI3 and TRI6 only')
-      end if
+    else if (mat%law == LAW_HYPERELASTIC .and. pk /= PK_PSTRAIN .and. pk /= PK_PSTRESS) then
+      call set_error(stat, errmsg, STAT_INPUT, 'HYPERELASTIC applies to QUAD4, QUAD8, TRI3 and TRI6 only')
     else if (mat%law /= LAW_HYPERELASTIC .and. (mat%law == LAW_VON_MISES .neqv. (pk == PK_PSTRAIN .or. pk == PK_PSTRESS))) then
       if (mat%law == LAW_VON_MISES) then
         call set_error(stat, errmsg, STAT_INPUT, 'VON_MISES applies to QUAD4, QUAD8, TRI3 and TRI6 only')
@@ -276,7 +272,7 @@ contains
     case (LAW_VON_MISES)
       w = vm_stored(mat%young, mat%poisson, sig(1:4))
     case (LAW_HYPERELASTIC)
-      w = nh_energy(nh_lame(mat%young, mat%poisson), eps(1:4))
+      w = nh_energy(nh_lame(mat%young, mat%poisson), eps(1:4), pk == PK_PSTRESS)
     case default
       w = 0.5_dp * dot_product(sig(1:ns), eps(1:ns))
     end select

@@ -144,3 +144,15 @@ def relative_balance(outdir):
     """max |balance| / max(kinetic + internal) over the history."""
     h = history(outdir)
     return np.max(np.abs(h['balance'])) / np.max(np.abs(h['kinetic'] + h['internal'])), len(h['step'])
+
+
+def free_body(tag, h, mom_bound, am_bound=1e-10, bal_bound=1e-10):
+    """A free body's conservation laws from its history h, reported: angular momentum constant to
+    am_bound (relative), linear momentum within mom_bound (absolute), |balance| <= bal_bound of E."""
+    am = h['angular_momentum']
+    drift = np.max(np.abs(am - am[0])) / abs(am[0])
+    report('%s: angular momentum constant to %g' % (tag, am_bound), drift <= am_bound, '%.2e' % drift)
+    mom = max(np.max(np.abs(h['momentum_x'])), np.max(np.abs(h['momentum_y'])))
+    report('%s: linear momentum zero (%g)' % (tag, mom_bound), mom <= mom_bound, '%.2e' % mom)
+    bal = np.max(np.abs(h['balance'])) / np.max(np.abs(h['kinetic'] + h['internal']))
+    report('%s: |balance| <= %g of E' % (tag, bal_bound), bal <= bal_bound, '%.2e' % bal)

@@ -4,7 +4,7 @@
 !> J -> 0.
 program test_law_hyperelastic
   use kinds, only: dp
-  use law_hyperelastic, only: nh_lame, nh_energy, nh_stress, nh_tangent, nh_discrete_stress
+  use law_hyperelastic, only: nh_lame, nh_energy, nh_stress, nh_tangent, nh_discrete_stress, nh_c33
   use testing, only: check, check_close, test_summary
   implicit none
   real(dp), parameter :: young = 2.0e6_dp, poisson = 0.45_dp
@@ -15,6 +15,7 @@ program test_law_hyperelastic
   call test_small_strain()
   call test_discrete()
   call test_compression()
+  call test_plane_stress()
   call test_summary('law_hyperelastic')
 
 contains
@@ -86,6 +87,43 @@ contains
     call check(nh_energy(lm, e) > 20.0_dp * lm(2) .and. s(1) < -1e5_dp * lm(2), &
       'neo-Hookean: squashed to J = 1e-3, energy and compressive stress grow without bound')
   end subroutine test_compression
+
+  !> Plane stress: C33 makes S33 = 0 (checked on the 3D stress mu (1 - 1/c) + lambda ln J / c),
+  !> S = dpsi/dE and the tangent = dS/dE by central differences, the small-strain limit (the
+  !> plane-stress elastic D), and the discrete stress's exact identity.
+  subroutine test_plane_stress()
+    real(dp) :: e(4), s(4), g(4), d(4, 4), dfd(4, 4), ep(4), em(4), c, lnj, en(4), sb(4), e0
+    real(dp), parameter :: h = 1e-7_dp
+    integer :: k, cols(3)
+    cols = [1, 2, 4]
+    e = [0.3_dp, -0.12_dp, 0.0_dp, 0.25_dp]
+    c = 1.0_dp + nh_c33(lm, e)
+    lnj = 0.5_dp * log(((1 + 2 * e(1)) * (1 + 2 * e(2)) - e(4)**2) * c)
+    call check(abs(lm(2) * (1 - 1 / c) + lm(1) * lnj / c) <= 1e-12_dp * lm(1), 'neo-Hookean plane stress: S33 = 0 at C33')
+    s = nh_stress(lm, e, .true.)
+    d = nh_tangent(lm, e, .true.)
+    do k = 1, 3
+      ep = e
+      em = e
+      ep(cols(k)) = e(cols(k)) + h
+      em(cols(k)) = e(cols(k)) - h
+      g(cols(k)) = (nh_energy(lm, ep, .true.) - nh_energy(lm, em, .true.)) / (2 * h)
+      dfd(:, cols(k)) = (nh_stress(lm, ep, .true.) - nh_stress(lm, em, .true.)) / (2 * h)
+    end do
+    call check(maxval(abs(s([1, 2, 4]) - g([1, 2, 4]))) <= 1e-7_dp * maxval(abs(s)) .and. s(3) == 0.0_dp, &
+      'neo-Hookean plane stress: S = dpsi/dE, S33 = 0')
+    call check(maxval(abs(d(:, [1, 2, 4]) - dfd(:, [1, 2, 4]))) <= 1e-6_dp * maxval(abs(d)), &
+      'neo-Hookean plane stress: tangent = dS/dE (central differences)')
+    d = nh_tangent(lm, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], .true.)
+    e0 = young / (1 - poisson**2)
+    call check(abs(d(1, 1) - e0) + abs(d(1, 2) - poisson * e0) + abs(d(4, 4) - lm(2)) <= 1e-9_dp * e0, &
+      'neo-Hookean plane stress: tangent at E = 0 = E/(1 - nu^2) [1 nu; nu 1], mu')
+    en = [0.1_dp, -0.05_dp, 0.0_dp, 0.08_dp]
+    e = en + 0.2_dp * [1.0_dp, 0.6_dp, 0.0_dp, -0.9_dp]
+    sb = nh_discrete_stress(lm, en, e, .true.)
+    call check(abs(dot_product(sb, e - en) - (nh_energy(lm, e, .true.) - nh_energy(lm, en, .true.))) <= &
+      1e-13_dp * nh_energy(lm, e, .true.), 'neo-Hookean plane stress: S̄ . ΔE = Δpsi for a large step')
+  end subroutine test_plane_stress
 
   function num(x) result(t)
     real(dp), intent(in) :: x

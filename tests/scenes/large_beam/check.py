@@ -84,14 +84,7 @@ for k2, t in ((1, 20), (2, 40), (5, 60), (10, 80)):
               max(abs(we - mw), abs(se - ms)) <= 1e-4, '%.5f %.5f vs %.5f %.5f' % (we, se, mw, ms))
 
 # --- the free spinning beam ------------------------------------------------------------------
-h = sc.history(sc.run_ok(os.path.join(HERE, 'spinning.dat')))
-am = h['angular_momentum']
-drift = np.max(np.abs(am - am[0])) / abs(am[0])
-sc.report('spinning beam: angular momentum constant to 1e-10', drift <= 1e-10, '%.2e' % drift)
-mom = max(np.max(np.abs(h['momentum_x'])), np.max(np.abs(h['momentum_y'])))
-sc.report('spinning beam: linear momentum zero (1e-12 kg m/s)', mom <= 1e-12, '%.2e' % mom)
-bal = rel_balance(h)
-sc.report('spinning beam: |balance| <= 1e-10 of E', bal <= 1e-10, '%.2e' % bal)
+sc.free_body('spinning beam', sc.history(sc.run_ok(os.path.join(HERE, 'spinning.dat'))), 1e-12)
 
 # --- the flying beam, h from T/10 to T/1000 ------------------------------------------------------
 T = 1.256
