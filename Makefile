@@ -125,6 +125,14 @@ large: bin/rebond
 iterations: bin/rebond
 	@/usr/bin/python3 tools/iteration_study.py
 
+# rebond and CalculiX side by side (docs/peers.md): SDNV100's bar on a wall, elastic and
+# elastic-plastic, over meshes and steps; installs Debian's calculix-ccx when it is missing.
+.PHONY: peers
+peers: bin/rebond
+	@command -v ccx >/dev/null 2>&1 || apt-get install -y calculix-ccx >/dev/null || \
+	  { echo "peers: CalculiX is needed (apt-get install calculix-ccx, as root)"; exit 1; }
+	@/usr/bin/python3 tools/peers.py
+
 # The contact comparison (docs/contact-table.md): three impact benchmarks with exact solutions,
 # every impact mode at every mesh size.
 .PHONY: contact-table

@@ -14,6 +14,10 @@ module scene_materials
   private
   public :: materials_schema, materials_statement
 
+  !> The largest material constant accepted (YOUNG, DENSITY, YIELD, hardening): squares, masses
+  !> times 4/h² and energies stay finite (docs/input.md).
+  real(dp), parameter :: MAX_MATERIAL = 1.0e100_dp
+
 contains
 
   subroutine materials_schema(sch)
@@ -93,14 +97,18 @@ contains
     call get_real(st, 'B', mat%nl_b, stat, errmsg, default=0.0_dp)
     if (stat /= STAT_OK) return
     if (mat%law == LAW_ELASTOPLASTIC .or. mat%law == LAW_VON_MISES) then
-      call get_real(st, 'YIELD', mat%yield, stat, errmsg, lower=0.0_dp, lower_inclusive=.false.)
+      call get_real(st, 'YIELD', mat%yield, stat, errmsg, lower=0.0_dp, lower_inclusive=.false., &
+      upper=MAX_MATERIAL, upper_inclusive=.true.)
       if (stat /= STAT_OK) return
     end if
-    call get_real(st, 'H_ISO', mat%h_iso, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true.)
+    call get_real(st, 'H_ISO', mat%h_iso, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true., &
+      upper=MAX_MATERIAL, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
-    call get_real(st, 'H_KIN', mat%h_kin, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true.)
+    call get_real(st, 'H_KIN', mat%h_kin, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true., &
+      upper=MAX_MATERIAL, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
-    call get_real(st, 'YOUNG', mat%young, stat, errmsg, lower=0.0_dp, lower_inclusive=.false.)
+    call get_real(st, 'YOUNG', mat%young, stat, errmsg, lower=0.0_dp, lower_inclusive=.false., &
+      upper=MAX_MATERIAL, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
     call get_real(st, 'POISSON', mat%poisson, stat, errmsg, default=0.0_dp, lower=-1.0_dp, lower_inclusive=.false.)
     if (stat /= STAT_OK) return
@@ -109,7 +117,8 @@ contains
         st%params(find_param(st, 'POISSON'))%values(1)))
       return
     end if
-    call get_real(st, 'DENSITY', mat%density, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true.)
+    call get_real(st, 'DENSITY', mat%density, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true., &
+      upper=MAX_MATERIAL, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
     scn%materials = [scn%materials, mat]
   end subroutine do_material
