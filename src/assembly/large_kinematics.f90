@@ -59,8 +59,8 @@ contains
     ! l - L = (2 X.Δu + Δu.Δu) / (l + L), Δu the relative displacement: no cancellation when
     ! the strain is small (l - L itself would lose it to round-off: 1e-16 of strain is 2e-5 Pa
     ! of a steel bar's stress, and the energy balance would see it).
-    epsn = stretch(une(3:4) - une(1:2), ln) / s
-    eps1 = stretch(ue(3:4) - ue(1:2), l1) / s
+    epsn = chord_stretch(x0, len0, une(3:4) - une(1:2), ln) / s
+    eps1 = chord_stretch(x0, len0, ue(3:4) - ue(1:2), l1) / s
     ax = x1 / max(l1, tiny(1.0_dp))
     b1 = [-ax, ax] / s
     bn = [-xn, xn] / (s * max(ln, tiny(1.0_dp)))
@@ -105,10 +105,6 @@ contains
       end if
     end do
   contains
-    pure real(dp) function stretch(du, l)
-      real(dp), intent(in) :: du(2), l
-      stretch = (2.0_dp * dot_product(x0, du) + dot_product(du, du)) / (l + len0)
-    end function stretch
     pure function outer2(x, y) result(m)
       real(dp), intent(in) :: x(2), y(2)
       real(dp) :: m(2, 2)
@@ -294,8 +290,8 @@ contains
     ln = norm2(cn)
     l1 = norm2(c1)
     if (sys%elems%inverted == 0 .and. (dot_product(cn, c1) <= 0.0_dp .or. l1 <= 1.0e-9_dp * len0)) sys%elems%inverted = e
-    en = stretch(une(4:5) - une(1:2), ln)
-    e1 = stretch(ue(4:5) - ue(1:2), l1)
+    en = chord_stretch(x0, len0, une(4:5) - une(1:2), ln)
+    e1 = chord_stretch(x0, len0, ue(4:5) - ue(1:2), l1)
     call natural_gradient(cn, ln, gn)
     call natural_gradient(c1, l1, g1)
     ! The discrete gradient: the chord form for e, the step's exact chord rotation for θ̄.
@@ -358,10 +354,6 @@ contains
       call beam_tangent(g1, kq, q1, l1, c1, c1, ke)
     end if
   contains
-    pure real(dp) function stretch(du, l)
-      real(dp), intent(in) :: du(2), l
-      stretch = (2.0_dp * dot_product(x0, du) + dot_product(du, du)) / (l + len0)
-    end function stretch
     !> dq/du at the chord c (length l): e along ĉ, θ̄a = θa - α with ∇α = J c/l².
     pure subroutine natural_gradient(c, l, g)
       real(dp), intent(in) :: c(2), l
@@ -421,6 +413,13 @@ contains
       end do
     end do
   end subroutine add_chord_block
+
+  !> l - L of a chord X + du of current length l, reference X of length len0, as
+  !> (2 X·du + du·du)/(l + L): no cancellation when the strain is small.
+  pure real(dp) function chord_stretch(x0, len0, du, l)
+    real(dp), intent(in) :: x0(2), len0, du(2), l
+    chord_stretch = (2.0_dp * dot_product(x0, du) + dot_product(du, du)) / (l + len0)
+  end function chord_stretch
 
   !> One LARGE axial member's share of the residual's round-off floor: its axial stiffness k times
   !> one ulp of the largest coordinate its chord is computed from (the chord X + u2 - u1 cannot be
