@@ -280,7 +280,8 @@ contains
     real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum, dsum
     logical, intent(inout) :: any_c
     real(dp) :: x0(2), len0, cn(2), c1(2), dc(2), cm(2), ln, l1, am(2), ab(2), dalpha, d(2), gd(3, 6), gn(3, 6), g1(3, 6), &
-      dq(3), qn(3), q1(3), qb(3), kq(3, 3), t(2, 3), en, e1, epsn(2), deps(2), w, r01
+      dq(3), qn(3), q1(3), qb(3), kq(3, 3), t(2, 3), en, e1, epsn(2), deps(2), w, r01, xi(BEAM2_MAX_GAUSS), &
+      wg(BEAM2_MAX_GAUSS)
     type(law_step_t) :: r
     integer :: igp, p
     x0 = scn%mesh%x(:, scn%mesh%conn(2, e)) - scn%mesh%x(:, scn%mesh%conn(1, e))
@@ -319,10 +320,11 @@ contains
     qb = 0.0_dp
     kq = 0.0_dp
     fc(1:6) = 0.0_dp
+    call gauss_legendre(ng, xi, wg)                 ! the points' x'/L, (1 + xi)/2
     do igp = g0, g0 + ng - 1
       p = sys%elems%b_ptr(igp)
       w = sys%elems%wt(igp)
-      r01 = gauss_r(igp - g0 + 1)
+      r01 = 0.5_dp * (1.0_dp + xi(igp - g0 + 1))
       t = 0.0_dp
       t(1, 1) = 1.0_dp / len0
       t(2, 2) = (6.0_dp * r01 - 4.0_dp) / len0
@@ -365,13 +367,6 @@ contains
       g(2, :) = [a(1), a(2), 1.0_dp, -a(1), -a(2), 0.0_dp]
       g(3, :) = [a(1), a(2), 0.0_dp, -a(1), -a(2), 1.0_dp]
     end subroutine natural_gradient
-    !> x'/L of Gauss point k of the element's rule.
-    real(dp) function gauss_r(k)
-      integer, intent(in) :: k
-      real(dp) :: xi(BEAM2_MAX_GAUSS), wg(BEAM2_MAX_GAUSS)
-      call gauss_legendre(ng, xi, wg)
-      gauss_r = 0.5_dp * (1.0_dp + xi(k))
-    end function gauss_r
   end subroutine large_beam_element
 
   !> The tangent of the forces eq (9) carries for a corotational BEAM2 (2 f̄ with the correction,

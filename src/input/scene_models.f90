@@ -240,9 +240,9 @@ contains
   !> DAMPING ALPHA a BETA b (either or both, a, b >= 0): Rayleigh damping C = a M + b K0 of the
   !> model's elements (K0: the initial stiffness).
   !> KINEMATICS SMALL | LARGE (default SMALL). LARGE exists for BAR2 and SPRING (the axial
-  !> strain of the current length), BEAM2 (corotational) and for the surface elements (total Lagrangian, St Venant-
-  !> Kirchhoff: ELASTIC law only, checked with the scene), docs/large-displacements.md; a SPRING
-  !> with a DIRECTION (zero length) has no current axis.
+  !> strain of the current length), BEAM2 (corotational) and the surface elements (total
+  !> Lagrangian: ELASTIC, St Venant-Kirchhoff, or HYPERELASTIC, checked with the scene),
+  !> docs/large-displacements.md; a SPRING with a DIRECTION (zero length) has no current axis.
   subroutine get_kinematics(st, md, stat, errmsg)
     type(statement_t), intent(in) :: st
     type(model_t), intent(inout) :: md

@@ -50,7 +50,7 @@ contains
     type(contact_set_t), intent(inout), optional :: cs
     real(dp), intent(inout), optional :: lam(:)
     integer :: iter
-    real(dp) :: limit, rwork, target, budget
+    real(dp) :: limit, rwork, target, budget, fscale
     logical :: stagnant
     logical :: refactored, switch
     call st%begin_step()
@@ -114,13 +114,13 @@ contains
       ! must stay within TOLERANCE x the work the step exchanges (external and internal), or at
       ! the round-off of that product; past the force test, a residual that stagnates ends the
       ! step all the same.
-      limit = max(scn%tolerance * force_scale(st), 4.0_dp * sys%elems%round_floor)
+      fscale = force_scale(st)
+      limit = max(scn%tolerance * fscale, 4.0_dp * sys%elems%round_floor)
       budget = huge(1.0_dp)
-      if (scn%energy_test) budget = max(scn%tolerance * step_work(st), 64.0_dp * epsilon(1.0_dp) * norm2(st%du) * &
-        force_scale(st))
+      if (scn%energy_test) budget = max(scn%tolerance * step_work(st), 64.0_dp * epsilon(1.0_dp) * norm2(st%du) * fscale)
       stagnant = .false.
       if (iter >= 2) stagnant = st%res_hist(iter) >= 0.5_dp * st%res_hist(iter - 1)
-      if (st%res_hist(iter) <= scn%tolerance * force_scale(st)) then
+      if (st%res_hist(iter) <= scn%tolerance * fscale) then
         if (rwork <= budget .or. stagnant) exit
       end if
       if (st%res_hist(iter) <= limit .and. stagnant) exit
@@ -135,7 +135,7 @@ contains
       if (switch) call st%trial(scn, sys, scn%energy_correction, .true.)
       if (iter == scn%max_iterations) then
         rep%outcome = STEP_NOT_CONVERGED
-        rep%force_scale = force_scale(st)
+        rep%force_scale = fscale
         return
       end if
     end do
