@@ -51,6 +51,9 @@ help:
 	@echo "make validation   the paper's beam drops and the contact table (docs/validation.md, docs/contact-table.md)"
 	@echo "make contact-table  the impact modes on three exact benchmarks (docs/contact-table.md)"
 	@echo "make large   the energy correction in large displacements, by step (docs/large-displacements.md)"
+	@echo "make iterations  ITERATION ELASTIC, TANGENT, AUTO and the energy test (docs/nonlinear-performance.md)"
+	@echo "make zone    SCHEME ZONE: eq (9) on the nonlinear elements' equations (docs/nonlinear-performance.md)"
+	@echo "make peers   rebond and CalculiX on the same bar impacts (docs/peers.md)"
 
 # Dependencies: installed once by `make deps`, checked by every build.
 deps:
@@ -124,6 +127,12 @@ large: bin/rebond
 .PHONY: iterations
 iterations: bin/rebond
 	@/usr/bin/python3 tools/iteration_study.py
+
+# The nonlinear zone of eq (9)'s iteration (SCHEME ZONE) against the whole system and the linear
+# step, at three mesh sizes and growing plastic patches (docs/nonlinear-performance.md; ~20 min).
+.PHONY: zone
+zone: bin/rebond
+	@/usr/bin/python3 tools/zone_study.py
 
 # rebond and CalculiX side by side (docs/peers.md): SDNV100's bar on a wall, elastic and
 # elastic-plastic, over meshes and steps; installs Debian's calculix-ccx when it is missing.

@@ -129,6 +129,7 @@ contains
       write (*, '(a,i0,a,i0,a,i0,a)') '  ', scn%mesh%nnode, ' nodes, ', scn%mesh%nelem, ' elements, ', sys%dofs%neq, ' equations'
       if (size(scn%conditions) > 0) write (*, '(a,i0,a)') '  contact conditions: ', size(scn%conditions), ', IMPACT ' // &
         trim(IMPACT_NAMES(scn%impact)) // trim(merge(' (AUTO)', '       ', scn%impact_auto))
+      if (.not. sys%elems%linear) write (*, '(a)') '  nonlinear zone: ' // rs%zone%why
     end if
     call run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
     if (stat /= STAT_OK) then

@@ -238,9 +238,17 @@ L.append("4. **Small problems** (1e3–1e4 DOFs): the solve is short (tens of µ
 L.append("   overhead (permutation, dense workspace copies, one BLAS call per supernode), and the element")
 L.append("   loop also evicts L from the cache between solves (the solve inside the loop is slower than")
 L.append("   the bare one); the ≤ 1.3 goal is realistic from about 1e5 DOFs.")
-L.append("5. **Once-per-run costs at 1e6 DOFs**: `build_system` takes seconds, and `prepare_run` costs about")
-L.append("   three numeric factorizations because the analysis tries both AMD and METIS")
-L.append("   (`nmethods = 2` in `cholmod_shim.c`); for large 2D meshes METIS alone would do.\n")
+L.append("5. **Once-per-run costs at 1e6 DOFs** (issue 14, item 3; measured 2026-12-02 on the 707 × 707 plate,")
+L.append("   one thread, CPU times): `load_scene` 0.26 s, `build_system` 2.6 s, `prepare_run` 14.3 s, i.e. 3.3")
+L.append("   numeric factorizations (5.2 s). Inside `prepare_run`: the analysis 5.5 s (AMD's ordering and")
+L.append("   symbolic analysis 0.9 s, METIS's 4.6 s: `nmethods = 2` in `cholmod_shim.c` keeps the one with")
+L.append("   less fill, METIS: nnz(L) 1.050e8, 5.6e10 flops, against AMD's 1.057e8 and 6.9e10) and the first")
+L.append("   numeric factorization with the initial state 8.8 s, 3.5 s more than a refactorization: mostly the")
+L.append("   first touch of the 1 GB factor's pages (perf: `clear_page_erms`). Tried: METIS on the compressed graph (a node's DOFs as one vertex,")
+L.append("   given to `cholmod_analyze_p` beside AMD): 2.7 s instead of 4.6, setup 14.9 s; but its ordering")
+L.append("   has 1 % more fill than METIS on the full graph, so CHOLMOD keeps AMD, whose refactorizations")
+L.append("   cost 12 % more flops and whose solves 0.7 % more: over a run of more than about 1 400 steps the")
+L.append("   saving is lost. Not kept. What remains is the analysis (METIS) and the first touch of L.\n")
 # Sections written by other tools (tools/alloc_per_step.sh: "Allocations in the time loop") are kept.
 import os, re
 kept = ""

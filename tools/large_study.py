@@ -24,6 +24,8 @@ import tempfile
 
 import numpy as np
 
+from docblock import replace_block
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 REBOND = os.path.join(ROOT, 'bin', 'rebond')
 SCENE = 'tests/scenes/large_bar/pendulum.dat'
@@ -218,19 +220,6 @@ def main():
                       ['', '![energy error against the step](%s)' % rel, '', '*Max |balance| / E against h / T, with and '
                        'without the energy correction; runs that stopped are left out of the curves.*', ''])
     replace_block(a.doc, '<!-- study:begin -->', '<!-- study:end -->', block)
-
-
-def replace_block(doc, begin, end, block):
-    """Put block between the markers begin and end of doc (exit 1 when they are missing)."""
-    text = open(doc).read()
-    if begin in text and end in text:
-        text = text[:text.index(begin) + len(begin)] + block + text[text.index(end):]
-        with open(doc, 'w') as f:
-            f.write(text)
-        print('wrote', doc, begin)
-    else:
-        print('markers', begin, end, 'not found in', doc, file=sys.stderr)
-        sys.exit(1)
 
 
 if __name__ == '__main__':

@@ -35,8 +35,10 @@ contains
   !> read, so commit_state may swap the trial and committed arrays. uq: u unrounded
   !> (PRECISION EXTENDED: the linear elastic points are then evaluated in quadruple precision).
   !> un: the committed displacements u(n), which KINEMATICS LARGE elements need (absent: zero,
-  !> the path from the reference configuration).
-  subroutine internal_force(scn, sys, u, fint, fcorr, correct, tangent, inc, uq, un)
+  !> the path from the reference configuration). elist: only these elements (the nonlinear zone's
+  !> iterates): fint, fcorr and the tangent are then added to, their rows zeroed by the caller,
+  !> and the support reactions' correction is left to the next whole evaluation.
+  subroutine internal_force(scn, sys, u, fint, fcorr, correct, tangent, inc, uq, un, elist)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     real(dp), intent(in) :: u(:)
@@ -45,23 +47,31 @@ contains
     type(work_increment_t), intent(out) :: inc
     real(qp), intent(in), optional :: uq(:)
     real(dp), intent(in), optional :: un(:)
+    integer, intent(in), optional :: elist(:)
     type(model_view_t) :: mv
-    integer :: e, ndof, nstr, ng, g0, k, j, e0
+    integer :: e, ndof, nstr, ng, g0, k, j, e0, ie, nel
     real(dp) :: ue(MAX_EDOF), une(MAX_EDOF), fe(MAX_EDOF), fc(MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), wsum, dsum, esum
     real(qp) :: esumq
     logical :: any_c
-    fint = 0.0_dp
     esumq = 0.0_qp
-    if (sys%extended) sys%fint_q = 0.0_qp
-    fcorr = 0.0_dp
     wsum = 0.0_dp
     esum = 0.0_dp
     dsum = 0.0_dp
-    if (tangent) sys%ops%tval = 0.0_dp
-    if (sys%react%nslot > 0) sys%react%fc_t = 0.0_dp
+    nel = scn%mesh%nelem
+    if (present(elist)) then
+      nel = size(elist)
+    else
+      fint = 0.0_dp
+      if (sys%extended) sys%fint_q = 0.0_qp
+      fcorr = 0.0_dp
+      if (tangent) sys%ops%tval = 0.0_dp
+      if (sys%react%nslot > 0) sys%react%fc_t = 0.0_dp
+    end if
     sys%elems%inverted = 0
     sys%elems%round_floor = 0.0_dp
-    do e = 1, scn%mesh%nelem
+    do ie = 1, nel
+      e = ie
+      if (present(elist)) e = elist(ie)
       if (scn%elem_model(e) == 0) cycle
       g0 = sys%elems%gp_ptr(e)
       ng = sys%elems%gp_ptr(e + 1) - g0
@@ -119,7 +129,7 @@ contains
         if (tangent) call sys%ops%pat%add_element(sys%ops%tval, dofs, ke(1:ndof, 1:ndof))
       end associate
       ! Support reactions (PROBE … RX|RY|MZ) take the correction force of eq (9) on their rows.
-      if (any_c .and. sys%react%nslot > 0) call sys%react%add_correction(e, fc)
+      if (any_c .and. sys%react%nslot > 0 .and. .not. present(elist)) call sys%react%add_correction(e, fc)
     end do
     sys%elems%round_floor = sqrt(sys%elems%round_floor)
     if (sys%extended) then

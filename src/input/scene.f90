@@ -130,8 +130,10 @@ module scene
     integer :: retry = 4                      !< SCHEME RETRY: a failed step is retried as up to 2^retry sub-steps
     logical :: energy_correction = .true.     !< add Bσc of eq (9)
     logical :: energy_test = .true.           !< SCHEME ENERGY_TEST: the residual's work in eq (9)'s convergence test
-    logical :: tangent = .false.              !< the consistent tangent is assembled (ITERATION TANGENT or AUTO)
-    logical :: iter_auto = .false.            !< ITERATION AUTO: K0 + 4M/h² until the tangent pays (iteration_matrix)
+    ! (The defaults are SCHEME's: ITERATION AUTO also in a scene without a SCHEME statement.)
+    logical :: tangent = .true.               !< the consistent tangent is assembled (ITERATION TANGENT or AUTO)
+    logical :: iter_auto = .true.             !< ITERATION AUTO: K0 + 4M/h² until the tangent pays (iteration_matrix)
+    integer :: zone = 1                       !< SCHEME ZONE: 1 AUTO, 2 ON, 3 OFF (nonlinear_zone)
     logical :: iteration_given = .false.      !< SCHEME ITERATION was given (else TANGENT with KINEMATICS LARGE)
     logical :: extended = .false.             !< SCHEME PRECISION EXTENDED
     integer :: history_every = 1

@@ -39,6 +39,7 @@ contains
     call sch%add_param('SCHEME', 'MULTIPLIERS', 1, 1)
     call sch%add_param('SCHEME', 'AUGMENTED_ABOVE', 1, 1)
     call sch%add_param('SCHEME', 'RETRY', 1, 1)
+    call sch%add_param('SCHEME', 'ZONE', 1, 1)
     call sch%add_keyword('OUTPUT', 0, 0, once=.true.)
     call sch%add_param('OUTPUT', 'HISTORY', 1, 2)
     call sch%add_param('OUTPUT', 'FIELDS', 1, 2)
@@ -120,6 +121,9 @@ contains
     scn%tangent = k >= 2
     scn%iter_auto = k == 3
     scn%iteration_given = find_param(st, 'ITERATION') > 0
+    ! ZONE: iterate eq (9) on the equations of the nonlinear elements only (nonlinear_zone).
+    call get_choice(st, 'ZONE', ['AUTO', 'ON  ', 'OFF '], 'AUTO', scn%zone, stat, errmsg)
+    if (stat /= STAT_OK) return
     call get_choice(st, 'IMPACT', ['AUTO    ', 'PAPER   ', 'PERSIST ', 'OFF     ', 'MASSLESS'], 'AUTO', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%impact = IMPACT_MODES(k)

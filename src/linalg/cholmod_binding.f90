@@ -24,6 +24,7 @@ module cholmod_binding
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use sparse_matrix, only: sym_csc_t
   use c_interfaces, only: rb_chol_new, rb_chol_free, rb_chol_is_factored, rb_chol_version, rb_chol_factorize, rb_chol_cost_ratio, &
+    rb_chol_solve_flops, &
     rb_chol_solve, rb_umf_new, rb_umf_free, rb_umf_is_factored, rb_umf_version, rb_umf_analyze, rb_umf_factorize, &
     rb_umf_solve
   implicit none
@@ -38,6 +39,7 @@ module cholmod_binding
     procedure :: solve
     procedure :: is_factored
     procedure :: cost_ratio
+    procedure :: solve_flops
     procedure :: destroy
     final :: cholmod_factor_final
   end type cholmod_factor_t
@@ -152,6 +154,13 @@ contains
     cost_ratio = 0.0_dp
     if (c_associated(self%handle)) cost_ratio = real(rb_chol_cost_ratio(self%handle), dp)
   end function cost_ratio
+
+  !> The flops of one solve (4 nnz(L), from CHOLMOD's analysis; 0 before the first factorization).
+  real(dp) function solve_flops(self)
+    class(cholmod_factor_t), intent(in) :: self
+    solve_flops = 0.0_dp
+    if (c_associated(self%handle)) solve_flops = real(rb_chol_solve_flops(self%handle), dp)
+  end function solve_flops
 
   !> True when the last factorize succeeded and destroy has not been called since.
   logical function is_factored(self)

@@ -213,6 +213,14 @@ double rb_chol_cost_ratio(const void *vh)
     return h->c.fl / (4.0 * h->c.lnz);
 }
 
+/* The flops of a solve (a forward and a backward sweep: 4 lnz), 0 before the first factorization. */
+double rb_chol_solve_flops(const void *vh)
+{
+    const rb_chol *h = vh;
+    if (h == NULL || h->L == NULL || h->c.lnz <= 0.0) return 0.0;
+    return 4.0 * h->c.lnz;
+}
+
 int rb_chol_solve(void *vh, int n, const double *b, double *x, char *msg, int msglen)
 {
     rb_chol *h = vh;

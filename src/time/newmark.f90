@@ -17,7 +17,9 @@ module newmark
   use energy, only: energy_t
   use step_state, only: step_state_t
   use iteration_matrix, only: iteration_matrix_t
-  use newmark_step, only: step_report_t, iterate_eq9, end_step, STEP_CONVERGED, STEP_DIVERGED, STEP_NOT_CONVERGED, &
+  use nonlinear_zone, only: zone_t
+  use newmark_step, only: step_report_t, iterate_eq9, iterate_eq9_zone, end_step, STEP_CONVERGED, STEP_DIVERGED, &
+    STEP_NOT_CONVERGED, &
     STEP_NONFINITE, STEP_INVERTED
   use run_outputs, only: output_set_t, HISTORY_HEADER, EVENTS_HEADER
   use os_utils, only: make_directory, install_signal_handlers, signal_received
@@ -54,6 +56,7 @@ module newmark
     type(step_state_t) :: st                 !< u, v and the iterate of the step
     type(iteration_matrix_t) :: mat          !< S and its policy
     type(iteration_matrix_t) :: mat_sub      !< S of SCHEME RETRY's sub-steps (set up at each retry)
+    type(zone_t) :: zone                     !< SCHEME ZONE: the iteration on the nonlinear elements' equations
     integer :: retried = 0, max_sub = 1      !< steps retried as sub-steps, the most sub-steps of one
     type(energy_t) :: en
     ! Unilateral contact (method.md section 3).
@@ -115,6 +118,9 @@ contains
         dof_label(scn, sys, minor) // ' (no mass and no stiffness on this mode)')
       return
     end if
+    call rs%zone%build(scn, sys, rs%mat%factor%solve_flops())
+    call rs%zone%columns(rs%mat%factor, stat, errmsg)
+    if (stat /= STAT_OK) return
     call rigid_modes(scn, sys, rs)
     if (size(scn%conditions) > 0 .or. size(scn%imposes) > 0) then
       call setup_contact(scn, sys, rs, stat, errmsg)
@@ -432,8 +438,12 @@ contains
   contains
     subroutine attempt(mat)
       type(iteration_matrix_t), intent(inout), target :: mat
-      if (rs%has_contact) then
+      if (rs%has_contact .and. rs%zone%on) then
+        call iterate_eq9_zone(scn, sys, rs%st, mat, rs%zone, rep, stat, errmsg, rs%cs, rs%lam)
+      else if (rs%has_contact) then
         call iterate_eq9(scn, sys, rs%st, mat, rep, stat, errmsg, rs%cs, rs%lam)
+      else if (rs%zone%on) then
+        call iterate_eq9_zone(scn, sys, rs%st, mat, rs%zone, rep, stat, errmsg)
       else
         call iterate_eq9(scn, sys, rs%st, mat, rep, stat, errmsg)
       end if
@@ -464,6 +474,8 @@ contains
     end if
     call rs%st%set_step(h)
     call outs%set_step(h)
+    call rs%zone%columns(mat%factor, stat, errmsg)
+    if (stat /= STAT_OK) return
     if (rs%has_contact) call contact_prepare(rs%cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
   end subroutine use_step
 

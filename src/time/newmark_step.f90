@@ -11,9 +11,11 @@ module newmark_step
     contact_add_force
   use step_state, only: step_state_t
   use iteration_matrix, only: iteration_matrix_t
+  use nonlinear_zone, only: zone_t
   implicit none
   private
-  public :: step_report_t, iterate_eq9, end_step, STEP_CONVERGED, STEP_DIVERGED, STEP_NOT_CONVERGED, STEP_NONFINITE, &
+  public :: step_report_t, iterate_eq9, iterate_eq9_zone, end_step, STEP_CONVERGED, STEP_DIVERGED, STEP_NOT_CONVERGED, &
+    STEP_NONFINITE, &
     STEP_INVERTED
 
   !> How the iteration of a step ended.
@@ -50,8 +52,7 @@ contains
     type(contact_set_t), intent(inout), optional :: cs
     real(dp), intent(inout), optional :: lam(:)
     integer :: iter
-    real(dp) :: limit, rwork, target, budget, fscale
-    logical :: stagnant
+    real(dp) :: rwork, target, fscale
     logical :: refactored, switch
     call st%begin_step()
     call mat%begin_step()
@@ -106,28 +107,10 @@ contains
         if (st%res_hist(iter) == 0.0_dp .or. iter == min(scn%max_iterations, 6)) exit
         cycle
       end if
-      ! TOLERANCE x the force scale; below the round-off floor of the LARGE members (a stiff
-      ! member's force moves by k ulp(|x|) when its nodes move by one ulp), on until the residual
-      ! stagnates: the floor itself would leave r·Δu in the balance (1e-12 J per step on
-      ! beam_drop_inclined_large, docs/large-displacements.md).
-      ! And the energy: the residual's work r·Δu is what the step's energy balance misses, so it
-      ! must stay within TOLERANCE x the work the step exchanges (external and internal), or at
-      ! the round-off of that product; past the force test, a residual that stagnates ends the
-      ! step all the same.
       fscale = force_scale(st)
-      limit = max(scn%tolerance * fscale, 4.0_dp * sys%elems%round_floor)
-      budget = huge(1.0_dp)
-      if (scn%energy_test) budget = max(scn%tolerance * step_work(st), 64.0_dp * epsilon(1.0_dp) * norm2(st%du) * fscale)
-      stagnant = .false.
-      if (iter >= 2) stagnant = st%res_hist(iter) >= 0.5_dp * st%res_hist(iter - 1)
-      if (st%res_hist(iter) <= scn%tolerance * fscale) then
-        if (rwork <= budget .or. stagnant) exit
-      end if
-      if (st%res_hist(iter) <= limit .and. stagnant) exit
+      if (converged(scn, sys, st%res_hist(1:iter), rwork, fscale, step_work(st), norm2(st%du), target)) exit
       ! The iteration matrix's policy after a residual: TANGENT's fallback on a stall; AUTO's
       ! tangent where it pays (assembled at this iterate, factorized by the next update).
-      ! (The residual AUTO aims at: the force test's, or the energy budget's if that is lower.)
-      target = min(limit, budget / max(norm2(st%du), tiny(1.0_dp)))
       call mat%after_residual(sys, st%res_hist, iter, target, switch, refactored, stat, errmsg)
       if (stat == STAT_OK .and. refactored .and. present(cs)) &
         call contact_prepare(cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
@@ -139,13 +122,7 @@ contains
         return
       end if
     end do
-    rep%bad_equation = first_nonfinite(st%du)
-    if (rep%bad_equation == 0) rep%bad_equation = first_nonfinite(st%fint)
-    if (rep%bad_equation > 0) rep%outcome = STEP_NONFINITE
-    if (rep%outcome == STEP_CONVERGED .and. sys%elems%inverted > 0) then
-      rep%outcome = STEP_INVERTED
-      rep%element = sys%elems%inverted
-    end if
+    call end_checks(sys, st, rep)
   end subroutine iterate_eq9
 
   !> End of a converged step: the points' state committed, the works of the step (external
@@ -184,6 +161,126 @@ contains
     end if
     call st%commit(sys)
   end subroutine end_step
+
+  !> The convergence test of eq (9) after the residual norms res(1:iter), the residual's work
+  !> rwork = |r·Δu|, the force scale, the work the step exchanges and ‖Δu‖ (docs/input.md, SCHEME
+  !> TOLERANCE): ‖r‖ ≤ TOLERANCE x the force scale; below the round-off floor of the LARGE members
+  !> (a stiff member's force moves by k ulp(|x|) when its nodes move by one ulp), on until the
+  !> residual stagnates: the floor itself would leave r·Δu in the balance (1e-12 J per step on
+  !> beam_drop_inclined_large, docs/large-displacements.md). And the energy: r·Δu is what the
+  !> step's energy balance misses, so it must stay within TOLERANCE x the work the step exchanges,
+  !> or at the round-off of that product; past the force test, a residual that stagnates ends the
+  !> step all the same. target: the residual AUTO aims at (the force test's, or the energy
+  !> budget's if that is lower).
+  logical function converged(scn, sys, res, rwork, fscale, work, dunorm, target)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: res(:), rwork, fscale, work, dunorm
+    real(dp), intent(out) :: target
+    real(dp) :: limit, budget
+    logical :: stagnant
+    integer :: iter
+    iter = size(res)
+    limit = max(scn%tolerance * fscale, 4.0_dp * sys%elems%round_floor)
+    budget = huge(1.0_dp)
+    if (scn%energy_test) budget = max(scn%tolerance * work, 64.0_dp * epsilon(1.0_dp) * dunorm * fscale)
+    stagnant = .false.
+    if (iter >= 2) stagnant = res(iter) >= 0.5_dp * res(iter - 1)
+    converged = .false.
+    if (res(iter) <= scn%tolerance * fscale) converged = rwork <= budget .or. stagnant
+    if (res(iter) <= limit .and. stagnant) converged = .true.
+    target = min(limit, budget / max(dunorm, tiny(1.0_dp)))
+  end function converged
+
+  !> iterate_eq9 on the nonlinear zone (nonlinear_zone): du = a + W y with a = S⁻¹ r(0), the one
+  !> solve of the step (with cs: du = a + W y + S⁻¹C'Λ, the multipliers of the contact solve at
+  !> each iterate); the elements touching Z evaluated at each iterate, the residual's Z rows (with
+  !> C'Λ on the right: zero elsewhere), y updated by S's iteration or (no contact rows) by Newton
+  !> through Woodbury; then du on every equation and the whole trial state once. The convergence test is
+  !> iterate_eq9's, with the step's exchanged work and ‖Δu‖ taken on Z (the residual's work
+  !> r·Δu is exact: r is zero off Z) and ‖Bσ(n+1)‖ from ‖Bσ(n)‖ and Z's rows.
+  !> The tangent fallback is TANGENT's: two iterates in a row without progress from the fourth
+  !> on, or I + D W_Z singular, and S's iteration for the rest of the step.
+  subroutine iterate_eq9_zone(scn, sys, st, mat, zone, rep, stat, errmsg, cs, lam)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(step_state_t), intent(inout) :: st
+    type(iteration_matrix_t), intent(inout) :: mat
+    type(zone_t), intent(inout) :: zone
+    type(step_report_t), intent(out) :: rep
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    type(contact_set_t), intent(inout), optional :: cs
+    real(dp), intent(inout), optional :: lam(:)
+    integer :: iter
+    real(dp) :: rwork, work, dunorm, dfint2, fext, fn, fm, fscale, target
+    logical :: fallback, tangent, newton_ok
+    call st%begin_step()
+    call zone%begin_step()
+    call mat%solve(st%r, st%ddu, stat, errmsg)
+    if (stat /= STAT_OK) return
+    fext = norm2(st%f_np1 + st%f_n)
+    fn = norm2(st%fint_n)
+    fm = norm2((4.0_dp / st%h) * st%mv)
+    fallback = .false.
+    do iter = 1, scn%max_iterations
+      rep%iterations = iter
+      tangent = zone%uses_tangent(fallback)
+      if (present(cs)) then
+        ! The multipliers as in iterate_eq9: du = du_free + S⁻¹C'Λ on every equation, and C'Λ
+        ! (in mdu, unused by the zone) on the right of Z's rows.
+        call zone%free_du(st)
+        call contact_solve_step(cs, mat%factor, st%u, zone%dfree, st%du, lam, stat, errmsg)
+        if (stat /= STAT_OK) then
+          errmsg = 'contact: ' // errmsg
+          return
+        end if
+        st%mdu = 0.0_dp
+        call contact_add_force(cs, st%mdu)
+      end if
+      call zone%trial(scn, sys, st, tangent)
+      if (present(cs)) then
+        call zone%residual(sys, st, st%res_hist(iter), rwork, work, dunorm, dfint2, st%mdu)
+      else
+        call zone%residual(sys, st, st%res_hist(iter), rwork, work, dunorm, dfint2)
+      end if
+      if (.not. (st%res_hist(iter) <= huge(1.0_dp))) then
+        rep%outcome = STEP_DIVERGED
+        rep%bad_equation = max(first_nonfinite(st%r), 1)
+        return
+      end if
+      fscale = max(fext, fn, sqrt(max(fn**2 + dfint2, 0.0_dp)), fm, tiny(1.0_dp))
+      if (converged(scn, sys, st%res_hist(1:iter), rwork, fscale, work, dunorm, target)) exit
+      if (iter == scn%max_iterations) then
+        rep%outcome = STEP_NOT_CONVERGED
+        rep%force_scale = fscale
+        return
+      end if
+      if (tangent .and. iter >= 4 .and. .not. sys%elems%any_large) then
+        fallback = st%res_hist(iter) >= 0.99_dp * st%res_hist(iter - 1) .and. &
+          st%res_hist(iter - 1) >= 0.99_dp * st%res_hist(iter - 2)
+      end if
+      call zone%update(sys, tangent .and. .not. fallback, newton_ok)
+      if (tangent .and. .not. newton_ok) fallback = .true.
+    end do
+    if (.not. present(cs)) call zone%full_du(st)
+    call st%trial(scn, sys, scn%energy_correction, .false.)
+    call end_checks(sys, st, rep)
+  end subroutine iterate_eq9_zone
+
+  !> After a converged iteration: a non-finite du or Bσ, or an inverted LARGE member.
+  subroutine end_checks(sys, st, rep)
+    type(system_t), intent(in) :: sys
+    type(step_state_t), intent(in) :: st
+    type(step_report_t), intent(inout) :: rep
+    rep%bad_equation = first_nonfinite(st%du)
+    if (rep%bad_equation == 0) rep%bad_equation = first_nonfinite(st%fint)
+    if (rep%bad_equation > 0) rep%outcome = STEP_NONFINITE
+    if (rep%outcome == STEP_CONVERGED .and. sys%elems%inverted > 0) then
+      rep%outcome = STEP_INVERTED
+      rep%element = sys%elems%inverted
+    end if
+  end subroutine end_checks
 
   !> Force scale of the step for the convergence test (docs/input.md, SCHEME TOLERANCE).
   real(dp) function force_scale(st)

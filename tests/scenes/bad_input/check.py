@@ -121,6 +121,7 @@ CASES = [
     ('unterminated quote', edit(BASE, 1, 'TITLE "spring and mass'), None, [], 1, 'TITLE', '"spring and mass'),
     ('unknown MULTIPLIERS choice', BASE + ['SCHEME MULTIPLIERS DENSE'], None, [], 15, 'SCHEME', 'DENSE'),
     ('negative AUGMENTED_ABOVE', BASE + ['SCHEME AUGMENTED_ABOVE -3'], None, [], 15, 'SCHEME', '-3'),
+    ('SCHEME ZONE not AUTO, ON or OFF', BASE + ['SCHEME ZONE SOMETIMES'], None, [], 15, 'SCHEME', 'SOMETIMES'),
     ('continuation at end of file', edit(BASE, 14, 'OUTPUT PROBE b UX &'), None, [], 14, 'OUTPUT', '&'),
     ('initial displacement inside an obstacle', BASE + ['OBSTACLE wall NODES b POINT 1.05 0 NORMAL -1 0'], None, [],
      15, 'OBSTACLE wall', 'wall'),

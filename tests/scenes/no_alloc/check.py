@@ -9,6 +9,9 @@ opening) cancels. The standard is exactly zero, on:
   the formation of the plastic hinge (first plastic step 85, ~10 iterations per step);
 - spring_plastic: SUBSTEPS 100, plastic flow during the window;
 - block_j2: VON_MISES quads (ITERATION ELASTIC; the law's path through subincrement_path), plastic from step 52;
+- zone/patch_block: SCHEME ZONE (AUTO takes it), Newton on the zone's equations through Woodbury
+  (no refactorization), the patch plastic over the window 100..200; zone/drop_block: the zone
+  with contact rows (the contact solve at each iterate), the ground held over 50..100;
 - mass_bounce: contact, the window 200..400 holds the first impact (step ~347), in IMPACT
   PAPER and PERSIST;
 - bar_impact: a free bar on a wall, PERSIST (projection and body scaling), window 100..200;
@@ -44,6 +47,8 @@ CASES = [  # scene, N, what the window must contain, --set arguments
     ('inputs/cantilever_plastic.dat', 60, 'plastic', ['SCHEME.ITERATION=ELASTIC']),
     ('inputs/spring_plastic.dat', 10, 'plastic', []),
     ('inputs/block_j2.dat', 60, 'plastic', ['SCHEME.ITERATION=ELASTIC']),
+    ('tests/scenes/zone/patch_block.dat', 100, 'plastic', []),
+    ('tests/scenes/zone/drop_block.dat', 50, 'impact', []),
     ('inputs/mass_bounce.dat', 200, 'impact', []),
     ('inputs/mass_bounce.dat', 200, 'impact', ['SCHEME.IMPACT=PERSIST']),
     ('inputs/bar_impact.dat', 100, 'impact', ['SCHEME.IMPACT=PERSIST']),
