@@ -102,7 +102,10 @@ contains
       call mark(e, inz)
     end do
     self%nz = count(inz)
-    if (int(self%nz, 8) * n > MAX_W_ENTRIES) then
+    if (self%nz == 0) then
+      self%why = 'off (the nonlinear elements have no free equation)'
+      return
+    else if (int(self%nz, 8) * n > MAX_W_ENTRIES) then
       self%why = 'off (the S^-1 columns would be too large: ' // str(self%nz) // ' x ' // str(n) // ')'
       return
     end if
