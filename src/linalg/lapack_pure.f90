@@ -9,7 +9,7 @@ module lapack_pure
   use kinds, only: dp
   implicit none
   private
-  public :: dsygvd, dposv, dsysv, dpstrf, dpotrs, dgesv
+  public :: dsygvd, dposv, dsysv, dpstrf, dpotrs, dgesv, dgetrf, dgetrs
 
   interface
     !> Generalized symmetric-definite eigenproblem, divide and conquer.
@@ -71,5 +71,24 @@ module lapack_pure
       real(dp), intent(inout) :: a(lda, *), b(ldb, *)
       integer, intent(out) :: ipiv(*), info
     end subroutine dgesv
+
+    !> LU with partial pivoting of a general matrix (dgesv's factorization); info as dgesv.
+    pure subroutine dgetrf(m, n, a, lda, ipiv, info)
+      import :: dp
+      integer, intent(in) :: m, n, lda
+      real(dp), intent(inout) :: a(lda, *)
+      integer, intent(out) :: ipiv(*), info
+    end subroutine dgetrf
+
+    !> Solve with dgetrf's factors (dgesv's solve).
+    pure subroutine dgetrs(trans, n, nrhs, a, lda, ipiv, b, ldb, info)
+      import :: dp
+      character(len=1), intent(in) :: trans
+      integer, intent(in) :: n, nrhs, lda, ldb
+      real(dp), intent(in) :: a(lda, *)
+      integer, intent(in) :: ipiv(*)
+      real(dp), intent(inout) :: b(ldb, *)
+      integer, intent(out) :: info
+    end subroutine dgetrs
   end interface
 end module lapack_pure

@@ -200,7 +200,8 @@ contains
   !> iterate_eq9's, with the step's exchanged work and ‖Δu‖ taken on Z (the residual's work
   !> r·Δu is exact: r is zero off Z) and ‖Bσ(n+1)‖ from ‖Bσ(n)‖ and Z's rows.
   !> The tangent fallback is TANGENT's: two iterates in a row without progress from the fourth
-  !> on, or I + D W_Z singular, and S's iteration for the rest of the step.
+  !> on, or I + D W_Z singular, and S's iteration for the rest of the step. (Where G's LU is
+  !> costly it is kept over the iterates while they contract: zone_t%uses_tangent.)
   subroutine iterate_eq9_zone(scn, sys, st, mat, zone, rep, stat, errmsg, cs, lam)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
@@ -214,7 +215,7 @@ contains
     real(dp), intent(inout), optional :: lam(:)
     integer :: iter
     real(dp) :: rwork, work, dunorm, dfint2, fext, fn, fm, fscale, target
-    logical :: fallback, tangent, newton_ok
+    logical :: fallback, tangent, newton, newton_ok
     call st%begin_step()
     call zone%begin_step()
     call mat%solve(st%r, st%ddu, stat, errmsg)
@@ -225,7 +226,7 @@ contains
     fallback = .false.
     do iter = 1, scn%max_iterations
       rep%iterations = iter
-      tangent = zone%uses_tangent(fallback)
+      tangent = zone%uses_tangent(fallback, st%res_hist(1:iter), iter)
       if (present(cs)) then
         ! The multipliers as in iterate_eq9: du = du_free + S⁻¹C'Λ on every equation, and C'Λ
         ! (in mdu, unused by the zone) on the right of Z's rows.
@@ -256,12 +257,13 @@ contains
         rep%force_scale = fscale
         return
       end if
-      if (tangent .and. iter >= 4 .and. .not. sys%elems%any_large) then
+      if (zone%newton_on(fallback) .and. iter >= 4 .and. .not. sys%elems%any_large) then
         fallback = st%res_hist(iter) >= 0.99_dp * st%res_hist(iter - 1) .and. &
           st%res_hist(iter - 1) >= 0.99_dp * st%res_hist(iter - 2)
       end if
-      call zone%update(sys, tangent .and. .not. fallback, newton_ok)
-      if (tangent .and. .not. newton_ok) fallback = .true.
+      newton = zone%newton_on(fallback)
+      call zone%update(sys, newton, tangent .and. newton, newton_ok)
+      if (newton .and. .not. newton_ok) fallback = .true.
     end do
     if (.not. present(cs)) call zone%full_du(st)
     call st%trial(scn, sys, scn%energy_correction, .false.)

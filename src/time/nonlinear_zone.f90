@@ -19,7 +19,7 @@ module nonlinear_zone
   use internal_forces, only: internal_force
   use cholmod_binding, only: cholmod_factor_t
   use step_state, only: step_state_t
-  use lapack_pure, only: dgesv
+  use lapack_pure, only: dgetrf, dgetrs
   implicit none
   private
   public :: zone_t, ZONE_AUTO, ZONE_ON, ZONE_OFF
@@ -50,10 +50,12 @@ module nonlinear_zone
     integer, allocatable :: zz_k(:), zz_i(:), zz_j(:)          !< entries with row and column in Z
     integer, allocatable :: pp_k(:)                !< entries with row and column in Z' (the tangent's)
     real(dp), allocatable :: wt(:, :)              !< (nz, n): wt(:, i) is row i of W
-    real(dp), allocatable :: wz(:, :)              !< W_Z = P_Z' W (nz, nz)
+    real(dp), allocatable :: wzt(:, :)             !< W_Zᵀ = (P_Z' W)ᵀ (nz, nz): wzt(:, j) is row j of W_Z
     real(dp), allocatable :: g(:, :), rho(:), y(:), dy(:), e(:), x(:)
     integer, allocatable :: ipiv(:)
     logical :: newton = .false.                    !< Newton on the zone (TANGENT, AUTO; no contact rows)
+    logical :: lu_cheap = .true.                   !< G's LU costs no more than an iteration: at every iterate
+    logical :: have_lu = .false.                   !< G's LU of this step is in g, ipiv
     logical, public :: contact = .false.           !< contact rows (or IMPOSE): du comes from the contact solve
     real(dp), allocatable, public :: dfree(:)      !< with contact: the free iterate a + W y on every equation
   contains
@@ -66,6 +68,7 @@ module nonlinear_zone
     procedure :: full_du => zone_full_du
     procedure :: free_du => zone_free_du
     procedure :: uses_tangent => zone_uses_tangent
+    procedure :: newton_on => zone_newton_on
   end type zone_t
 
 contains
@@ -79,7 +82,6 @@ contains
     type(system_t), intent(in) :: sys
     real(dp), intent(in) :: solve_flops          !< of S's factor (CHOLMOD's analysis)
     logical, allocatable :: inz(:), inp(:), touch(:)
-    real(dp) :: zone_flops, full_flops
     integer :: e, k, j, n
     self%on = .false.
     n = sys%dofs%neq
@@ -129,21 +131,16 @@ contains
     ! forming the free du on every equation for the contact solve).
     self%contact = size(scn%conditions) > 0 .or. size(scn%imposes) > 0
     self%newton = allocated(sys%ops%tval) .and. .not. self%contact
-    zone_flops = 2.0_dp * self%nz * self%nzp
-    if (self%contact) zone_flops = zone_flops + 2.0_dp * self%nz * real(n, dp)
-    if (self%newton) zone_flops = zone_flops + 2.0_dp / 3.0_dp * real(self%nz, dp)**3 / DENSE_SPEEDUP
-    zone_flops = ITERATIONS * zone_flops + 2.0_dp * self%nz * real(n, dp)
-    full_flops = ITERATIONS * (solve_flops + ELEMENT_FLOPS * count(scn%elem_model > 0))
+    call pattern_maps(self, sys, inz, inp)
     if (scn%zone == ZONE_AUTO .and. 2 * self%nz > n) then
       self%why = 'off (AUTO: ' // str(self%nz) // ' of ' // str(n) // ' equations nonlinear, more than half the model)'
       return
-    else if (scn%zone == ZONE_AUTO .and. zone_flops > full_flops) then
+    else if (.not. zone_pays(self, count(scn%elem_model > 0), solve_flops) .and. scn%zone == ZONE_AUTO) then
       self%why = 'off (AUTO: ' // str(self%nz) // ' of ' // str(n) // ' equations nonlinear, an iteration on them would ' // &
         'cost more than on the whole)'
       return
     end if
-    call pattern_maps(self, sys, inz, inp)
-    allocate (self%wt(self%nz, n), self%wz(self%nz, self%nz), self%g(self%nz, self%nz), &
+    allocate (self%wt(self%nz, n), self%wzt(self%nz, self%nz), self%g(self%nz, self%nz), &
       self%rho(self%nz), self%y(self%nz), self%dy(self%nz), self%e(n), self%x(n), self%ipiv(self%nz))
     if (self%contact) allocate (self%dfree(n))
     self%on = .true.
@@ -159,6 +156,26 @@ contains
       end do
     end subroutine mark
   end subroutine zone_build
+
+  !> AUTO's cost model (above) for this zone of nelem elements in all: true when the zone's step
+  !> costs fewer flops than the whole system's. Sets lu_cheap (G's LU at every iterate).
+  logical function zone_pays(self, nelem, solve_flops)
+    type(zone_t), intent(inout) :: self
+    integer, intent(in) :: nelem
+    real(dp), intent(in) :: solve_flops
+    real(dp) :: zone_flops, full_flops, lu_flops
+    zone_flops = 2.0_dp * self%nz * self%nzp
+    if (self%contact) zone_flops = zone_flops + 2.0_dp * self%nz * real(self%n, dp)
+    ! G = I + D W_Z (4 nz flops per entry of D) and its LU.
+    lu_flops = 2.0_dp / 3.0_dp * real(self%nz, dp)**3 / DENSE_SPEEDUP + 4.0_dp * real(self%nz, dp) * size(self%zz_k)
+    self%lu_cheap = lu_flops <= zone_flops + ELEMENT_FLOPS * size(self%elist)
+    if (self%newton .and. self%lu_cheap) zone_flops = zone_flops + lu_flops
+    zone_flops = ITERATIONS * zone_flops + 2.0_dp * self%nz * real(self%n, dp)
+    ! (A costly LU is kept over the step's iterates: counted once per step.)
+    if (self%newton .and. .not. self%lu_cheap) zone_flops = zone_flops + lu_flops
+    full_flops = ITERATIONS * (solve_flops + ELEMENT_FLOPS * nelem)
+    zone_pays = zone_flops <= full_flops
+  end function zone_pays
 
   !> From the symmetric pattern (upper triangle by columns): Z's full rows (entry, column as a
   !> position in Z'), the Z × Z entries, the Z' × Z' entries.
@@ -239,7 +256,7 @@ contains
       self%wt(c, :) = self%x
     end do
     do i = 1, self%nz
-      self%wz(i, :) = self%wt(:, self%eqs(i))
+      self%wzt(:, i) = self%wt(:, self%eqs(i))
     end do
   end subroutine zone_columns
 
@@ -248,13 +265,30 @@ contains
   pure subroutine zone_begin_step(self)
     class(zone_t), intent(inout) :: self
     self%y = 0.0_dp
+    self%have_lu = .false.
   end subroutine zone_begin_step
 
-  !> Whether the next trial assembles the tangent (TANGENT and AUTO, unless the step fell back).
-  pure logical function zone_uses_tangent(self, fallback)
+  !> Whether the iteration is Newton's (TANGENT and AUTO without contact rows, unless the step
+  !> fell back to S's iteration).
+  pure logical function zone_newton_on(self, fallback)
     class(zone_t), intent(in) :: self
     logical, intent(in) :: fallback
-    zone_uses_tangent = self%newton .and. .not. fallback
+    zone_newton_on = self%newton .and. .not. fallback
+  end function zone_newton_on
+
+  !> Whether the trial of iterate iter assembles the tangent (TANGENT and AUTO, unless the step
+  !> fell back; res: the residual norms so far). Where G's LU costs more than an iteration it is
+  !> kept over the step's iterates (a modified Newton, as AUTO keeps S) and taken afresh only when
+  !> the last iterate contracted the residual by less than REFRESH.
+  pure logical function zone_uses_tangent(self, fallback, res, iter)
+    class(zone_t), intent(in) :: self
+    logical, intent(in) :: fallback
+    real(dp), intent(in) :: res(:)
+    integer, intent(in) :: iter
+    real(dp), parameter :: REFRESH = 0.1_dp
+    zone_uses_tangent = zone_newton_on(self, fallback)
+    if (.not. zone_uses_tangent .or. self%lu_cheap .or. .not. self%have_lu .or. iter < 3) return
+    zone_uses_tangent = res(iter - 1) > REFRESH * res(iter - 2)
   end function zone_uses_tangent
 
   !> The iterate du = a + W y on Z' (a in st%ddu; with contact rows du is the contact solve's,
@@ -360,42 +394,22 @@ contains
     dunorm = sqrt(dunorm)
   end subroutine zone_residual
 
-  !> The next iterate: y += ρ (S's iteration), or with tangent (assembled at this iterate)
-  !> y += (I + D W_Z)⁻¹ ρ, D = Kt - K0 on Z × Z: Newton with S + P_Z D P_Z' (Woodbury).
-  !> newton_ok = .false. when I + D W_Z is singular or not finite (then y += ρ).
-  subroutine zone_update(self, sys, tangent, newton_ok)
+  !> The next iterate: y += ρ (S's iteration), or Newton with S + P_Z D P_Z' (Woodbury):
+  !> y += (I + D W_Z)⁻¹ ρ, D = Kt - K0 on Z × Z, G = I + D W_Z factorized afresh when the tangent
+  !> was assembled at this iterate (tangent), else G's LU of an earlier iterate of the step.
+  !> newton_ok = .false. when G is singular or not finite, or there is no LU (then y += ρ).
+  subroutine zone_update(self, sys, newton, tangent, newton_ok)
     class(zone_t), intent(inout) :: self
     type(system_t), intent(in) :: sys
-    logical, intent(in) :: tangent
+    logical, intent(in) :: newton, tangent
     logical, intent(out) :: newton_ok
-    integer :: k, info, i, j
-    real(dp) :: gmax, dij
+    integer :: info
     newton_ok = .false.
-    if (tangent) then
-      ! G = I + D W_Z from D's entries (D is as sparse as the zone's elements: no dense product).
-      self%g = 0.0_dp
-      do i = 1, self%nz
-        self%g(i, i) = 1.0_dp
-      end do
-      do k = 1, size(self%zz_k)
-        i = self%zz_i(k)
-        j = self%zz_j(k)
-        dij = sys%ops%tval(self%zz_k(k)) - sys%ops%kval(self%zz_k(k))
-        if (dij == 0.0_dp) cycle
-        self%g(i, :) = self%g(i, :) + dij * self%wz(j, :)
-        if (i /= j) self%g(j, :) = self%g(j, :) + dij * self%wz(i, :)
-      end do
-      gmax = maxval(abs(self%g))
+    if (newton .and. tangent) call factor_g(self, sys)
+    if (newton .and. self%have_lu) then
       self%dy = self%rho
-      if (gmax <= huge(1.0_dp)) then
-        call dgesv(self%nz, 1, self%g, self%nz, self%ipiv, self%dy, self%nz, info)
-        newton_ok = info == 0
-        if (newton_ok) then
-          do i = 1, self%nz
-            newton_ok = newton_ok .and. abs(self%g(i, i)) > epsilon(1.0_dp) * gmax
-          end do
-        end if
-      end if
+      call dgetrs('T', self%nz, 1, self%g, self%nz, self%ipiv, self%dy, self%nz, info)
+      newton_ok = info == 0
     end if
     if (newton_ok) then
       self%y = self%y + self%dy
@@ -403,6 +417,38 @@ contains
       self%y = self%y + self%rho
     end if
   end subroutine zone_update
+
+  !> G = I + D W_Z from D's entries (as sparse as the zone's elements: no dense product), and its
+  !> LU (of Gᵀ); have_lu unless G is singular (a pivot below eps max|G|) or not finite.
+  subroutine factor_g(self, sys)
+    type(zone_t), intent(inout) :: self
+    type(system_t), intent(in) :: sys
+    integer :: k, info, i, j
+    real(dp) :: gmax, dij
+    ! Gᵀ = I + W_Zᵀ D (D symmetric) by columns: column i of Gᵀ gathers D(j, i) times column j of
+    ! W_Zᵀ, both contiguous; solved transposed below.
+    self%g = 0.0_dp
+    do i = 1, self%nz
+      self%g(i, i) = 1.0_dp
+    end do
+    do k = 1, size(self%zz_k)
+      dij = sys%ops%tval(self%zz_k(k)) - sys%ops%kval(self%zz_k(k))
+      if (dij == 0.0_dp) cycle
+      i = self%zz_i(k)
+      j = self%zz_j(k)
+      self%g(:, i) = self%g(:, i) + dij * self%wzt(:, j)
+      if (i /= j) self%g(:, j) = self%g(:, j) + dij * self%wzt(:, i)
+    end do
+    gmax = maxval(abs(self%g))
+    self%have_lu = .false.
+    if (.not. (gmax <= huge(1.0_dp))) return
+    call dgetrf(self%nz, self%nz, self%g, self%nz, self%ipiv, info)
+    if (info /= 0) return
+    do i = 1, self%nz
+      if (.not. (abs(self%g(i, i)) > epsilon(1.0_dp) * gmax)) return
+    end do
+    self%have_lu = .true.
+  end subroutine factor_g
 
   !> With contact rows: the free iterate a + W y on every equation (a in st%ddu), into dfree.
   subroutine zone_free_du(self, st)
