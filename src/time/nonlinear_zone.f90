@@ -27,10 +27,11 @@ module nonlinear_zone
   integer, parameter :: ZONE_AUTO = 1, ZONE_ON = 2, ZONE_OFF = 3
   !> AUTO's cost model, in flops per step of ITERATIONS iterations (docs/nonlinear-performance.md,
   !> "The nonlinear zone", where it is checked against measured steps): the zone's, per iteration
-  !> Newton's LU of I + D W_Z (2/3 nz³, at DENSE_SPEEDUP times the flop rate of the sparse work:
-  !> LAPACK's blocked LU) and its rows of W (2 nz nz'), plus the final du (2 n nz); the whole
-  !> system's, per iteration a solve (4 nnz(L), CHOLMOD's analysis) and an element loop
-  !> (ELEMENT_FLOPS per element). The same count of iterations for both (the whole system's
+  !> its rows of W (2 nz nz'), its elements (ELEMENT_FLOPS each) and Newton's G = I + D W_Z with
+  !> its LU (4 nz per entry of D, 2/3 nz³ at DENSE_SPEEDUP times the flop rate of the sparse work:
+  !> LAPACK's blocked LU; once per step where it is kept over the iterates), plus the final du
+  !> (2 n nz); the whole system's, per iteration a solve (4 nnz(L), CHOLMOD's analysis) and an
+  !> element loop (ELEMENT_FLOPS per element). The same count of iterations for both (the whole system's
   !> iteration with S in fact needs more than Newton's on the zone). And Z at most half the
   !> equations: the zone is for a part of the model.
   real(dp), parameter :: ITERATIONS = 3.0_dp, DENSE_SPEEDUP = 4.0_dp, ELEMENT_FLOPS = 1000.0_dp
@@ -168,7 +169,8 @@ contains
     if (self%contact) zone_flops = zone_flops + 2.0_dp * self%nz * real(self%n, dp)
     ! G = I + D W_Z (4 nz flops per entry of D) and its LU.
     lu_flops = 2.0_dp / 3.0_dp * real(self%nz, dp)**3 / DENSE_SPEEDUP + 4.0_dp * real(self%nz, dp) * size(self%zz_k)
-    self%lu_cheap = lu_flops <= zone_flops + ELEMENT_FLOPS * size(self%elist)
+    zone_flops = zone_flops + ELEMENT_FLOPS * size(self%elist)
+    self%lu_cheap = lu_flops <= zone_flops
     if (self%newton .and. self%lu_cheap) zone_flops = zone_flops + lu_flops
     zone_flops = ITERATIONS * zone_flops + 2.0_dp * self%nz * real(self%n, dp)
     ! (A costly LU is kept over the step's iterates: counted once per step.)
