@@ -453,7 +453,7 @@ contains
   !> The step h for the steps that follow: the run's S (level 0) or the sub-steps' S, set up
   !> afresh (K0 + 4M/h², so that a retry never depends on an earlier one: restarts stay bit for
   !> bit; the first retry allocates its factor, later ones refactorize it); the contact multipliers'
-  !> columns follow S.
+  !> columns and the nonlinear zone's S⁻¹ columns follow S.
   subroutine use_step(scn, sys, rs, outs, h, level, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys

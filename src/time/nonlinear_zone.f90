@@ -8,7 +8,10 @@
 !> the iteration runs on Z: the elements touching Z evaluated at du on their equations (Z'),
 !> ρ from Z's rows of eq (9), and y += ρ (ELASTIC: du += S⁻¹ r) or y += (I + D W_Z)⁻¹ ρ with
 !> D = Kt - K0 on Z × Z (TANGENT and AUTO: Newton, S + P_Z D P_Z' inverted by Woodbury's
-!> identity, no refactorization). The converged du is formed once on all equations. In exact
+!> identity, no refactorization; where its dense LU is costly, kept over the iterates while they
+!> contract). With contact rows (or IMPOSE) every iterate also takes the multipliers of the contact
+!> solve, du = a + W y + S⁻¹C'Λ, and the zone iterates with S. The converged du is formed once
+!> on all equations. In exact
 !> arithmetic these are the iterates of the whole-system iteration; docs/nonlinear-performance.md
 !> ("The nonlinear zone") measures what it saves and where it stops paying.
 module nonlinear_zone
@@ -22,9 +25,10 @@ module nonlinear_zone
   use lapack_pure, only: dgetrf, dgetrs
   implicit none
   private
-  public :: zone_t, ZONE_AUTO, ZONE_ON, ZONE_OFF
+  public :: zone_t
 
-  integer, parameter :: ZONE_AUTO = 1, ZONE_ON = 2, ZONE_OFF = 3
+  !> SCHEME ZONE's choices, as scene_t%zone holds them (the order of scene_run's get_choice).
+  integer, parameter :: ZONE_AUTO = 1, ZONE_OFF = 3
   !> AUTO's cost model, in flops per step of ITERATIONS iterations (docs/nonlinear-performance.md,
   !> "The nonlinear zone", where it is checked against measured steps): the zone's, per iteration
   !> its rows of W (2 nz nz'), its elements (ELEMENT_FLOPS each) and Newton's G = I + D W_Z with
@@ -83,6 +87,7 @@ contains
     type(system_t), intent(in) :: sys
     real(dp), intent(in) :: solve_flops          !< of S's factor (CHOLMOD's analysis)
     logical, allocatable :: inz(:), inp(:), touch(:)
+    logical :: pays
     integer :: e, k, j, n
     self%on = .false.
     n = sys%dofs%neq
@@ -133,10 +138,12 @@ contains
     self%contact = size(scn%conditions) > 0 .or. size(scn%imposes) > 0
     self%newton = allocated(sys%ops%tval) .and. .not. self%contact
     call pattern_maps(self, sys, inz, inp)
+    ! (zone_pays also sets lu_cheap, which ZONE ON needs too: called whatever ZONE says.)
+    pays = zone_pays(self, count(scn%elem_model > 0), solve_flops)
     if (scn%zone == ZONE_AUTO .and. 2 * self%nz > n) then
       self%why = 'off (AUTO: ' // str(self%nz) // ' of ' // str(n) // ' equations nonlinear, more than half the model)'
       return
-    else if (.not. zone_pays(self, count(scn%elem_model > 0), solve_flops) .and. scn%zone == ZONE_AUTO) then
+    else if (scn%zone == ZONE_AUTO .and. .not. pays) then
       self%why = 'off (AUTO: ' // str(self%nz) // ' of ' // str(n) // ' equations nonlinear, an iteration on them would ' // &
         'cost more than on the whole)'
       return
@@ -262,8 +269,8 @@ contains
     end do
   end subroutine zone_columns
 
-  !> A step's iteration starts at du = a (a = S⁻¹ r(0), the caller's solve): y = 0, and Newton
-  !> unless ITERATION ELASTIC.
+  !> A step's iteration starts at du = a (a = S⁻¹ r(0), the caller's solve): y = 0, and no LU
+  !> of G yet.
   pure subroutine zone_begin_step(self)
     class(zone_t), intent(inout) :: self
     self%y = 0.0_dp
