@@ -6,7 +6,7 @@ module element_points
   use scene, only: scene_t
   use assembly, only: system_t
   use element_traits, only: ET_BAR2, ET_BEAM2
-  use material_law, only: law_update, law_nstate, law_step_t, LAW_HYPERELASTIC, PK_PSTRESS
+  use material_law, only: law_update, law_nstate, law_step_t, LAW_HYPERELASTIC, LAW_VON_MISES, PK_PSTRESS
   use law_hyperelastic, only: nh_lame
   implicit none
   private
@@ -20,6 +20,7 @@ module element_points
     logical :: beam = .false.        !< BEAM2 (corotational when large)
     logical :: hyper = .false.       !< HYPERELASTIC (neo-Hookean; surface elements, large)
     real(dp) :: lame(2) = 0.0_dp     !< its Lamé constants (lambda, mu)
+    logical :: von_mises = .false.   !< VON_MISES (with large: on the Green-Lagrange strain, PK2 stress)
     logical :: pstress = .false.     !< plane stress (surface elements)
     logical :: per_length = .false.  !< the strain is an elongation over the length (BAR2), not an elongation (SPRING)
   end type model_view_t
@@ -44,11 +45,13 @@ contains
     mv%hyper = .false.
     if (mv%mat > 0) mv%hyper = scn%materials(mv%mat)%law == LAW_HYPERELASTIC
     if (mv%hyper) mv%lame = nh_lame(scn%materials(mv%mat)%young, scn%materials(mv%mat)%poisson)
+    mv%von_mises = .false.
+    if (mv%mat > 0) mv%von_mises = scn%materials(mv%mat)%law == LAW_VON_MISES
     mv%pstress = sys%elems%pk(im) == PK_PSTRESS
   end subroutine view_model
 
   !> One point through its law (material_law's law_update, sub-incremented along the step from
-  !> the committed state eps_n with the increment deps). SUBSTEPS AUTO (nsub <= 0): the count may
+  !> the committed state eps_n with the increment deps). SUBSTEPS AUTO (nsub = 0): the count may
   !> only grow during the iterations of a step; a count that changes back and forth makes the
   !> residual of eq (9) jump and cycle. So a point that asks for fewer sub-increments than before
   !> in this step is redone with them.
@@ -66,7 +69,7 @@ contains
       call law_update(scn%materials(mv%mat), scn%models(mv%im)%sec, sys%elems%pk(mv%im), &
         sys%elems%dmat(1:nstr, 1:nstr, mv%im), n, eps_n, deps, sys%pts%sig(1:nstr, igp), &
         sys%pts%q(1:mv%nq, igp), sys%pts%q_t(1:mv%nq, igp), r)
-      if (mv%nsub > 0 .or. pass == 2) exit
+      if (mv%nsub /= 0 .or. pass == 2) exit      ! N given, or EXACT (NSUB_EXACT)
       if (r%nused >= sys%pts%nsub_pt(igp)) then
         sys%pts%nsub_pt(igp) = r%nused
         exit

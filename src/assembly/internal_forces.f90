@@ -107,7 +107,8 @@ contains
         else if (mv%per_length .or. nstr == 1) then
           call large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
         else
-          call large_plane_element(sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum)
+          call large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, &
+            dsum)
         end if
       else if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1)) then
         call linear_element(sys, g0, ng, ndof, nstr, mv%im, ue, tangent, fe, ke, esum)

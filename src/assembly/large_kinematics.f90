@@ -114,7 +114,10 @@ contains
 
   !> KINEMATICS LARGE, QUAD4/QUAD8/TRI3/TRI6 with the ELASTIC law: total Lagrangian, St Venant-
   !> Kirchhoff (docs/large-displacements.md); with HYPERELASTIC, neo-Hookean: S = S(E) of
-  !> law_hyperelastic and S̄ its discrete stress (S̄·ΔE = Δψ exactly, symmetric), the rest alike.
+  !> law_hyperelastic and S̄ its discrete stress (S̄·ΔE = Δψ exactly, symmetric), the rest alike;
+  !> with VON_MISES, the small-strain J2 law on the pair (E, S) (large rotations, small strains:
+  !> code_aster's GROT_GDEP), sub-incremented along the segment [E(n), E(n+1)] by point_update,
+  !> S̄ its path-mean stress: S̄·ΔE is the law's path work (stored + dissipated), exactly.
   !> At each point F = I + Σ u_a ⊗ ∇N_a (∇N from the reference B, bref), the Green-Lagrange
   !> strain E = ½(F'F - I) (as xx, yy, zz = 0, 2xy) and the
   !> second Piola-Kirchhoff stress S = D E. Bσ(n+1) = w B_NL(F(n+1))' S(n+1), B_NL(F) the
@@ -124,17 +127,19 @@ contains
   !> is 2 f̄ - f(n) - f(n+1). The tangent: w B_NL' D B_NL + the geometric part with the tensile
   !> part of S (positive definite however far an iterate goes). bmat keeps B_NL(F(n+1)) for the
   !> support reactions; the points report E and S.
-  subroutine large_plane_element(sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum)
+  subroutine large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
+    type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     type(model_view_t), intent(in) :: mv
     integer, intent(in) :: e, g0, ng, ndof
     real(dp), intent(in) :: ue(:), une(:)
     logical, intent(in) :: correct, tangent
-    real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum
+    real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum, dsum
     logical, intent(inout) :: any_c
     real(dp), parameter :: eye(2, 2) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 2])
     real(dp) :: dn(2, MAX_EDOF / 2), fn(2, 2), f1(2, 2), fm(2, 2), hn(2, 2), h1(2, 2), en(4), e1(4), s1(4), sn(4), sbar(4), &
       bn(4, MAX_EDOF), b1(4, MAX_EDOF), bm(4, MAX_EDOF), w, st(2, 2), g, dm(4, 4)
+    type(law_step_t) :: r
     integer :: igp, p, nen, a, b, i
     nen = ndof / 2
     fc(1:ndof) = 0.0_dp
@@ -158,6 +163,9 @@ contains
       sn = sys%pts%sig(1:4, igp)
       if (mv%hyper) then
         s1 = nh_stress(mv%lame, e1, mv%pstress)
+      else if (mv%von_mises) then
+        call point_update(scn, sys, mv, igp, en, e1 - en, r)
+        s1 = r%sig(1:4)
       else
         s1 = matmul(sys%elems%dmat(1:4, 1:4, mv%im), e1)
       end if
@@ -170,6 +178,9 @@ contains
       fe(1:ndof) = fe(1:ndof) + w * matmul(s1, b1(:, 1:ndof))
       if (mv%hyper) then
         sbar = nh_discrete_stress(mv%lame, en, e1, mv%pstress)
+      else if (mv%von_mises) then
+        sbar = r%sigbar(1:4)
+        dsum = dsum + w * r%dissip
       else
         sbar = 0.5_dp * (sn + s1)
       end if
@@ -182,6 +193,8 @@ contains
       if (tangent) then
         if (mv%hyper) then
           dm = nh_tangent(mv%lame, e1, mv%pstress)
+        else if (mv%von_mises) then
+          dm = r%dtan(1:4, 1:4)
         else
           dm = sys%elems%dmat(1:4, 1:4, mv%im)
         end if

@@ -9,8 +9,7 @@ module scene_loader
   use scene_parser, only: parse_file, apply_override, check_required
   use scene, only: scene_t, INIT_STATIC
   use kinds, only: dp
-  use element_traits, only: etype_family, FAMILY_SURFACE
-  use material_law, only: LAW_ELASTIC, LAW_HYPERELASTIC
+  use material_law, only: LAW_HYPERELASTIC
   use scene_mesh, only: mesh_schema, mesh_statement
   use scene_materials, only: materials_schema, materials_statement
   use scene_models, only: models_schema, models_statement
@@ -97,9 +96,10 @@ contains
   end subroutine load_scene
 
   !> HYPERELASTIC without KINEMATICS LARGE, and what KINEMATICS LARGE cannot be combined with, named:
-  !> another law than ELASTIC or HYPERELASTIC on surface elements, stiffness-proportional damping (BETA K0,
-  !> the reference configuration's stiffness, would resist the members' rigid rotation) and
-  !> INITIAL STATIC (it solves K0 u = f, a small-displacement equilibrium).
+  !> stiffness-proportional damping (BETA K0, the reference configuration's stiffness, would resist
+  !> the members' rigid rotation) and INITIAL STATIC (it solves K0 u = f, a small-displacement
+  !> equilibrium). Every law a surface element accepts (ELASTIC, VON_MISES, HYPERELASTIC) has a
+  !> large form (docs/large-displacements.md).
   subroutine check_large(scn, stat, errmsg)
     type(scene_t), intent(in) :: scn
     integer, intent(out) :: stat
@@ -121,14 +121,6 @@ contains
     if (k == 0) return
     do i = 1, size(scn%models)
       associate (md => scn%models(i))
-        if (md%large .and. etype_family(md%etype) == FAMILY_SURFACE .and. md%material > 0) then
-          if (scn%materials(md%material)%law /= LAW_ELASTIC .and. scn%materials(md%material)%law /= LAW_HYPERELASTIC) then
-            call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(md%line) // ': MODEL ' // md%group // &
-              ': KINEMATICS LARGE on surface elements needs the ELASTIC (St Venant-Kirchhoff) or HYPERELASTIC ' // &
-              "(neo-Hookean) law (no finite-strain plasticity yet), at 'LARGE'")
-            return
-          end if
-        end if
         if (md%large .and. md%beta > 0.0_dp) then
           call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(md%line) // ': MODEL ' // md%group // &
             ': DAMPING BETA (K0 of the reference configuration) would resist the rotation of a KINEMATICS LARGE ' // &
