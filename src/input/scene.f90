@@ -47,7 +47,7 @@ module scene
     type(section_t) :: sec        !< copy of the section, with the model's plane option
     logical :: lumped = .false.
     logical :: mixed = .false.    !< MASS MIXED: (consistent + lumped) / 2
-    integer :: substeps = 0       !< sub-increments of the laws (Cast3M SOUS_INCREMENT); 0 = AUTO
+    integer :: substeps = 0       !< sub-increments of the laws (Cast3M SOUS_INCREMENT); 0 = AUTO, NSUB_EXACT = EXACT
     logical :: large = .false.    !< KINEMATICS LARGE: strains from the current configuration
     real(dp) :: alpha = 0.0_dp    !< DAMPING ALPHA: Rayleigh C = alpha M + beta K0 of the model (1/s)
     real(dp) :: beta = 0.0_dp     !< DAMPING BETA (s)

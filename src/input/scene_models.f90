@@ -3,7 +3,8 @@
 module scene_models
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
-  use material_law, only: material_t, law_check
+  use material_law, only: material_t, law_check, LAW_ELASTOPLASTIC, LAW_VON_MISES
+  use law_types, only: NSUB_EXACT
   use statement, only: statement_t, stmt_error, find_param, get_int, get_word, get_real
   use statement_schema, only: schema_t
   use elements, only: elem_check_geometry
@@ -140,6 +141,8 @@ contains
     if (stat /= STAT_OK) return
     if (upper(w) == 'AUTO') then
       md%substeps = 0
+    else if (upper(w) == 'EXACT') then
+      md%substeps = NSUB_EXACT
     else
       ! SUBSTEPS <= MAX_SUBSTEPS: the laws loop over the sub-increments at every point and iteration,
       ! so SUBSTEPS 1000000000 hung the run (found by tests/fuzz/fuzz.py); AUTO stays <= 100.
@@ -225,7 +228,8 @@ contains
   end subroutine check_section
 
   !> Which laws an element type accepts (1D laws on springs, bars and fibre beams, J2 on
-  !> quads) and what they need: material_law's law_check, with the statement's file:line.
+  !> quads) and what they need: material_law's law_check, with the statement's file:line; SUBSTEPS
+  !> EXACT for laws with a potential only.
   subroutine check_model_law(st, md, mat, stat, errmsg)
     type(statement_t), intent(in) :: st
     type(model_t), intent(in) :: md
@@ -234,8 +238,14 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     character(len=:), allocatable :: msg
     call law_check(mat, model_point_kind(md), md%sec, stat, msg)
-    if (stat /= STAT_OK) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'material ' // mat%name // ' on ' // &
-      etype_name(md%etype) // ' elements: ' // msg, st%params(find_param(st, 'MATERIAL'))%values(1)))
+    if (stat /= STAT_OK) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'material ' // mat%name // ' on ' // &
+        etype_name(md%etype) // ' elements: ' // msg, st%params(find_param(st, 'MATERIAL'))%values(1)))
+    else if (md%substeps == NSUB_EXACT .and. (mat%law == LAW_ELASTOPLASTIC .or. mat%law == LAW_VON_MISES)) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'SUBSTEPS EXACT is the discrete gradient of a law with a ' // &
+        'potential (NONLINEAR_ELASTIC; ELASTIC and HYPERELASTIC are exact already); the work of material ' // mat%name // &
+        ' depends on its path: use SUBSTEPS N or AUTO', st%params(find_param(st, 'SUBSTEPS'))%values(1)))
+    end if
   end subroutine check_model_law
   !> DAMPING ALPHA a BETA b (either or both, a, b >= 0): Rayleigh damping C = a M + b K0 of the
   !> model's elements (K0: the initial stiffness).

@@ -8,9 +8,9 @@
 module beam_fibre
   use kinds, only: dp
   use section, only: section_t
-  use law_types, only: law_params_t, law_step_t
+  use law_types, only: law_params_t, law_step_t, NSUB_EXACT
   use law_plastic_1d, only: P1D_NSTATE, plastic_1d_inside, plastic_1d_path, plastic_auto_nsub
-  use law_nonlinear_elastic, only: nle_stress, nle_energy, nle_auto_nsub, nle_path
+  use law_nonlinear_elastic, only: nle_stress, nle_energy, nle_auto_nsub, nle_path, nle_exact
   implicit none
   private
   public :: FIB_ELASTIC, FIB_NONLINEAR, FIB_PLASTIC
@@ -55,8 +55,9 @@ contains
   end function fibre_nstate
 
   !> Section update along the straight path (eps, kappa) -> + deps in nsub sub-increments
-  !> (nsub <= 0: AUTO; elastoplastic: r = E (|deps| + h/2 |dkappa|) / sy of the extreme layer;
-  !> nonlinear elastic: the largest layer AUTO count). Elastoplastic: when every layer's elastic
+  !> (nsub = 0: AUTO; elastoplastic: r = E (|deps| + h/2 |dkappa|) / sy of the extreme layer;
+  !> nonlinear elastic: the largest layer AUTO count; NSUB_EXACT: the nonlinear elastic layers'
+  !> discrete gradients). Elastoplastic: when every layer's elastic
   !> trial stays inside its frozen yield surface the step is elastic: sig = sig_n + D deps with D
   !> the fibre elastic matrix, sigbar the exact chord midpoint, nused = 0. dtan: sum of the layer
   !> tangents (last sub-increment) A_f [1, -y; -y, y^2].
@@ -104,7 +105,16 @@ contains
       end do
     case (FIB_NONLINEAR)
       n = nsub
-      if (n <= 0) then
+      if (n == NSUB_EXACT) then
+        ! SUBSTEPS EXACT: each layer's discrete gradient, so the section's work is its Δψ.
+        r%nused = 1
+        do f = 1, sec%layers
+          call fibre_layer(sec, f, y, a)
+          call nle_exact(e, p%nl_b, eps_n(1) - y * eps_n(2), deps(1) - y * deps(2), sf, sbf, et)
+          call accumulate(y, a, sf, sbf, et, r)
+        end do
+        return
+      else if (n <= 0) then
         n = 1
         do f = 1, sec%layers
           call fibre_layer(sec, f, y, a)

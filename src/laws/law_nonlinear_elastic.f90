@@ -10,7 +10,7 @@ module law_nonlinear_elastic
   use subincrement, only: return_map_t, subincrement_path
   implicit none
   private
-  public :: nle_stress, nle_tangent, nle_energy, nle_path, nle_auto_nsub, nle_map_t, NLE_RTOL, NLE_NMAX
+  public :: nle_stress, nle_tangent, nle_energy, nle_path, nle_exact, nle_auto_nsub, nle_map_t, NLE_RTOL, NLE_NMAX
 
   !> The law's one-step map: the stress of the strain at the end of the sub-increment.
   type, extends(return_map_t) :: nle_map_t
@@ -80,4 +80,18 @@ contains
     sigbar = sb(1)
     et = t(1, 1)
   end subroutine nle_path
+
+  !> SUBSTEPS EXACT: the discrete gradient of psi along eps_n -> eps1 = eps_n + deps,
+  !> sigbar = (psi(eps1) - psi(eps_n)) / deps = E ((eps_n + eps1)/2 + b/4 (eps_n + eps1)(eps_n² + eps1²))
+  !> (the quotient factored: no cancellation, and its limit sigma(eps_n) as deps -> 0), so that
+  !> sigbar deps = delta psi to round-off in one step; sig and et at eps1.
+  pure subroutine nle_exact(e, b, eps_n, deps, sig, sigbar, et)
+    real(dp), intent(in) :: e, b, eps_n, deps
+    real(dp), intent(out) :: sig, sigbar, et
+    real(dp) :: eps1
+    eps1 = eps_n + deps
+    sig = nle_stress(e, b, eps1)
+    sigbar = e * (eps_n + eps1) * (0.5_dp + 0.25_dp * b * (eps_n**2 + eps1**2))
+    et = nle_tangent(e, b, eps1)
+  end subroutine nle_exact
 end module law_nonlinear_elastic

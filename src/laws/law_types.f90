@@ -6,7 +6,11 @@ module law_types
   use kinds, only: dp
   implicit none
   private
-  public :: law_params_t, law_step_t, MAX_COMPONENTS
+  public :: law_params_t, law_step_t, MAX_COMPONENTS, NSUB_EXACT
+
+  !> The sub-increment count that asks a law with a potential for its discrete gradient
+  !> (MODEL … SUBSTEPS EXACT): sigbar . deps = psi(eps_n + deps) - psi(eps_n) exactly, one step.
+  integer, parameter :: NSUB_EXACT = -1
 
   !> Largest stress vector of a point (1D: 1, beam section: 2, quads: 4).
   integer, parameter :: MAX_COMPONENTS = 4

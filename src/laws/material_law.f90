@@ -16,10 +16,10 @@
 module material_law
   use kinds, only: dp
   use section, only: section_t
-  use law_types, only: law_params_t, law_step_t
+  use law_types, only: law_params_t, law_step_t, NSUB_EXACT
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use law_elastic, only: elastic_update
-  use law_nonlinear_elastic, only: nle_path, nle_auto_nsub, nle_energy, nle_stress
+  use law_nonlinear_elastic, only: nle_path, nle_exact, nle_auto_nsub, nle_energy, nle_stress
   use law_plastic_1d, only: P1D_NSTATE, plastic_1d_path, plastic_auto_nsub
   use law_hyperelastic, only: nh_lame, nh_energy
   use law_von_mises, only: VM_NSTATE, vm_path, vm_trial_ratio, vm_stored, vm_d3, vm_dps
@@ -203,7 +203,8 @@ contains
   !> Integrate the law over one step (see the module header) into r (law_types' law_step_t).
   !> d: elastic matrix of the point (nstr x nstr), law_elastic_matrix's (ELASTIC and VON_MISES
   !> use it; the 1D and fibre laws take E from the material). nsub >= 1: N fixed sub-increments;
-  !> nsub <= 0: AUTO (docs/materials.md). q_n, q: law_nstate internal variables.
+  !> nsub = 0: AUTO (docs/materials.md); NSUB_EXACT: the discrete gradient of NONLINEAR_ELASTIC (the
+  !> scene allows it for laws with a potential only). q_n, q: law_nstate internal variables.
   !> r%work = sigbar . deps and r%dissip (trapezoid of sigma . deps_p over the sub-increments) are
   !> per unit weight. r%nused: sub-increments used, 0 when no sub-incrementation was needed
   !> (ELASTIC, or a step of a plastic law that stayed elastic: then sig = sig_n + D deps and
@@ -226,6 +227,9 @@ contains
     case (LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC)
       if (pk == PK_BEAM .and. sec%layers > 0) then
         call fibre_update(fibre_kind(mat), mat%law_params_t, sec, nsub, eps_n(1:2), deps(1:2), sig_n(1:2), q_n, q, r)
+      else if (mat%law == LAW_NONLINEAR_ELASTIC .and. nsub == NSUB_EXACT) then
+        call nle_exact(mat%young, mat%nl_b, eps_n(1), deps(1), r%sig(1), r%sigbar(1), r%dtan(1, 1))
+        r%nused = 1
       else if (mat%law == LAW_NONLINEAR_ELASTIC) then
         n = nsub
         if (n <= 0) n = nle_auto_nsub(mat%young, mat%nl_b, eps_n(1), deps(1))

@@ -1,16 +1,20 @@
 !> Cubic nonlinear elasticity sigma = E eps (1 + b eps^2): energy and tangent are the exact
 !> integral and derivative of the stress; the sub-incremented work W_N obeys the exact
 !> Euler-Maclaurin error W_N - dpsi = (deps/N)^2/12 (sigma'(eps1) - sigma'(eps0)) (cubic
-!> integrand), i.e. converges at rate exactly 2; the AUTO rule meets its tolerance.
+!> integrand), i.e. converges at rate exactly 2; the AUTO rule meets its tolerance; SUBSTEPS EXACT's
+!> discrete gradient does the work psi1 - psi0 to round-off, softening and stiffening, and tends to
+!> sigma(eps0) as deps -> 0.
 program test_law_nonlinear_elastic
-  use kinds, only: dp
+  use kinds, only: dp, qp
   use testing, only: check, check_close, test_summary
-  use law_nonlinear_elastic, only: nle_stress, nle_tangent, nle_energy, nle_path, nle_auto_nsub, NLE_RTOL
+  use law_nonlinear_elastic, only: nle_stress, nle_tangent, nle_energy, nle_path, nle_exact, nle_auto_nsub, NLE_RTOL
   implicit none
 
   real(dp), parameter :: e = 2.0e9_dp, b = 300.0_dp
-  real(dp) :: eps0, deps, sig, sbar, et, w, dpsi, pred, err(0:8), h, sp, sm, bp, bm, sc
+  real(dp) :: eps0, deps, sig, sbar, et, w, dpsi, pred, err(0:8), h, sp, sm, bp, bm, sc, worst, bb, r(2)
+  real(qp) :: e0q, e1q, dpsiq
   integer :: k, n
+  integer, allocatable :: seed(:)
   character(len=64) :: nm
 
   ! psi' = sigma, sigma' = tangent (central differences, error O(h^2) ~ 1e-10 relative).
@@ -56,6 +60,33 @@ program test_law_nonlinear_elastic
   call nle_path(e, b, n - 1, eps0, deps, nle_stress(e, b, eps0), sig, sbar, et)
   call check(n == 1 .or. abs(sbar * deps - dpsi) > NLE_RTOL * sc, 'nle: AUTO N is the smallest meeting NLE_RTOL')
   call check(nle_auto_nsub(e, 0.0_dp, eps0, deps) == 1, 'nle: AUTO N = 1 for a linear law (b = 0)')
+
+
+  ! SUBSTEPS EXACT: sbar deps = psi(eps1) - psi(eps0) to round-off (relative to |deps| max|sigma|),
+  ! over random strains and both signs of b; the quotient's limit sigma(eps0) for a vanishing deps.
+  ! (The reference Δψ in quadruple precision: ψ1 − ψ0 in double loses |ε|/|Δε| ulps to cancellation.)
+  call random_seed(size=n)
+  allocate (seed(n))
+  seed = 20261202
+  call random_seed(put=seed)
+  worst = 0.0_dp
+  do k = 1, 2000
+    call random_number(r)
+    eps0 = 0.1_dp * (2 * r(1) - 1)
+    deps = 0.1_dp * (2 * r(2) - 1)
+    bb = merge(b, -b / 4, mod(k, 2) == 0)
+    call nle_exact(e, bb, eps0, deps, sig, sbar, et)
+    e0q = real(eps0, qp)
+    e1q = real(eps0 + deps, qp)
+    dpsiq = real(e, qp) * ((e1q**2 - e0q**2) / 2 + real(bb, qp) * (e1q**4 - e0q**4) / 4)
+    sc = abs(deps) * max(abs(nle_stress(e, bb, eps0)), abs(nle_stress(e, bb, eps0 + deps)), abs(sbar))
+    if (sc > 0.0_dp) worst = max(worst, real(abs(real(sbar, qp) * real(eps0 + deps - eps0, qp) - dpsiq), dp) / sc)
+  end do
+  write (*, '(a,es10.2)') '# nle_exact: worst |sbar deps - dpsi| / (|deps| max|sigma|) over 2000 steps:', worst
+  call check(worst <= 1.0e-13_dp, 'nle: EXACT work = psi1 - psi0 to round-off (2000 random steps, b > 0 and < 0)')
+  call nle_exact(e, b, 0.037_dp, 0.0_dp, sig, sbar, et)
+  call check_close(sbar, nle_stress(e, b, 0.037_dp), 1.0e-15_dp, 'nle: EXACT sbar -> sigma(eps0) as deps -> 0')
+  call check_close(sig, nle_stress(e, b, 0.037_dp), 0.0_dp, 'nle: EXACT end stress sigma(eps1)')
 
   call test_summary('law_nonlinear_elastic')
 end program test_law_nonlinear_elastic
