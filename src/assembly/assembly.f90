@@ -5,7 +5,7 @@ module assembly
   use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, check_alloc
   use mesh, only: DOF_NAMES
-  use element_traits, only: ET_BEAM2, ET_BAR2, etype_needs_material, etype_family, FAMILY_SURFACE
+  use element_traits, only: ET_BEAM2, etype_needs_material, etype_family, FAMILY_SURFACE
   use contact_modes, only: IMPACT_MASSLESS
   use loads, only: load_nodal_forces
   use scene, only: scene_t, function_value, model_point_kind, contact_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
@@ -13,15 +13,13 @@ module assembly
   use sparse_matrix, only: sym_csc_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
-  use material_law, only: law_is_linear, law_nstate, law_stored, law_elastic_matrix, LAW_VON_MISES, LAW_ELASTOPLASTIC, &
-    PK_1D
+  use material_law, only: law_is_linear, law_nstate, law_stored, law_elastic_matrix
   use checkpoint, only: ckpt_file_t
   use reactions, only: reaction_set_t
   implicit none
   private
-  public :: element_scalars
   public :: system_t, build_system, commit_state, external_force, &
-    element_stress, nodal_values, mass_times, initial_state, dof_label, dof_origin, stored_energy, mass_times_q, &
+    mass_times, initial_state, dof_label, dof_origin, stored_energy, mass_times_q, &
     save_points, load_points, damping_times, is_damped, reaction_update
 
   !> Nodal forces of one LOAD statement on the free DOFs (sparse).
@@ -46,6 +44,11 @@ module assembly
     integer, allocatable :: b_ptr(:)         !< (ngp+1) offsets of each B in bmat
     real(dp), allocatable :: bmat(:), wt(:)
     real(dp), allocatable :: bref(:)         !< KINEMATICS LARGE surface elements: the reference B (bmat then holds the current one)
+    !> Linear elastic surface elements (small strain): each point's shape-function gradients
+    !> (dN_a/dx, dN_a/dy by node), the quarter of B its zeros leave, which the element loop streams
+    !> instead of B (docs/performance.md); gr_ptr(igp) its offset in grad, 0 for other points.
+    integer, allocatable :: gr_ptr(:)
+    real(dp), allocatable :: grad(:)
     real(dp), allocatable :: dmat(:, :, :)   !< (MAX_NSTRAIN, MAX_NSTRAIN, nmodel) elastic matrices
     integer, allocatable :: pk(:)            !< (nmodel) material-point kind
     logical, allocatable :: model_linear(:)  !< (nmodel) law linear: no sub-increments, sigma_c = 0
@@ -215,13 +218,14 @@ contains
     type(system_t), intent(inout) :: sys
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: e, et, im, nen, ndof, nstr, ngp, ig, igp, nb, k, a, d, n, ast
+    integer :: e, et, im, nen, ndof, nstr, ngp, ig, igp, nb, ngr, k, a, d, n, ast
     logical :: mask(3)
     real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), w
     allocate (sys%elems%edof_ptr(scn%mesh%nelem + 1), sys%elems%gp_ptr(scn%mesh%nelem + 1))
     sys%elems%edof_ptr(1) = 1
     sys%elems%gp_ptr(1) = 1
     nb = 0
+    ngr = 0
     do e = 1, scn%mesh%nelem
       ndof = 0
       ngp = 0
@@ -231,6 +235,7 @@ contains
         ndof = elem_ndof(et)
         ngp = elem_ngauss(et, scn%models(im)%sec)
         nb = nb + ngp * elem_nstrain(et) * ndof
+        if (plane_gradients(scn, sys, im, et)) ngr = ngr + ngp * ndof
       end if
       sys%elems%edof_ptr(e + 1) = sys%elems%edof_ptr(e) + ndof
       sys%elems%gp_ptr(e + 1) = sys%elems%gp_ptr(e) + ngp
@@ -238,11 +243,13 @@ contains
     sys%elems%ngp = sys%elems%gp_ptr(scn%mesh%nelem + 1) - 1
     stat = STAT_OK
     allocate (sys%elems%edof(sys%elems%edof_ptr(scn%mesh%nelem + 1) - 1), sys%elems%b_ptr(sys%elems%ngp + 1), &
-      sys%elems%bmat(nb), sys%elems%wt(sys%elems%ngp), stat=ast)
+      sys%elems%bmat(nb), sys%elems%wt(sys%elems%ngp), sys%elems%gr_ptr(sys%elems%ngp), sys%elems%grad(ngr), stat=ast)
     call check_alloc(ast, 'the element table of ' // str(scn%mesh%nelem) // ' elements', &
-      8.0_dp * nb + 12.0_dp * sys%elems%ngp + 4.0_dp * sys%elems%edof_ptr(scn%mesh%nelem + 1), stat, errmsg)
+      8.0_dp * (nb + ngr) + 16.0_dp * sys%elems%ngp + 4.0_dp * sys%elems%edof_ptr(scn%mesh%nelem + 1), stat, errmsg)
     if (stat /= STAT_OK) return
     sys%elems%b_ptr(1) = 1
+    sys%elems%gr_ptr = 0
+    ngr = 0
     do e = 1, scn%mesh%nelem
       im = scn%elem_model(e)
       if (im == 0) cycle
@@ -267,6 +274,14 @@ contains
         sys%elems%bmat(sys%elems%b_ptr(igp):sys%elems%b_ptr(igp) + nstr * ndof - 1) = reshape(b(1:nstr, 1:ndof), [nstr * ndof])
         sys%elems%wt(igp) = w
         sys%elems%b_ptr(igp + 1) = sys%elems%b_ptr(igp) + nstr * ndof
+        if (plane_gradients(scn, sys, im, et)) then
+          sys%elems%gr_ptr(igp) = ngr + 1
+          do a = 1, nen                     ! B(1, 2a-1) = dN_a/dx, B(2, 2a) = dN_a/dy (element_iso)
+            sys%elems%grad(ngr + 2 * a - 1) = b(1, 2 * a - 1)
+            sys%elems%grad(ngr + 2 * a) = b(2, 2 * a)
+          end do
+          ngr = ngr + ndof
+        end if
       end do
     end do
     do k = 1, size(scn%models)        ! (once, whatever the number of such models)
@@ -276,6 +291,16 @@ contains
       end if
     end do
   end subroutine element_table
+
+  !> Whether the points of model im's elements of type et keep their gradients (gr_ptr): linear
+  !> elastic surface elements in small strain, the ones the element loop's plane kernel serves.
+  pure logical function plane_gradients(scn, sys, im, et)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    integer, intent(in) :: im, et
+    plane_gradients = etype_family(et) == FAMILY_SURFACE .and. sys%elems%model_linear(im) .and. &
+      .not. scn%models(im)%large
+  end function plane_gradients
 
   !> One pattern for K0, M and K0 + c M; K0 = Σ B'DB w, M (consistent or lumped per model) and
   !> the gravity load M g (g on the translations: the consistent body force of each element).
@@ -788,66 +813,6 @@ contains
     call ck%get('sig', sys%pts%sig, stat, errmsg)
     if (sys%pts%nq > 0) call ck%get('q', sys%pts%q, stat, errmsg)
   end subroutine load_points
-
-  !> Element means of the integration-point stresses, (MAX_NSTRAIN, nelem).
-  subroutine element_stress(sys, s)
-    type(system_t), intent(in) :: sys
-    real(dp), intent(out) :: s(:, :)
-    integer :: e, n
-    do e = 1, size(s, 2)
-      n = sys%elems%gp_ptr(e + 1) - sys%elems%gp_ptr(e)
-      if (n == 0) then
-        s(:, e) = 0.0_dp
-      else
-        s(:, e) = sum(sys%pts%sig(:, sys%elems%gp_ptr(e):sys%elems%gp_ptr(e + 1) - 1), dim=2) / n
-      end if
-    end do
-  end subroutine element_stress
-
-  !> Per element (fields.h5): es(e, 1) the von Mises stress of the element-mean stress s (surface
-  !> elements, with sigma_zz; |sigma| for BAR2; 0 otherwise), es(e, 2) the element mean of the
-  !> equivalent plastic strain (VON_MISES: alpha) or of the plastic strain (ELASTOPLASTIC on
-  !> springs and bars: eps_p); 0 for the other laws and for fibre beams.
-  subroutine element_scalars(scn, sys, s, es)
-    type(scene_t), intent(in) :: scn
-    type(system_t), intent(in) :: sys
-    real(dp), intent(in) :: s(:, :)
-    real(dp), intent(out) :: es(:, :)
-    integer :: e, im, g0, g1, k, law
-    es = 0.0_dp
-    do e = 1, size(es, 1)
-      if (etype_family(scn%mesh%etype(e)) == FAMILY_SURFACE) then
-        es(e, 1) = sqrt(max(0.0_dp, s(1, e)**2 + s(2, e)**2 + s(3, e)**2 - s(1, e) * s(2, e) - s(2, e) * s(3, e) - &
-          s(3, e) * s(1, e) + 3.0_dp * s(4, e)**2))
-      else if (scn%mesh%etype(e) == ET_BAR2) then
-        es(e, 1) = abs(s(1, e))
-      end if
-      im = scn%elem_model(e)
-      g0 = sys%elems%gp_ptr(e)
-      g1 = sys%elems%gp_ptr(e + 1) - 1
-      if (im == 0 .or. g1 < g0) cycle
-      if (scn%models(im)%material == 0) cycle
-      law = scn%materials(scn%models(im)%material)%law
-      k = 0
-      if (law == LAW_VON_MISES) k = 5
-      if (law == LAW_ELASTOPLASTIC .and. sys%elems%pk(im) == PK_1D) k = 1
-      if (k > 0) es(e, 2) = sum(sys%pts%q(k, g0:g1)) / (g1 - g0 + 1)
-    end do
-  end subroutine element_scalars
-
-  !> Free-DOF vector to nodal values (3, nnode); fixed and absent DOFs are zero.
-  pure subroutine nodal_values(sys, u, out)
-    type(system_t), intent(in) :: sys
-    real(dp), intent(in) :: u(:)
-    real(dp), intent(out) :: out(:, :)
-    integer :: n, d
-    do n = 1, size(out, 2)
-      do d = 1, 3
-        out(d, n) = 0.0_dp
-        if (sys%dofs%eqn(d, n) > 0) out(d, n) = u(sys%dofs%eqn(d, n))
-      end do
-    end do
-  end subroutine nodal_values
 
   !> Initial displacement and velocity from the INITIAL statements. STATIC FORCE preloads are
   !> returned in fstatic (the caller solves K0 u = fstatic and adds it). Values given to fixed

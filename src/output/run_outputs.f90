@@ -7,7 +7,8 @@ module run_outputs
   use errors, only: STAT_OK
   use scene, only: scene_t, condition_nodes
   use mesh, only: mesh_t
-  use assembly, only: system_t, element_stress, element_scalars, nodal_values, stored_energy
+  use assembly, only: system_t, stored_energy
+  use point_fields, only: element_stress, element_scalars, nodal_values
   use energy, only: energy_t
   use contact, only: contact_set_t, contact_event_t, EVENT_ESTABLISH
   use history_writer, only: csv_file_t
