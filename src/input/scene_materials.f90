@@ -14,8 +14,9 @@ module scene_materials
   private
   public :: materials_schema, materials_statement
 
-  !> The largest material constant accepted (YOUNG, DENSITY, YIELD, hardening): squares, masses
-  !> times 4/h² and energies stay finite (docs/input.md).
+  !> The largest material or section constant accepted (YOUNG, DENSITY, YIELD, hardening; AREA,
+  !> INERTIA, HEIGHT, THICKNESS, MASS): squares, products E I, masses times 4/h² and energies stay
+  !> finite (docs/input.md).
   real(dp), parameter :: MAX_MATERIAL = 1.0e100_dp
 
 contains
@@ -137,15 +138,20 @@ contains
       end if
     end do
     sec%name = st%lead(1)%text
-    call get_real(st, 'AREA', sec%area, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.false.)
+    call get_real(st, 'AREA', sec%area, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.false., &
+      upper=MAX_MATERIAL, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
-    call get_real(st, 'INERTIA', sec%inertia, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.false.)
+    call get_real(st, 'INERTIA', sec%inertia, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.false., &
+      upper=MAX_MATERIAL, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
-    call get_real(st, 'HEIGHT', sec%height, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.false.)
+    call get_real(st, 'HEIGHT', sec%height, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.false., &
+      upper=MAX_MATERIAL, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
-    call get_real(st, 'THICKNESS', sec%thickness, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.false.)
+    call get_real(st, 'THICKNESS', sec%thickness, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.false., &
+      upper=MAX_MATERIAL, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
-    call get_real(st, 'MASS', sec%mass, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true.)
+    call get_real(st, 'MASS', sec%mass, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true., &
+      upper=MAX_MATERIAL, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
     if (find_param(st, 'DIRECTION') > 0) then
       call get_pair(st, 'DIRECTION', sec%direction, stat, errmsg)

@@ -40,6 +40,8 @@ CASES = [
     # An initial velocity of 1e308 overflowed the kinetic energy (SIGFPE under make check-debug).
     ('initial_v_1e308', ['LINE b FROM 0 0 TO 1 0 ELEMENTS 2 TYPE BAR2', 'MODEL b MATERIAL st SECTION sc',
                          'INITIAL b VELOCITY 1e308 0'], 6, '1e308'),
+    # A beam section of INERTIA 1e300 overflowed E I (SIGFPE under make check-debug, seed check 209).
+    ('inertia_1e300', ['SECTION big AREA 1e-4 INERTIA 1e300 HEIGHT 0.01'], 4, '1e300'),
 ]
 
 

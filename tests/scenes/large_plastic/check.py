@@ -14,7 +14,7 @@ finite-strain plasticity of the continuum. docs/large-displacements.md.
   order the strain): x 10 amplitude, x 10 difference (8 to 12).
 - spinning_plastic.dat: a free square yielding under its centrifugal stress keeps angular momentum
   (1e-10), linear momentum and kinetic + stored + plastic work (|balance| <= 1e-10 of E).
-- ring_plastic.dat: an elastic-plastic ring thrown at a wall at 10 m/s: |balance| <= 1e-10 of E at
+- inputs/ring_plastic.dat: an elastic-plastic ring thrown at a wall at 10 m/s: |balance| <= 1e-10 of E at
   h and 5 h, the wall never crossed, y and angular momentum zero by symmetry, more than half the
   energy dissipated, the ring leaving slower than it came; ENERGY_CORRECTION OFF loses more than 1e-3
   of E there (measured 1.3e-2).
@@ -137,7 +137,7 @@ report('spinning von Mises square: it yields (plastic work > 1 % of the largest 
                                                                                     np.max(hsp['stored'])))
 
 # --- the elastic-plastic ring on a wall ----------------------------------------------------------------
-scene = os.path.join(HERE, 'ring_plastic.dat')
+scene = 'inputs/ring_plastic.dat'
 for step in ('2e-4', '1e-3'):
     out = sc.run_ok(scene, ['TIME.STEP=' + step])
     h, c = sc.history(out), sc.contacts(out)
