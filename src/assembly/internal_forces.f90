@@ -303,28 +303,37 @@ contains
         e3 = e3 + b(3, k, ig) * ue(k)
         e4 = e4 + b(4, k, ig) * ue(k)
       end do
-      s1 = d(1, 1) * e1 + d(1, 2) * e2 + d(1, 3) * e3 + d(1, 4) * e4
-      s2 = d(2, 1) * e1 + d(2, 2) * e2 + d(2, 3) * e3 + d(2, 4) * e4
-      s3 = d(3, 1) * e1 + d(3, 2) * e2 + d(3, 3) * e3 + d(3, 4) * e4
-      s4 = d(4, 1) * e1 + d(4, 2) * e2 + d(4, 3) * e3 + d(4, 4) * e4
-      eps(1, ig) = e1
-      eps(2, ig) = e2
-      eps(3, ig) = e3
-      eps(4, ig) = e4
-      sig(1, ig) = s1
-      sig(2, ig) = s2
-      sig(3, ig) = s3
-      sig(4, ig) = s4
-      esum = esum + 0.5_dp * w(ig) * (s1 * e1 + s2 * e2 + s3 * e3 + s4 * e4)
-      s1 = w(ig) * s1
-      s2 = w(ig) * s2
-      s3 = w(ig) * s3
-      s4 = w(ig) * s4
+      call elastic_point_4(d, w(ig), e1, e2, e3, e4, eps(1, ig), sig(1, ig), esum, s1, s2, s3, s4)
       do k = 1, ndof
         fe(k) = fe(k) + (b(1, k, ig) * s1 + b(2, k, ig) * s2 + b(3, k, ig) * s3 + b(4, k, ig) * s4)
       end do
     end do
   end subroutine linear_points_4
+
+  !> One linear elastic point with four strain components: sigma = D eps stored with eps, its
+  !> strain energy ½ w sigma.eps added to esum, and w sigma returned (s1..s4) for the element force.
+  pure subroutine elastic_point_4(d, w, e1, e2, e3, e4, eps, sig, esum, s1, s2, s3, s4)
+    real(dp), intent(in) :: d(MAX_NSTRAIN, MAX_NSTRAIN), w, e1, e2, e3, e4
+    real(dp), intent(inout) :: eps(4), sig(4), esum
+    real(dp), intent(out) :: s1, s2, s3, s4
+    s1 = d(1, 1) * e1 + d(1, 2) * e2 + d(1, 3) * e3 + d(1, 4) * e4
+    s2 = d(2, 1) * e1 + d(2, 2) * e2 + d(2, 3) * e3 + d(2, 4) * e4
+    s3 = d(3, 1) * e1 + d(3, 2) * e2 + d(3, 3) * e3 + d(3, 4) * e4
+    s4 = d(4, 1) * e1 + d(4, 2) * e2 + d(4, 3) * e3 + d(4, 4) * e4
+    eps(1) = e1
+    eps(2) = e2
+    eps(3) = e3
+    eps(4) = e4
+    sig(1) = s1
+    sig(2) = s2
+    sig(3) = s3
+    sig(4) = s4
+    esum = esum + 0.5_dp * w * (s1 * e1 + s2 * e2 + s3 * e3 + s4 * e4)
+    s1 = w * s1
+    s2 = w * s2
+    s3 = w * s3
+    s4 = w * s4
+  end subroutine elastic_point_4
 
   !> linear_points_4 for the surface elements from their shape-function gradients g (dN_a/dx,
   !> dN_a/dy by node) instead of B, whose other three quarters are zeros (B(1, 2a-1) = B(4, 2a) =
@@ -348,22 +357,7 @@ contains
         e4 = e4 + g(2, a, ig) * ue(1, a)
         e4 = e4 + g(1, a, ig) * ue(2, a)
       end do
-      s1 = d(1, 1) * e1 + d(1, 2) * e2 + d(1, 3) * e3 + d(1, 4) * e4
-      s2 = d(2, 1) * e1 + d(2, 2) * e2 + d(2, 3) * e3 + d(2, 4) * e4
-      s3 = d(3, 1) * e1 + d(3, 2) * e2 + d(3, 3) * e3 + d(3, 4) * e4
-      s4 = d(4, 1) * e1 + d(4, 2) * e2 + d(4, 3) * e3 + d(4, 4) * e4
-      eps(1, ig) = e1
-      eps(2, ig) = e2
-      eps(3, ig) = e3
-      eps(4, ig) = e4
-      sig(1, ig) = s1
-      sig(2, ig) = s2
-      sig(3, ig) = s3
-      sig(4, ig) = s4
-      esum = esum + 0.5_dp * w(ig) * (s1 * e1 + s2 * e2 + s3 * e3 + s4 * e4)
-      s1 = w(ig) * s1
-      s2 = w(ig) * s2
-      s4 = w(ig) * s4
+      call elastic_point_4(d, w(ig), e1, e2, e3, e4, eps(1, ig), sig(1, ig), esum, s1, s2, s3, s4)
       do a = 1, nen
         fe(1, a) = fe(1, a) + (g(1, a, ig) * s1 + g(2, a, ig) * s4)
         fe(2, a) = fe(2, a) + (g(2, a, ig) * s2 + g(1, a, ig) * s4)
