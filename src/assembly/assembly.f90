@@ -74,6 +74,8 @@ module assembly
     real(dp), allocatable :: kval(:), mval(:)
     logical :: mass_diagonal = .false.       !< every model lumped: M is its diagonal
     real(dp), allocatable :: mdiag(:)
+    type(sym_csc_t) :: mpat                  !< M without its zeros (mass_times; sym_csc_t%compact)
+    real(dp), allocatable :: mcomp(:)
     real(dp), allocatable :: tval(:)         !< tangent stiffness on the pattern (ITERATION TANGENT)
     real(dp), allocatable :: cval(:)         !< Rayleigh damping C = Σ (alpha M_e + beta K0_e) (MODEL DAMPING)
   end type operators_t
@@ -441,7 +443,11 @@ contains
         if (.not. is_diagonal_position(sys%ops%pat, k)) sys%ops%mass_diagonal = .false.
       end if
     end do
-    if (sys%ops%mass_diagonal) sys%ops%mdiag = dm
+    if (sys%ops%mass_diagonal) then
+      sys%ops%mdiag = dm
+    else
+      call sys%ops%pat%compact(sys%ops%mval, sys%ops%mpat, sys%ops%mcomp)
+    end if
   end subroutine check_operators
 
   !> A probe reads a DOF its node carries (a fixed one reads 0); a DOF no element of the node
@@ -715,7 +721,7 @@ contains
     if (sys%ops%mass_diagonal) then
       y = sys%ops%mdiag * x
     else
-      call sys%ops%pat%matvec(sys%ops%mval, x, y)
+      call sys%ops%mpat%matvec(sys%ops%mcomp, x, y)
     end if
   end subroutine mass_times
 
