@@ -262,7 +262,7 @@ L.append("   given to `cholmod_analyze_p` beside AMD): 2.7 s instead of 4.6, set
 L.append("   has 1 % more fill than METIS on the full graph, so CHOLMOD keeps AMD, whose refactorizations")
 L.append("   cost 12 % more flops and whose solves 0.7 % more: over a run of more than about 1 400 steps the")
 L.append("   saving is lost. Not kept. What remains is the analysis (METIS) and the first touch of L.")
-L.append("   Rerun with this page (2026-12-02 05:32): `load_scene` 0.28 s + `build_system` 2.59 s + `prepare_run`")
+L.append("   Rerun on 2026-12-02 05:32 (commit 9ccf40b): `load_scene` 0.28 s + `build_system` 2.59 s + `prepare_run`")
 L.append("   13.13 s = 3.26 numeric factorizations (4.91 s). Tried the same day, side by side: AMD alone")
 L.append("   (`nmethods = 1`, the issue's \"one ordering\"): `prepare_run` 12.0 s against 13.1 s with both, but")
 L.append("   its factorization 7.2 s against 6.2 s (23 % more flops), so the ratio is no better; transparent")
