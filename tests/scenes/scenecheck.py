@@ -156,3 +156,19 @@ def free_body(tag, h, mom_bound, am_bound=1e-10, bal_bound=1e-10):
     report('%s: linear momentum zero (%g)' % (tag, mom_bound), mom <= mom_bound, '%.2e' % mom)
     bal = np.max(np.abs(h['balance'])) / np.max(np.abs(h['kinetic'] + h['internal']))
     report('%s: |balance| <= %g of E' % (tag, bal_bound), bal <= bal_bound, '%.2e' % bal)
+
+
+def restart_same(scene, sets, end_half, files=('history.csv',)):
+    """A run stopped at TIME.END = end_half and restarted from its checkpoint (the sets must write one,
+    OUTPUT.CHECKPOINT=k) writes the same files as the run in one go, byte for byte. Returns (same,
+    detail)."""
+    import subprocess
+    full = run_ok(scene, sets)
+    half = run_ok(scene, list(sets) + ['TIME.END=' + end_half])
+    cmd = [REBOND, scene, '-o', half, '--quiet', '--restart', os.path.join(half, 'checkpoint.h5')]
+    for x in sets:
+        cmd += ['--set', x]
+    r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    same = r.returncode == 0 and all(open(os.path.join(full, f), 'rb').read() == open(os.path.join(half, f), 'rb').read()
+                                     for f in files)
+    return same, 'exit %d %s' % (r.returncode, r.stderr[-200:])

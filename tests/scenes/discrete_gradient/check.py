@@ -11,6 +11,7 @@ its tolerance, 1e-4 of a step's work).
   |balance| <= 1e-10 of E (the true energy error; AUTO: internal - stored > 1e-8).
 - fibre_beam.dat: a cantilever of NONLINEAR_ELASTIC layers vibrating (b eps^2 ~ 0.1), SMALL and LARGE
   (corotational): internal = stored to 1e-12, kinetic + stored constant to 1e-10; AUTO drifts by > 1e-6.
+- A restart of the LARGE cantilever from a checkpoint continues bit for bit.
 - Bad input (tests/scenes/bad_input): SUBSTEPS EXACT on a law without a potential.
 """
 import os
@@ -71,3 +72,8 @@ for kin in ('SMALL', 'LARGE'):
     report('fibre cantilever (%s), SUBSTEPS EXACT: internal = stored to 1e-12' % kin, gap <= 1e-12, '%.2e' % gap)
     report('fibre cantilever (%s), SUBSTEPS EXACT: kinetic + stored constant to 1e-10 (AUTO: > 1e-6)' % kin,
            drift <= 1e-10 and drift_auto > 1e-6, 'EXACT %.2e, AUTO %.2e' % (drift, drift_auto))
+
+# --- a restart continues bit for bit (the LARGE cantilever of cubic layers, EXACT) ------------------------
+path = sc.write_scene('beam_restart.dat', beam.replace('SUBSTEPS EXACT', 'SUBSTEPS EXACT KINEMATICS LARGE'))
+same, detail = sc.restart_same(path, ['OUTPUT.CHECKPOINT=100'], '0.12')
+report('fibre cantilever (LARGE, EXACT): a restart from the checkpoint of step 100 continues bit for bit', same, detail)

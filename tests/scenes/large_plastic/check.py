@@ -19,7 +19,7 @@ finite-strain plasticity of the continuum. docs/large-displacements.md.
 - inputs/ring_plastic.dat: an elastic-plastic ring thrown at a wall at 10 m/s: |balance| <= 1e-10 of E at
   h and 5 h, the wall never crossed, y and angular momentum zero by symmetry, more than half the
   energy dissipated, the ring leaving slower than it came; ENERGY_CORRECTION OFF loses more than 1e-3
-  of E there (measured 1.3e-2).
+  of E there (measured 1.3e-2); a restart from a checkpoint continues bit for bit.
 """
 import os
 import sys
@@ -171,3 +171,8 @@ h = sc.history(sc.run_ok(scene, ['SCHEME.ENERGY_CORRECTION=OFF']))
 bal = np.max(np.abs(h['balance'])) / np.max(h['kinetic'] + h['internal'])
 report('plastic ring, ENERGY_CORRECTION OFF: the balance the correction removes (> 1e-3 of E)', bal > 1e-3,
           '%.2e' % bal)
+
+
+ok, detail = sc.restart_same(scene, ['OUTPUT.CHECKPOINT=50', 'OUTPUT.FIELDS=0'], '0.012',
+                              ('history.csv', 'contacts.csv'))
+report('plastic ring: a restart from the checkpoint of step 50 continues bit for bit (history, contacts)', ok, detail)

@@ -103,13 +103,8 @@ sc.report('RETRY under the zone: steps retried as sub-steps', np.sum(a['substeps
 balance_ok('RETRY, ZONE ON', a)
 
 # --- restart --------------------------------------------------------------------------------------------
-full = sc.run_ok(SCENE, ['OUTPUT.CHECKPOINT=50'])
-half = sc.run_ok(SCENE, ['OUTPUT.CHECKPOINT=50', 'TIME.END=2e-4'])
-r = subprocess.run([sc.REBOND, SCENE, '-o', half, '--quiet', '--restart', os.path.join(half, 'checkpoint.h5'),
-                    '--set', 'OUTPUT.CHECKPOINT=50'], cwd=sc.ROOT, capture_output=True, text=True)
-same = r.returncode == 0 and open(os.path.join(full, 'history.csv'), 'rb').read() == \
-    open(os.path.join(half, 'history.csv'), 'rb').read()
-sc.report('restart on the zone: history.csv bit for bit', same, 'exit %d %s' % (r.returncode, r.stderr[-200:]))
+same, detail = sc.restart_same(SCENE, ['OUTPUT.CHECKPOINT=50'], '2e-4')
+sc.report('restart on the zone: history.csv bit for bit', same, detail)
 
 # --- contact rows ------------------------------------------------------------------------------------
 DROP = os.path.join(HERE, 'drop_block.dat')
