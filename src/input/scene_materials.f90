@@ -210,6 +210,13 @@ contains
       if (stat /= STAT_OK) return
       call to_real(st%params(k)%values(2 * i), st, fn%f(i), stat, errmsg)
       if (stat /= STAT_OK) return
+      ! A function scales loads, imposed motions and gravity (themselves within ±1e100): its values
+      ! are held to the same bound (a value of 1e300 overflowed a pressure, fuzz seed s9dbg2 5635).
+      if (abs(fn%f(i)) > MAX_MATERIAL) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'POINTS values must be within ±1e100', &
+          st%params(k)%values(2 * i)))
+        return
+      end if
       if (i > 1) then
         if (fn%t(i) <= fn%t(i - 1)) then
           call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'times must increase', &

@@ -42,6 +42,9 @@ CASES = [
                          'INITIAL b VELOCITY 1e308 0'], 6, '1e308'),
     # A beam section of INERTIA 1e300 overflowed E I (SIGFPE under make check-debug, seed check 209).
     ('inertia_1e300', ['SECTION big AREA 1e-4 INERTIA 1e300 HEIGHT 0.01'], 4, '1e300'),
+    # A FUNCTION value of -1e300 scaling a pressure overflowed it (SIGFPE under the debug build,
+    # seed s9dbg2 5635).
+    ('function_1e300', ['FUNCTION ramp POINTS 0 0 2e-3 -1e300'], 4, '-1e300'),
 ]
 
 
