@@ -350,32 +350,33 @@ def scene_rows(out):
     # Large displacements with contact: no closed form, exact energy and symmetric momenta.
     d, rc, err, wall = new('ring_impact', ['OUTPUT.FIELDS=0'])
     rb, h = balance(d)
-    p0 = h['momentum_x'][0]
     rows.append(dict(
         scene='ring_impact', run='as given (LARGE QUAD4, h = 2e-4 s, 30 ms)', rc=rc, wall=wall, rb=rb,
         reference='No closed form. Exact: kinetic + strain energy constant through the impact, the y momentum and '
                   'the angular momentum zero by symmetry; the ring leaves the wall slower than it came.',
-        measured='Leaves at %.3f of its speed; max |momentum_y| %.1e N s, max |angular momentum| %.1e kg m²/s '
-                 '(m v0 = %.3f N s); max |balance|/E = %.2e.'
-                 % (-h['momentum_x'][-1] / p0, np.max(np.abs(h['momentum_y'])), np.max(np.abs(h['angular_momentum'])),
-                    p0, rb),
+        measured=ring_momenta(h, rb, first=True),
         reading='Exact energy and momentum through a large-deformation impact (docs/large-displacements.md).'))
     d, rc, err, wall = new('ring_plastic', ['OUTPUT.FIELDS=0'])
     rb, h = balance(d)
-    p0 = h['momentum_x'][0]
-    e0 = h['kinetic'][0]
     rows.append(dict(
         scene='ring_plastic', run='as given (LARGE QUAD4, VON_MISES, h = 2e-4 s, 30 ms)', rc=rc, wall=wall, rb=rb,
         reference='No closed form. Exact: kinetic + stored + plastic work constant, the y momentum and the angular '
                   'momentum zero by symmetry; the plastic ring keeps less of its speed than the elastic one.',
-        measured='Dissipated %.3f of %.3f J; leaves at %.3f of its speed; max |momentum_y| %.1e N s, max |angular '
-                 'momentum| %.1e kg m²/s (m v0 = %.3f N s); max |balance|/E = %.2e.'
-                 % (h['dissipated'][-1], e0, -h['momentum_x'][-1] / p0, np.max(np.abs(h['momentum_y'])),
-                    np.max(np.abs(h['angular_momentum'])), p0, rb),
+        measured='Dissipated %.3f of %.3f J; ' % (h['dissipated'][-1], h['kinetic'][0]) + ring_momenta(h, rb),
         reading='Finite-strain plasticity (J2 on the Green-Lagrange strain) with contact, exact energy '
                 '(docs/large-displacements.md).'))
     rows += large_beam_rows(new)
     return rows
+
+
+def ring_momenta(h, rb, first=False):
+    """The rings' rebound and symmetric momenta and balance (ring_impact, ring_plastic); first: as the
+    sentence's start."""
+    p0 = h['momentum_x'][0]
+    return ('%seaves at %.3f of its speed; max |momentum_y| %.1e N s, max |angular momentum| %.1e kg m²/s '
+            '(m v0 = %.3f N s); max |balance|/E = %.2e.'
+            % ('L' if first else 'l', -h['momentum_x'][-1] / p0, np.max(np.abs(h['momentum_y'])),
+               np.max(np.abs(h['angular_momentum'])), p0, rb))
 
 
 def large_beam_rows(new):

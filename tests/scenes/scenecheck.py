@@ -132,6 +132,13 @@ def report(name, ok, detail=''):
     return ok
 
 
+def report_measured(name, ok, detail):
+    """report, with the measured figures printed as a `#` line whatever the outcome (the numbers the
+    docs quote)."""
+    print('# %s: %s' % (name, detail))
+    return report(name, ok, detail)
+
+
 def close(name, measured, expected, rtol):
     """PASS when |measured - expected| <= rtol |expected|."""
     err = abs(measured - expected) / abs(expected)

@@ -25,11 +25,6 @@ import scenecheck as sc  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def report(name, ok, detail):
-    print('# %s: %s' % (name, detail))
-    return sc.report(name, ok, detail)
-
-
 def measures(h):
     """(max |internal - stored| / max stored, max |kinetic + stored - E0| / max E, max |balance| / E)."""
     e = h['kinetic'] + h['stored']
@@ -49,7 +44,7 @@ for frac in (200, 20, 4):
     sets = ['TIME.STEP=%.17g' % (period / frac), 'SCHEME.TOLERANCE=1e-14']
     _, drift, _ = measures(run_text('spring_exact.dat', spring.replace('SUBSTEPS AUTO', 'SUBSTEPS EXACT'), sets))
     _, drift_auto, _ = measures(run_text('spring_auto.dat', spring, sets))
-    report('nonlinear spring, h = T/%d, SUBSTEPS EXACT: kinetic + psi constant to 1e-11 (AUTO: > 1e-5)' % frac,
+    sc.report_measured('nonlinear spring, h = T/%d, SUBSTEPS EXACT: kinetic + psi constant to 1e-11 (AUTO: > 1e-5)' % frac,
            drift <= 1e-11 and drift_auto > 1e-5, 'EXACT %.2e, AUTO %.2e' % (drift, drift_auto))
 
 # --- a pendulum on a nonlinear-elastic spring, KINEMATICS LARGE --------------------------------------
@@ -58,9 +53,9 @@ pend = open(os.path.join(sc.ROOT, 'tests/scenes/large_bar/spring_pendulum.dat'))
     'TIME      STEP 1e-3 END 10', 'TIME      STEP 1e-2 END 10')
 gap_e, _, bal_e = measures(run_text('pend_exact.dat', pend.replace('KINEMATICS LARGE', 'KINEMATICS LARGE SUBSTEPS EXACT')))
 gap_a, _, _ = measures(run_text('pend_auto.dat', pend))
-report('pendulum on a cubic spring (LARGE), SUBSTEPS EXACT: internal = stored to 1e-12 (AUTO: > 1e-8)',
+sc.report_measured('pendulum on a cubic spring (LARGE), SUBSTEPS EXACT: internal = stored to 1e-12 (AUTO: > 1e-8)',
        gap_e <= 1e-12 and gap_a > 1e-8, 'EXACT %.2e, AUTO %.2e' % (gap_e, gap_a))
-report('pendulum on a cubic spring (LARGE), SUBSTEPS EXACT: |balance| <= 1e-10 of E, the true energy error',
+sc.report_measured('pendulum on a cubic spring (LARGE), SUBSTEPS EXACT: |balance| <= 1e-10 of E, the true energy error',
        bal_e <= 1e-10, '%.2e' % bal_e)
 
 # --- a cantilever of nonlinear-elastic fibres, SMALL and LARGE ----------------------------------------
@@ -69,11 +64,11 @@ for kin in ('SMALL', 'LARGE'):
     gap, drift, _ = measures(run_text('beam_%s.dat' % kin, beam.replace('SUBSTEPS EXACT', 'SUBSTEPS EXACT KINEMATICS ' +
                                                                           kin)))
     _, drift_auto, _ = measures(run_text('beam_%s_auto.dat' % kin, beam.replace('SUBSTEPS EXACT', 'KINEMATICS ' + kin)))
-    report('fibre cantilever (%s), SUBSTEPS EXACT: internal = stored to 1e-12' % kin, gap <= 1e-12, '%.2e' % gap)
-    report('fibre cantilever (%s), SUBSTEPS EXACT: kinetic + stored constant to 1e-10 (AUTO: > 1e-6)' % kin,
+    sc.report_measured('fibre cantilever (%s), SUBSTEPS EXACT: internal = stored to 1e-12' % kin, gap <= 1e-12, '%.2e' % gap)
+    sc.report_measured('fibre cantilever (%s), SUBSTEPS EXACT: kinetic + stored constant to 1e-10 (AUTO: > 1e-6)' % kin,
            drift <= 1e-10 and drift_auto > 1e-6, 'EXACT %.2e, AUTO %.2e' % (drift, drift_auto))
 
 # --- a restart continues bit for bit (the LARGE cantilever of cubic layers, EXACT) ------------------------
 path = sc.write_scene('beam_restart.dat', beam.replace('SUBSTEPS EXACT', 'SUBSTEPS EXACT KINEMATICS LARGE'))
 same, detail = sc.restart_same(path, ['OUTPUT.CHECKPOINT=100'], '0.12')
-report('fibre cantilever (LARGE, EXACT): a restart from the checkpoint of step 100 continues bit for bit', same, detail)
+sc.report_measured('fibre cantilever (LARGE, EXACT): a restart from the checkpoint of step 100 continues bit for bit', same, detail)

@@ -31,12 +31,6 @@ import scenecheck as sc  # noqa: E402
 
 
 
-def report(name, ok, detail):
-    """sc.report, with the measured figures printed whatever the outcome (docs/large-displacements.md)."""
-    print('# %s: %s' % (name, detail))
-    return sc.report(name, ok, detail)
-
-
 HERE = os.path.relpath(os.path.dirname(os.path.abspath(__file__)), sc.ROOT)
 A, B = 0.3, -0.1                                   # the stretch diag(1 + A, 1 + B)
 EA, EB = A + A * A / 2, B + B * B / 2              # its Green-Lagrange strain
@@ -90,7 +84,7 @@ for kind in KINDS:
         err = max(err, np.max(np.abs(fl['stress'] - fs['stress'])) / np.max(np.abs(fs['stress'])))
         err = max(err, np.max(np.abs(fl['plastic_strain'] - fs['plastic_strain'])) / np.max(fs['plastic_strain']))
         plastic = hs['internal'][0] - hs['stored'][0]
-        report('%s plane %s, stretched plastically and turned by 90 degrees: work, stored energy, S and plastic '
+        sc.report_measured('%s plane %s, stretched plastically and turned by 90 degrees: work, stored energy, S and plastic '
                   'strain = the small-strain law at E (1e-12)' % (kind, plane.lower()),
                   err <= 1e-12 and plastic > 0.1 * hs['internal'][0],
                   'difference %.2e, plastic work %.3g of %.3g' % (err, plastic, hs['internal'][0]))
@@ -102,7 +96,7 @@ he = sc.history(sc.run_ok(sc.write_scene('ring_el.dat', ring)))
 hv = sc.history(sc.run_ok(sc.write_scene('ring_vm.dat', ring.replace(
     'rubber ELASTIC YOUNG 1e7 POISSON 0.3 DENSITY 1000', 'rubber VON_MISES YOUNG 1e7 POISSON 0.3 DENSITY 1000 YIELD 1e30'))))
 diff = max(np.max(np.abs(he[k] - hv[k])) / np.max(np.abs(he[k])) for k in ('kinetic', 'internal', 'momentum_x'))
-report('ring (LARGE): VON_MISES that never yields = ELASTIC (St Venant-Kirchhoff) to 1e-12', diff <= 1e-12,
+sc.report_measured('ring (LARGE): VON_MISES that never yields = ELASTIC (St Venant-Kirchhoff) to 1e-12', diff <= 1e-12,
           '%.2e' % diff)
 
 # --- small amplitude: LARGE = SMALL ----------------------------------------------------------------------
@@ -126,9 +120,9 @@ def small_large(scale):
 
 d1, dis = small_large(1.0)
 d10, _ = small_large(10.0)
-report('plastic patch at strains of 1e-8: LARGE = SMALL to 1e-6 (and it yields)', d1 <= 1e-6 and dis > 0,
+sc.report_measured('plastic patch at strains of 1e-8: LARGE = SMALL to 1e-6 (and it yields)', d1 <= 1e-6 and dis > 0,
           'difference %.2e, dissipated %.3g' % (d1, dis))
-report('the difference LARGE - SMALL grows as the amplitude (x 10: 8 to 12)', 8 <= d10 / d1 <= 12,
+sc.report_measured('the difference LARGE - SMALL grows as the amplitude (x 10: 8 to 12)', 8 <= d10 / d1 <= 12,
           '%.2e / %.2e = %.2f' % (d10, d1, d10 / d1))
 
 # --- the nonlinear zone with a LARGE plastic patch -------------------------------------------------------
@@ -138,13 +132,13 @@ hz = {z: sc.history(sc.run_ok(sc.write_scene('zone_%s.dat' % z, zone), ['SCHEME.
       for z in ('ON', 'OFF')}
 dz = max(np.max(np.abs(hz['ON'][k] - hz['OFF'][k])) / np.max(np.abs(hz['OFF'][k]))
          for k in ('kinetic', 'internal', 'dissipated'))
-report('LARGE von Mises patch in a SMALL elastic block: SCHEME ZONE ON (Newton through Woodbury) = OFF to 1e-8, '
+sc.report_measured('LARGE von Mises patch in a SMALL elastic block: SCHEME ZONE ON (Newton through Woodbury) = OFF to 1e-8, '
        'and it yields', dz <= 1e-8 and hz['ON']['dissipated'][-1] > 0, 'difference %.2e' % dz)
 
 # --- a free spinning square yielding -------------------------------------------------------------------
 hsp = sc.history(sc.run_ok(os.path.join(HERE, 'spinning_plastic.dat')))
 sc.free_body('spinning von Mises square', hsp, 1e-10)
-report('spinning von Mises square: it yields (plastic work > 1 % of the largest stored energy)',
+sc.report_measured('spinning von Mises square: it yields (plastic work > 1 % of the largest stored energy)',
           hsp['dissipated'][-1] > 1e-2 * np.max(hsp['stored']), '%.3g J of %.3g J' % (hsp['dissipated'][-1],
                                                                                     np.max(hsp['stored'])))
 
@@ -155,24 +149,24 @@ for step in ('2e-4', '1e-3'):
     h, c = sc.history(out), sc.contacts(out)
     e = np.max(h['kinetic'] + h['internal'])
     bal = np.max(np.abs(h['balance'])) / e
-    report('plastic ring, h = %s: |balance| <= 1e-10 of E' % step, bal <= 1e-10, '%.2e' % bal)
-    report('plastic ring, h = %s: the wall never crossed (1e-12 m)' % step, np.min(c['min_gap']) >= -1e-12,
+    sc.report_measured('plastic ring, h = %s: |balance| <= 1e-10 of E' % step, bal <= 1e-10, '%.2e' % bal)
+    sc.report_measured('plastic ring, h = %s: the wall never crossed (1e-12 m)' % step, np.min(c['min_gap']) >= -1e-12,
               '%.2e m' % np.min(c['min_gap']))
     sym = max(np.max(np.abs(h['momentum_y'])), np.max(np.abs(h['angular_momentum']))) / h['momentum_x'][0]
-    report('plastic ring, h = %s: y and angular momentum zero by symmetry (1e-9 of m v0)' % step, sym <= 1e-9,
+    sc.report_measured('plastic ring, h = %s: y and angular momentum zero by symmetry (1e-9 of m v0)' % step, sym <= 1e-9,
               '%.2e' % sym)
     if step == '2e-4':
-        report('plastic ring: more than half the energy dissipated, leaving the wall slower than it came',
+        sc.report_measured('plastic ring: more than half the energy dissipated, leaving the wall slower than it came',
                   h['dissipated'][-1] > 0.5 * e and c['active'][-1] == 0 and
                   -0.5 * h['momentum_x'][0] < h['momentum_x'][-1] < 0,
                   'dissipated %.3g of %.3g J, px %.3g -> %.3g' % (h['dissipated'][-1], e, h['momentum_x'][0],
                                                                 h['momentum_x'][-1]))
 h = sc.history(sc.run_ok(scene, ['SCHEME.ENERGY_CORRECTION=OFF']))
 bal = np.max(np.abs(h['balance'])) / np.max(h['kinetic'] + h['internal'])
-report('plastic ring, ENERGY_CORRECTION OFF: the balance the correction removes (> 1e-3 of E)', bal > 1e-3,
+sc.report_measured('plastic ring, ENERGY_CORRECTION OFF: the balance the correction removes (> 1e-3 of E)', bal > 1e-3,
           '%.2e' % bal)
 
 
 ok, detail = sc.restart_same(scene, ['OUTPUT.CHECKPOINT=50', 'OUTPUT.FIELDS=0'], '0.012',
                               ('history.csv', 'contacts.csv'))
-report('plastic ring: a restart from the checkpoint of step 50 continues bit for bit (history, contacts)', ok, detail)
+sc.report_measured('plastic ring: a restart from the checkpoint of step 50 continues bit for bit (history, contacts)', ok, detail)
