@@ -174,8 +174,10 @@ contains
       call bnl(f1, b1)
       call bnl(fn, bn)
       call bnl(fm, bm)
-      sys%elems%bmat(p:p + 4 * ndof - 1) = reshape(b1(:, 1:ndof), [4 * ndof])
-      fe(1:ndof) = fe(1:ndof) + w * matmul(s1, b1(:, 1:ndof))
+      do a = 1, ndof                          ! (loops, not reshape/matmul: no temporaries)
+        sys%elems%bmat(p + 4 * a - 4:p + 4 * a - 1) = b1(:, a)
+        fe(a) = fe(a) + w * s_dot_b(s1, b1, a)
+      end do
       if (mv%hyper) then
         sbar = nh_discrete_stress(mv%lame, en, e1, mv%pstress)
       else if (mv%von_mises) then
@@ -187,8 +189,9 @@ contains
       wsum = wsum + w * dot_product(sbar, e1 - en)
       if (correct) then
         any_c = .true.
-        fc(1:ndof) = fc(1:ndof) + w * (2.0_dp * matmul(sbar, bm(:, 1:ndof)) - matmul(sn, bn(:, 1:ndof)) - &
-          matmul(s1, b1(:, 1:ndof)))
+        do a = 1, ndof
+          fc(a) = fc(a) + w * (2.0_dp * s_dot_b(sbar, bm, a) - s_dot_b(sn, bn, a) - s_dot_b(s1, b1, a))
+        end do
       end if
       if (tangent) then
         if (mv%hyper) then
@@ -198,7 +201,7 @@ contains
         else
           dm = sys%elems%dmat(1:4, 1:4, mv%im)
         end if
-        ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + w * matmul(transpose(b1(:, 1:ndof)), matmul(dm, b1(:, 1:ndof)))
+        call add_btdb(ke, w, b1, dm, ndof)
         ! Geometric part ∇N_a' S ∇N_b on both directions, with the tensile part of S.
         st = reshape([s1(1), s1(4), s1(4), s1(2)], [2, 2])
         call tensile_part(st)
@@ -437,4 +440,41 @@ contains
     real(dp), intent(in) :: k, x(:)
     sys%elems%round_floor = sys%elems%round_floor + (k * spacing(maxval(abs(x))))**2
   end subroutine add_round_floor
+  !> s'b(:, k), summed in the order of the components (as matmul(s, b) does).
+  pure real(dp) function s_dot_b(s, b, k) result(r)
+    real(dp), intent(in) :: s(4), b(:, :)
+    integer, intent(in) :: k
+    integer :: i
+    r = 0.0_dp
+    do i = 1, 4
+      r = r + s(i) * b(i, k)
+    end do
+  end function s_dot_b
+
+  !> ke(1:ndof, 1:ndof) += w b'D b with b = b(1:4, 1:ndof) (loops on fixed-size work: no temporaries).
+  pure subroutine add_btdb(ke, w, b, d, ndof)
+    real(dp), intent(inout) :: ke(:, :)
+    real(dp), intent(in) :: w, b(:, :), d(4, 4)
+    integer, intent(in) :: ndof
+    real(dp) :: db(4, MAX_EDOF), t
+    integer :: i, j, k, l
+    do l = 1, ndof
+      do i = 1, 4
+        t = 0.0_dp
+        do j = 1, 4
+          t = t + d(i, j) * b(j, l)
+        end do
+        db(i, l) = t
+      end do
+    end do
+    do l = 1, ndof
+      do k = 1, ndof
+        t = 0.0_dp
+        do i = 1, 4
+          t = t + b(i, k) * db(i, l)
+        end do
+        ke(k, l) = ke(k, l) + w * t
+      end do
+    end do
+  end subroutine add_btdb
 end module large_kinematics

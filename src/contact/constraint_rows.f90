@@ -9,9 +9,10 @@ module constraint_rows
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   implicit none
   private
-  public :: constraint_rows_t, LABEL_LEN
+  public :: constraint_rows_t, LABEL_LEN, MAX_REWRITE
 
   integer, parameter :: LABEL_LEN = 48
+  integer, parameter :: MAX_REWRITE = 16      !< entries of a rewritten row (a node-to-segment row has 6)
 
   type :: constraint_rows_t
     private
@@ -34,6 +35,7 @@ module constraint_rows
     procedure :: coef_at => rows_coef_at
     procedure :: gap0 => rows_gap0
     procedure :: set_gap0 => rows_set_gap0
+    procedure :: rewrite => rows_rewrite
     procedure :: restitution => rows_restitution
     procedure :: nodes => rows_nodes
     procedure :: label => rows_label
@@ -234,6 +236,70 @@ contains
     real(dp), intent(in) :: g0
     self%g0(j) = g0
   end subroutine rows_set_gap0
+
+  !> Row j replaced by g0 + Σ coefs(k) u(eqs(k)), named by nodes (a contact whose geometry follows
+  !> the configuration, contact_geometry): eqs(k) <= 0 or zero coefficients skipped, the entries
+  !> sorted and merged as by finalize. Later rows move when the number of entries changes (the
+  !> storage grows only past its largest size so far). At most MAX_REWRITE entries (fixed-size
+  !> buffers: nothing allocated in the time loop).
+  pure subroutine rows_rewrite(self, j, g0, eqs, coefs, nodes)
+    class(constraint_rows_t), intent(inout) :: self
+    integer, intent(in) :: j
+    real(dp), intent(in) :: g0
+    integer, intent(in) :: eqs(:)
+    real(dp), intent(in) :: coefs(:)
+    integer, intent(in) :: nodes(2)
+    integer :: ne(MAX_REWRITE), k, q, n, shift, nz
+    real(dp) :: nc(MAX_REWRITE)
+    integer, allocatable :: i1(:)
+    real(dp), allocatable :: r1(:)
+    n = 0
+    do k = 1, min(size(eqs), size(coefs), MAX_REWRITE)   ! insertion, merging repeats (rows are short)
+      if (eqs(k) <= 0 .or. coefs(k) == 0.0_dp) cycle
+      q = findloc(ne(1:n), eqs(k), 1)
+      if (q > 0) then
+        nc(q) = nc(q) + coefs(k)
+        cycle
+      end if
+      q = n
+      do while (q >= 1)
+        if (ne(q) < eqs(k)) exit
+        ne(q + 1) = ne(q)
+        nc(q + 1) = nc(q)
+        q = q - 1
+      end do
+      ne(q + 1) = eqs(k)
+      nc(q + 1) = coefs(k)
+      n = n + 1
+    end do
+    shift = n - (self%ptr(j + 1) - self%ptr(j))
+    nz = self%ptr(self%nc + 1) - 1
+    if (shift /= 0) then
+      if (nz + shift > size(self%eq)) then
+        allocate (i1(nz + shift + size(eqs)), r1(nz + shift + size(eqs)))
+        i1(1:nz) = self%eq(1:nz)
+        r1(1:nz) = self%coef(1:nz)
+        call move_alloc(i1, self%eq)
+        call move_alloc(r1, self%coef)
+      end if
+      if (shift > 0) then                  ! (element by element: no temporary for the overlap)
+        do q = nz, self%ptr(j + 1), -1
+          self%eq(q + shift) = self%eq(q)
+          self%coef(q + shift) = self%coef(q)
+        end do
+      else
+        do q = self%ptr(j + 1), nz
+          self%eq(q + shift) = self%eq(q)
+          self%coef(q + shift) = self%coef(q)
+        end do
+      end if
+      self%ptr(j + 1:self%nc + 1) = self%ptr(j + 1:self%nc + 1) + shift
+    end if
+    self%eq(self%ptr(j):self%ptr(j + 1) - 1) = ne(1:n)
+    self%coef(self%ptr(j):self%ptr(j + 1) - 1) = nc(1:n)
+    self%g0(j) = g0
+    self%node(:, j) = nodes
+  end subroutine rows_rewrite
 
   pure real(dp) function rows_gap0(self, j)
     class(constraint_rows_t), intent(in) :: self

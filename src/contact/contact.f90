@@ -31,7 +31,7 @@ module contact
   use lcp, only: lcp_pivot
   use dense_solve, only: spsd_solve_ws
   use checkpoint, only: ckpt_file_t
-  use constraint_rows, only: constraint_rows_t, LABEL_LEN
+  use constraint_rows, only: constraint_rows_t, LABEL_LEN, MAX_REWRITE
   use contact_state, only: contact_state_t
   use contact_multipliers, only: multiplier_system_t
   use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, SOLVER_AUTO, SOLVER_SCHUR, &
@@ -44,7 +44,7 @@ module contact
   public :: inverse_op_t, diag_inverse_t, chol_inverse_t
   public :: SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   public :: contact_set_t, contact_settings_t, contact_event_t, contact_report_t, multiplier_counters_t
-  public :: contact_set_bilateral, contact_set_gap0
+  public :: contact_set_bilateral, contact_set_gap0, contact_rewrite, contact_step_gaps
   public :: contact_add, contact_finalize, contact_set_mass, contact_prepare, contact_solve_step, &
     contact_end_step, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, contact_am_block, &
     contact_set_rigid_modes, contact_events, hzero_reflection
@@ -89,6 +89,9 @@ module contact
     integer :: nc = 0, neq = 0
     integer :: first_bilateral = huge(1)     !< rows from here on are equalities (IMPOSE), always active
     logical, allocatable :: bilat(:)
+    logical, allocatable :: follow(:)        !< rows rewritten at each step (contact_rewrite)
+    real(dp), allocatable :: xg(:)           !< the work of those rows the end of the step gives back
+    logical :: gaps_kept = .false.           !< gn, gend hold the step's gaps (contact_step_gaps)
     real(dp) :: length_scale = 1.0_dp        !< model size (tolerances are relative to it)
     integer :: lcp_iter = 0                  !< pivots of the last LCP
     logical :: finalized = .false., prepared = .false., mass_set = .false.
@@ -124,6 +127,7 @@ module contact
     procedure :: correction_impulse => cs_correction_impulse
     procedure :: body_impulse => cs_body_impulse
     procedure :: gap => cs_gap
+    procedure :: gap_end => cs_gap_end
     procedure :: is_active => cs_is_active
     procedure :: nodes => cs_nodes
     procedure :: label => cs_label
@@ -151,6 +155,8 @@ module contact
     integer :: reflection_rank = 0           !< rank of A M⁻¹A' in (16) (< rows: dependent rows)
     real(dp) :: impact_dissipated = 0.0_dp   !< kinetic energy removed by RESTITUTION e < 1
     real(dp) :: snap_dissipated = 0.0_dp     !< MASSLESS: lost by massless nodes snapping to equilibrium (driver's)
+    real(dp) :: geometry_work = 0.0_dp       !< given back to held contacts that follow the geometry
+    integer :: geometry_fallbacks = 0        !< groups without kinetic energy to take it (balance shows it)
   end type contact_report_t
 
   interface
@@ -268,6 +274,13 @@ contains
     cs_gap = self%st%gap_n(j)
   end function cs_gap
 
+  !> g_j(n+1) of the step kept by contact_step_gaps.
+  pure real(dp) function cs_gap_end(self, j)
+    class(contact_set_t), intent(in) :: self
+    integer, intent(in) :: j
+    cs_gap_end = self%gend(j)
+  end function cs_gap_end
+
   pure logical function cs_is_active(self, j)
     class(contact_set_t), intent(in) :: self
     integer, intent(in) :: j
@@ -381,6 +394,53 @@ contains
     call cs%c%set_gap0(j, g0)
   end subroutine contact_set_gap0
 
+  !> Row j rewritten for the configuration at the start of a step (contact_geometry: GAP …
+  !> SEGMENTS in a KINEMATICS LARGE model) and marked as following the geometry: consecutive
+  !> steps linearize the gap about different configurations, and the work the multiplier of a
+  !> held contact does across that difference is given back at the end of the step
+  !> (contact_end_step). The Schur multipliers only (the augmented pattern would change). Call
+  !> contact_prepare before the next solve.
+  subroutine contact_rewrite(cs, j, g0, eqs, coefs, nodes, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: j
+    real(dp), intent(in) :: g0
+    integer, intent(in) :: eqs(:)
+    real(dp), intent(in) :: coefs(:)
+    integer, intent(in) :: nodes(2)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (.not. cs%finalized .or. j < 1 .or. j >= min(cs%first_bilateral, cs%nc + 1)) then
+      call set_error(stat, errmsg, STAT_INPUT, 'contact_rewrite: condition ' // str(j) // ' is not a contact of a ' // &
+        'finalized set')
+    else if (cs%ms%mode /= SOLVER_SCHUR) then
+      call set_error(stat, errmsg, STAT_INPUT, 'contact_rewrite: rows that follow the geometry need SCHEME ' // &
+        'MULTIPLIERS SCHUR')
+    else if (size(eqs) > MAX_REWRITE .or. size(coefs) /= size(eqs)) then
+      call set_error(stat, errmsg, STAT_INPUT, 'contact_rewrite: at most ' // str(MAX_REWRITE) // ' entries, as many ' // &
+        'coefficients as equations')
+    end if
+    if (stat /= STAT_OK) return
+    call cs%c%rewrite(j, g0, eqs, coefs, nodes)
+    cs%follow(j) = .true.
+    cs%prepared = .false.
+  end subroutine contact_rewrite
+
+  !> The step's gaps g(n) = g0 + C u_n and g(n+1) = g(n) + C du with the rows the multipliers
+  !> worked with, kept for contact_end_step: rows that follow the geometry are then rewritten at
+  !> the end configuration (contact_geometry) for the impact corrections.
+  subroutine contact_step_gaps(cs, u_n, du)
+    type(contact_set_t), intent(inout) :: cs
+    real(dp), intent(in) :: u_n(:), du(:)
+    integer :: j
+    if (.not. cs%finalized) return
+    call cs%c%gaps(u_n, cs%gn)
+    do j = 1, cs%nc
+      cs%gend(j) = cs%gn(j) + cs%c%dot(j, du)
+    end do
+    cs%gaps_kept = .true.
+  end subroutine contact_step_gaps
+
   !> Check the conditions against neq free equations, set the model size (length_scale > 0,
   !> e.g. the bounding-box diagonal; tolerances are relative to it) and allocate the state and
   !> the workspaces: nothing active, no reaction. The initial gaps are the driver's (scene)
@@ -411,6 +471,9 @@ contains
     if (allocated(cs%bilat)) deallocate (cs%bilat)
     allocate (cs%bilat(nc))
     cs%bilat = [(j >= cs%first_bilateral, j = 1, nc)]
+    if (allocated(cs%follow)) deallocate (cs%follow, cs%xg)
+    allocate (cs%follow(nc), cs%xg(nc))
+    cs%follow = .false.
     cs%st%active_iter = cs%bilat                  ! (st%active: the contacts only, none yet)
     if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%mu, cs%viol, cs%now, &
       cs%est, cs%rel, cs%fallback, cs%idx, cs%cgroup, cs%f, cs%xw, cs%vp, cs%mvp, cs%rows, cs%ev, cs%sv, cs%ct, &
@@ -736,7 +799,7 @@ contains
     do j = 1, cs%nc
       cs%wq(j) = max(cs%st%gap_n(j), 0.0_dp) + cs%c%dot(j, du_free)
       cs%tolj(j) = cs%settings%gap_rtol * cs%length_scale + min(cs%st%gap_n(j), 0.0_dp)
-      if (cs%bilat(j)) then                    ! an equality: its whole gap closes
+      if (cs%bilat(j) .or. cs%follow(j)) then  ! an equality, or a gap whose work is given back: it closes
         cs%wq(j) = cs%st%gap_n(j) + cs%c%dot(j, du_free)
         cs%tolj(j) = cs%settings%gap_rtol * cs%length_scale
       end if

@@ -16,7 +16,7 @@ contains
   !>   energy_restored = kinetic energy added, measured (= Σ E_j to round-off). The events of
   !>   the step are cs%events(1:cs%n_events).
   module procedure contact_end_step
-    type(contact_report_t) :: rep
+    type(contact_report_t) :: rep, geo
     real(dp) :: t_before
     integer :: j, k
 
@@ -36,10 +36,13 @@ contains
       return
     end if
     associate (gn => cs%gn, gend => cs%gend, now => cs%now, est => cs%est, rel => cs%rel, e => cs%e, y => cs%y)
-      call cs%c%gaps(u_n, gn)
-      do j = 1, cs%nc
-        gend(j) = gn(j) + cs%c%dot(j, du)
-      end do
+      if (.not. cs%gaps_kept) then             ! (else kept with the rows of the step: contact_step_gaps)
+        call cs%c%gaps(u_n, gn)
+        do j = 1, cs%nc
+          gend(j) = gn(j) + cs%c%dot(j, du)
+        end do
+      end if
+      cs%gaps_kept = .false.
       ! Bilateral rows (IMPOSE) are no contacts: no events, no correction; their multipliers'
       ! work is the work of the imposed motion, for the driver's external work.
       now = cs%st%active_iter .and. .not. cs%bilat
@@ -97,6 +100,24 @@ contains
         end select
         if (stat /= STAT_OK) return
         if (mode /= IMPACT_OFF) energy_restored = 0.5_dp * dot_product(v, mv) - t_before
+      end if
+      ! Rows that follow the geometry (contact_rewrite) start each step at the gap of the new
+      ! configuration, which is not the end gap of the last step's row (they differ to second
+      ! order in the motion), and close it to zero. The multiplier's work ½ Λ_j (g_j(n+1) - g_j(n))
+      ! would be work of a frictionless contact: what eq (10) does not take back (all of it for a
+      ! held contact) is given back by scaling the group, momentum kept.
+      if (mode /= IMPACT_OFF .and. any(cs%follow .and. now)) then
+        if (.not. present(body)) then
+          call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: rows that follow the geometry need body(:)')
+          return
+        end if
+        cs%xg = 0.0_dp
+        where (cs%follow .and. now) cs%xg = 0.5_dp * cs%lam_step * (gn - gend) - e
+        call persist_correction(cs, body, v, mv, geo, stat, errmsg, project=.false., geometry=cs%xg)
+        if (stat /= STAT_OK) return
+        rep%geometry_work = sum(cs%xg)
+        rep%geometry_fallbacks = geo%persist_fallbacks
+        energy_restored = 0.5_dp * dot_product(v, mv) - t_before
       end if
       rep%energy_restored = energy_restored
 
@@ -261,7 +282,7 @@ contains
   !> scale its velocity so that its kinetic energy is T1_group + Σ E_j. Groups whose projected
   !> kinetic energy is below persist_min_fraction of that target, or conditions on equations
   !> without body, are left untouched and returned in cs%fallback (their established conditions).
-  subroutine persist_correction(cs, body, v, mv, rep, stat, errmsg, project)
+  subroutine persist_correction(cs, body, v, mv, rep, stat, errmsg, project, geometry)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(in) :: body(:)
     real(dp), intent(inout) :: v(:), mv(:)
@@ -269,6 +290,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     logical, intent(in), optional :: project     !< .false.: scale only (IMPACT MASSLESS)
+    real(dp), intent(in), optional :: geometry(:)   !< the active conditions that follow the geometry, these energies
     integer :: nb, j, p, bj, i, grp, rank, n, j0, k
     real(dp) :: t1, tp, tstar, s, acm(3), tcm, vcm, mvcm, dis
     logical :: proj
@@ -291,6 +313,7 @@ contains
     ! projection) released ones too; the maintained ones join the groups.
     cs%changing = cs%est
     if (.not. proj) cs%changing = cs%est .or. cs%rel
+    if (present(geometry)) cs%changing = cs%follow .and. cs%now
     associate (parent => cs%parent, cgroup => cs%cgroup, now => cs%now, est => cs%changing, rows => cs%rows)
       do i = 1, nb
         parent(i) = i
@@ -356,7 +379,11 @@ contains
           if (stat /= STAT_OK) return
         end if
         tp = 0.5_dp * sum(cs%vp * cs%mvp, mask=rows)
-        tstar = t1 + sum(cs%e, mask=est .and. cgroup == grp) - dis
+        if (present(geometry)) then
+          tstar = t1 + sum(geometry, mask=est .and. cgroup == grp)
+        else
+          tstar = t1 + sum(cs%e, mask=est .and. cgroup == grp) - dis
+        end if
         ! Scale about the centre-of-mass velocity a_k t_k when the group's conditions are all
         ! invariant under its translations (node-to-node, no obstacle, no support): momentum and
         ! the zero normal velocities are kept; otherwise about zero.
@@ -412,9 +439,10 @@ contains
     a = 0.0_dp
     tcm = 0.0_dp
     if (.not. cs%has_rigid) return
-    do j = 1, n
+    do j = 1, n                                ! (node-to-segment weights sum to 0 to round-off)
+      cn = sqrt(cs%c%norm2_sq(cs%idx(j)))
       do k = 1, 2
-        if (cs%c%dot(cs%idx(j), cs%rig(:, k)) /= 0.0_dp) return
+        if (abs(cs%c%dot(cs%idx(j), cs%rig(:, k))) > 1.0e-14_dp * cn) return
       end do
     end do
     nm = 2

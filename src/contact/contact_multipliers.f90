@@ -104,7 +104,7 @@ contains
     self%cap = max(1, min(nc, cap0))
     allocate (self%zcol(neq, self%cap), self%wcol(nc, self%cap), self%owner(self%cap), self%used(self%cap))
     allocate (self%slot(nc), self%ia(nc), self%ra(nc), self%dropped(nc), self%x(neq), self%b(neq))
-    allocate (self%wlow(nc), self%kkt_set(nc), self%piv(nc), self%work(2 * nc))
+    allocate (self%wlow(nc), self%dscale(nc), self%kkt_set(nc), self%piv(nc), self%work(2 * nc))
     self%slot = 0
     self%nslot = 0
     self%b = 0.0_dp
@@ -134,14 +134,17 @@ contains
         'contact: the augmented multiplier system needs the matrix S (pattern and values)')
       return
     end if
-    if (.not. self%kkt_built) then
+    ! SCHUR never reads the augmented system (and rows that follow the geometry change its pattern).
+    if (.not. self%kkt_built .and. self%mode /= SOLVER_SCHUR) then
       call build_kkt(self, pat, stat, errmsg)
       if (stat /= STAT_OK) return
     end if
-    do q = 1, pat%nnz
-      self%kval(self%pos_s(1, q)) = sval(q)
-      self%kval(self%pos_s(2, q)) = sval(q)
-    end do
+    if (self%kkt_built) then
+      do q = 1, pat%nnz
+        self%kval(self%pos_s(1, q)) = sval(q)
+        self%kval(self%pos_s(2, q)) = sval(q)
+      end do
+    end if
     do j = 1, self%nc
       csc = c_s_c(self%c, pat, sval, j)
       cc = self%c%norm2_sq(j)
@@ -249,7 +252,7 @@ contains
     end do
     nnz = self%kptr(n + 1) - 1
     allocate (self%krow(nnz), self%kval(nnz), self%pos_s(2, pat%nnz), self%pos_cr(nzc), &
-      self%pos_cc(nzc), self%pos_d(nc), self%dscale(nc))
+      self%pos_cc(nzc), self%pos_d(nc))
     self%kval = 0.0_dp
     fill = self%kptr(1:neq)
     ! Column r: its upper rows (<= r, ascending in sym_csc_t) are placed when k = r, its lower
@@ -574,11 +577,10 @@ contains
     call self%lu%destroy()
     if (allocated(self%zcol)) deallocate (self%zcol, self%wcol, self%owner, self%used)
     if (allocated(self%slot)) deallocate (self%slot, self%ia, self%ra, self%dropped, self%x, self%b, &
-      self%wlow, self%kkt_set, self%piv, self%work)
+      self%wlow, self%dscale, self%kkt_set, self%piv, self%work)
     if (allocated(self%waa)) deallocate (self%waa)
     if (allocated(self%kptr)) deallocate (self%kptr)
-    if (allocated(self%krow)) deallocate (self%krow, self%kval, self%pos_s, self%pos_cr, self%pos_cc, self%pos_d, &
-      self%dscale)
+    if (allocated(self%krow)) deallocate (self%krow, self%kval, self%pos_s, self%pos_cr, self%pos_cc, self%pos_d)
     if (allocated(self%kb)) deallocate (self%kb, self%kx)
     self%kkt_built = .false.
     self%kkt_factored = .false.

@@ -6,6 +6,7 @@ module scene
   use kinds, only: dp
   use errors, only: upper
   use mesh, only: mesh_t
+  use mesh_segments, only: segment_set_t
   use element_traits, only: etype_point_kind
   use section, only: section_t
   use material_law, only: material_t
@@ -36,6 +37,9 @@ module scene
     real(dp) :: g0 = 0.0_dp
     real(dp) :: restitution = 1.0_dp          !< RESTITUTION e: normal velocity after an impact = -e x before
     integer :: line = 0
+    integer :: segset = 0                     !< GAP … SEGMENTS: its segments, scene%segsets(segset)
+    logical :: follow = .false.               !< re-paired in the configuration of every step (LARGE)
+    integer :: side = 0                       !< following, on a line element: b's side of the chain (pair_segment)
   end type condition_t
 
   !> MODELE: an element group with its formulation, material, section and mass kind.
@@ -141,6 +145,7 @@ module scene
     integer :: checkpoint_every = 0           !< OUTPUT CHECKPOINT EVERY k (0: none)
     type(probe_t), allocatable :: probes(:)
     type(condition_t), allocatable :: conditions(:)   !< unilateral contacts (OBSTACLE, GAP)
+    type(segment_set_t), allocatable :: segsets(:)    !< the segments of each GAP … SEGMENTS statement
     integer :: impact = IMPACT_AUTO                   !< SCHEME IMPACT (AUTO resolved at load: scene_contacts)
     logical :: impact_auto = .false.                  !< the treatment was chosen by IMPACT AUTO
     integer :: multipliers = SOLVER_AUTO              !< SCHEME MULTIPLIERS (contact_modes)

@@ -7,10 +7,10 @@ module scene_contacts
   use statement, only: statement_t, token_t, stmt_error, find_param, get
   use statement_schema, only: schema_t
   use scene, only: scene_t, condition_t, contact_nodes, condition_keyword
-  use contact_modes, only: IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS
+  use contact_modes, only: IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, SOLVER_AUTO, SOLVER_SCHUR
   use element_traits, only: ET_MASS, ET_SPRING
   use scene_helpers, only: node_group, get_point, model_size, get_unit
-  use mesh_segments, only: segment_set_t, group_segments, closest_segment
+  use mesh_segments, only: segment_set_t, segment_pair_t, group_segments, closest_segment, pair_segment, orient_lines
   implicit none
   private
   public :: contacts_schema, contacts_statement, resolve_impact
@@ -33,7 +33,7 @@ contains
     call sch%add_param('GAP', 'RESTITUTION', 1, 1)
   end subroutine contacts_schema
 
-  !> One contacts statement (pass 2 of load_scene).
+  !> One contacts statement (pass 3 of load_scene: after the models and SCHEME).
   subroutine contacts_statement(scn, st, path, stat, errmsg)
     type(scene_t), intent(inout) :: scn
     type(statement_t), intent(in) :: st
@@ -65,7 +65,7 @@ contains
           ' inside the obstacle', st%lead(1)))
       else
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'nodes ' // str(scn%mesh%node_tag(c%node_a)) // ' and ' // &
-          str(c%node_b) // ' start interpenetrated by ' // str(-c%g0), st%lead(1)))
+          str(scn%mesh%node_tag(c%node_b)) // ' start interpenetrated by ' // str(-c%g0), st%lead(1)))
       end if
     end if
   end subroutine check_penetration
@@ -230,13 +230,18 @@ contains
   !> segment's normal (outward for a side of a surface element) to the point at xi along it, and
   !> the row couples the node with the segment's two ends, weights 1, -(1 - xi), -xi. Nodes that
   !> face no segment get no condition; a node of gs touching another segment of gs at rest
-  !> (self-contact at rest) is an input error.
+  !> (self-contact at rest) is an input error. When a node of ga or gs is on an element of a
+  !> KINEMATICS LARGE model the pairing follows the configuration (contact_geometry re-pairs at
+  !> every step): every node of ga gets a condition, paired by pair_segment (a segment, or past
+  !> the ends a corner); SCHEME MULTIPLIERS becomes SCHUR (AUGMENTED and IMPACT MASSLESS are
+  !> refused).
   subroutine do_gap_segments(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn
     type(statement_t), intent(in) :: st
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(segment_set_t) :: segs
+    type(segment_pair_t) :: pr
     type(condition_t) :: c
     integer :: ga, gs, i, b, best, kn, ks, npair
     real(dp) :: xi, n(2), g, tol
@@ -267,10 +272,28 @@ contains
     npair = 0
     c%source = st%lead(1)%text
     c%line = st%line
+    c%follow = on_large(scn, [scn%mesh%ngroups(ga)%items, scn%mesh%ngroups(gs)%items])
+    if (c%follow) then
+      call check_following(scn, st, ks, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call orient_lines(segs, scn%mesh%nnode)
+    end if
+    scn%segsets = [scn%segsets, segs]
+    c%segset = size(scn%segsets)
     do i = 1, size(scn%mesh%ngroups(ga)%items)
       b = scn%mesh%ngroups(ga)%items(i)
-      call closest_segment(scn%mesh, segs, scn%mesh%x(:, b), b, best, xi, n, g)
-      if (best == 0) cycle
+      if (c%follow) then
+        call pair_segment(scn%mesh%x, segs, b, pr)
+        best = pr%seg
+        if (best == 0) cycle
+        c%side = pr%side
+        xi = pr%xi
+        n = pr%normal
+        g = pr%gap
+      else
+        call closest_segment(scn%mesh, segs, scn%mesh%x(:, b), b, best, xi, n, g)
+        if (best == 0) cycle
+      end if
       if (in_gs(b) .and. abs(g) <= tol) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(scn%mesh%node_tag(b)) // ' of ' // &
           scn%mesh%ngroups(gs)%name // ' touches its segment ' // str(segs%p(best)) // '-' // str(segs%q(best)) // &
@@ -280,6 +303,10 @@ contains
       c%node_b = b
       c%node_a = segs%p(best)
       c%node_c = segs%q(best)
+      if (c%follow) then
+        c%node_a = pr%nodes(2)
+        c%node_c = pr%nodes(3)                 ! 0 for a corner: node to node
+      end if
       c%xi = xi
       c%normal = n
       c%g0 = g
@@ -293,6 +320,49 @@ contains
         ' faces a segment of ' // scn%mesh%ngroups(gs)%name, st%params(ks)%values(1)))
     end if
   end subroutine do_gap_segments
+
+  !> Whether one of the nodes is on an element of a KINEMATICS LARGE model.
+  logical function on_large(scn, nodes) result(large)
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: nodes(:)
+    logical, allocatable :: in(:)
+    integer :: e, im
+    allocate (in(scn%mesh%nnode))
+    in = .false.
+    in(nodes) = .true.
+    large = .false.
+    do e = 1, scn%mesh%nelem
+      im = scn%elem_model(e)
+      if (im == 0) cycle
+      if (.not. scn%models(im)%large) cycle
+      if (any(in(scn%mesh%conn(1:scn%mesh%nen(e), e)))) then
+        large = .true.
+        return
+      end if
+    end do
+  end function on_large
+
+  !> A pairing that follows the configuration rewrites its rows at every step: the Schur
+  !> multipliers only (the augmented system's pattern is analysed once), and the contact nodes
+  !> keep their mass (IMPACT MASSLESS moves the mass of a fixed set of nodes).
+  subroutine check_following(scn, st, ks, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(in) :: ks
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (scn%multipliers /= SOLVER_AUTO .and. scn%multipliers /= SOLVER_SCHUR) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'with KINEMATICS LARGE the pairing follows the ' // &
+        'configuration and the rows change at every step: SCHEME MULTIPLIERS AUGMENTED cannot take them (use SCHUR ' // &
+        'or AUTO)', st%params(ks)%keytok))
+    else if (scn%impact == IMPACT_MASSLESS) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'with KINEMATICS LARGE the pairing follows the ' // &
+        'configuration: SCHEME IMPACT MASSLESS (which takes the mass of a fixed set of contact nodes) cannot take it ' // &
+        '(use PERSIST, PAPER or AUTO)', st%params(ks)%keytok))
+    end if
+    scn%multipliers = SOLVER_SCHUR
+  end subroutine check_following
 
   !> GAP NODES ga WITH gb pairs nodes one to one, which is right only for matching meshes
   !> (GAP … SEGMENTS is the node-to-segment contact): refused when a node of gb is the nearest to two
@@ -378,7 +448,8 @@ contains
     scn%impact_auto = .true.
     if (size(scn%conditions) == 0) then
       scn%impact = IMPACT_PAPER                   ! (no contact: the choice changes nothing)
-    else if (all(scn%conditions%restitution >= 1.0_dp) .and. contact_mass_movable(scn)) then
+    else if (all(scn%conditions%restitution >= 1.0_dp) .and. .not. any(scn%conditions%follow) .and. &
+      contact_mass_movable(scn)) then
       scn%impact = IMPACT_MASSLESS
     else
       scn%impact = IMPACT_PERSIST

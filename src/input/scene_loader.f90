@@ -56,7 +56,7 @@ contains
     scn%path = path
     scn%title = ''
     allocate (scn%materials(0), scn%sections(0), scn%models(0), scn%fixes(0), scn%initials(0), &
-      scn%functions(0), scn%loads(0), scn%imposes(0), scn%probes(0), scn%conditions(0))
+      scn%functions(0), scn%loads(0), scn%imposes(0), scn%probes(0), scn%conditions(0), scn%segsets(0))
     ! Pass 1: mesh and definitions, in file order.
     allocate (scn%node_line(0))
     do i = 1, size(st)
@@ -73,8 +73,12 @@ contains
     do i = 1, size(st)
       call models_statement(scn, st(i), path, stat, errmsg)
       if (stat == STAT_OK) call conditions_statement(scn, st(i), path, stat, errmsg)
-      if (stat == STAT_OK) call contacts_statement(scn, st(i), path, stat, errmsg)
       if (stat == STAT_OK) call run_statement(scn, st(i), path, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end do
+    ! Pass 3: the contacts, which need every model's kinematics (GAP … SEGMENTS with LARGE).
+    do i = 1, size(st)
+      call contacts_statement(scn, st(i), path, stat, errmsg)
       if (stat /= STAT_OK) return
     end do
     if (size(scn%models) == 0) then

@@ -12,7 +12,8 @@ module mesh_segments
   use element_traits, only: etype_sides, etype_family, FAMILY_LINE
   implicit none
   private
-  public :: side_set_t, segment_set_t, group_sides, group_segments, closest_segment
+  public :: side_set_t, segment_set_t, segment_pair_t, group_sides, group_segments, closest_segment, pair_segment, pair_on, &
+    orient_lines
 
   !> Free side s: nodes node(1:nsn(s), s) (2, or 3 with the mid-side node second), of element
   !> elem(s).
@@ -28,6 +29,16 @@ module mesh_segments
     integer, allocatable :: p(:), q(:)
     logical, allocatable :: outward(:)
   end type segment_set_t
+
+  !> A node's contact partner on a segment set (pair_segment): the gap g = n.Σ_k w(k) x(nodes(k))
+  !> over nodes(k) > 0 (b first); seg = 0: none (an empty set).
+  type :: segment_pair_t
+    integer :: seg = 0
+    integer :: nodes(3) = 0
+    real(dp) :: w(3) = 0.0_dp, normal(2) = 0.0_dp, gap = 0.0_dp, xi = 0.0_dp
+    logical :: vertex = .false.              !< paired with a segment's end, not a point inside it
+    integer :: side = 0                      !< a line element: b's side (+1 right of p -> q, -1 left)
+  end type segment_pair_t
 
 contains
 
@@ -221,4 +232,159 @@ contains
     if (.not. segs%outward(best) .and. dot_product(n, x - xp) < 0.0_dp) n = -n
     g = dot_product(n, x - (xp + xi * t))
   end subroutine closest_segment
+
+  !> The line-element segments of segs turned so that along each chain every segment starts
+  !> where the one before ends: a side of the chain (pair_segment's side) is then the same side
+  !> on all its segments. nnode nodes in the mesh; a node is on at most two segments (group_segments).
+  pure subroutine orient_lines(segs, nnode)
+    type(segment_set_t), intent(inout) :: segs
+    integer, intent(in) :: nnode
+    integer :: at(2, nnode), stack(segs%n), k, m, i, top, nd, e
+    logical :: done(segs%n)
+    at = 0
+    do k = 1, segs%n
+      if (segs%outward(k)) cycle
+      do e = 1, 2
+        nd = merge(segs%p(k), segs%q(k), e == 1)
+        i = merge(1, 2, at(1, nd) == 0)
+        at(i, nd) = k
+      end do
+    end do
+    done = segs%outward
+    do k = 1, segs%n
+      if (done(k)) cycle
+      done(k) = .true.
+      top = 1
+      stack(1) = k
+      do while (top > 0)
+        m = stack(top)
+        top = top - 1
+        do e = 1, 2                            ! the neighbours at m's end q, then at its start p
+          nd = merge(segs%q(m), segs%p(m), e == 1)
+          do i = 1, 2
+            if (at(i, nd) == 0 .or. at(i, nd) == m) cycle
+            if (done(at(i, nd))) cycle
+            call turn(segs, at(i, nd), nd, e == 1)
+            done(at(i, nd)) = .true.
+            top = top + 1
+            stack(top) = at(i, nd)
+          end do
+        end do
+      end do
+    end do
+  end subroutine orient_lines
+
+  !> Segment j, sharing node nd with the one before: made to start at nd (after) or end there.
+  pure subroutine turn(segs, j, nd, after)
+    type(segment_set_t), intent(inout) :: segs
+    integer, intent(in) :: j, nd
+    logical, intent(in) :: after
+    integer :: tmp
+    if ((after .and. segs%p(j) /= nd) .or. (.not. after .and. segs%q(j) /= nd)) then
+      tmp = segs%p(j)
+      segs%p(j) = segs%q(j)
+      segs%q(j) = tmp
+    end if
+  end subroutine turn
+
+  !> The contact partner of node b among the segments segs (other than those ending at b) in the
+  !> configuration x(2, nnode): the closest point of the outline. Inside a segment (b projects
+  !> onto it) the gap is b's signed distance along that segment's normal, as closest_segment's;
+  !> at a segment's end v (a corner), outside the body (on the outward side of v's segment, or
+  !> always for a line element) it is the distance |x_b - x_v| along the line from v to b (a
+  !> node-to-node row, invariant under rotation as the others), inside it the signed distance to
+  !> the segment's line through v (a penetration, which the step closes). A node outside is thus
+  !> never paired with a far side it happens to project onto from within the body.
+  !> A line element has two sides: b's is side (+1: the right of p -> q, -1: its left; 0 or
+  !> absent: the one b is on now), so that a node that crosses the line has a negative gap.
+  !> A function of x (and side) only: re-pairing at every step needs no history (restarts bit
+  !> for bit).
+  pure subroutine pair_segment(x, segs, b, pr, side)
+    real(dp), intent(in) :: x(:, :)
+    type(segment_set_t), intent(in) :: segs
+    integer, intent(in) :: b
+    type(segment_pair_t), intent(out) :: pr
+    integer, intent(in), optional :: side
+    real(dp), parameter :: tol = 1.0e-9_dp
+    real(dp) :: t(2), l2, s, sc, d, dbest, xp(2), xb(2)
+    integer :: k, kbest, v
+    logical :: inside
+    xb = x(:, b)
+    dbest = huge(1.0_dp)
+    kbest = 0
+    v = 0
+    inside = .false.
+    ! The closest point of the outline: inside a segment (b projects onto it), or an end.
+    do k = 1, segs%n
+      if (segs%p(k) == b .or. segs%q(k) == b) cycle
+      xp = x(:, segs%p(k))
+      t = x(:, segs%q(k)) - xp
+      l2 = dot_product(t, t)
+      if (.not. l2 > 0.0_dp) cycle
+      s = dot_product(xb - xp, t) / l2
+      sc = min(max(s, 0.0_dp), 1.0_dp)
+      d = norm2(xb - (xp + sc * t))
+      if (d < dbest .or. (d == dbest .and. s >= -tol .and. s <= 1.0_dp + tol .and. .not. inside)) then
+        dbest = d
+        kbest = k
+        inside = s >= -tol .and. s <= 1.0_dp + tol
+        v = merge(segs%p(k), segs%q(k), sc == 0.0_dp)
+      end if
+    end do
+    if (kbest == 0) return
+    call pair_on(x, segs, b, kbest, 0, pr, side, clamp=.true.)
+    if (inside) return
+    ! Past the ends: the corner v outside the body (and round a line element's end, on either
+    ! side), the line through v inside it.
+    if (pr%gap > 0.0_dp .or. .not. segs%outward(kbest)) call pair_on(x, segs, b, kbest, v, pr, side)
+  end subroutine pair_segment
+
+  !> Node b paired with segment k of segs (v = 0: the point at xi of its line, xi the foot of the
+  !> perpendicular, within [0, 1] with clamp) or with its end node v (the gap |x_b - x_v| along the
+  !> line from v to b). side as in pair_segment. With the partner of a step fixed, the row is a
+  !> smooth function of x: the iteration of a step re-evaluates it with this.
+  pure subroutine pair_on(x, segs, b, k, v, pr, side, clamp)
+    real(dp), intent(in) :: x(:, :)
+    type(segment_set_t), intent(in) :: segs
+    integer, intent(in) :: b, k, v
+    type(segment_pair_t), intent(out) :: pr
+    integer, intent(in), optional :: side
+    logical, intent(in), optional :: clamp
+    real(dp) :: t(2), xp(2), xb(2), n(2), dx(2)
+    xb = x(:, b)
+    xp = x(:, segs%p(k))
+    t = x(:, segs%q(k)) - xp
+    pr%seg = k
+    pr%xi = dot_product(xb - xp, t) / dot_product(t, t)
+    if (present(clamp)) then
+      if (clamp) pr%xi = min(max(pr%xi, 0.0_dp), 1.0_dp)
+    end if
+    n = [t(2), -t(1)] / norm2(t)
+    if (.not. segs%outward(k)) then
+      pr%side = 1
+      if (dot_product(n, xb - xp) < 0.0_dp) pr%side = -1
+      if (present(side)) then
+        if (side /= 0) pr%side = side
+      end if
+      n = pr%side * n
+    end if
+    if (v > 0) then
+      dx = xb - x(:, v)
+      pr%vertex = .true.
+      pr%xi = merge(0.0_dp, 1.0_dp, v == segs%p(k))
+      pr%nodes = [b, v, 0]
+      pr%w = [1.0_dp, -1.0_dp, 0.0_dp]
+      pr%normal = n                          ! on the corner itself: the segment's normal
+      pr%gap = 0.0_dp
+      if (norm2(dx) > 0.0_dp) then
+        pr%normal = dx / norm2(dx)
+        pr%gap = norm2(dx)
+      end if
+      return
+    end if
+    pr%nodes = [b, segs%p(k), segs%q(k)]
+    pr%w = [1.0_dp, -(1.0_dp - pr%xi), -pr%xi]
+    pr%normal = n
+    pr%gap = dot_product(n, xb - (xp + pr%xi * t))
+  end subroutine pair_on
 end module mesh_segments

@@ -11,7 +11,7 @@ module newmark
   use dof_map, only: equation_bodies
   use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions
   use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
-    contact_prepare, contact_set_rigid_modes, contact_gaps
+    contact_prepare, contact_set_rigid_modes, contact_gaps, contact_step_gaps
   use assembly, only: system_t, external_force, mass_times, initial_state, dof_label, dof_origin, save_points, reaction_update, &
     load_points
   use energy, only: energy_t
@@ -22,6 +22,7 @@ module newmark
     STEP_NOT_CONVERGED, &
     STEP_NONFINITE, STEP_INVERTED
   use run_outputs, only: output_set_t, HISTORY_HEADER, EVENTS_HEADER
+  use contact_geometry, only: following_t
   use os_utils, only: make_directory, install_signal_handlers, signal_received
   use checkpoint, only: ckpt_file_t
   use scene_fingerprint, only: fingerprint_mismatch
@@ -47,6 +48,8 @@ module newmark
     ! Contact multipliers (contact_multipliers): Schur columns computed (solves with S), trial
     ! active sets solved by Schur / by the augmented system, its LU factorizations.
     integer(8) :: schur_columns = 0, schur_solves = 0, augmented_solves = 0, augmented_factorizations = 0
+    integer :: following = 0                 !< conditions re-paired at every step (GAP … SEGMENTS, LARGE)
+    integer(8) :: repairings = 0             !< their changes of partner (segment or corner)
   end type run_summary_t
 
   !> Everything the time loop works on, allocated before it starts.
@@ -62,6 +65,7 @@ module newmark
     ! Unilateral contact (method.md section 3).
     logical :: has_contact = .false.
     type(contact_set_t) :: cs
+    type(following_t) :: follow              !< the conditions paired in the configuration of each step
     integer, allocatable :: body(:)          !< mesh-connected component of each equation (PERSIST)
     ! Rigid modes on the free equations (translations x, y and the rotation about the origin in
     ! the reference configuration) and M times them: the momenta of history.csv, PERSIST.
@@ -166,6 +170,12 @@ contains
     rs%cs%settings%solver = scn%multipliers
     rs%cs%settings%switch_size = scn%augmented_above
     call contact_finalize(rs%cs, sys%dofs%neq, lscale, stat, errmsg)
+    if (stat /= STAT_OK) return
+    associate (c => scn%conditions)
+      call rs%follow%init(pack([(j, j = 1, size(c))], c%follow), pack(c%node_b, c%follow), pack(c%segset, c%follow), &
+        pack(c%side, c%follow), scn%segsets, scn%mesh%nnode)
+    end associate
+    call rs%follow%update(scn%mesh%x, sys%dofs%eqn, rs%st%u, rs%cs, stat, errmsg)
     if (stat /= STAT_OK) return
     call check_initial_gaps(scn, rs%cs, rs%st%u, lscale, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -438,10 +448,15 @@ contains
   contains
     subroutine attempt(mat)
       type(iteration_matrix_t), intent(inout), target :: mat
+      if (rs%follow%count() > 0) then          ! pairs and rows in the configuration u(n)
+        call rs%follow%update(scn%mesh%x, sys%dofs%eqn, rs%st%u, rs%cs, stat, errmsg)
+        if (stat == STAT_OK) call contact_prepare(rs%cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
+        if (stat /= STAT_OK) return
+      end if
       if (rs%has_contact .and. rs%zone%on) then
-        call iterate_eq9_zone(scn, sys, rs%st, mat, rs%zone, rep, stat, errmsg, rs%cs, rs%lam)
+        call iterate_eq9_zone(scn, sys, rs%st, mat, rs%zone, rep, stat, errmsg, rs%cs, rs%lam, rs%follow)
       else if (rs%has_contact) then
-        call iterate_eq9(scn, sys, rs%st, mat, rep, stat, errmsg, rs%cs, rs%lam)
+        call iterate_eq9(scn, sys, rs%st, mat, rep, stat, errmsg, rs%cs, rs%lam, rs%follow)
       else if (rs%zone%on) then
         call iterate_eq9_zone(scn, sys, rs%st, mat, rs%zone, rep, stat, errmsg)
       else
@@ -493,6 +508,10 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(contact_report_t) :: crep
     real(dp) :: dw_ext, dw_corr, e_rest
+    if (rs%follow%count() > 0) then
+      call end_geometry(scn, sys, rs, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
     if (rs%has_contact) then
       call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg, rs%cs, rs%body, crep)
       if (stat /= STAT_OK) then
@@ -525,6 +544,36 @@ contains
     call rs%en%add_step(rs%st%kinetic, rs%st%inc%work, dw_ext, dw_corr + e_rest, rs%st%inc%dissipated, &
       rs%st%inc%elastic)
   end subroutine finish_step
+
+  !> Before the impact corrections of a step with contacts that follow the geometry: the step's
+  !> gaps kept, their rows at the end configuration, and the rotation mode about the origin in it
+  !> (-y, x on the translations, 1 on RZ) with M times it, so that PERSIST's scaling keeps the
+  !> angular momentum (a node-to-segment row at its own configuration is invariant under it).
+  subroutine end_geometry(scn, sys, rs, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    type(run_state_t), intent(inout) :: rs
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: j
+    call contact_step_gaps(rs%cs, rs%st%u, rs%st%du)
+    call rs%follow%update(scn%mesh%x, sys%dofs%eqn, rs%st%u, rs%cs, stat, errmsg, rs%st%du, at_end=.true.)
+    if (stat /= STAT_OK) return
+    do j = 1, scn%mesh%nnode
+      associate (e => sys%dofs%eqn(:, j), x => scn%mesh%x(:, j), u => rs%st%u, du => rs%st%du)
+        if (e(1) > 0 .and. e(2) > 0) then
+          rs%rig(e(1), 3) = -(x(2) + (u(e(2)) + du(e(2))))
+          rs%rig(e(2), 3) = x(1) + (u(e(1)) + du(e(1)))
+        else if (e(1) > 0) then
+          rs%rig(e(1), 3) = -x(2)
+        else if (e(2) > 0) then
+          rs%rig(e(2), 3) = x(1)
+        end if
+      end associate
+    end do
+    call mass_times(sys, rs%rig(:, 3), rs%mrig(:, 3))
+    call contact_set_rigid_modes(rs%cs, rs%rig, rs%mrig, stat, errmsg)
+  end subroutine end_geometry
 
   !> "step N (t = T): ", the prefix of the messages of a step.
   function at_step(step, t) result(s)
@@ -606,6 +655,8 @@ contains
         summary%augmented_solves = k%augmented_solves
         summary%augmented_factorizations = k%factorizations
       end associate
+      summary%following = rs%follow%count()
+      summary%repairings = rs%follow%changes()
     end if
     call system_clock(c1)
     summary%wall = real(c1 - c0, dp) / real(crate, dp)

@@ -7,6 +7,7 @@ module newmark_step
   use errors, only: STAT_OK
   use scene, only: scene_t
   use assembly, only: system_t, commit_state
+  use contact_geometry, only: following_t
   use contact, only: contact_set_t, contact_report_t, contact_prepare, contact_solve_step, contact_end_step, &
     contact_add_force
   use step_state, only: step_state_t
@@ -41,7 +42,7 @@ contains
   !> on the right) is below SCHEME TOLERANCE x the step's force scale. Linear steps: one iterate,
   !> or with contact or EXTENDED refinement until the residual stops falling. stat reports
   !> a failed factorization or contact solve; the other endings are rep%outcome.
-  subroutine iterate_eq9(scn, sys, st, mat, rep, stat, errmsg, cs, lam)
+  subroutine iterate_eq9(scn, sys, st, mat, rep, stat, errmsg, cs, lam, follow)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     type(step_state_t), intent(inout) :: st
@@ -51,6 +52,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(contact_set_t), intent(inout), optional :: cs
     real(dp), intent(inout), optional :: lam(:)
+    type(following_t), intent(inout), optional :: follow
     integer :: iter
     real(dp) :: rwork, target, fscale
     logical :: refactored, switch
@@ -69,6 +71,8 @@ contains
         ! Multipliers: the unconstrained iterate, then du = du_free + S^-1 C' Lambda with the
         ! active set of the LCP (gaps >= 0, Lambda >= 0, complementarity).
         st%ddu = st%du + st%ddu
+        if (present(follow) .and. iter > 1) call midpoint_rows(scn, sys, st, mat, cs, follow, stat, errmsg)
+        if (stat /= STAT_OK) return
         call contact_solve_step(cs, mat%factor, st%u, st%ddu, st%du, lam, stat, errmsg)
         if (stat /= STAT_OK) then
           errmsg = 'contact: ' // errmsg
@@ -124,6 +128,23 @@ contains
     end do
     call end_checks(sys, st, rep)
   end subroutine iterate_eq9
+
+  !> The rows of the contacts that follow the geometry at the midpoint of the iterate du
+  !> (contact_geometry), and the multipliers' S data for them.
+  subroutine midpoint_rows(scn, sys, st, mat, cs, follow, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    type(step_state_t), intent(in) :: st
+    type(iteration_matrix_t), intent(inout) :: mat
+    type(contact_set_t), intent(inout) :: cs
+    type(following_t), intent(inout) :: follow
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (follow%count() == 0) return
+    call follow%update(scn%mesh%x, sys%dofs%eqn, st%u, cs, stat, errmsg, st%du)
+    if (stat == STAT_OK) call contact_prepare(cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
+  end subroutine midpoint_rows
 
   !> End of a converged step: the points' state committed, the works of the step (external
   !> ½ du'(F(n) + F(n+1)), correction ½ du'Bσc), eq (3), then with contact the impact
@@ -202,7 +223,7 @@ contains
   !> The tangent fallback is TANGENT's: two iterates in a row without progress from the fourth
   !> on, or I + D W_Z singular, and S's iteration for the rest of the step. (Where G's LU is
   !> costly it is kept over the iterates while they contract: zone_t%uses_tangent.)
-  subroutine iterate_eq9_zone(scn, sys, st, mat, zone, rep, stat, errmsg, cs, lam)
+  subroutine iterate_eq9_zone(scn, sys, st, mat, zone, rep, stat, errmsg, cs, lam, follow)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     type(step_state_t), intent(inout) :: st
@@ -213,6 +234,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(contact_set_t), intent(inout), optional :: cs
     real(dp), intent(inout), optional :: lam(:)
+    type(following_t), intent(inout), optional :: follow
     integer :: iter
     real(dp) :: rwork, work, dunorm, dfint2, fext, fn, fm, fscale, target
     logical :: fallback, tangent, newton, newton_ok
@@ -231,6 +253,8 @@ contains
         ! The multipliers as in iterate_eq9: du = du_free + S⁻¹C'Λ on every equation, and C'Λ
         ! (in mdu, unused by the zone) on the right of Z's rows.
         call zone%free_du(st)
+        if (present(follow) .and. iter > 1) call midpoint_rows(scn, sys, st, mat, cs, follow, stat, errmsg)
+        if (stat /= STAT_OK) return
         call contact_solve_step(cs, mat%factor, st%u, zone%dfree, st%du, lam, stat, errmsg)
         if (stat /= STAT_OK) then
           errmsg = 'contact: ' // errmsg

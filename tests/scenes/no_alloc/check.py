@@ -28,6 +28,8 @@ supernodal numeric factorization allocates its workspace at each call (freed bef
 on block_j2 and cantilever_plastic under AUTO every allocation of the window is CHOLMOD's
 (tools/alloc_per_step.sh --where), and their number is a fixed count per factorization (8 with
 Debian's SuiteSparse; at most 16 asserted), the factorizations counted from rebond's run summary.
+The same for KINEMATICS LARGE (TANGENT): spinning_quad (a LARGE QUAD4) and contact_follow/bead_rod
+(node-to-segment contact that follows the configuration, held over the window).
 
 Each window is also checked to contain what it is meant to exercise (plastic work growing,
 an impact), from a normal run of 2N steps, so that a shorter scene cannot make the test vacuous.
@@ -119,18 +121,27 @@ def factorizations(scene, steps, sets):
     return 1
 
 
-for scene, n in (('inputs/block_j2.dat', 60), ('inputs/cantilever_plastic.dat', 60)):
-    sets = ['SCHEME.ITERATION=AUTO']
-    name = os.path.basename(scene) + ' AUTO'
+# KINEMATICS LARGE takes TANGENT: a LARGE QUAD4 (large_plane_element), and node-to-segment contact that
+# follows the configuration (rows rewritten at each iterate and at the end of each step, the held contact's
+# work given back by scaling), the bead held on its rod over the window.
+for scene, n, sets in (('inputs/block_j2.dat', 60, ['SCHEME.ITERATION=AUTO']),
+                       ('inputs/cantilever_plastic.dat', 60, ['SCHEME.ITERATION=AUTO']),
+                       ('tests/scenes/large_bar/spinning_quad.dat', 20, []),
+                       ('tests/scenes/contact_follow/bead_rod.dat', 40, [])):
+    name = os.path.basename(scene) + (' AUTO' if sets else ' (LARGE: TANGENT)')
+    if not sets:
+        ok, detail = window_ok(scene, n, 'impact', sets) if 'bead' in scene else (True, '')
+        if 'bead' in scene:
+            sc.report('%s: steps %d..%d hold the contact' % (name, n, 2 * n), ok, detail)
     df = factorizations(scene, 2 * n, sets) - factorizations(scene, n, sets)
-    args = ['bash', TOOL, '--mode', 'none', scene, str(n), '--set', sets[0]]
+    args = ['bash', TOOL, '--mode', 'none', scene, str(n)] + [a for x in sets for a in ('--set', x)]
     fields = sc.run_limited(args, 300, cwd=sc.ROOT, capture_output=True, text=True).stdout.split()
     da = int(fields[3]) - int(fields[2])
     sc.report('%s: the extra allocations are a fixed number (<= 16) per refactorization' % name,
               df > 0 and da % df == 0 and da // df <= 16, '%d allocations, %d factorizations over steps %d..%d'
               % (da, df, n + 1, 2 * n))
-    where = sc.run_limited(['bash', TOOL, '--where', scene, str(n), '--set', sets[0]], 300, cwd=sc.ROOT,
-                           capture_output=True, text=True).stdout.splitlines()
+    where = sc.run_limited(['bash', TOOL, '--where', scene, str(n)] + [a for x in sets for a in ('--set', x)], 300,
+                           cwd=sc.ROOT, capture_output=True, text=True).stdout.splitlines()
     stacks = [ln for ln in where[1:] if ln.strip() and not ln.strip().endswith('total')]
     sc.report('%s: every allocation in the window is CHOLMOD\'s factorization' % name,
               len(stacks) > 0 and all('cholmod_malloc <- rb_chol_factorize' in ln for ln in stacks),

@@ -1,0 +1,151 @@
+!> Node-to-segment contact whose geometry follows the configuration (GAP … SEGMENTS on a
+!> KINEMATICS LARGE model; docs/contact.md, "Pairing that follows the configuration"). At the
+!> start of every step each following condition (node b of the statement's NODES group) is
+!> paired anew in the configuration x = X + u(n): the closest segment b projects onto, or past the
+!> ends the nearest corner (mesh_segments' pair_segment), and its row of C is rewritten as the
+!> gradient of that gap at x:
+!>     g(u) = g0 + n.(u_b - (1 - ξ) u_a - ξ u_c),   g0 = n.(X_b - (1 - ξ) X_a - ξ X_c),
+!> so that g(u(n)) is the gap of the current configuration (the rotation terms of the gradient
+!> vanish at the foot of the perpendicular). During the iteration of eq (9) the row is the
+!> gradient at the midpoint of the step (fg_update). A pairing is a function of u(n) only: a restart
+!> continues bit for bit without saving rows. The multiplier's work across the change of
+!> linearization of a held contact is given back at the end of the step (contact_end_step).
+module contact_geometry
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_INPUT, set_error, str
+  use mesh_segments, only: segment_set_t, segment_pair_t, pair_segment, pair_on
+  use contact, only: contact_set_t, contact_rewrite
+  implicit none
+  private
+  public :: following_t
+
+  !> The following conditions of a contact set and their segment sets.
+  type :: following_t
+    private
+    integer :: n = 0
+    integer, allocatable :: row(:)            !< the condition's row in the contact set
+    integer, allocatable :: node(:)           !< its node b
+    integer, allocatable :: set(:)            !< its segments, sets(set)
+    integer, allocatable :: side(:)           !< its side of a chain of line elements (pair_segment)
+    integer, allocatable :: seg(:)            !< the segment it is paired with now (0: none yet)
+    integer, allocatable :: vnode(:)          !< paired with that segment's end node vnode (0: its line)
+    real(dp), allocatable :: gstart(:)        !< the gap at the start of the step, g(n)
+    type(segment_set_t), allocatable :: sets(:)
+    real(dp), allocatable :: x(:, :)          !< workspace: the configuration X + u (2, nnode)
+    integer(8) :: repairings = 0              !< changes of segment or of corner since the start
+  contains
+    procedure :: init => fg_init
+    procedure :: count => fg_count
+    procedure :: changes => fg_changes
+    procedure :: update => fg_update
+  end type following_t
+
+contains
+
+  !> Conditions rows(k), of nodes(k), on segment sets sets(set(k)), on side(k) of a chain of line
+  !> elements; nnode nodes in the mesh.
+  subroutine fg_init(self, rows, nodes, set, side, sets, nnode)
+    class(following_t), intent(inout) :: self
+    integer, intent(in) :: rows(:), nodes(:), set(:), side(:)
+    type(segment_set_t), intent(in) :: sets(:)
+    integer, intent(in) :: nnode
+    self%n = size(rows)
+    self%row = rows
+    self%node = nodes
+    self%set = set
+    self%side = side
+    self%sets = sets
+    allocate (self%seg(self%n), self%vnode(self%n), self%gstart(self%n), self%x(2, merge(nnode, 0, self%n > 0)))
+    self%seg = 0
+    self%gstart = 0.0_dp
+    self%vnode = 0
+    self%repairings = 0
+  end subroutine fg_init
+
+  pure integer function fg_count(self)
+    class(following_t), intent(in) :: self
+    fg_count = self%n
+  end function fg_count
+
+  !> Changes of partner (segment, or segment and corner) since init, the first pairing excluded.
+  pure integer(8) function fg_changes(self)
+    class(following_t), intent(in) :: self
+    fg_changes = self%repairings
+  end function fg_changes
+
+  !> Pair every following condition and rewrite its row in cs: at the start of the step (du
+  !> absent) in the configuration x0 + u, where the gap found, g(n), is kept; during the
+  !> iteration of eq (9) with the same partner (segment or corner: the row stays a smooth function
+  !> of du) at the midpoint x0 + u + du/2 of the iterate du, with g0 such that the
+  !> row still gives g(n) at u: the row is then the gap's gradient at the middle of the step, so
+  !> that g(n+1) = g(n) + c'du to third order in du (the step's contact force is normal to the
+  !> midpoint configuration, as the internal forces of LARGE members are). x0: the mesh
+  !> coordinates; u, du on the free equations eqn(1:2, node) (<= 0: a supported DOF). The
+  !> caller prepares cs again (contact_prepare) before the next solve.
+  !> With at_end, the same partner at the end configuration x0 + u + du (g(n+1) kept: the gaps of
+  !> the step were taken by contact_step_gaps): the impact corrections act along the gradient at
+  !> the configuration they act in, which makes them torque-free.
+  subroutine fg_update(self, x0, eqn, u, cs, stat, errmsg, du, at_end)
+    class(following_t), intent(inout) :: self
+    real(dp), intent(in) :: x0(:, :)
+    integer, intent(in) :: eqn(:, :)
+    real(dp), intent(in) :: u(:)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp), intent(in), optional :: du(:)
+    logical, intent(in), optional :: at_end
+    type(segment_pair_t) :: pr
+    integer :: k, i, d, j, eqs(6), nodes(2)
+    real(dp) :: coefs(6), g0, f
+    stat = STAT_OK
+    if (self%n == 0) return
+    f = 0.5_dp
+    if (present(at_end)) then
+      if (at_end) f = 1.0_dp
+    end if
+    do i = 1, size(self%x, 2)
+      do d = 1, 2
+        j = eqn(d, i)
+        self%x(d, i) = x0(d, i)
+        if (j <= 0) cycle
+        self%x(d, i) = x0(d, i) + u(j)
+        if (present(du)) self%x(d, i) = x0(d, i) + (u(j) + f * du(j))
+      end do
+    end do
+    do k = 1, self%n
+      if (present(du)) then                    ! the step's partner, at the midpoint
+        call pair_on(self%x, self%sets(self%set(k)), self%node(k), self%seg(k), self%vnode(k), pr, self%side(k))
+      else
+        call pair_segment(self%x, self%sets(self%set(k)), self%node(k), pr, self%side(k))
+        if (pr%seg == 0) then
+          call set_error(stat, errmsg, STAT_INPUT, 'contact: node ' // str(self%node(k)) // ' has no segment to pair with')
+          return
+        end if
+        if (self%seg(k) /= 0 .and. (pr%seg /= self%seg(k) .or. (pr%vertex .neqv. self%vnode(k) > 0))) &
+          self%repairings = self%repairings + 1
+        self%seg(k) = pr%seg
+        self%vnode(k) = merge(pr%nodes(2), 0, pr%vertex)
+        self%gstart(k) = pr%gap
+      end if
+      eqs = 0
+      g0 = self%gstart(k)                      ! g(u_n) = g(n)
+      if (f == 1.0_dp) g0 = cs%gap_end(self%row(k))   ! g(u_n + du) = g(n+1)
+      do i = 1, 3
+        coefs(2 * i - 1:2 * i) = pr%w(i) * pr%normal
+        if (pr%nodes(i) == 0) cycle
+        eqs(2 * i - 1:2 * i) = max(eqn(1:2, pr%nodes(i)), 0)
+        do d = 1, 2
+          j = eqs(2 * i - 2 + d)
+          if (j <= 0) cycle
+          g0 = g0 - coefs(2 * i - 2 + d) * u(j)
+          if (f == 1.0_dp) g0 = g0 - coefs(2 * i - 2 + d) * du(j)
+        end do
+      end do
+      ! events name b and the partner's node nearer the contact point
+      nodes = [merge(pr%nodes(3), pr%nodes(2), pr%xi > 0.5_dp .and. pr%nodes(3) > 0), pr%nodes(1)]
+      call contact_rewrite(cs, self%row(k), g0, eqs, coefs, nodes, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end do
+  end subroutine fg_update
+end module contact_geometry
