@@ -151,7 +151,7 @@ contains
       summary%schur_solves, ' Schur solves (', summary%schur_columns, ' columns), ', summary%augmented_solves, &
       ' augmented solves (', summary%augmented_factorizations, ' LU)'
     if (summary%following > 0) write (*, '(a,i0,a,i0,a)') '  contact pairing: ', summary%following, &
-      ' node-to-segment conditions re-paired at every step (KINEMATICS LARGE), ', summary%repairings, ' changes of partner'
+      ' node-to-segment conditions re-paired at every step (PAIRING STEP), ', summary%repairings, ' changes of partner'
     write (*, '(a)') '  results in ' // outdir // '/'
   end subroutine print_summary
 

@@ -9,7 +9,7 @@ module scene_contacts
   use scene, only: scene_t, condition_t, contact_nodes, condition_keyword
   use contact_modes, only: IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, SOLVER_AUTO, SOLVER_SCHUR
   use element_traits, only: ET_MASS, ET_SPRING
-  use scene_helpers, only: node_group, get_point, model_size, get_unit
+  use scene_helpers, only: node_group, get_point, model_size, get_unit, get_choice
   use mesh_segments, only: segment_set_t, segment_pair_t, group_segments, closest_segment, pair_segment, orient_lines
   implicit none
   private
@@ -31,6 +31,7 @@ contains
     call sch%add_param('GAP', 'PAIRS', 2, -1)
     call sch%add_param('GAP', 'NORMAL', 2, 2)
     call sch%add_param('GAP', 'RESTITUTION', 1, 1)
+    call sch%add_param('GAP', 'PAIRING', 1, 1)
   end subroutine contacts_schema
 
   !> One contacts statement (pass 3 of load_scene: after the models and SCHEME).
@@ -126,6 +127,12 @@ contains
     kp = find_param(st, 'PAIRS')
     if (find_param(st, 'SEGMENTS') > 0) then
       call do_gap_segments(scn, st, stat, errmsg)
+      return
+    end if
+    i = find_param(st, 'PAIRING')
+    if (i > 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'PAIRING goes with SEGMENTS (node-to-node pairs are ' // &
+        'made once)', st%params(i)%keytok))
       return
     end if
     given = find_param(st, 'NORMAL') > 0
@@ -234,7 +241,8 @@ contains
   !> KINEMATICS LARGE model the pairing follows the configuration (contact_geometry re-pairs at
   !> every step): every node of ga gets a condition, paired by pair_segment (a segment, or past
   !> the ends a corner); SCHEME MULTIPLIERS becomes SCHUR (AUGMENTED and IMPACT MASSLESS are
-  !> refused).
+  !> refused). PAIRING START keeps the pairing of t = 0 on LARGE models (to measure what following
+  !> buys), PAIRING STEP follows the configuration on small-displacement models too.
   subroutine do_gap_segments(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn
     type(statement_t), intent(in) :: st
@@ -243,7 +251,7 @@ contains
     type(segment_set_t) :: segs
     type(segment_pair_t) :: pr
     type(condition_t) :: c
-    integer :: ga, gs, i, b, best, kn, ks, npair
+    integer :: ga, gs, i, b, best, kn, ks, npair, k
     real(dp) :: xi, n(2), g, tol
     logical, allocatable :: in_gs(:)
     kn = find_param(st, 'NODES')
@@ -272,7 +280,11 @@ contains
     npair = 0
     c%source = st%lead(1)%text
     c%line = st%line
-    c%follow = on_large(scn, [scn%mesh%ngroups(ga)%items, scn%mesh%ngroups(gs)%items])
+    ! PAIRING STEP: re-paired in the configuration of every step; START: once, at t = 0. The
+    ! default follows the kinematics: STEP when a node of ga or gs is on a LARGE model.
+    call get_choice(st, 'PAIRING', ['AUTO ', 'START', 'STEP '], 'AUTO', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    c%follow = k == 3 .or. (k == 1 .and. on_large(scn, [scn%mesh%ngroups(ga)%items, scn%mesh%ngroups(gs)%items]))
     if (c%follow) then
       call check_following(scn, st, ks, stat, errmsg)
       if (stat /= STAT_OK) return
@@ -353,13 +365,13 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
     if (scn%multipliers /= SOLVER_AUTO .and. scn%multipliers /= SOLVER_SCHUR) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'with KINEMATICS LARGE the pairing follows the ' // &
-        'configuration and the rows change at every step: SCHEME MULTIPLIERS AUGMENTED cannot take them (use SCHUR ' // &
-        'or AUTO)', st%params(ks)%keytok))
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'the pairing follows the configuration (PAIRING STEP, ' // &
+        'the default with KINEMATICS LARGE) and the rows change at every step: SCHEME MULTIPLIERS AUGMENTED cannot ' // &
+        'take them (use SCHUR or AUTO)', st%params(ks)%keytok))
     else if (scn%impact == IMPACT_MASSLESS) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'with KINEMATICS LARGE the pairing follows the ' // &
-        'configuration: SCHEME IMPACT MASSLESS (which takes the mass of a fixed set of contact nodes) cannot take it ' // &
-        '(use PERSIST, PAPER or AUTO)', st%params(ks)%keytok))
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'the pairing follows the configuration (PAIRING STEP, ' // &
+        'the default with KINEMATICS LARGE): SCHEME IMPACT MASSLESS (which takes the mass of a fixed set of contact ' // &
+        'nodes) cannot take it (use PERSIST, PAPER or AUTO)', st%params(ks)%keytok))
     end if
     scn%multipliers = SOLVER_SCHUR
   end subroutine check_following

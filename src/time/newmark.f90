@@ -70,6 +70,7 @@ module newmark
     ! Rigid modes on the free equations (translations x, y and the rotation about the origin in
     ! the reference configuration) and M times them: the momenta of history.csv, PERSIST.
     real(dp), allocatable :: rig(:, :), mrig(:, :)
+    real(dp), allocatable :: crig(:, :), cmrig(:, :)  !< the same, rotation about the origin of the step's end (following contacts)
     real(dp), allocatable :: lam(:)          !< step multipliers of the last iterate
     logical, allocatable :: act0(:)          !< the LCP's warm start at the start of a step (retries)
     integer, allocatable :: imp_row(:), imp_slot(:)   !< IMPOSE rows summed by reaction probes
@@ -201,6 +202,10 @@ contains
     ! The rigid modes, for the momentum-keeping scaling of PERSIST and MASSLESS.
     call contact_set_rigid_modes(rs%cs, rs%rig, rs%mrig, stat, errmsg)
     if (stat /= STAT_OK) return
+    if (rs%follow%count() > 0) then          ! end_geometry turns their rotation with the bodies
+      rs%crig = rs%rig
+      rs%cmrig = rs%mrig
+    end if
     call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, rs%body)
     allocate (rs%lam(rs%cs%n_conditions()), rs%act0(rs%cs%n_conditions()))
     rs%lam = 0.0_dp
@@ -562,17 +567,17 @@ contains
     do j = 1, scn%mesh%nnode
       associate (e => sys%dofs%eqn(:, j), x => scn%mesh%x(:, j), u => rs%st%u, du => rs%st%du)
         if (e(1) > 0 .and. e(2) > 0) then
-          rs%rig(e(1), 3) = -(x(2) + (u(e(2)) + du(e(2))))
-          rs%rig(e(2), 3) = x(1) + (u(e(1)) + du(e(1)))
+          rs%crig(e(1), 3) = -(x(2) + (u(e(2)) + du(e(2))))
+          rs%crig(e(2), 3) = x(1) + (u(e(1)) + du(e(1)))
         else if (e(1) > 0) then
-          rs%rig(e(1), 3) = -x(2)
+          rs%crig(e(1), 3) = -x(2)
         else if (e(2) > 0) then
-          rs%rig(e(2), 3) = x(1)
+          rs%crig(e(2), 3) = x(1)
         end if
       end associate
     end do
-    call mass_times(sys, rs%rig(:, 3), rs%mrig(:, 3))
-    call contact_set_rigid_modes(rs%cs, rs%rig, rs%mrig, stat, errmsg)
+    call mass_times(sys, rs%crig(:, 3), rs%cmrig(:, 3))
+    call contact_set_rigid_modes(rs%cs, rs%crig, rs%cmrig, stat, errmsg)
   end subroutine end_geometry
 
   !> "step N (t = T): ", the prefix of the messages of a step.
