@@ -250,7 +250,7 @@ contains
         at(i, nd) = k
       end do
     end do
-    done = segs%outward
+    done = segs%outward(1:segs%n)
     do k = 1, segs%n
       if (done(k)) cycle
       done(k) = .true.
