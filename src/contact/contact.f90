@@ -43,7 +43,7 @@ module contact
   public :: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, EVENT_ESTABLISH, EVENT_RELEASE, LABEL_LEN
   public :: inverse_op_t, diag_inverse_t, chol_inverse_t
   public :: SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
-  public :: contact_set_t, contact_settings_t, contact_event_t, contact_report_t, multiplier_counters_t
+  public :: contact_set_t, contact_settings_t, contact_event_t, contact_report_t, multiplier_counters_t, row_geometry_t
   public :: contact_set_bilateral, contact_set_gap0, contact_rewrite, contact_step_gaps
   public :: contact_add, contact_finalize, contact_set_mass, contact_prepare, contact_solve_step, &
     contact_end_step, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, contact_am_block, &
@@ -62,6 +62,13 @@ module contact
     real(dp) :: energy = 0.0_dp              !< E_j (10), restored by the correction
     real(dp) :: y = 0.0_dp                   !< impulse factor y_j = λ_j h of (13)-(14) (PAPER)
   end type contact_event_t
+
+  !> The pairing a row that follows the geometry was written with (contact_rewrite): g = n.Σ_k w(k)
+  !> x(nodes(k)) over nodes(k) > 0, b first; the outputs put its forces on these nodes.
+  type :: row_geometry_t
+    integer :: nodes(3) = 0
+    real(dp) :: w(3) = 0.0_dp, normal(2) = 0.0_dp
+  end type row_geometry_t
 
   !> What the user or a test may set before contact_finalize (read there and at each use).
   type :: contact_settings_t
@@ -91,6 +98,9 @@ module contact
     logical, allocatable :: bilat(:)
     logical, allocatable :: follow(:)        !< rows rewritten at each step (contact_rewrite)
     real(dp), allocatable :: xg(:)           !< the work of those rows the end of the step gives back
+    ! Their pairing now (geo_now: the end configuration after end_geometry) and in the step's
+    ! iteration (geo_step, taken by contact_step_gaps): the step multiplier acted along the latter.
+    type(row_geometry_t), allocatable :: geo_now(:), geo_step(:)
     logical :: gaps_kept = .false.           !< gn, gend hold the step's gaps (contact_step_gaps)
     real(dp) :: length_scale = 1.0_dp        !< model size (tolerances are relative to it)
     integer :: lcp_iter = 0                  !< pivots of the last LCP
@@ -128,6 +138,9 @@ module contact
     procedure :: body_impulse => cs_body_impulse
     procedure :: gap => cs_gap
     procedure :: gap_end => cs_gap_end
+    procedure :: follows => cs_follows
+    procedure :: step_geometry => cs_step_geometry
+    procedure :: end_geometry => cs_end_geometry
     procedure :: is_active => cs_is_active
     procedure :: nodes => cs_nodes
     procedure :: label => cs_label
@@ -274,6 +287,30 @@ contains
     cs_gap = self%st%gap_n(j)
   end function cs_gap
 
+  !> Whether row j follows the geometry (contact_rewrite).
+  pure logical function cs_follows(self, j)
+    class(contact_set_t), intent(in) :: self
+    integer, intent(in) :: j
+    cs_follows = .false.
+    if (allocated(self%follow)) cs_follows = self%follow(j)
+  end function cs_follows
+
+  !> The pairing of a following row during the last step (its multiplier's direction).
+  pure function cs_step_geometry(self, j) result(g)
+    class(contact_set_t), intent(in) :: self
+    integer, intent(in) :: j
+    type(row_geometry_t) :: g
+    g = self%geo_step(j)
+  end function cs_step_geometry
+
+  !> The pairing of a following row now (after the step: its impact corrections' direction).
+  pure function cs_end_geometry(self, j) result(g)
+    class(contact_set_t), intent(in) :: self
+    integer, intent(in) :: j
+    type(row_geometry_t) :: g
+    g = self%geo_now(j)
+  end function cs_end_geometry
+
   !> g_j(n+1) of the step kept by contact_step_gaps.
   pure real(dp) function cs_gap_end(self, j)
     class(contact_set_t), intent(in) :: self
@@ -400,13 +437,14 @@ contains
   !> held contact does across that difference is given back at the end of the step
   !> (contact_end_step). The Schur multipliers only (the augmented pattern would change). Call
   !> contact_prepare before the next solve.
-  subroutine contact_rewrite(cs, j, g0, eqs, coefs, nodes, stat, errmsg)
+  subroutine contact_rewrite(cs, j, g0, eqs, coefs, nodes, geo, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(in) :: j
     real(dp), intent(in) :: g0
     integer, intent(in) :: eqs(:)
     real(dp), intent(in) :: coefs(:)
     integer, intent(in) :: nodes(2)
+    type(row_geometry_t), intent(in) :: geo        !< the pairing (for the outputs)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
@@ -422,6 +460,8 @@ contains
     end if
     if (stat /= STAT_OK) return
     call cs%c%rewrite(j, g0, eqs, coefs, nodes)
+    cs%geo_now(j) = geo
+    if (.not. cs%follow(j)) cs%geo_step(j) = geo
     cs%follow(j) = .true.
     cs%prepared = .false.
   end subroutine contact_rewrite
@@ -438,6 +478,7 @@ contains
     do j = 1, cs%nc
       cs%gend(j) = cs%gn(j) + cs%c%dot(j, du)
     end do
+    cs%geo_step = cs%geo_now
     cs%gaps_kept = .true.
   end subroutine contact_step_gaps
 
@@ -471,8 +512,8 @@ contains
     if (allocated(cs%bilat)) deallocate (cs%bilat)
     allocate (cs%bilat(nc))
     cs%bilat = [(j >= cs%first_bilateral, j = 1, nc)]
-    if (allocated(cs%follow)) deallocate (cs%follow, cs%xg)
-    allocate (cs%follow(nc), cs%xg(nc))
+    if (allocated(cs%follow)) deallocate (cs%follow, cs%xg, cs%geo_now, cs%geo_step)
+    allocate (cs%follow(nc), cs%xg(nc), cs%geo_now(nc), cs%geo_step(nc))
     cs%follow = .false.
     cs%st%active_iter = cs%bilat                  ! (st%active: the contacts only, none yet)
     if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%mu, cs%viol, cs%now, &

@@ -14,7 +14,7 @@ module contact_geometry
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use mesh_segments, only: segment_set_t, segment_pair_t, pair_segment, pair_on
-  use contact, only: contact_set_t, contact_rewrite
+  use contact, only: contact_set_t, contact_rewrite, row_geometry_t
   implicit none
   private
   public :: following_t
@@ -144,7 +144,8 @@ contains
       end do
       ! events name b and the partner's node nearer the contact point
       nodes = [merge(pr%nodes(3), pr%nodes(2), pr%xi > 0.5_dp .and. pr%nodes(3) > 0), pr%nodes(1)]
-      call contact_rewrite(cs, self%row(k), g0, eqs, coefs, nodes, stat, errmsg)
+      call contact_rewrite(cs, self%row(k), g0, eqs, coefs, nodes, row_geometry_t(pr%nodes, pr%w, pr%normal), stat, &
+        errmsg)
       if (stat /= STAT_OK) return
     end do
   end subroutine fg_update

@@ -10,7 +10,7 @@ module run_outputs
   use assembly, only: system_t, stored_energy
   use point_fields, only: element_stress, element_scalars, nodal_values
   use energy, only: energy_t
-  use contact, only: contact_set_t, contact_event_t, EVENT_ESTABLISH
+  use contact, only: contact_set_t, contact_event_t, EVENT_ESTABLISH, row_geometry_t
   use history_writer, only: csv_file_t
   use fields_hdf5, only: fields_writer_t
   use text_format, only: put_es, put_int, put_text
@@ -261,6 +261,11 @@ contains
     real(dp) :: f, w(3)
     self%reaction = 0.0_dp
     do j = 1, size(scn%conditions)
+      if (cs%follows(j)) then                  ! the step's pairing, then the end's for the correction
+        call spread_force(self, cs%step_geometry(j), 0.5_dp * cs%multiplier(j))
+        call spread_force(self, cs%end_geometry(j), cs%correction_impulse(j) / self%h)
+        cycle
+      end if
       associate (c => scn%conditions(j))
         f = step_impulse(self, cs, j) / self%h
         call condition_nodes(c, nodes, w)
@@ -270,6 +275,17 @@ contains
       end associate
     end do
   end subroutine contact_reactions
+
+  !> The force f along a following row's pairing g on its nodes (weights w along the normal).
+  pure subroutine spread_force(self, g, f)
+    type(output_set_t), intent(inout) :: self
+    type(row_geometry_t), intent(in) :: g
+    real(dp), intent(in) :: f
+    integer :: k
+    do k = 1, 3
+      if (g%nodes(k) > 0) self%reaction(1:2, g%nodes(k)) = self%reaction(1:2, g%nodes(k)) + g%w(k) * f * g%normal
+    end do
+  end subroutine spread_force
 
   !> Impulse of condition j over the last step along its normal, on node b: h/2 Λ_j plus the
   !> correction's impulse.
@@ -316,9 +332,17 @@ contains
     class(output_set_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     type(contact_set_t), intent(in) :: cs
+    type(row_geometry_t) :: gs, ge
     integer :: j
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j), s => self%cstat(j))
+        if (cs%follows(j)) then                ! on b, along the step's normal, then the end's
+          gs = cs%step_geometry(j)
+          ge = cs%end_geometry(j)
+          self%cimp(:, s) = self%cimp(:, s) + 0.5_dp * self%h * cs%multiplier(j) * gs%normal + &
+            cs%correction_impulse(j) * ge%normal + cs%body_impulse(j)
+          cycle
+        end if
         ! on the NODES group: node b of an OBSTACLE or GAP … SEGMENTS, node a of GAP … WITH or PAIRS
         self%cimp(:, s) = self%cimp(:, s) + merge(-1.0_dp, 1.0_dp, c%node_a > 0 .and. c%node_c == 0) * &
           step_impulse(self, cs, j) * c%normal + cs%body_impulse(j)
@@ -383,7 +407,8 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(contact_event_t) :: event
-    integer :: k, j, pos
+    type(row_geometry_t) :: geo
+    integer :: k, j, pos, i, nodes(3)
     stat = STAT_OK
     do k = 1, cs%n_events()
       event = cs%event(k)
@@ -395,15 +420,17 @@ contains
       call put_text(self%row, pos, ',')
       call put_int(self%row, pos, j)
       call put_text(self%row, pos, ',')
-      if (scn%conditions(j)%node_a > 0) then
-        call put_int(self%row, pos, scn%mesh%node_tag(scn%conditions(j)%node_a))
-        call put_text(self%row, pos, ' ')
+      nodes = [scn%conditions(j)%node_b, scn%conditions(j)%node_a, scn%conditions(j)%node_c]
+      if (cs%follows(j)) then                             ! the partner of this step
+        geo = cs%end_geometry(j)
+        nodes = geo%nodes
       end if
-      if (scn%conditions(j)%node_c > 0) then            ! a segment a-c, then the node b
-        call put_int(self%row, pos, scn%mesh%node_tag(scn%conditions(j)%node_c))
+      do i = 2, 3                                         ! a segment a-c (or a node a), then b
+        if (nodes(i) <= 0) cycle
+        call put_int(self%row, pos, scn%mesh%node_tag(nodes(i)))
         call put_text(self%row, pos, ' ')
-      end if
-      call put_int(self%row, pos, scn%mesh%node_tag(scn%conditions(j)%node_b))
+      end do
+      call put_int(self%row, pos, scn%mesh%node_tag(nodes(1)))
       if (event%kind == EVENT_ESTABLISH) then
         call put_text(self%row, pos, ',establish,')
       else
