@@ -10,7 +10,8 @@ contains
   !>   events (established: active now and not at the end of the last step; released: the
   !>   reverse), E_j = ½ Λ_j max(g_j(n), 0) (10) for the established ones, then the correction
   !>   of the mode (IMPACT_OFF: none; IMPACT_PAPER: (12)-(15) then (16); IMPACT_PERSIST: section 6,
-  !>   falling back to PAPER for bodies left without kinetic energy), reactions R(n+1) = Λ - R(n)
+  !>   falling back to PAPER for bodies left without kinetic energy; rows that follow the
+  !>   geometry: the rest of their multiplier's work given back by scaling), reactions R(n+1) = Λ - R(n)
   !>   (0 for inactive conditions), new state. v and mv are updated together (mv stays M v).
   !>   body(i) is the mesh-connected component of equation i (0: none), required by PERSIST.
   !>   energy_restored = kinetic energy added, measured (= Σ E_j to round-off). The events of
@@ -111,8 +112,10 @@ contains
           call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: rows that follow the geometry need body(:)')
           return
         end if
-        cs%xg = 0.0_dp
-        where (cs%follow .and. now) cs%xg = 0.5_dp * cs%lam_step * (gn - gend) - e
+        do j = 1, cs%nc
+          cs%xg(j) = 0.0_dp
+          if (cs%follow(j) .and. now(j)) cs%xg(j) = 0.5_dp * cs%lam_step(j) * (gn(j) - gend(j)) - e(j)
+        end do
         call persist_correction(cs, body, v, mv, geo, stat, errmsg, project=.false., geometry=cs%xg)
         if (stat /= STAT_OK) return
         rep%geometry_work = sum(cs%xg)
