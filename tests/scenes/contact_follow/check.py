@@ -5,7 +5,7 @@ or past its ends a corner), its row is the gap's gradient at the midpoint of the
 iteration and at the end configuration for the impact corrections; the work its multiplier does
 across the change of linearization is given back.
 
-bead_rod.dat: a bead on a freely spinning pinned rod slides outward along it across its elements
+inputs/bead_rod.dat: a bead on a freely spinning pinned rod slides outward along it across its elements
 while the rod turns by 110 degrees. Exact (rigid rod): L = (I + m r^2) w and
 E = (I + m r^2) w^2 / 2 + m rdot^2 / 2 constant. Asserted over h = 4e-3 ... 1e-3: |balance|
 <= 1e-10 E, angular momentum about the pin constant to 1e-9 after the catch, the bead on the rod
@@ -34,7 +34,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import scenecheck as sc  # noqa: E402
 
 HERE = os.path.relpath(os.path.dirname(os.path.abspath(__file__)), sc.ROOT)
-BEAD = os.path.join(HERE, 'bead_rod.dat')
+BEAD = os.path.join('inputs', 'bead_rod.dat')
 SQUARE = os.path.join(HERE, 'spinning_square.dat')
 M_BEAD, R0, W0, D0 = 0.1, 0.2, 2.0, 1e-6
 
