@@ -295,6 +295,15 @@ contains
     do i = 1, size(scn%mesh%ngroups(ga)%items)
       b = scn%mesh%ngroups(ga)%items(i)
       if (c%follow) then
+        if (any((segs%p(1:segs%n) == b .or. segs%q(1:segs%n) == b) .and. .not. segs%outward(1:segs%n))) then
+          ! A node of a beam or bar chain has no side of the chain to keep (it lies on it).
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(scn%mesh%node_tag(b)) // ' of ' // &
+            scn%mesh%ngroups(ga)%name // ' lies on a line element of ' // scn%mesh%ngroups(gs)%name // ': with the ' // &
+            'pairing following the configuration (PAIRING STEP) a node on a beam or bar has no side to keep, so the ' // &
+            'self-contact of line elements is not followed (use PAIRING START, or surface elements)', &
+            st%params(ks)%values(1)))
+          return
+        end if
         call pair_segment(scn%mesh%x, segs, b, pr)
         best = pr%seg
         if (best == 0) cycle
