@@ -293,8 +293,10 @@ contains
   !> at a segment's end v (a corner), outside the body (on the outward side of v's segment, or
   !> always for a line element) it is the distance |x_b - x_v| along the line from v to b (a
   !> node-to-node row, invariant under rotation as the others), inside it the signed distance to
-  !> the segment's line through v (a penetration, which the step closes). A node outside is thus
-  !> never paired with a far side it happens to project onto from within the body.
+  !> the segment's line through v (a penetration, which the step closes); on that line (the
+  !> outline straight through v) the corner. A node outside is thus never paired with a far side
+  !> it happens to project onto from within the body, and a side b is behind by more than a
+  !> quarter of its length is skipped (the far side of a body, through it).
   !> A line element has two sides: b's is side (+1: the right of p -> q, -1: its left; 0 or
   !> absent: the one b is on now), so that a node that crosses the line has a negative gap.
   !> A function of x (and side) only: re-pairing at every step needs no history (restarts bit
@@ -314,7 +316,9 @@ contains
     kbest = 0
     v = 0
     inside = .false.
-    ! The closest point of the outline: inside a segment (b projects onto it), or an end.
+    ! The closest point of the outline: inside a segment (b projects onto it), or an end. A side
+    ! that b is behind by more than a quarter of its length is no partner: the far side of a
+    ! body (through it), not a penetration a step makes.
     do k = 1, segs%n
       if (segs%p(k) == b .or. segs%q(k) == b) cycle
       xp = x(:, segs%p(k))
@@ -323,6 +327,9 @@ contains
       if (.not. l2 > 0.0_dp) cycle
       s = dot_product(xb - xp, t) / l2
       sc = min(max(s, 0.0_dp), 1.0_dp)
+      if (segs%outward(k)) then
+        if (t(2) * (xb(1) - xp(1)) - t(1) * (xb(2) - xp(2)) < -0.25_dp * l2) cycle
+      end if
       d = norm2(xb - (xp + sc * t))
       if (d < dbest .or. (d == dbest .and. s >= -tol .and. s <= 1.0_dp + tol .and. .not. inside)) then
         dbest = d
@@ -336,7 +343,7 @@ contains
     if (inside) return
     ! Past the ends: the corner v outside the body (and round a line element's end, on either
     ! side), the line through v inside it.
-    if (pr%gap > 0.0_dp .or. .not. segs%outward(kbest)) call pair_on(x, segs, b, kbest, v, pr, side)
+    if (pr%gap >= 0.0_dp .or. .not. segs%outward(kbest)) call pair_on(x, segs, b, kbest, v, pr, side)
   end subroutine pair_segment
 
   !> Node b paired with segment k of segs (v = 0: the point at xi of its line, xi the foot of the
