@@ -13,7 +13,7 @@
 module contact_geometry
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use mesh_segments, only: segment_set_t, segment_pair_t, pair_segment, pair_on
+  use mesh_segments, only: segment_set_t, segment_pair_t, pair_segment, pair_on, NO_PARTNER
   use contact, only: contact_set_t, contact_rewrite, row_geometry_t
   implicit none
   private
@@ -27,7 +27,9 @@ module contact_geometry
     integer, allocatable :: node(:)           !< its node b
     integer, allocatable :: set(:)            !< its segments, sets(set)
     integer, allocatable :: side(:)           !< its side of a chain of line elements (pair_segment)
-    integer, allocatable :: seg(:)            !< the segment it is paired with now (0: none yet)
+    integer, allocatable :: sptr(:), star(:)  !< the nodes of b's elements, star(sptr(k):sptr(k+1)-1): no partners
+    logical, allocatable :: skip(:)           !< workspace: one star marked (nnode)
+    integer, allocatable :: seg(:)            !< the segment it is paired with now (0: none this step, -1: not yet)
     integer, allocatable :: vnode(:)          !< paired with that segment's end node vnode (0: its line)
     real(dp), allocatable :: gstart(:)        !< the gap at the start of the step, g(n)
     type(segment_set_t), allocatable :: sets(:)
@@ -43,10 +45,11 @@ module contact_geometry
 contains
 
   !> Conditions rows(k), of nodes(k), on segment sets sets(set(k)), on side(k) of a chain of line
-  !> elements; nnode nodes in the mesh.
-  subroutine fg_init(self, rows, nodes, set, side, sets, nnode)
+  !> elements, the nodes of their elements star(sptr(k):sptr(k+1)-1) (mesh_segments' node_stars: a
+  !> node touches no side of its own elements); nnode nodes in the mesh.
+  subroutine fg_init(self, rows, nodes, set, side, sets, sptr, star, nnode)
     class(following_t), intent(inout) :: self
-    integer, intent(in) :: rows(:), nodes(:), set(:), side(:)
+    integer, intent(in) :: rows(:), nodes(:), set(:), side(:), sptr(:), star(:)
     type(segment_set_t), intent(in) :: sets(:)
     integer, intent(in) :: nnode
     self%n = size(rows)
@@ -55,8 +58,12 @@ contains
     self%set = set
     self%side = side
     self%sets = sets
+    self%sptr = sptr
+    self%star = star
+    allocate (self%skip(merge(nnode, 0, self%n > 0)))
+    self%skip = .false.
     allocate (self%seg(self%n), self%vnode(self%n), self%gstart(self%n), self%x(2, merge(nnode, 0, self%n > 0)))
-    self%seg = 0
+    self%seg = -1                              ! (not paired yet)
     self%gstart = 0.0_dp
     self%vnode = 0
     self%repairings = 0
@@ -115,15 +122,25 @@ contains
     end do
     do k = 1, self%n
       if (present(du)) then                    ! the step's partner, at the midpoint
+        if (self%seg(k) == 0) cycle            ! (none: the row stays empty)
         call pair_on(self%x, self%sets(self%set(k)), self%node(k), self%seg(k), self%vnode(k), pr, self%side(k))
       else
-        call pair_segment(self%x, self%sets(self%set(k)), self%node(k), pr, self%side(k))
-        if (pr%seg == 0) then
-          call set_error(stat, errmsg, STAT_INPUT, 'contact: node ' // str(self%node(k)) // ' has no segment to pair with')
-          return
-        end if
-        if (self%seg(k) /= 0 .and. (pr%seg /= self%seg(k) .or. (pr%vertex .neqv. self%vnode(k) > 0))) &
+        associate (st => self%star(self%sptr(k):self%sptr(k + 1) - 1))
+          self%skip(st) = .true.
+          call pair_segment(self%x, self%sets(self%set(k)), self%node(k), pr, self%side(k), self%skip)
+          self%skip(st) = .false.
+        end associate
+        if (self%seg(k) >= 0 .and. (pr%seg /= self%seg(k) .or. (pr%vertex .neqv. self%vnode(k) > 0))) &
           self%repairings = self%repairings + 1
+        if (pr%seg == 0) then                  ! no partner this step: an empty row, never active
+          self%seg(k) = 0
+          self%vnode(k) = 0
+          self%gstart(k) = NO_PARTNER
+          call contact_rewrite(cs, self%row(k), NO_PARTNER, [integer ::], [real(dp) ::], [0, self%node(k)], &
+            row_geometry_t([self%node(k), 0, 0], 0.0_dp, 0.0_dp), stat, errmsg)
+          if (stat /= STAT_OK) return
+          cycle
+        end if
         self%seg(k) = pr%seg
         self%vnode(k) = merge(pr%nodes(2), 0, pr%vertex)
         self%gstart(k) = pr%gap

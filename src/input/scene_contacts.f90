@@ -10,7 +10,8 @@ module scene_contacts
   use contact_modes, only: IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, SOLVER_AUTO, SOLVER_SCHUR
   use element_traits, only: ET_MASS, ET_SPRING
   use scene_helpers, only: node_group, get_point, model_size, get_unit, get_choice
-  use mesh_segments, only: segment_set_t, segment_pair_t, group_segments, closest_segment, pair_segment, orient_lines
+  use mesh_segments, only: segment_set_t, segment_pair_t, group_segments, closest_segment, pair_segment, orient_lines, &
+    node_stars, NO_PARTNER
   implicit none
   private
   public :: contacts_schema, contacts_statement, resolve_impact
@@ -251,6 +252,8 @@ contains
     type(segment_set_t) :: segs
     type(segment_pair_t) :: pr
     type(condition_t) :: c
+    integer, allocatable :: sptr(:), star(:)
+    logical, allocatable :: skip(:)
     integer :: ga, gs, i, b, best, kn, ks, npair, k
     real(dp) :: xi, n(2), g, tol
     logical, allocatable :: in_gs(:)
@@ -292,6 +295,11 @@ contains
     end if
     scn%segsets = [scn%segsets, segs]
     c%segset = size(scn%segsets)
+    if (c%follow) then                       ! a node touches no side of its own elements
+      call node_stars(scn%mesh, scn%mesh%ngroups(ga)%items, sptr, star)
+      allocate (skip(scn%mesh%nnode))
+      skip = .false.
+    end if
     do i = 1, size(scn%mesh%ngroups(ga)%items)
       b = scn%mesh%ngroups(ga)%items(i)
       if (c%follow) then
@@ -304,10 +312,22 @@ contains
             st%params(ks)%values(1)))
           return
         end if
-        call pair_segment(scn%mesh%x, segs, b, pr)
+        skip(star(sptr(i):sptr(i + 1) - 1)) = .true.
+        call pair_segment(scn%mesh%x, segs, b, pr, skip=skip)
+        skip(star(sptr(i):sptr(i + 1) - 1)) = .false.
         best = pr%seg
-        if (best == 0) cycle
         c%side = pr%side
+        if (best == 0) then                  ! no partner yet: a condition all the same (it may get one)
+          c%node_b = b
+          c%node_a = 0
+          c%node_c = 0
+          c%xi = 0.0_dp
+          c%normal = 0.0_dp
+          c%g0 = NO_PARTNER
+          scn%conditions = [scn%conditions, c]
+          npair = npair + 1
+          cycle
+        end if
         xi = pr%xi
         n = pr%normal
         g = pr%gap

@@ -13,7 +13,10 @@ module mesh_segments
   implicit none
   private
   public :: side_set_t, segment_set_t, segment_pair_t, group_sides, group_segments, closest_segment, pair_segment, pair_on, &
-    orient_lines
+    orient_lines, node_stars, NO_PARTNER
+
+  !> The gap of a node that has no partner (a following condition's empty row: never active).
+  real(dp), parameter :: NO_PARTNER = 1.0e30_dp
 
   !> Free side s: nodes node(1:nsn(s), s) (2, or 3 with the mid-side node second), of element
   !> elem(s).
@@ -301,26 +304,31 @@ contains
   !> absent: the one b is on now), so that a node that crosses the line has a negative gap.
   !> A function of x (and side) only: re-pairing at every step needs no history (restarts bit
   !> for bit).
-  pure subroutine pair_segment(x, segs, b, pr, side)
+  pure subroutine pair_segment(x, segs, b, pr, side, skip)
     real(dp), intent(in) :: x(:, :)
     type(segment_set_t), intent(in) :: segs
     integer, intent(in) :: b
     type(segment_pair_t), intent(out) :: pr
     integer, intent(in), optional :: side
+    logical, intent(in), optional :: skip(:)  !< nodes whose segments are no partners (b's elements')
     real(dp), parameter :: tol = 1.0e-9_dp
-    real(dp) :: t(2), l2, s, sc, d, dbest, xp(2), xb(2)
+    real(dp) :: t(2), l2, s, sc, d, dbest, xp(2), xb(2), over
     integer :: k, kbest, v
     logical :: inside
     xb = x(:, b)
     dbest = huge(1.0_dp)
     kbest = 0
     v = 0
+    over = 0.0_dp
     inside = .false.
     ! The closest point of the outline: inside a segment (b projects onto it), or an end. A side
     ! that b is behind by more than a quarter of its length is no partner: the far side of a
     ! body (through it), not a penetration a step makes.
     do k = 1, segs%n
       if (segs%p(k) == b .or. segs%q(k) == b) cycle
+      if (present(skip)) then
+        if (skip(segs%p(k)) .or. skip(segs%q(k))) cycle
+      end if
       xp = x(:, segs%p(k))
       t = x(:, segs%q(k)) - xp
       l2 = dot_product(t, t)
@@ -336,15 +344,72 @@ contains
         kbest = k
         inside = s >= -tol .and. s <= 1.0_dp + tol
         v = merge(segs%p(k), segs%q(k), sc == 0.0_dp)
+        over = abs(s - sc) * sqrt(l2)
       end if
     end do
     if (kbest == 0) return
     call pair_on(x, segs, b, kbest, 0, pr, side, clamp=.true.)
     if (inside) return
     ! Past the ends: the corner v outside the body (and round a line element's end, on either
-    ! side), the line through v inside it.
-    if (pr%gap >= 0.0_dp .or. .not. segs%outward(kbest)) call pair_on(x, segs, b, kbest, v, pr, side)
+    ! side); inside it, beneath the corner more than beyond it (the overshoot along the segment),
+    ! the line through v. A node further along the segment's line is beyond the corner, not in it
+    ! (the same straight outline bent a little by the step).
+    if (pr%gap >= 0.0_dp .or. .not. segs%outward(kbest) .or. -pr%gap < over) &
+      call pair_on(x, segs, b, kbest, v, pr, side)
   end subroutine pair_segment
+
+  !> The nodes of the elements around each of nodes(:) (the node itself included): star(ptr(i) :
+  !> ptr(i+1) - 1) for nodes(i). Through a node-to-element map, linear in the mesh. Self-contact
+  !> takes no partner there: a node cannot touch the sides of its own elements.
+  pure subroutine node_stars(m, nodes, ptr, star)
+    type(mesh_t), intent(in) :: m
+    integer, intent(in) :: nodes(:)
+    integer, allocatable, intent(out) :: ptr(:), star(:)
+    integer :: eptr(m%nnode + 1), elist(max(size(m%conn), 1)), fill(m%nnode), e, a, i, k, n, c, pass
+    logical :: seen(m%nnode)
+    eptr = 0
+    do e = 1, m%nelem
+      do a = 1, m%nen(e)
+        eptr(m%conn(a, e) + 1) = eptr(m%conn(a, e) + 1) + 1
+      end do
+    end do
+    eptr(1) = 1
+    do i = 1, m%nnode
+      eptr(i + 1) = eptr(i + 1) + eptr(i)
+    end do
+    fill = eptr(1:m%nnode)
+    do e = 1, m%nelem
+      do a = 1, m%nen(e)
+        elist(fill(m%conn(a, e))) = e
+        fill(m%conn(a, e)) = fill(m%conn(a, e)) + 1
+      end do
+    end do
+    allocate (ptr(size(nodes) + 1), star(0))
+    seen = .false.
+    do pass = 1, 2                           ! count, then fill
+      ptr(1) = 1
+      do i = 1, size(nodes)
+        n = ptr(i)
+        do k = eptr(nodes(i)), eptr(nodes(i) + 1) - 1
+          do a = 1, m%nen(elist(k))
+            c = m%conn(a, elist(k))
+            if (seen(c)) cycle
+            seen(c) = .true.
+            if (pass == 2) star(n) = c
+            n = n + 1
+          end do
+        end do
+        do k = eptr(nodes(i)), eptr(nodes(i) + 1) - 1    ! unmark
+          seen(m%conn(1:m%nen(elist(k)), elist(k))) = .false.
+        end do
+        ptr(i + 1) = n
+      end do
+      if (pass == 1) then
+        deallocate (star)
+        allocate (star(ptr(size(nodes) + 1) - 1))
+      end if
+    end do
+  end subroutine node_stars
 
   !> Node b paired with segment k of segs (v = 0: the point at xi of its line, xi the foot of the
   !> perpendicular, within [0, 1] with clamp) or with its end node v (the gap |x_b - x_v| along the

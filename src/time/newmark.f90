@@ -23,6 +23,7 @@ module newmark
     STEP_NONFINITE, STEP_INVERTED
   use run_outputs, only: output_set_t, HISTORY_HEADER, EVENTS_HEADER
   use contact_geometry, only: following_t
+  use mesh_segments, only: node_stars
   use os_utils, only: make_directory, install_signal_handlers, signal_received
   use checkpoint, only: ckpt_file_t
   use scene_fingerprint, only: fingerprint_mismatch
@@ -147,6 +148,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: j, k, eqs(6), nodes(3)
+    integer, allocatable :: sptr(:), star(:)
     real(dp) :: coefs(6), w(3), lscale
     character(len=:), allocatable :: msg
     rs%has_contact = .true.
@@ -173,8 +175,9 @@ contains
     call contact_finalize(rs%cs, sys%dofs%neq, lscale, stat, errmsg)
     if (stat /= STAT_OK) return
     associate (c => scn%conditions)
+      call node_stars(scn%mesh, pack(c%node_b, c%follow), sptr, star)
       call rs%follow%init(pack([(j, j = 1, size(c))], c%follow), pack(c%node_b, c%follow), pack(c%segset, c%follow), &
-        pack(c%side, c%follow), scn%segsets, scn%mesh%nnode)
+        pack(c%side, c%follow), scn%segsets, sptr, star, scn%mesh%nnode)
     end associate
     call rs%follow%update(scn%mesh%x, sys%dofs%eqn, rs%st%u, rs%cs, stat, errmsg)
     if (stat /= STAT_OK) return

@@ -21,6 +21,11 @@ ways. Asserted in PAPER and PERSIST: |balance| <= 1e-10 E, linear and angular mo
 ways, >= -1e-9 m); IMPACT OFF keeps the momenta and loses the impact energy (> 1e-3 of E); a
 restart continues bit for bit.
 
+u_self.dat: a U-shaped rubber body whose arms are thrown toward each other: they meet, the body
+touching itself (its outline against its own outline; a node takes no partner on the sides of its
+own elements). Asserted: contact made, momenta kept to 1e-12 of m v, |balance| <= 1e-10 E, the arms
+never inside each other (from the nodes' positions every 5 steps, >= -1e-9 m).
+
 On small-displacement models PAIRING STEP follows the configuration too: the point mass on the
 inclined line is still reflected exactly, and the non-matching blocks give START's result to 1e-4.
 """
@@ -214,3 +219,38 @@ for pairing in ('START', 'STEP'):
 rel = abs(imp['STEP'] - imp['START']) / imp['START']
 sc.report_measured('SMALL PAIRING STEP = START to 1e-4 on the blocks (small displacements: the same pairing)', rel <= 1e-4,
                    'momentum transferred %.6f / %.6f N s' % (imp['STEP'], imp['START']))
+
+
+# --- self-contact: a U closing on itself --------------------------------------------------------
+def arms_min_gap(out):
+    """The deepest a node of one arm goes into the other arm (a convex strip: its nodes in order of
+    angle about its centre), from the nodes' positions at every recorded step; > 0 when apart."""
+    import h5py
+    with h5py.File(os.path.join(out, 'fields.h5'), 'r') as f:
+        x0 = f['mesh/coordinates'][:, :2]
+        left = np.where((x0[:, 0] < 0.03) & (x0[:, 1] > 0.01))[0]
+        right = np.where((x0[:, 0] > 0.11) & (x0[:, 1] > 0.01))[0]
+        gmin = np.inf
+        for name in [k for k in f.keys() if k.startswith('step_')]:
+            x = x0 + f[name + '/displacement'][:, :2]
+            for mine, other in ((left, right), (right, left)):
+                c = x[other].mean(axis=0)
+                poly = x[other][np.argsort(np.arctan2(x[other, 1] - c[1], x[other, 0] - c[0]))]
+                for b in mine:
+                    gmin = min(gmin, -polygon_depth(x[b], poly))
+    return gmin
+
+
+out = sc.run_ok(os.path.join(HERE, 'u_self.dat'))
+hist = sc.history(out)
+ev = [l.split(',') for l in open(os.path.join(out, 'events.csv')).read().splitlines()[1:]]
+n_est = sum(1 for e in ev if e[4] == 'establish')
+m_v = 1000.0 * 0.01 * 0.02 * 0.02 * 10 * 1.5          # one arm's mass x its mean speed (scale)
+dp = max(np.max(np.abs(hist[k] - hist[k][0])) for k in ('momentum_x', 'momentum_y')) / m_v
+dl = np.max(np.abs(hist['angular_momentum'] - hist['angular_momentum'][0])) / (m_v * 0.14)
+sc.report_measured('U self-contact: the arms meet, momenta kept to 1e-12 of m v (x size)', n_est >= 1 and dp <= 1e-12 and
+                   dl <= 1e-12, '%d establishments; linear %.2e, angular %.2e' % (n_est, dp, dl))
+bal = np.max(np.abs(hist['balance'])) / hist['kinetic'][0]
+sc.report_measured('U self-contact: |balance| <= 1e-10 E', bal <= 1e-10, '%.2e' % bal)
+g = arms_min_gap(out)
+sc.report_measured('U self-contact: the arms never inside each other (>= -1e-9 m)', g >= -1e-9, 'min %.2e m' % g)
