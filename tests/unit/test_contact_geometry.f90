@@ -5,7 +5,10 @@
 !> differences), and constraint_rows' rewrite of a row that changes length.
 program test_contact_geometry
   use kinds, only: dp
-  use mesh_segments, only: segment_set_t, segment_pair_t, pair_segment, pair_on, orient_lines
+  use mesh_segments, only: segment_set_t, segment_pair_t, pair_segment, pair_on, orient_lines, node_stars
+  use mesh, only: mesh_t
+  use mesh_generators, only: generate_rectangle
+  use element_traits, only: ET_QUAD4
   use constraint_rows, only: constraint_rows_t
   use errors, only: STAT_OK
   use testing, only: check, check_close, test_summary
@@ -15,6 +18,7 @@ program test_contact_geometry
   call test_line_sides()
   call test_gradient()
   call test_rewrite()
+  call test_stars()
   call test_summary('contact_geometry')
 
 contains
@@ -165,4 +169,38 @@ contains
     end do
     call check(ok, 'rewrite shorter: one entry, the next row follows it')
   end subroutine test_rewrite
+
+  !> node_stars on a 3 x 2 QUAD4 grid (nodes numbered row by row, 4 per row): a corner node's star is
+  !> its element (4 nodes), an edge node's two elements (6), the inner nodes' four (9).
+  subroutine test_stars()
+    type(mesh_t) :: m
+    integer, allocatable :: ptr(:), star(:)
+    integer :: stat, i
+    character(len=:), allocatable :: msg
+    logical :: ok
+    call generate_rectangle(m, 'g', [0.0_dp, 0.0_dp], 3.0_dp, 2.0_dp, 3, 2, ET_QUAD4, stat, msg)
+    call check(stat == STAT_OK .and. m%nnode == 12, 'a 3 x 2 grid of QUAD4')
+    call node_stars(m, [(i, i = 1, m%nnode)], ptr, star)
+    ok = .true.
+    do i = 1, m%nnode
+      associate (st => star(ptr(i):ptr(i + 1) - 1))
+        ok = ok .and. any(st == i) .and. size(st) == merge(4, merge(9, 6, inner(m, i)), corner(m, i))
+        ok = ok .and. all(max(abs(m%x(1, st) - m%x(1, i)), abs(m%x(2, st) - m%x(2, i))) <= 1.0_dp + 1.0e-12_dp)
+      end associate
+    end do
+    call check(ok, 'node_stars: 4 / 6 / 9 nodes around a corner / edge / inner node, all within one cell')
+  end subroutine test_stars
+
+  logical function corner(m, i)
+    type(mesh_t), intent(in) :: m
+    integer, intent(in) :: i
+    corner = (abs(m%x(1, i)) < 1e-12_dp .or. abs(m%x(1, i) - 3) < 1e-12_dp) .and. &
+      (abs(m%x(2, i)) < 1e-12_dp .or. abs(m%x(2, i) - 2) < 1e-12_dp)
+  end function corner
+
+  logical function inner(m, i)
+    type(mesh_t), intent(in) :: m
+    integer, intent(in) :: i
+    inner = m%x(1, i) > 1e-12_dp .and. m%x(1, i) < 3 - 1e-12_dp .and. m%x(2, i) > 1e-12_dp .and. m%x(2, i) < 2 - 1e-12_dp
+  end function inner
 end program test_contact_geometry
