@@ -168,8 +168,6 @@ module contact
     integer :: reflection_rank = 0           !< rank of A M⁻¹A' in (16) (< rows: dependent rows)
     real(dp) :: impact_dissipated = 0.0_dp   !< kinetic energy removed by RESTITUTION e < 1
     real(dp) :: snap_dissipated = 0.0_dp     !< MASSLESS: lost by massless nodes snapping to equilibrium (driver's)
-    real(dp) :: geometry_work = 0.0_dp       !< given back to held contacts that follow the geometry
-    integer :: geometry_fallbacks = 0        !< groups without kinetic energy to take it (balance shows it)
   end type contact_report_t
 
   interface

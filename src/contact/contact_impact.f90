@@ -116,10 +116,8 @@ contains
           cs%xg(j) = 0.0_dp
           if (cs%follow(j) .and. now(j)) cs%xg(j) = 0.5_dp * cs%lam_step(j) * (gn(j) - gend(j)) - e(j)
         end do
-        call persist_correction(cs, body, v, mv, geo, stat, errmsg, project=.false., geometry=cs%xg)
+        call persist_correction(cs, body, v, mv, geo, stat, errmsg, project=.false., geometry=cs%xg)   ! (geo: scratch)
         if (stat /= STAT_OK) return
-        rep%geometry_work = sum(cs%xg)
-        rep%geometry_fallbacks = geo%persist_fallbacks
         energy_restored = 0.5_dp * dot_product(v, mv) - t_before
       end if
       rep%energy_restored = energy_restored
