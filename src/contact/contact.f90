@@ -435,14 +435,13 @@ contains
   !> held contact does across that difference is given back at the end of the step
   !> (contact_end_step). The Schur multipliers only (the augmented pattern would change). Call
   !> contact_prepare before the next solve.
-  subroutine contact_rewrite(cs, j, g0, eqs, coefs, nodes, geo, stat, errmsg)
+  subroutine contact_rewrite(cs, j, g0, eqs, coefs, geo, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(in) :: j
     real(dp), intent(in) :: g0
     integer, intent(in) :: eqs(:)
     real(dp), intent(in) :: coefs(:)
-    integer, intent(in) :: nodes(2)
-    type(row_geometry_t), intent(in) :: geo        !< the pairing (for the outputs)
+    type(row_geometry_t), intent(in) :: geo        !< the pairing (outputs; messages name b and the nearer end)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
@@ -457,7 +456,9 @@ contains
         'coefficients as equations')
     end if
     if (stat /= STAT_OK) return
-    call cs%c%rewrite(j, g0, eqs, coefs, nodes)
+    ! b and the partner's node nearer the contact point (w(3) = -ξ; a corner has no third node)
+    call cs%c%rewrite(j, g0, eqs, coefs, [merge(geo%nodes(3), geo%nodes(2), -geo%w(3) > 0.5_dp .and. geo%nodes(3) > 0), &
+      geo%nodes(1)])
     cs%geo_now(j) = geo
     if (.not. cs%follow(j)) cs%geo_step(j) = geo
     cs%follow(j) = .true.

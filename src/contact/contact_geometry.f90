@@ -103,7 +103,7 @@ contains
     real(dp), intent(in), optional :: du(:)
     logical, intent(in), optional :: at_end
     type(segment_pair_t) :: pr
-    integer :: k, i, d, j, eqs(6), nodes(2)
+    integer :: k, i, d, j, eqs(6)
     real(dp) :: coefs(6), g0, f
     stat = STAT_OK
     if (self%n == 0) return
@@ -136,7 +136,7 @@ contains
           self%seg(k) = 0
           self%vnode(k) = 0
           self%gstart(k) = NO_PARTNER
-          call contact_rewrite(cs, self%row(k), NO_PARTNER, [integer ::], [real(dp) ::], [0, self%node(k)], &
+          call contact_rewrite(cs, self%row(k), NO_PARTNER, [integer ::], [real(dp) ::], &
             row_geometry_t([self%node(k), 0, 0], 0.0_dp, 0.0_dp), stat, errmsg)
           if (stat /= STAT_OK) return
           cycle
@@ -159,10 +159,7 @@ contains
           if (f == 1.0_dp) g0 = g0 - coefs(2 * i - 2 + d) * du(j)
         end do
       end do
-      ! events name b and the partner's node nearer the contact point
-      nodes = [merge(pr%nodes(3), pr%nodes(2), pr%xi > 0.5_dp .and. pr%nodes(3) > 0), pr%nodes(1)]
-      call contact_rewrite(cs, self%row(k), g0, eqs, coefs, nodes, row_geometry_t(pr%nodes, pr%w, pr%normal), stat, &
-        errmsg)
+      call contact_rewrite(cs, self%row(k), g0, eqs, coefs, row_geometry_t(pr%nodes, pr%w, pr%normal), stat, errmsg)
       if (stat /= STAT_OK) return
     end do
   end subroutine fg_update

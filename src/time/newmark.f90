@@ -18,8 +18,8 @@ module newmark
   use step_state, only: step_state_t
   use iteration_matrix, only: iteration_matrix_t
   use nonlinear_zone, only: zone_t
-  use newmark_step, only: step_report_t, iterate_eq9, iterate_eq9_zone, end_step, STEP_CONVERGED, STEP_DIVERGED, &
-    STEP_NOT_CONVERGED, &
+  use newmark_step, only: step_report_t, iterate_eq9, iterate_eq9_zone, end_step, following_rows, STEP_CONVERGED, &
+    STEP_DIVERGED, STEP_NOT_CONVERGED, &
     STEP_NONFINITE, STEP_INVERTED
   use run_outputs, only: output_set_t, HISTORY_HEADER, EVENTS_HEADER
   use contact_geometry, only: following_t
@@ -226,18 +226,40 @@ contains
     allocate (rs%rig(sys%dofs%neq, 3), rs%mrig(sys%dofs%neq, 3))
     rs%rig = 0.0_dp
     do j = 1, scn%mesh%nnode
-      associate (e => sys%dofs%eqn(:, j), x => scn%mesh%x(:, j))
+      associate (e => sys%dofs%eqn(:, j))
         if (e(1) > 0) rs%rig(e(1), 1) = 1.0_dp
         if (e(2) > 0) rs%rig(e(2), 2) = 1.0_dp
-        if (e(1) > 0) rs%rig(e(1), 3) = -x(2)
-        if (e(2) > 0) rs%rig(e(2), 3) = x(1)
-        if (e(3) > 0) rs%rig(e(3), 3) = 1.0_dp
       end associate
     end do
+    call rotation_mode(scn, sys, rs%rig(:, 3))
     do k = 1, 3
       call mass_times(sys, rs%rig(:, k), rs%mrig(:, k))
     end do
   end subroutine rigid_modes
+
+  !> The rotation about the origin on the free equations, r (neq): -y on UX, x on UY, 1 on RZ, at the
+  !> positions X, or X + u + du when given (end_geometry: the end of a step). Other entries untouched.
+  pure subroutine rotation_mode(scn, sys, r, u, du)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(inout) :: r(:)
+    real(dp), intent(in), optional :: u(:), du(:)
+    real(dp) :: p(2)
+    integer :: j, d
+    do j = 1, scn%mesh%nnode
+      associate (e => sys%dofs%eqn(:, j))
+        p = scn%mesh%x(:, j)
+        if (present(u) .and. present(du)) then
+          do d = 1, 2
+            if (e(d) > 0) p(d) = p(d) + (u(e(d)) + du(e(d)))
+          end do
+        end if
+        if (e(1) > 0) r(e(1)) = -p(2)
+        if (e(2) > 0) r(e(2)) = p(1)
+        if (e(3) > 0) r(e(3)) = 1.0_dp
+      end associate
+    end do
+  end subroutine rotation_mode
 
   !> IMPACT MASSLESS moves the contact nodes' mass to their neighbours: a contact node whose
   !> elements have contact nodes only (a point mass, a body touching with every node) keeps it,
@@ -456,11 +478,8 @@ contains
   contains
     subroutine attempt(mat)
       type(iteration_matrix_t), intent(inout), target :: mat
-      if (rs%follow%count() > 0) then          ! pairs and rows in the configuration u(n)
-        call rs%follow%update(scn%mesh%x, sys%dofs%eqn, rs%st%u, rs%cs, stat, errmsg)
-        if (stat == STAT_OK) call contact_prepare(rs%cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
-        if (stat /= STAT_OK) return
-      end if
+      call following_rows(scn, sys, rs%st, mat, rs%cs, rs%follow, .false., stat, errmsg)   ! pairs in u(n)
+      if (stat /= STAT_OK) return
       if (rs%has_contact .and. rs%zone%on) then
         call iterate_eq9_zone(scn, sys, rs%st, mat, rs%zone, rep, stat, errmsg, rs%cs, rs%lam, rs%follow)
       else if (rs%has_contact) then
@@ -563,22 +582,10 @@ contains
     type(run_state_t), intent(inout) :: rs
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j
     call contact_step_gaps(rs%cs, rs%st%u, rs%st%du)
     call rs%follow%update(scn%mesh%x, sys%dofs%eqn, rs%st%u, rs%cs, stat, errmsg, rs%st%du, at_end=.true.)
     if (stat /= STAT_OK) return
-    do j = 1, scn%mesh%nnode
-      associate (e => sys%dofs%eqn(:, j), x => scn%mesh%x(:, j), u => rs%st%u, du => rs%st%du)
-        if (e(1) > 0 .and. e(2) > 0) then
-          rs%crig(e(1), 3) = -(x(2) + (u(e(2)) + du(e(2))))
-          rs%crig(e(2), 3) = x(1) + (u(e(1)) + du(e(1)))
-        else if (e(1) > 0) then
-          rs%crig(e(1), 3) = -x(2)
-        else if (e(2) > 0) then
-          rs%crig(e(2), 3) = x(1)
-        end if
-      end associate
-    end do
+    call rotation_mode(scn, sys, rs%crig(:, 3), rs%st%u, rs%st%du)
     call mass_times(sys, rs%crig(:, 3), rs%cmrig(:, 3))
     call contact_set_rigid_modes(rs%cs, rs%crig, rs%cmrig, stat, errmsg)
   end subroutine end_geometry

@@ -15,7 +15,8 @@ module newmark_step
   use nonlinear_zone, only: zone_t
   implicit none
   private
-  public :: step_report_t, iterate_eq9, iterate_eq9_zone, end_step, STEP_CONVERGED, STEP_DIVERGED, STEP_NOT_CONVERGED, &
+  public :: step_report_t, iterate_eq9, iterate_eq9_zone, end_step, following_rows, STEP_CONVERGED, STEP_DIVERGED, &
+    STEP_NOT_CONVERGED, &
     STEP_NONFINITE, &
     STEP_INVERTED
 
@@ -71,7 +72,7 @@ contains
         ! Multipliers: the unconstrained iterate, then du = du_free + S^-1 C' Lambda with the
         ! active set of the LCP (gaps >= 0, Lambda >= 0, complementarity).
         st%ddu = st%du + st%ddu
-        if (present(follow) .and. iter > 1) call midpoint_rows(scn, sys, st, mat, cs, follow, stat, errmsg)
+        if (present(follow) .and. iter > 1) call following_rows(scn, sys, st, mat, cs, follow, .true., stat, errmsg)
         if (stat /= STAT_OK) return
         call contact_solve_step(cs, mat%factor, st%u, st%ddu, st%du, lam, stat, errmsg)
         if (stat /= STAT_OK) then
@@ -129,22 +130,28 @@ contains
     call end_checks(sys, st, rep)
   end subroutine iterate_eq9
 
-  !> The rows of the contacts that follow the geometry at the midpoint of the iterate du
-  !> (contact_geometry), and the multipliers' S data for them.
-  subroutine midpoint_rows(scn, sys, st, mat, cs, follow, stat, errmsg)
+  !> The rows of the contacts that follow the geometry (contact_geometry), paired at the start of
+  !> the step in u(n), or (midpoint) at the midpoint of the iterate du with the step's partners, and
+  !> the multipliers' S data for them.
+  subroutine following_rows(scn, sys, st, mat, cs, follow, midpoint, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
     type(step_state_t), intent(in) :: st
     type(iteration_matrix_t), intent(inout) :: mat
     type(contact_set_t), intent(inout) :: cs
     type(following_t), intent(inout) :: follow
+    logical, intent(in) :: midpoint
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
     if (follow%count() == 0) return
-    call follow%update(scn%mesh%x, sys%dofs%eqn, st%u, cs, stat, errmsg, st%du)
+    if (midpoint) then
+      call follow%update(scn%mesh%x, sys%dofs%eqn, st%u, cs, stat, errmsg, st%du)
+    else
+      call follow%update(scn%mesh%x, sys%dofs%eqn, st%u, cs, stat, errmsg)
+    end if
     if (stat == STAT_OK) call contact_prepare(cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
-  end subroutine midpoint_rows
+  end subroutine following_rows
 
   !> End of a converged step: the points' state committed, the works of the step (external
   !> ½ du'(F(n) + F(n+1)), correction ½ du'Bσc), eq (3), then with contact the impact
@@ -253,7 +260,7 @@ contains
         ! The multipliers as in iterate_eq9: du = du_free + S⁻¹C'Λ on every equation, and C'Λ
         ! (in mdu, unused by the zone) on the right of Z's rows.
         call zone%free_du(st)
-        if (present(follow) .and. iter > 1) call midpoint_rows(scn, sys, st, mat, cs, follow, stat, errmsg)
+        if (present(follow) .and. iter > 1) call following_rows(scn, sys, st, mat, cs, follow, .true., stat, errmsg)
         if (stat /= STAT_OK) return
         call contact_solve_step(cs, mat%factor, st%u, zone%dfree, st%du, lam, stat, errmsg)
         if (stat /= STAT_OK) then
