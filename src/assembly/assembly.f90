@@ -9,7 +9,7 @@ module assembly
   use contact_modes, only: IMPACT_MASSLESS
   use loads, only: load_nodal_forces
   use scene, only: scene_t, function_value, model_point_kind, contact_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
-  use dof_map, only: build_dof_map, DOF_ABSENT, DOF_FIXED
+  use dof_map, only: build_dof_map, cayley_rotations, DOF_ABSENT, DOF_FIXED
   use sparse_matrix, only: sym_csc_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
@@ -33,6 +33,8 @@ module assembly
   type :: dof_table_t
     integer :: neq = 0                       !< free equations
     integer, allocatable :: eqn(:, :)        !< (3, nnode) equation of each node DOF (>0), fixed (-1), absent (0)
+    logical, allocatable :: cayley(:)        !< (neq) a rotation turned by the Cayley angle of its increment
+    integer, allocatable :: cayley_eq(:)     !< those equations (cayley_rotations)
   end type dof_table_t
 
   !> The element table: every element's equations and integration points (B, weights), per model
@@ -133,6 +135,7 @@ contains
     integer :: ast
     stat = STAT_OK
     call build_dof_map(scn, sys%dofs%eqn, sys%dofs%neq)
+    call cayley_rotations(scn, sys%dofs%eqn, sys%dofs%neq, sys%dofs%cayley, sys%dofs%cayley_eq)
     call check_probes(scn, sys, stat, errmsg)
     if (stat /= STAT_OK) return
     if (sys%dofs%neq == 0) then

@@ -5,9 +5,10 @@ module dof_map
   use mesh, only: mesh_t
   use scene, only: scene_t
   use elements, only: elem_dof_mask
+  use element_traits, only: ET_BEAM2
   implicit none
   private
-  public :: build_dof_map, equation_bodies, DOF_ABSENT, DOF_FIXED
+  public :: build_dof_map, equation_bodies, cayley_rotations, DOF_ABSENT, DOF_FIXED
 
   integer, parameter :: DOF_ABSENT = 0, DOF_FIXED = -1
 
@@ -93,4 +94,42 @@ contains
       end do
     end function root
   end subroutine equation_bodies
+
+  !> The rotation equations a step turns by the Cayley angle 2 atan(Δw/2) of its increment Δw
+  !> (docs/large-displacements.md, "Angular momentum"): RZ of the nodes whose rotation only LARGE
+  !> BEAM2 elements use, not imposed, when eq (9) carries its correction (ENERGY_CORRECTION ON).
+  !> A node shared with a SMALL beam keeps the additive rotation its linear element needs.
+  subroutine cayley_rotations(scn, eqn, neq, mask, list)
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: eqn(:, :)
+    integer, intent(in) :: neq
+    logical, allocatable, intent(out) :: mask(:)
+    integer, allocatable, intent(out) :: list(:)
+    logical, allocatable :: large(:), other(:)
+    integer :: e, a, n, k
+    logical :: lb
+    allocate (mask(neq), large(scn%mesh%nnode), other(scn%mesh%nnode))
+    mask = .false.
+    large = .false.
+    other = .false.
+    do e = 1, scn%mesh%nelem
+      if (scn%elem_model(e) == 0) cycle
+      if (scn%mesh%etype(e) /= ET_BEAM2) cycle      ! the only element with RZ
+      lb = scn%models(scn%elem_model(e))%large
+      do a = 1, scn%mesh%nen(e)
+        n = scn%mesh%conn(a, e)
+        large(n) = large(n) .or. lb
+        other(n) = other(n) .or. .not. lb
+      end do
+    end do
+    do k = 1, size(scn%imposes)
+      if (scn%imposes(k)%dof == 3) other(scn%mesh%ngroups(scn%imposes(k)%ngroup)%items) = .true.
+    end do
+    if (scn%energy_correction) then
+      do n = 1, scn%mesh%nnode
+        if (large(n) .and. .not. other(n) .and. eqn(3, n) > 0) mask(eqn(3, n)) = .true.
+      end do
+    end if
+    list = pack([(k, k = 1, neq)], mask)
+  end subroutine cayley_rotations
 end module dof_map

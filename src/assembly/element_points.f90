@@ -21,6 +21,7 @@ module element_points
     logical :: hyper = .false.       !< HYPERELASTIC (neo-Hookean; surface elements, large)
     real(dp) :: lame(2) = 0.0_dp     !< its Lamé constants (lambda, mu)
     logical :: von_mises = .false.   !< VON_MISES (with large: on the Green-Lagrange strain, PK2 stress)
+    logical :: log_strain = .false.  !< STRAIN_MEASURE LOG: the points' pair is the Hencky strain and its stress
     logical :: pstress = .false.     !< plane stress (surface elements)
     logical :: per_length = .false.  !< the strain is an elongation over the length (BAR2), not an elongation (SPRING)
   end type model_view_t
@@ -48,6 +49,7 @@ contains
     mv%von_mises = .false.
     if (mv%mat > 0) mv%von_mises = scn%materials(mv%mat)%law == LAW_VON_MISES
     mv%pstress = sys%elems%pk(im) == PK_PSTRESS
+    mv%log_strain = scn%models(im)%log_strain
   end subroutine view_model
 
   !> One point through its law (material_law's law_update, sub-incremented along the step from

@@ -10,6 +10,7 @@ module large_kinematics
   use material_law, only: law_step_t
   use element_points, only: model_view_t, point_update
   use law_hyperelastic, only: nh_stress, nh_tangent, nh_discrete_stress
+  use log_strain, only: hencky_strain, gonzalez_stress, log_tangent
   implicit none
   private
   public :: large_axial_element, large_plane_element, large_beam_element
@@ -138,8 +139,7 @@ contains
     logical, intent(inout) :: any_c
     real(dp), parameter :: eye(2, 2) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 2])
     real(dp) :: dn(2, MAX_EDOF / 2), fn(2, 2), f1(2, 2), fm(2, 2), hn(2, 2), h1(2, 2), en(4), e1(4), s1(4), sn(4), sbar(4), &
-      bn(4, MAX_EDOF), b1(4, MAX_EDOF), bm(4, MAX_EDOF), w, st(2, 2), g, dm(4, 4)
-    type(law_step_t) :: r
+      bn(4, MAX_EDOF), b1(4, MAX_EDOF), bm(4, MAX_EDOF), w, st(2, 2), g, dm(4, 4), pl(4, 4), wpt, dpt
     integer :: igp, p, nen, a, b, i
     nen = ndof / 2
     fc(1:ndof) = 0.0_dp
@@ -160,33 +160,22 @@ contains
       fm = 0.5_dp * (fn + f1)
       en = green(hn)
       e1 = green(h1)
-      sn = sys%pts%sig(1:4, igp)
-      if (mv%hyper) then
-        s1 = nh_stress(mv%lame, e1, mv%pstress)
-      else if (mv%von_mises) then
-        call point_update(scn, sys, mv, igp, en, e1 - en, r)
-        s1 = r%sig(1:4)
-      else
-        s1 = matmul(sys%elems%dmat(1:4, 1:4, mv%im), e1)
-      end if
-      sys%pts%eps_t(1:4, igp) = e1
-      sys%pts%sig_t(1:4, igp) = s1
+      call plane_point(scn, sys, mv, igp, en, e1, tangent, sn, s1, sbar, dm, pl, wpt, dpt)
       call bnl(f1, b1)
       call bnl(fn, bn)
       call bnl(fm, bm)
       do a = 1, ndof                          ! (loops, not reshape/matmul: no temporaries)
-        sys%elems%bmat(p + 4 * a - 4:p + 4 * a - 1) = b1(:, a)
+        if (mv%log_strain) then               ! the B of the point's strain: P B_NL for ℓ
+          do i = 1, 4
+            sys%elems%bmat(p + 4 * a - 5 + i) = dot_product(pl(i, :), b1(:, a))
+          end do
+        else
+          sys%elems%bmat(p + 4 * a - 4:p + 4 * a - 1) = b1(:, a)
+        end if
         fe(a) = fe(a) + w * s_dot_b(s1, b1, a)
       end do
-      if (mv%hyper) then
-        sbar = nh_discrete_stress(mv%lame, en, e1, mv%pstress)
-      else if (mv%von_mises) then
-        sbar = r%sigbar(1:4)
-        dsum = dsum + w * r%dissip
-      else
-        sbar = 0.5_dp * (sn + s1)
-      end if
-      wsum = wsum + w * dot_product(sbar, e1 - en)
+      wsum = wsum + w * wpt
+      dsum = dsum + w * dpt
       if (correct) then
         any_c = .true.
         do a = 1, ndof
@@ -194,13 +183,6 @@ contains
         end do
       end if
       if (tangent) then
-        if (mv%hyper) then
-          dm = nh_tangent(mv%lame, e1, mv%pstress)
-        else if (mv%von_mises) then
-          dm = r%dtan(1:4, 1:4)
-        else
-          dm = sys%elems%dmat(1:4, 1:4, mv%im)
-        end if
         call add_btdb(ke, w, b1, dm, ndof)
         ! Geometric part ∇N_a' S ∇N_b on both directions, with the tensile part of S.
         st = reshape([s1(1), s1(4), s1(4), s1(2)], [2, 2])
@@ -270,6 +252,67 @@ contains
     end subroutine tensile_part
   end subroutine large_plane_element
 
+  !> One point of a LARGE surface element: from the Green-Lagrange strains en, e1 of the step's
+  !> ends, the second Piola-Kirchhoff stresses sn, s1, the step's stress sbar with sbar·(e1 - en)
+  !> = wpt, the law's path work (dissipated part dpt), and the material tangent dm on E. The point
+  !> keeps (and reports) its own pair: (E, S), or with STRAIN_MEASURE LOG (ℓ, T), T conjugate to the
+  !> Hencky strain ℓ (log_strain): the law runs on ℓ along the segment [ℓ(n), ℓ(n+1)] (ELASTIC:
+  !> the Hencky material, T = D ℓ, path work = Δψ exactly; VON_MISES: J2 additive in ℓ), S = P'T,
+  !> and sbar is Gonzalez's stress doing that path work on ΔE. pl: P = dℓ/dE (identity for E).
+  subroutine plane_point(scn, sys, mv, igp, en, e1, tangent, sn, s1, sbar, dm, pl, wpt, dpt)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(model_view_t), intent(in) :: mv
+    integer, intent(in) :: igp
+    real(dp), intent(in) :: en(4), e1(4)
+    logical, intent(in) :: tangent
+    real(dp), intent(out) :: sn(4), s1(4), sbar(4), dm(4, 4), pl(4, 4), wpt, dpt
+    type(law_step_t) :: r
+    real(dp) :: ln(4), l1(4), pn(4, 4), tn(4), t1(4), tbar(4)
+    logical :: okn, ok1
+    dpt = 0.0_dp
+    if (mv%log_strain) then
+      call hencky_strain(en, ln, pn, okn)
+      call hencky_strain(e1, l1, pl, ok1)
+      ! C singular: det F = 0, which large_plane_element reports as an inversion.
+      if (.not. (okn .and. ok1)) l1 = ln
+    else
+      ln = en
+      l1 = e1
+    end if
+    tn = sys%pts%sig(1:4, igp)
+    if (mv%hyper) then
+      t1 = nh_stress(mv%lame, e1, mv%pstress)
+      tbar = nh_discrete_stress(mv%lame, en, e1, mv%pstress)
+      if (tangent) dm = nh_tangent(mv%lame, e1, mv%pstress)
+    else if (mv%von_mises) then
+      call point_update(scn, sys, mv, igp, ln, l1 - ln, r)
+      t1 = r%sig(1:4)
+      tbar = r%sigbar(1:4)
+      dpt = r%dissip
+      if (tangent) dm = r%dtan(1:4, 1:4)
+    else
+      t1 = matmul(sys%elems%dmat(1:4, 1:4, mv%im), l1)
+      tbar = 0.5_dp * (tn + t1)
+      if (tangent) dm = sys%elems%dmat(1:4, 1:4, mv%im)
+    end if
+    sys%pts%eps_t(1:4, igp) = l1
+    sys%pts%sig_t(1:4, igp) = t1
+    wpt = dot_product(tbar, l1 - ln)
+    if (.not. mv%log_strain) then
+      sn = tn
+      s1 = t1
+      sbar = tbar
+      return
+    end if
+    sn = matmul(tn, pn)
+    s1 = matmul(t1, pl)
+    sbar = 0.5_dp * (sn + s1)
+    sbar = gonzalez_stress(sbar, e1 - en, wpt, 16.0_dp * epsilon(1.0_dp) * (sum(abs(tbar) * (abs(l1) + abs(ln))) + &
+      sum(abs(sbar) * (abs(e1) + abs(en)))))
+    if (tangent) call log_tangent(e1, t1, pl, dm)
+  end subroutine plane_point
+
   !> KINEMATICS LARGE, BEAM2: corotational (docs/large-displacements.md). The chord of the element
   !> turns by α (from the reference chord); in that frame the beam is the small-strain BEAM2, with
   !> the natural deformations q = (e, θ̄1, θ̄2): e = l - L the elongation of the chord (computed
@@ -281,10 +324,12 @@ contains
   !> exactly: for e the chord form of the bars; for θ̄a, the chord's exact rotation Δα of the step
   !> and ā = ∇α(c_mid) + (Δα - ∇α(c_mid)·Δc) Δc/|Δc|² (Gonzalez), so ā·Δc = Δα. The step force
   !> f̄ = Gd' Q̄ then does the law's path work: the energy identity holds to round-off at any step.
-  !> Linear momentum is kept exactly; angular momentum to O(h²) (f̄ has a moment about the step's
-  !> middle configuration of (Q̄2 + Q̄3)(Δα - Δα̃)(Δc·J c_mid)/|Δc|², Δα̃ = ∇α(c_mid)·Δc: with
-  !> additive rotations no force can keep both exactly, docs/large-displacements.md). from_n: une
-  !> is the committed state (else zero, the path from the reference configuration).
+  !> Linear momentum is kept exactly. A rotation that takes the Cayley update (sys%dofs%cayley:
+  !> θ(n+1) = θ(n) + 2 atan(Δw/2)) has the row of cayley_row, without moment about the step's middle
+  !> configuration: angular momentum kept. An additive rotation keeps Gonzalez's row, whose moment
+  !> (Q̄2 + Q̄3)(Δα - Δα̃)(Δc·J c_mid)/|Δc|² (Δα̃ = ∇α(c_mid)·Δc) is O(h²) (docs/large-displacements.md).
+  !> from_n: une is the committed state (else zero, the path from the reference configuration,
+  !> rotations additive).
   subroutine large_beam_element(scn, sys, mv, e, g0, ng, ue, une, from_n, correct, tangent, fe, fc, ke, any_c, wsum, &
                                 dsum)
     type(scene_t), intent(in) :: scn
@@ -299,7 +344,8 @@ contains
       dq(3), qn(3), q1(3), qb(3), kq(3, 3), t(2, 3), en, e1, epsn(2), deps(2), w, r01, xi(BEAM2_MAX_GAUSS), &
       wg(BEAM2_MAX_GAUSS)
     type(law_step_t) :: r
-    integer :: igp, p
+    integer :: igp, p, a, ia
+    real(dp) :: acoef, abc(2)
     x0 = scn%mesh%x(:, scn%mesh%conn(2, e)) - scn%mesh%x(:, scn%mesh%conn(1, e))
     len0 = norm2(x0)
     cn = x0 + une(4:5) - une(1:2)
@@ -326,6 +372,15 @@ contains
     gd(1, :) = [-d(1), -d(2), 0.0_dp, d(1), d(2), 0.0_dp]
     gd(2, :) = [ab(1), ab(2), 1.0_dp, -ab(1), -ab(2), 0.0_dp]
     gd(3, :) = [ab(1), ab(2), 0.0_dp, -ab(1), -ab(2), 1.0_dp]
+    do a = 1, 2
+      if (.not. (from_n .and. allocated(sys%dofs%cayley))) cycle
+      ia = sys%dofs%eqn(3, scn%mesh%conn(a, e))
+      if (ia <= 0) cycle
+      if (.not. sys%dofs%cayley(ia)) cycle
+      call cayley_row(cm, dc, ue(3 * a) - une(3 * a), acoef, abc)
+      gd(1 + a, :) = [abc(1), abc(2), 0.0_dp, -abc(1), -abc(2), 0.0_dp]
+      gd(1 + a, 3 * a) = acoef
+    end do
     dq = matmul(gd, ue(1:6) - une(1:6))
     dq(1) = e1 - en
     ! Relative rotations modulo 2 pi: an INITIAL DISPLACEMENT may turn the nodes by whole turns in
@@ -384,6 +439,35 @@ contains
       g(3, :) = [a(1), a(2), 0.0_dp, -a(1), -a(2), 1.0_dp]
     end subroutine natural_gradient
   end subroutine large_beam_element
+
+  !> The discrete gradient row of θ̄a = θa - α for a node whose rotation turns by the Cayley angle
+  !> Θ(Δw) = 2 atan(Δw/2) of its increment (cayley_rotations): g·Δu = Θ(Δw) - Δα exactly, and
+  !> g·δ = 0 for the infinitesimal rotation δ about the step's middle (J x_mid on the positions, 1
+  !> on the rotations), so f̄ = Gd'Q̄ has no moment: angular momentum is kept. With the chord's
+  !> increment Δc = a J c_mid + d c_mid (c_mid the mid-step chord), Δα = Θ(a) + φ(a, d) with
+  !> φ = atan2(a d²/4, ...) the stretch's share, and p = Δw - a: g = (ā, A, -ā, 0) (node 1; node 2
+  !> mirrored: A on its own rotation), A = (Θ(Δw) - Θ(a))/p, ā = (A J c_mid + (φ/d) c_mid)/|c_mid|², both written without
+  !> cancellation (A -> Θ'(a) as p -> 0, φ/d -> 0 as d -> 0). A rigid rotation (p = d = 0) is
+  !> then an exact motion of the step with no strain (docs/large-displacements.md).
+  pure subroutine cayley_row(cm, dc, dw, acoef, ab)
+    real(dp), intent(in) :: cm(2), dc(2), dw
+    real(dp), intent(out) :: acoef, ab(2)
+    real(dp) :: m2, jc(2), ar, dr, p, dcoef
+    m2 = max(dot_product(cm, cm), tiny(1.0_dp))
+    jc = [-cm(2), cm(1)]
+    ar = dot_product(dc, jc) / m2
+    dr = dot_product(dc, cm) / m2
+    p = dw - ar
+    if (p == 0.0_dp) then
+      acoef = 1.0_dp / (1.0_dp + 0.25_dp * ar * ar)
+    else
+      acoef = 2.0_dp * atan2(0.5_dp * p, 1.0_dp + 0.25_dp * ar * dw) / p
+    end if
+    dcoef = 0.0_dp
+    if (dr /= 0.0_dp) dcoef = atan2(0.25_dp * ar * dr * dr, (1.0_dp - 0.25_dp * ar * ar) * &
+      (1.0_dp - 0.25_dp * (ar * ar + dr * dr)) + ar * ar) / dr
+    ab = (acoef * jc + dcoef * cm) / m2
+  end subroutine cayley_row
 
   !> The tangent of the forces eq (9) carries for a corotational BEAM2 (2 f̄ with the correction,
   !> f(n+1) without), into ke: the material part G' Kq G (G = Gd, or G(n+1); of the symmetric

@@ -3,7 +3,7 @@
 module scene_models
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
-  use material_law, only: material_t, law_check, LAW_ELASTOPLASTIC, LAW_VON_MISES
+  use material_law, only: material_t, law_check, LAW_ELASTOPLASTIC, LAW_VON_MISES, LAW_ELASTIC
   use law_types, only: NSUB_EXACT
   use statement, only: statement_t, stmt_error, find_param, get_int, get_word, get_real
   use statement_schema, only: schema_t
@@ -28,6 +28,7 @@ contains
     call sch%add_param('MODEL', 'PLANE', 1, 1)
     call sch%add_param('MODEL', 'SUBSTEPS', 1, 1)
     call sch%add_param('MODEL', 'KINEMATICS', 1, 1)
+    call sch%add_param('MODEL', 'STRAIN_MEASURE', 1, 1)
     call sch%add_param('MODEL', 'DAMPING', 2, 4)
   end subroutine models_schema
 
@@ -165,10 +166,9 @@ contains
     call get_damping(st, md, stat, errmsg)
     if (stat == STAT_OK) call get_kinematics(st, md, stat, errmsg)
     if (stat /= STAT_OK) return
-    if (md%material > 0) then
-      call check_model_law(st, md, scn%materials(md%material), stat, errmsg)
-      if (stat /= STAT_OK) return
-    end if
+    if (md%material > 0) call check_model_law(st, md, scn%materials(md%material), stat, errmsg)
+    if (stat == STAT_OK) call get_strain(st, md, scn, stat, errmsg)
+    if (stat /= STAT_OK) return
     imodel = size(scn%models) + 1
     associate (items => scn%mesh%egroups(ig)%items)
       do i = 1, size(items)
@@ -280,6 +280,42 @@ contains
         st%params(find_param(st, 'KINEMATICS'))%values(1)))
     end select
   end subroutine get_kinematics
+
+  !> STRAIN_MEASURE GREEN | LOG (default GREEN): the strain measure of a KINEMATICS LARGE surface element.
+  !> LOG, the Hencky strain ½ ln C with its conjugate stress (docs/large-displacements.md, "Large
+  !> plastic strains"): ELASTIC is then the Hencky material and VON_MISES J2 additive in the
+  !> logarithmic strain, for large plastic strains; in plane strain (the stretch of the thickness
+  !> under PLANE STRESS is not known to it). HYPERELASTIC is its own finite-strain law.
+  subroutine get_strain(st, md, scn, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(model_t), intent(inout) :: md
+    type(scene_t), intent(in) :: scn
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: w
+    integer :: k, law
+    stat = STAT_OK
+    k = find_param(st, 'STRAIN_MEASURE')
+    if (k == 0) return
+    call get_word(st, 'STRAIN_MEASURE', w, stat, errmsg)
+    if (stat /= STAT_OK) return
+    law = 0
+    if (md%material > 0) law = scn%materials(md%material)%law
+    if (upper(w) /= 'GREEN' .and. upper(w) /= 'LOG') then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected GREEN or LOG', st%params(k)%values(1)))
+    else if (.not. md%large .or. etype_family(md%etype) == FAMILY_LINE .or. md%material == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'STRAIN_MEASURE is the strain measure of a KINEMATICS LARGE ' // &
+        'surface element (QUAD4, QUAD8, TRI3, TRI6)', st%params(k)%values(1)))
+    else if (upper(w) == 'LOG' .and. law /= LAW_ELASTIC .and. law /= LAW_VON_MISES) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'STRAIN_MEASURE LOG works with ELASTIC (Hencky) and ' // &
+        'VON_MISES; material ' // scn%materials(md%material)%name // ' is its own finite-strain law', st%params(k)%values(1)))
+    else if (upper(w) == 'LOG' .and. md%sec%plane_stress) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'STRAIN_MEASURE LOG works in plane strain (PLANE STRAIN): the ' // &
+        'stretch of the thickness under PLANE STRESS is not known to it', st%params(k)%values(1)))
+    else
+      md%log_strain = upper(w) == 'LOG'
+    end if
+  end subroutine get_strain
 
   subroutine get_damping(st, md, stat, errmsg)
     type(statement_t), intent(in) :: st

@@ -15,7 +15,7 @@ module law_hyperelastic
   use kinds, only: dp
   implicit none
   private
-  public :: nh_lame, nh_energy, nh_stress, nh_tangent, nh_discrete_stress, nh_c33
+  public :: nh_lame, nh_energy, nh_stress, nh_tangent, nh_discrete_stress, nh_c33, log1p_
 
 contains
 

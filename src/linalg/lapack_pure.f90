@@ -9,7 +9,7 @@ module lapack_pure
   use kinds, only: dp
   implicit none
   private
-  public :: dsygvd, dposv, dsysv, dpstrf, dpotrs, dgesv, dgetrf, dgetrs
+  public :: dsygvd, dsyev, dposv, dsysv, dpstrf, dpotrs, dgesv, dgetrf, dgetrs
 
   interface
     !> Generalized symmetric-definite eigenproblem, divide and conquer.
@@ -21,6 +21,16 @@ module lapack_pure
       real(dp), intent(out) :: w(*), work(*)
       integer, intent(out) :: iwork(*), info
     end subroutine dsygvd
+
+    !> Symmetric eigenproblem (QR iteration).
+    pure subroutine dsyev(jobz, uplo, n, a, lda, w, work, lwork, info)
+      import :: dp
+      character(len=1), intent(in) :: jobz, uplo
+      integer, intent(in) :: n, lda, lwork
+      real(dp), intent(inout) :: a(lda, *)
+      real(dp), intent(out) :: w(*), work(*)
+      integer, intent(out) :: info
+    end subroutine dsyev
 
     !> SPD solve (Cholesky factor + solve).
     pure subroutine dposv(uplo, n, nrhs, a, lda, b, ldb, info)

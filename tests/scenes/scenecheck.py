@@ -179,3 +179,35 @@ def restart_same(scene, sets, end_half, files=('history.csv',)):
     same = r.returncode == 0 and all(open(os.path.join(full, f), 'rb').read() == open(os.path.join(half, f), 'rb').read()
                                      for f in files)
     return same, 'exit %d %s' % (r.returncode, r.stderr[-200:])
+
+
+# One element of each surface kind on the unit square: its nodes, corners then mid-sides.
+CORNERS = {'a': (0.0, 0.0), 'b': (1.0, 0.0), 'c': (1.0, 1.0), 'd': (0.0, 1.0)}
+ELEMENT_KINDS = {
+    'QUAD4': ['a', 'b', 'c', 'd'],
+    'QUAD8': ['a', 'b', 'c', 'd', 'ab', 'bc', 'cd', 'da'],
+    'TRI3': ['a', 'b', 'c'],
+    'TRI6': ['a', 'b', 'c', 'ab', 'bc', 'ca'],
+}
+
+
+def corner_position(name):
+    """The reference position of node `name` of ELEMENT_KINDS (a corner, or the middle of two)."""
+    if name in CORNERS:
+        return CORNERS[name]
+    p, q = CORNERS[name[0]], CORNERS[name[1]]
+    return (0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]))
+
+
+def one_element(name, kind, model, disp):
+    """A scene of one element of the kind (a von Mises material) with the MODEL parameters `model`, in
+    the homogeneous state u = disp(X, Y) at t = 0 (INITIAL DISPLACEMENT), one step, fields written."""
+    names = ELEMENT_KINDS[kind]
+    s = ''.join('NODE n%s AT %.17g %.17g\n' % ((k,) + corner_position(k)) for k in names)
+    s += 'ELEMENT q TYPE %s NODES %s\n' % (kind, ' '.join('n' + k for k in names))
+    s += 'MATERIAL m VON_MISES YOUNG 1e6 POISSON 0.3 DENSITY 1000 YIELD 2e4 H_ISO 1e5 H_KIN 5e4\n'
+    s += 'SECTION t THICKNESS 0.1\nMODEL q MATERIAL m SECTION t %s\n' % model
+    for k in names:
+        s += 'INITIAL n%s DISPLACEMENT %.17g %.17g\n' % ((k,) + disp(*corner_position(k)))
+    s += 'TIME STEP 1e-4 END 1e-4\nOUTPUT HISTORY EVERY 1 FIELDS EVERY 1\n'
+    return write_scene(name, s)

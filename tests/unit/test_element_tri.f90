@@ -14,18 +14,8 @@ program test_element_tri
   use section, only: section_t
   use elements, only: MAX_EDOF, MAX_NSTRAIN, elem_ngauss, elem_gauss_b, elem_mass, elem_elastic_d, elem_stiffness, &
     elem_check_geometry
+  use lapack_pure, only: dsyev
   implicit none
-
-  interface
-    subroutine dsyev(jobz, uplo, n, a, lda, w, work, lwork, info)
-      use kinds, only: dp
-      character(len=1), intent(in) :: jobz, uplo
-      integer, intent(in) :: n, lda, lwork
-      real(dp), intent(inout) :: a(lda, *)
-      real(dp), intent(out) :: w(*), work(*)
-      integer, intent(out) :: info
-    end subroutine dsyev
-  end interface
 
   real(dp), parameter :: young = 2.0e11_dp, nu = 0.3_dp, rho = 7800.0_dp
   type(section_t) :: sec

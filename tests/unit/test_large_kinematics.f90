@@ -31,10 +31,19 @@ program test_large_kinematics
     write (*, '(a)') msg
     call test_summary('large_kinematics')
   end if
+  call check(count(sys%dofs%cayley) == 2 .and. all(sys%dofs%cayley([3, 6])), &
+    'large: both rotations of a free LARGE BEAM2 take the Cayley update (cayley_rotations)')
+  ! The kernel's own identities first, rotations additive (the path from the reference).
+  sys%dofs%cayley = .false.
   call test_gradient()
   call test_tangent()
-  call test_path_work()
+  call test_path_work(.false.)
   call test_rigid()
+  ! The rotations of a time step turned by the Cayley angle of their increments (cayley_rotations).
+  sys%dofs%cayley = .false.
+  sys%dofs%cayley([3, 6]) = .true.
+  call test_path_work(.true.)
+  call test_cayley_rigid()
   call test_summary('large_kinematics')
 
 contains
@@ -108,25 +117,75 @@ contains
 
   !> Eq (9)'s step force f̄ = (f(n) + f(n+1) + fc)/2 does the laws' path work exactly, however
   !> large the step (0.6 rad of rotation, 2 % stretch, bending): f̄·Δu = W_N to round-off; it has no
-  !> resultant (linear momentum), and its moment about the step's middle configuration is the
-  !> O(Δα²) the additive rotations leave (docs/large-displacements.md).
-  subroutine test_path_work()
+  !> resultant (linear momentum). Its moment about the step's middle configuration: with additive
+  !> rotations the O(Δα²) of the end moments; with the Cayley update, zero to round-off
+  !> (docs/large-displacements.md).
+  subroutine test_path_work(cayley)
+    logical, intent(in) :: cayley
     real(dp) :: zero(6), un(6), uu(6), fn(6), f(6), fc(6), fb(6), xm(2, 2), mom
+    character(len=:), allocatable :: tag
     type(work_increment_t) :: inc
     zero = 0.0_dp
     un = rotated(0.3_dp, [0.01_dp, 0.0_dp, 0.04_dp, 0.0_dp, 0.0_dp, -0.02_dp])
     uu = rotated(0.9_dp, [0.0_dp, 0.02_dp, -0.05_dp, 0.015_dp, 0.0_dp, 0.06_dp])
-    call trial(zero, un, fn, fc, .false., .false., inc)
-    call trial(un, uu, f, fc, .true., .false., inc)
+    tag = trim(merge('Cayley  ', 'additive', cayley))
+    call reference_state(un, fn)
+    call internal_force(scn, sys, uu, f, fc, .true., .false., inc, un=un)
     fb = 0.5_dp * (fn + f + fc)
-    call check_close(dot_product(fb, uu - un), inc%work, 1e-13_dp, 'large BEAM2: f̄·Δu = the path work, step of 0.6 rad')
-    call check(abs(fb(1) + fb(4)) + abs(fb(2) + fb(5)) <= 1e-12_dp * maxval(abs(fb)), 'large BEAM2: f̄ has no resultant')
+    call check_close(dot_product(fb, uu - un), inc%work, 1e-13_dp, 'large BEAM2 (' // tag // &
+      '): f̄·Δu = the path work, step of 0.6 rad')
+    call check(abs(fb(1) + fb(4)) + abs(fb(2) + fb(5)) <= 1e-12_dp * maxval(abs(fb)), 'large BEAM2 (' // tag // &
+      '): f̄ has no resultant')
     xm(:, 1) = [0.1_dp, 0.2_dp] + 0.5_dp * (un(1:2) + uu(1:2))
     xm(:, 2) = [0.9_dp, 0.5_dp] + 0.5_dp * (un(4:5) + uu(4:5))
     mom = xm(1, 1) * fb(2) - xm(2, 1) * fb(1) + xm(1, 2) * fb(5) - xm(2, 2) * fb(4) + fb(3) + fb(6)
-    call check(abs(mom) <= 0.05_dp * maxval(abs(fb(3:6:3))), 'large BEAM2: f̄''s moment about the middle configuration ' // &
-      'small (O(Δα²) of the end moments)')
+    if (cayley) then
+      call check(abs(mom) <= 1e-13_dp * maxval(abs(fb)), 'large BEAM2 (Cayley): f̄ has no moment about the middle ' // &
+        'configuration (angular momentum kept)')
+    else
+      call check(abs(mom) <= 0.05_dp * maxval(abs(fb(3:6:3))) .and. abs(mom) > 1e-6_dp * maxval(abs(fb)), &
+        'large BEAM2 (additive): f̄''s moment about the middle configuration small (O(Δα²) of the end moments), not zero')
+    end if
   end subroutine test_path_work
+
+  !> The committed state at un along the path from the reference (the rotations as given).
+  subroutine reference_state(un, fn)
+    real(dp), intent(in) :: un(:)
+    real(dp), intent(out) :: fn(:)
+    real(dp) :: fc(6)
+    type(work_increment_t) :: inc
+    sys%pts%eps = 0.0_dp
+    sys%pts%sig = 0.0_dp
+    call internal_force(scn, sys, un, fn, fc, .false., .false., inc)
+    call commit_state(sys)
+  end subroutine reference_state
+
+  !> With the Cayley update a rigid rotation by φ is a step that moves the nodes by the rotation and
+  !> the rotation DOFs by Δw = 2 tan(φ/2): no strain, no step force, for φ up to 170 degrees, from a
+  !> state turned by 1000 revolutions.
+  subroutine test_cayley_rigid()
+    real(dp) :: un(6), uu(6), fn(6), f(6), fc(6), fb(6), phi
+    real(dp), parameter :: pi = acos(-1.0_dp), phis(3) = [0.3_dp, 1.5_dp, 2.97_dp]
+    type(work_increment_t) :: inc
+    integer :: k
+    do k = 1, 3
+      phi = phis(k)
+      un = rotated(2000.0_dp * pi + 0.2_dp, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp])
+      call reference_state(un, fn)
+      uu = rotated(2000.0_dp * pi + 0.2_dp + phi, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp])
+      uu([3, 6]) = un([3, 6]) + 2.0_dp * tan(0.5_dp * phi)
+      call internal_force(scn, sys, uu, f, fc, .true., .false., inc, un=un)
+      fb = 0.5_dp * (fn + f + fc)
+      call check(maxval(abs(sys%pts%eps_t(1:2, :))) <= 1e-11_dp .and. maxval(abs(fb)) <= 1e-7_dp, &
+        'large BEAM2 (Cayley): a rigid step of ' // trim(real_text(phi)) // ' rad leaves no strain, no force')
+    end do
+  end subroutine test_cayley_rigid
+
+  pure function real_text(x) result(s)
+    real(dp), intent(in) :: x
+    character(len=16) :: s
+    write (s, '(f6.2)') x
+  end function real_text
 
   !> A rigid rotation by 90 degrees, and by 1000 revolutions and 90 degrees, leaves no strain and
   !> no force (the rotations relative to the chord are taken modulo 2 pi).

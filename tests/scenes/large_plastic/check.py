@@ -29,38 +29,9 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import scenecheck as sc  # noqa: E402
 
-
-
 HERE = os.path.relpath(os.path.dirname(os.path.abspath(__file__)), sc.ROOT)
 A, B = 0.3, -0.1                                   # the stretch diag(1 + A, 1 + B)
 EA, EB = A + A * A / 2, B + B * B / 2              # its Green-Lagrange strain
-CORNERS = {'a': (0.0, 0.0), 'b': (1.0, 0.0), 'c': (1.0, 1.0), 'd': (0.0, 1.0)}
-KINDS = {                                          # element kind: its nodes, corners then mid-sides
-    'QUAD4': ['a', 'b', 'c', 'd'],
-    'QUAD8': ['a', 'b', 'c', 'd', 'ab', 'bc', 'cd', 'da'],
-    'TRI3': ['a', 'b', 'c'],
-    'TRI6': ['a', 'b', 'c', 'ab', 'bc', 'ca'],
-}
-
-
-def position(name):
-    if name in CORNERS:
-        return CORNERS[name]
-    p, q = CORNERS[name[0]], CORNERS[name[1]]
-    return (0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]))
-
-
-def one_element(kind, kin, plane, disp):
-    """One element of the kind in the homogeneous state u = disp(X, Y) at t = 0."""
-    names = KINDS[kind]
-    s = ''.join('NODE n%s AT %.17g %.17g\n' % ((k,) + position(k)) for k in names)
-    s += 'ELEMENT q TYPE %s NODES %s\n' % (kind, ' '.join('n' + k for k in names))
-    s += 'MATERIAL m VON_MISES YOUNG 1e6 POISSON 0.3 DENSITY 1000 YIELD 2e4 H_ISO 1e5 H_KIN 5e4\n'
-    s += 'SECTION t THICKNESS 0.1\nMODEL q MATERIAL m SECTION t KINEMATICS %s PLANE %s\n' % (kin, plane)
-    for k in names:
-        s += 'INITIAL n%s DISPLACEMENT %.17g %.17g\n' % ((k,) + disp(*position(k)))
-    s += 'TIME STEP 1e-4 END 1e-4\nOUTPUT HISTORY EVERY 1 FIELDS EVERY 1\n'
-    return sc.write_scene('one_%s_%s_%s.dat' % (kind, kin, plane), s)
 
 
 def fields0(out):
@@ -71,13 +42,15 @@ def fields0(out):
 
 def point_state(kind, plane):
     """(LARGE turned, SMALL at E): their histories' first rows and t = 0 fields."""
-    turned = one_element(kind, 'LARGE', plane, lambda x, y: (-(1 + B) * y - x, (1 + A) * x - y))
-    small = one_element(kind, 'SMALL', plane, lambda x, y: (EA * x, EB * y))
+    turned = sc.one_element('one_%s_LARGE_%s.dat' % (kind, plane), kind, 'KINEMATICS LARGE PLANE ' + plane,
+                            lambda x, y: (-(1 + B) * y - x, (1 + A) * x - y))
+    small = sc.one_element('one_%s_SMALL_%s.dat' % (kind, plane), kind, 'KINEMATICS SMALL PLANE ' + plane,
+                           lambda x, y: (EA * x, EB * y))
     return [(sc.history(o), fields0(o)) for o in (sc.run_ok(turned), sc.run_ok(small))]
 
 
 # --- the model at a point: LARGE turned = SMALL at E -------------------------------------------------
-for kind in KINDS:
+for kind in sc.ELEMENT_KINDS:
     for plane in ('STRAIN', 'STRESS'):
         (hl, fl), (hs, fs) = point_state(kind, plane)
         err = max(abs(hl[k][0] - hs[k][0]) / abs(hs[k][0]) for k in ('internal', 'stored'))

@@ -28,8 +28,9 @@ supernodal numeric factorization allocates its workspace at each call (freed bef
 on block_j2 and cantilever_plastic under AUTO every allocation of the window is CHOLMOD's
 (tools/alloc_per_step.sh --where), and their number is a fixed count per factorization (8 with
 Debian's SuiteSparse; at most 16 asserted), the factorizations counted from rebond's run summary.
-The same for KINEMATICS LARGE (TANGENT): spinning_quad (a LARGE QUAD4) and inputs/bead_rod
-(node-to-segment contact that follows the configuration, held over the window).
+The same for KINEMATICS LARGE (TANGENT): spinning_quad (a LARGE QUAD4), inputs/bead_rod
+(node-to-segment contact that follows the configuration, held over the window) and inputs/taylor_bar
+(STRAIN_MEASURE LOG: the log map's tangent through LAPACK's dsyev on fixed work arrays).
 
 Each window is also checked to contain what it is meant to exercise (plastic work growing,
 an impact), from a normal run of 2N steps, so that a shorter scene cannot make the test vacuous.
@@ -127,7 +128,8 @@ def factorizations(scene, steps, sets):
 for scene, n, sets in (('inputs/block_j2.dat', 60, ['SCHEME.ITERATION=AUTO']),
                        ('inputs/cantilever_plastic.dat', 60, ['SCHEME.ITERATION=AUTO']),
                        ('tests/scenes/large_bar/spinning_quad.dat', 20, []),
-                       ('inputs/bead_rod.dat', 40, [])):
+                       ('inputs/bead_rod.dat', 40, []),
+                       ('inputs/taylor_bar.dat', 15, [])):
     name = os.path.basename(scene) + (' AUTO' if sets else ' (LARGE: TANGENT)')
     if not sets:
         ok, detail = window_ok(scene, n, 'impact', sets) if 'bead' in scene else (True, '')

@@ -1,0 +1,130 @@
+!> The logarithmic (Hencky) strain of a plane-strain point, for `MODEL … KINEMATICS LARGE STRAIN
+!> LOG` (docs/large-displacements.md, "Large plastic strains"): ℓ = ½ ln C, C = F'F = I + 2E, with
+!> its derivative P = dℓ/dE, so that the stress T conjugate to ℓ (T : dℓ = S : dE) gives the second
+!> Piola-Kirchhoff stress S = P' T. In the eigenbasis of E (eigenvalues e1, e2):
+!>   ℓ_ii = ½ ln(1 + 2 e_i),   dℓ_ii = dE_ii / (1 + 2 e_i),   dℓ_12 = g dE_12,
+!>   g = (ℓ_11 - ℓ_22)/(e1 - e2) (the divided difference; 1/(1 + 2 e) when e1 = e2),
+!> every term written without cancellation (a small strain keeps its digits). Plane strain: the
+!> thickness's stretch is 1, ℓ_zz = 0 and dℓ_zz = dE_zz. Vectors are Voigt [xx, yy, zz, 2xy] for
+!> strains and [xx, yy, zz, xy] for stresses, as the small-strain laws take them.
+module log_strain
+  use kinds, only: dp
+  use law_hyperelastic, only: log1p_
+  use lapack_pure, only: dsyev
+  implicit none
+  private
+  public :: hencky_strain, gonzalez_stress, log_tangent
+
+contains
+
+  !> ℓ (Voigt) and P (4 x 4, dℓ = P dE) at the Green-Lagrange strain e (Voigt, e(3) = 0). ok is
+  !> false when C is singular or not positive (an element turned inside out: the caller reports it).
+  pure subroutine hencky_strain(e, l, p, ok)
+    real(dp), intent(in) :: e(4)
+    real(dp), intent(out) :: l(4), p(4, 4)
+    logical, intent(out) :: ok
+    real(dp) :: m, d, exy, r, ev(2), c, s, lam(2), g, q(3, 3), qi(3, 3), dg(3)
+    integer :: i
+    exy = 0.5_dp * e(4)
+    m = 0.5_dp * (e(1) + e(2))
+    d = 0.5_dp * (e(1) - e(2))
+    r = hypot(d, exy)
+    ev = [m + r, m - r]
+    ok = all(1.0_dp + 2.0_dp * ev > 0.0_dp)
+    l = 0.0_dp
+    p = 0.0_dp
+    p(3, 3) = 1.0_dp
+    if (.not. ok) return
+    if (r > 0.0_dp) then
+      c = cos(0.5_dp * atan2(exy, d))
+      s = sin(0.5_dp * atan2(exy, d))
+    else
+      c = 1.0_dp
+      s = 0.0_dp
+    end if
+    lam = [(0.5_dp * log1p_(2.0_dp * ev(i)), i = 1, 2)]
+    ! g = (lam1 - lam2)/(ev1 - ev2) = log1p(2(ev1 - ev2)/(1 + 2 ev2)) / (2 (ev1 - ev2)).
+    if (r > 0.0_dp) then
+      g = log1p_(4.0_dp * r / (1.0_dp + 2.0_dp * ev(2))) / (4.0_dp * r)
+    else
+      g = 1.0_dp / (1.0_dp + 2.0_dp * ev(2))
+    end if
+    ! ℓ = R diag(lam) R' with ℓ_xy = g E_xy (no cancellation of lam1 - lam2).
+    l(1) = c * c * lam(1) + s * s * lam(2)
+    l(2) = s * s * lam(1) + c * c * lam(2)
+    l(4) = 2.0_dp * g * exy
+    ! P = Q(-t) diag(1/(1 + 2 e1), 1/(1 + 2 e2), g) Q(t), Q(t) the Voigt strain rotation into the
+    ! eigenbasis (engineering shear).
+    q = strain_rotation(c, s)
+    qi = strain_rotation(c, -s)
+    dg = [1.0_dp / (1.0_dp + 2.0_dp * ev(1)), 1.0_dp / (1.0_dp + 2.0_dp * ev(2)), g]
+    do i = 1, 3
+      q(i, :) = dg(i) * q(i, :)
+    end do
+    q = matmul(qi, q)
+    p([1, 2, 4], [1, 2, 4]) = q
+  end subroutine hencky_strain
+
+  !> The material tangent on E of a point on the log strain: dS/dE = P' D P + T : d²ℓ/dE² (D the
+  !> law's tangent on ℓ, in dm; P = dℓ/dE, p), the second term by central differences of P at
+  !> fixed T (step 1e-5 of the smallest stretch², error ~1e-10 of T). ℓ is concave in E, so under
+  !> tension that term softens: without it Newton's iteration converges linearly (the spinning
+  !> square of tests/scenes/large_log left 1.2e-10 of E in the balance). The in-plane block is
+  !> symmetrized and kept to its positive part: the iteration matrix must stay positive definite
+  !> (as the geometric terms leave compression out).
+  pure subroutine log_tangent(e, t, p, dm)
+    real(dp), intent(in) :: e(4), t(4), p(4, 4)
+    real(dp), intent(inout) :: dm(4, 4)
+    real(dp) :: dl, l(4), pp(4, 4), pm(4, 4), ep(4), g(4, 4), a(3, 3), w(3), work(16), smin
+    integer :: k, info, i
+    logical :: okp, okm
+    integer, parameter :: ip(3) = [1, 2, 4]
+    dm = matmul(transpose(p), matmul(dm, p))
+    g = 0.0_dp
+    smin = 1.0_dp + (e(1) + e(2)) - hypot(e(1) - e(2), e(4))      ! 1 + 2 (smallest eigenvalue of E)
+    dl = 1.0e-5_dp * min(1.0_dp, max(smin, 0.0_dp))
+    do k = 1, 4
+      if (k == 3 .or. dl <= 0.0_dp) cycle
+      ep = e
+      ep(k) = e(k) + dl
+      call hencky_strain(ep, l, pp, okp)
+      ep(k) = e(k) - dl
+      call hencky_strain(ep, l, pm, okm)
+      if (okp .and. okm) g(:, k) = matmul(t, pp - pm) / (2.0_dp * dl)
+    end do
+    a = dm(ip, ip) + 0.5_dp * (g(ip, ip) + transpose(g(ip, ip)))
+    a = 0.5_dp * (a + transpose(a))
+    call dsyev('V', 'U', 3, a, 3, w, work, size(work), info)
+    if (info /= 0) return
+    dm(ip, ip) = 0.0_dp
+    do i = 1, 3
+      if (w(i) > 0.0_dp) dm(ip, ip) = dm(ip, ip) + w(i) * spread(a(:, i), 2, 3) * spread(a(:, i), 1, 3)
+    end do
+  end subroutine log_tangent
+
+  !> Voigt (xx, yy, 2xy) strain components in the frame turned by the angle (c, s).
+  pure function strain_rotation(c, s) result(q)
+    real(dp), intent(in) :: c, s
+    real(dp) :: q(3, 3)
+    q(1, :) = [c * c, s * s, c * s]
+    q(2, :) = [s * s, c * c, -c * s]
+    q(3, :) = [-2.0_dp * c * s, 2.0_dp * c * s, c * c - s * s]
+  end function strain_rotation
+
+  !> The step's stress S̄ on the Green-Lagrange increment de that does the work w: the mean
+  !> sa of the end stresses plus Gonzalez's term along de (the tensor metric: shear halved), so
+  !> that S̄ · de = w exactly and S̄ stays symmetric (angular momentum). The term is of the size of
+  !> the trapezoid's error on the path, O(|de|²). w - sa·de below noise (the round-off of w and of
+  !> sa·de: Δℓ is the difference of two logarithms, exact to ulp(ℓ) only) is round-off, not a
+  !> path error: divided by |de|² it would make S̄ explode on a step that barely strains, so S̄ = sa
+  !> there (the work it leaves out is that round-off).
+  pure function gonzalez_stress(sa, de, w, noise) result(sbar)
+    real(dp), intent(in) :: sa(4), de(4), w, noise
+    real(dp) :: sbar(4), dd(4), den, gap
+    dd = [de(1), de(2), de(3), 0.5_dp * de(4)]
+    den = dot_product(dd, de)
+    gap = w - dot_product(sa, de)
+    sbar = sa
+    if (den > 0.0_dp .and. abs(gap) > noise) sbar = sa + (gap / den) * dd
+  end function gonzalez_stress
+end module log_strain
