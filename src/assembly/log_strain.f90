@@ -4,8 +4,9 @@
 !> Piola-Kirchhoff stress S = P' T. In the eigenbasis of E (eigenvalues e1, e2):
 !>   ℓ_ii = ½ ln(1 + 2 e_i),   dℓ_ii = dE_ii / (1 + 2 e_i),   dℓ_12 = g dE_12,
 !>   g = (ℓ_11 - ℓ_22)/(e1 - e2) (the divided difference; 1/(1 + 2 e) when e1 = e2),
-!> every term written without cancellation (a small strain keeps its digits). Plane strain: the
-!> thickness's stretch is 1, ℓ_zz = 0 and dℓ_zz = dE_zz. Vectors are Voigt [xx, yy, zz, 2xy] for
+!> every term written without cancellation (a small strain keeps its digits). C is block-diagonal,
+!> so the in-plane ℓ does not depend on the thickness's stretch: in plane strain ℓ_zz = 0; in plane
+!> stress the law finds ℓ_zz = ln λ_z with T_zz = 0, as it finds ε_zz in small strain. Vectors are Voigt [xx, yy, zz, 2xy] for
 !> strains and [xx, yy, zz, xy] for stresses, as the small-strain laws take them.
 module log_strain
   use kinds, only: dp

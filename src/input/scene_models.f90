@@ -284,8 +284,8 @@ contains
   !> STRAIN_MEASURE GREEN | LOG (default GREEN): the strain measure of a KINEMATICS LARGE surface element.
   !> LOG, the Hencky strain ½ ln C with its conjugate stress (docs/large-displacements.md, "Large
   !> plastic strains"): ELASTIC is then the Hencky material and VON_MISES J2 additive in the
-  !> logarithmic strain, for large plastic strains; in plane strain (the stretch of the thickness
-  !> under PLANE STRESS is not known to it). HYPERELASTIC is its own finite-strain law.
+  !> logarithmic strain, for large plastic strains (plane strain or plane stress: the law finds the
+  !> thickness's log strain as in small strain). HYPERELASTIC is its own finite-strain law.
   subroutine get_strain(st, md, scn, stat, errmsg)
     type(statement_t), intent(in) :: st
     type(model_t), intent(inout) :: md
@@ -309,9 +309,6 @@ contains
     else if (upper(w) == 'LOG' .and. law /= LAW_ELASTIC .and. law /= LAW_VON_MISES) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'STRAIN_MEASURE LOG works with ELASTIC (Hencky) and ' // &
         'VON_MISES; material ' // scn%materials(md%material)%name // ' is its own finite-strain law', st%params(k)%values(1)))
-    else if (upper(w) == 'LOG' .and. md%sec%plane_stress) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'STRAIN_MEASURE LOG works in plane strain (PLANE STRAIN): the ' // &
-        'stretch of the thickness under PLANE STRESS is not known to it', st%params(k)%values(1)))
     else
       md%log_strain = upper(w) == 'LOG'
     end if

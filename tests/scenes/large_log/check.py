@@ -6,15 +6,16 @@ VON_MISES J2 additive in l, for large plastic strains (issue 15 item 1). docs/la
 - The model at a point: one element stretched by diag(2, 0.6) (log strains 0.69 and -0.51) and
   turned by 90 degrees from the reference (INITIAL DISPLACEMENT) has the work, stored energy,
   stress T and plastic strain of the small-strain law at the strain l (a SMALL run with the
-  displacement l X), to 1e-12: QUAD4, QUAD8, TRI3, TRI6. The rotation leaves no trace.
+  displacement l X), to 1e-12: QUAD4, QUAD8, TRI3, TRI6, plane strain and plane stress (where the law
+  finds the thickness's log strain). The rotation leaves no trace.
 - uniaxial.dat: a square in plane strain pulled to twice its length (lateral sides held) and held:
   T = the closed form of J2 with linear hardening in uniaxial strain at e = ln 2 (1e-10), the pull
   = T_xx / lambda (the Cauchy stress on the current face, 1e-9); compressed to half its length, the
   same at ln 0.5; ELASTIC (Hencky): T_xx = (lambda_L + 2 mu) ln lambda; |balance| at round-off. STRAIN
   GREEN (J2 on the Green-Lagrange strain) pulls more than 5 times harder at lambda = 2: the measure
   matters. At a stretch of 1e-6 LOG = GREEN to 1e-5.
-- The spinning square of tests/scenes/large_plastic yielding with STRAIN_MEASURE LOG: angular momentum,
-  linear momentum and balance kept (1e-10).
+- The spinning square of tests/scenes/large_plastic yielding with STRAIN_MEASURE LOG, plane strain and
+  plane stress: angular momentum, linear momentum and balance kept (1e-10).
 - inputs/taylor_bar.dat (copper bar on a wall at 227 m/s, plane strain): |balance| <= 1e-10 of E at
   h = 2.5e-7, 5e-7 and 1e-6 s, the wall never crossed, > 90 % of the energy dissipated, plastic
   strains of order one at the foot, the plastic work and the foot's width converging as h halves
@@ -42,18 +43,20 @@ def fields(out, step='step_000000', keys=('stress', 'plastic_strain')):
 
 # --- the model at a point: LARGE LOG turned = SMALL at l ---------------------------------------------
 for kind in sc.ELEMENT_KINDS:
-    turned = sc.one_element('one_%s_LOG.dat' % kind, kind, 'KINEMATICS LARGE STRAIN_MEASURE LOG',
-                            lambda x, y: (-(1 + B) * y - x, (1 + A) * x - y))
-    small = sc.one_element('one_%s_SMALL.dat' % kind, kind, 'KINEMATICS SMALL', lambda x, y: (LA * x, LB * y))
-    (hl, fl), (hs, fs) = [(sc.history(o), fields(o)) for o in (sc.run_ok(turned), sc.run_ok(small))]
-    err = max(abs(hl[k][0] - hs[k][0]) / abs(hs[k][0]) for k in ('internal', 'stored'))
-    err = max(err, np.max(np.abs(fl['stress'] - fs['stress'])) / np.max(np.abs(fs['stress'])))
-    err = max(err, np.max(np.abs(fl['plastic_strain'] - fs['plastic_strain'])) / np.max(fs['plastic_strain']))
-    plastic = hs['internal'][0] - hs['stored'][0]
-    sc.report_measured('%s stretched by diag(2, 0.6) plastically and turned by 90 degrees: work, stored energy, T '
-                       'and plastic strain = the small-strain law at ln(stretch) (1e-12)' % kind,
-                       err <= 1e-12 and plastic > 0.5 * hs['internal'][0],
-                       'difference %.2e, plastic work %.3g of %.3g' % (err, plastic, hs['internal'][0]))
+    for plane in ('STRAIN', 'STRESS'):
+        turned = sc.one_element('one_%s_LOG_%s.dat' % (kind, plane), kind, 'KINEMATICS LARGE STRAIN_MEASURE LOG PLANE '
+                                + plane, lambda x, y: (-(1 + B) * y - x, (1 + A) * x - y))
+        small = sc.one_element('one_%s_SMALL_%s.dat' % (kind, plane), kind, 'KINEMATICS SMALL PLANE ' + plane,
+                               lambda x, y: (LA * x, LB * y))
+        (hl, fl), (hs, fs) = [(sc.history(o), fields(o)) for o in (sc.run_ok(turned), sc.run_ok(small))]
+        err = max(abs(hl[k][0] - hs[k][0]) / abs(hs[k][0]) for k in ('internal', 'stored'))
+        err = max(err, np.max(np.abs(fl['stress'] - fs['stress'])) / np.max(np.abs(fs['stress'])))
+        err = max(err, np.max(np.abs(fl['plastic_strain'] - fs['plastic_strain'])) / np.max(fs['plastic_strain']))
+        plastic = hs['internal'][0] - hs['stored'][0]
+        sc.report_measured('%s plane %s stretched by diag(2, 0.6) plastically and turned by 90 degrees: work, stored '
+                           'energy, T and plastic strain = the small-strain law at ln(stretch) (1e-12)' % (kind, plane.lower()),
+                           err <= 1e-12 and plastic > 0.5 * hs['internal'][0],
+                           'difference %.2e, plastic work %.3g of %.3g' % (err, plastic, hs['internal'][0]))
 
 # --- uniaxial strain to lambda = 2 and 0.5: the closed form ----------------------------------------------
 E, NU, SY, H = 200.0, 0.3, 1.0, 10.0
@@ -104,9 +107,12 @@ d = abs(small[0] - small[1]) / abs(small[1])
 sc.report_measured('a stretch of 1e-6: LOG = GREEN to 1e-5', d <= 1e-5, '%.2e' % d)
 
 # --- a free spinning square yielding -------------------------------------------------------------------
-hsp = sc.history(sc.run_ok('tests/scenes/large_plastic/spinning_plastic.dat', ['MODEL.STRAIN_MEASURE=LOG']))
-sc.free_body('spinning von Mises square, STRAIN_MEASURE LOG', hsp, 1e-10)
-sc.report_measured('spinning square, STRAIN_MEASURE LOG: it yields', hsp['dissipated'][-1] > 0, '%.3g J' % hsp['dissipated'][-1])
+for plane in ('STRAIN', 'STRESS'):
+    hsp = sc.history(sc.run_ok('tests/scenes/large_plastic/spinning_plastic.dat', ['MODEL.STRAIN_MEASURE=LOG',
+                                                                                    'MODEL.PLANE=' + plane]))
+    sc.free_body('spinning von Mises square, STRAIN_MEASURE LOG, plane %s' % plane.lower(), hsp, 1e-10)
+    sc.report_measured('spinning square, STRAIN_MEASURE LOG, plane %s: it yields' % plane.lower(), hsp['dissipated'][-1] > 0,
+                       '%.3g J' % hsp['dissipated'][-1])
 
 # --- the Taylor bar -------------------------------------------------------------------------------------
 res = {}
