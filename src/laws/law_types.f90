@@ -26,7 +26,7 @@ module law_types
   end type law_params_t
 
   !> One step of a point along its strain path: the end stress sig, the path-mean stress
-  !> sigbar (method.md section 2), the tangent dtan = d sig / d deps of the last sub-increment,
+  !> sigbar (method.md section 2), the tangent dtan = d sig / d deps (material_law: law_update),
   !> the work sigbar . deps and its dissipated part (per unit weight), the sub-increments used
   !> (0: none were needed, the step was elastic and sigma_c = 0 bit for bit).
   type :: law_step_t

@@ -209,8 +209,8 @@ contains
   !> per unit weight. r%nused: sub-increments used, 0 when no sub-incrementation was needed
   !> (ELASTIC, or a step of a plastic law that stayed elastic: then sig = sig_n + D deps and
   !> sigbar = (sig_n + sig)/2 exactly, so sigma_c = 0 bit for bit). r%dtan: consistent tangent
-  !> d sig / d deps of the last sub-increment (exact for N = 1, and for any N when the whole step
-  !> is elastic or, 1D laws, on one branch of the curve).
+  !> d sig / d deps of the last sub-increment, for VON_MISES of one return over the whole increment
+  !> (exact for N = 1, and for any N when the whole step is elastic or, 1D laws, on one branch).
   pure subroutine law_update(mat, sec, pk, d, nsub, eps_n, deps, sig_n, q_n, q, r)
     type(material_t), intent(in) :: mat
     type(section_t), intent(in) :: sec
