@@ -29,7 +29,8 @@ energy correction along the large-displacement path; item 3: momentum). docs/lar
 - inputs/ring_impact.dat: an elastic ring (LARGE QUAD4) thrown against a wall: |balance| <= 1e-10,
   never through the wall (1e-12 m), y momentum and angular momentum zero by symmetry (1e-9 of
   m v0 and m v0 R), the contact released within the run and the ring leaving the wall slower
-  than it came (its vibration keeps the rest).
+  than it came (its vibration keeps the rest); |balance| <= 1e-10 of E from T/10 to T/1000 of its
+  first (ovalling) period.
 - pendulum_wall.dat: the pendulum hitting a wall (OBSTACLE with LARGE kinematics): |balance|
   <= 1e-9 of E through two impacts, the wall never crossed by more than 1e-10 m.
 """
@@ -265,4 +266,12 @@ ratio = -h['momentum_x'][-1] / p0
 on = np.nonzero(c['active'] > 0)[0]
 sc.report('ring against a wall: released within the run, leaving slower than it came', 0.5 < ratio < 1.0 and
           c['time'][on[-1]] < h['time'][-1], 'leaves at %.3f of its speed; contact until %.4f s' % (ratio, c['time'][on[-1]]))
+# From T/10 to T/1000 of its first (ovalling) period, T = 2 pi / sqrt(E' I n^2 (n^2 - 1)^2 / (rho A R^4 (n^2 + 1))),
+# n = 2, of a thin ring of mean radius 9 cm and thickness 2 cm in plane strain: 31 ms.
+T_RING = 2 * np.pi / np.sqrt(1e7 / (1 - 0.09) * 0.02**3 / 12 * 4 * 9 / (1000 * 0.02 * 0.09**4 * 5))
+for div in (10, 30, 100, 300, 1000):
+    hr = sc.history(sc.run_ok('inputs/ring_impact.dat', ['TIME.STEP=%.6g' % (T_RING / div), 'OUTPUT.FIELDS=0']))
+    bal = rel_balance(hr)
+    sc.report_measured('ring against a wall, h = T/%d (T = %.1f ms): |balance| <= 1e-10 of E' % (div, 1e3 * T_RING),
+                       bal <= 1e-10, '%.2e' % bal)
 
