@@ -168,6 +168,7 @@ module contact
     integer :: reflection_rank = 0           !< rank of A M⁻¹A' in (16) (< rows: dependent rows)
     real(dp) :: impact_dissipated = 0.0_dp   !< kinetic energy removed by RESTITUTION e < 1
     real(dp) :: snap_dissipated = 0.0_dp     !< MASSLESS: lost by massless nodes snapping to equilibrium (driver's)
+    real(dp) :: unrestored = 0.0_dp          !< energy a scaling could not give back or take off (left in the balance)
   end type contact_report_t
 
   interface

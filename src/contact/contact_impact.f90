@@ -392,9 +392,13 @@ contains
         if (.not. (tp - tcm > cs%settings%persist_min_fraction * tstar)) then
           where (est .and. cgroup == grp) cs%fallback = .true.
           rep%persist_fallbacks = rep%persist_fallbacks + 1
+          if (.not. proj) rep%unrestored = rep%unrestored + abs(tstar - t1)   ! (PERSIST: PAPER takes over)
           cycle
         end if
         s = persist_scale(tstar, tcm, tp - tcm)
+        ! A target below the rigid motion's energy cannot be reached by scaling (s = 0): the rest
+        ! stays in the balance, and the driver says so.
+        if (tstar < tcm) rep%unrestored = rep%unrestored + (tcm - tstar)
         cs%cimp = cs%cimp - cs%mu                  ! the projection's impulses along c_j
         rep%impact_dissipated = rep%impact_dissipated + dis
         j0 = findloc(est .and. cgroup == grp, .true., 1)

@@ -554,6 +554,10 @@ contains
         e_rest = e_rest + crep%impact_dissipated
       end if
       if (crep%snap_dissipated /= 0.0_dp) call rs%en%add_impact(crep%snap_dissipated)
+      if (crep%unrestored > 1.0e-12_dp * max(abs(rs%en%kinetic) + abs(rs%en%internal()), tiny(1.0_dp))) &
+        write (0, '(a)') 'rebond: warning: ' // at_step(step, t) // 'the impact correction could not restore ' // &
+        str(crep%unrestored) // ' J (more than the body''s kinetic energy can give: a step about as long as the ' // &
+        'contact); it stays in the energy balance. A smaller TIME STEP (or IMPACT PERSIST) avoids it'
       if (crep%fp_failures > 0) write (0, '(a)') 'rebond: warning: ' // at_step(step, t) // &
         'the coupled impulses (14) have no all-negative solution; decoupled roots of (13) scaled to restore ' // &
         'the lost energy exactly'
