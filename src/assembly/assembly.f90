@@ -9,7 +9,7 @@ module assembly
   use contact_modes, only: IMPACT_MASSLESS
   use loads, only: load_nodal_forces
   use scene, only: scene_t, function_value, model_point_kind, contact_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
-  use dof_map, only: build_dof_map, cayley_rotations, DOF_ABSENT, DOF_FIXED
+  use dof_map, only: build_dof_map, cayley_rotations, imposed_dofs, DOF_ABSENT, DOF_FIXED
   use sparse_matrix, only: sym_csc_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
@@ -518,17 +518,6 @@ contains
     end do
   end subroutine check_inertia
 
-  !> mask(d, n): DOF d of node n is imposed (IMPOSE).
-  pure subroutine imposed_dofs(scn, mask)
-    type(scene_t), intent(in) :: scn
-    logical, allocatable, intent(out) :: mask(:, :)
-    integer :: k
-    allocate (mask(3, scn%mesh%nnode))
-    mask = .false.
-    do k = 1, size(scn%imposes)
-      mask(scn%imposes(k)%dof, scn%mesh%ngroups(scn%imposes(k)%ngroup)%items) = .true.
-    end do
-  end subroutine imposed_dofs
 
   !> True when position k of the pattern is a diagonal entry.
   pure logical function is_diagonal_position(pat, k)

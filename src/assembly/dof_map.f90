@@ -8,7 +8,7 @@ module dof_map
   use element_traits, only: ET_BEAM2
   implicit none
   private
-  public :: build_dof_map, equation_bodies, cayley_rotations, DOF_ABSENT, DOF_FIXED
+  public :: build_dof_map, equation_bodies, cayley_rotations, imposed_dofs, DOF_ABSENT, DOF_FIXED
 
   integer, parameter :: DOF_ABSENT = 0, DOF_FIXED = -1
 
@@ -105,7 +105,7 @@ contains
     integer, intent(in) :: neq
     logical, allocatable, intent(out) :: mask(:)
     integer, allocatable, intent(out) :: list(:)
-    logical, allocatable :: large(:), other(:)
+    logical, allocatable :: large(:), other(:), imposed(:, :)
     integer :: e, a, n, k
     logical :: lb
     allocate (mask(neq), large(scn%mesh%nnode), other(scn%mesh%nnode))
@@ -122,9 +122,8 @@ contains
         other(n) = other(n) .or. .not. lb
       end do
     end do
-    do k = 1, size(scn%imposes)
-      if (scn%imposes(k)%dof == 3) other(scn%mesh%ngroups(scn%imposes(k)%ngroup)%items) = .true.
-    end do
+    call imposed_dofs(scn, imposed)
+    other = other .or. imposed(3, :)
     if (scn%energy_correction) then
       do n = 1, scn%mesh%nnode
         if (large(n) .and. .not. other(n) .and. eqn(3, n) > 0) mask(eqn(3, n)) = .true.
@@ -132,4 +131,16 @@ contains
     end if
     list = pack([(k, k = 1, neq)], mask)
   end subroutine cayley_rotations
+
+  !> mask(d, n): DOF d of node n is imposed (IMPOSE).
+  pure subroutine imposed_dofs(scn, mask)
+    type(scene_t), intent(in) :: scn
+    logical, allocatable, intent(out) :: mask(:, :)
+    integer :: k
+    allocate (mask(3, scn%mesh%nnode))
+    mask = .false.
+    do k = 1, size(scn%imposes)
+      mask(scn%imposes(k)%dof, scn%mesh%ngroups(scn%imposes(k)%ngroup)%items) = .true.
+    end do
+  end subroutine imposed_dofs
 end module dof_map

@@ -9,8 +9,8 @@ module large_kinematics
   use element_beam2, only: gauss_legendre, BEAM2_MAX_GAUSS
   use material_law, only: law_step_t
   use element_points, only: model_view_t, point_update
-  use law_hyperelastic, only: nh_stress, nh_tangent, nh_discrete_stress
-  use log_strain, only: hencky_strain, gonzalez_stress, log_tangent
+  use law_hyperelastic, only: nh_stress, nh_tangent, nh_discrete_stress, gonzalez_stress
+  use log_strain, only: hencky_strain, log_tangent
   implicit none
   private
   public :: large_axial_element, large_plane_element, large_beam_element

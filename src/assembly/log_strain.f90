@@ -14,7 +14,7 @@ module log_strain
   use lapack_pure, only: dsyev
   implicit none
   private
-  public :: hencky_strain, gonzalez_stress, log_tangent
+  public :: hencky_strain, log_tangent
 
 contains
 
@@ -112,20 +112,4 @@ contains
     q(3, :) = [-2.0_dp * c * s, 2.0_dp * c * s, c * c - s * s]
   end function strain_rotation
 
-  !> The step's stress S̄ on the Green-Lagrange increment de that does the work w: the mean
-  !> sa of the end stresses plus Gonzalez's term along de (the tensor metric: shear halved), so
-  !> that S̄ · de = w exactly and S̄ stays symmetric (angular momentum). The term is of the size of
-  !> the trapezoid's error on the path, O(|de|²). w - sa·de below noise (the round-off of w and of
-  !> sa·de: Δℓ is the difference of two logarithms, exact to ulp(ℓ) only) is round-off, not a
-  !> path error: divided by |de|² it would make S̄ explode on a step that barely strains, so S̄ = sa
-  !> there (the work it leaves out is that round-off).
-  pure function gonzalez_stress(sa, de, w, noise) result(sbar)
-    real(dp), intent(in) :: sa(4), de(4), w, noise
-    real(dp) :: sbar(4), dd(4), den, gap
-    dd = [de(1), de(2), de(3), 0.5_dp * de(4)]
-    den = dot_product(dd, de)
-    gap = w - dot_product(sa, de)
-    sbar = sa
-    if (den > 0.0_dp .and. abs(gap) > noise) sbar = sa + (gap / den) * dd
-  end function gonzalez_stress
 end module log_strain

@@ -15,7 +15,7 @@ module law_hyperelastic
   use kinds, only: dp
   implicit none
   private
-  public :: nh_lame, nh_energy, nh_stress, nh_tangent, nh_discrete_stress, nh_c33, log1p_
+  public :: nh_lame, nh_energy, nh_stress, nh_tangent, nh_discrete_stress, nh_c33, log1p_, gonzalez_stress
 
 contains
 
@@ -139,7 +139,7 @@ contains
   pure function nh_discrete_stress(lm, en, e1, pstress) result(sb)
     real(dp), intent(in) :: lm(2), en(4), e1(4)
     logical, intent(in), optional :: pstress
-    real(dp) :: sb(4), de(4), dw(4), sm(4), dn, d1, ln, l1, dlnj, dpsi, defect, noise, nrm, psi1, psin
+    real(dp) :: sb(4), de(4), sm(4), dn, d1, ln, l1, dlnj, dpsi, noise, psi1, psin
     de = e1 - en
     sm = nh_stress(lm, 0.5_dp * (en + e1), pstress)
     call det_parts(en, dn, ln)
@@ -156,12 +156,26 @@ contains
       dpsi = psi1 - psin
       noise = 64.0_dp * epsilon(1.0_dp) * (abs(psi1) + abs(psin) + sum(abs(sm * de)))
     end if
-    defect = dpsi - dot_product(sm, de)
-    dw = [de(1), de(2), 0.0_dp, 0.5_dp * de(4)]
-    nrm = dot_product(dw, de)
-    sb = sm
-    if (abs(defect) > noise .and. nrm > 0.0_dp) sb = sm + defect / nrm * dw
+    sb = gonzalez_stress(sm, de, dpsi, noise)
   end function nh_discrete_stress
+
+  !> The step's stress S̄ on the Green-Lagrange increment de that does the work w: the mean
+  !> sa of the end stresses plus Gonzalez's term along de (the tensor metric: shear halved), so
+  !> that S̄ · de = w exactly and S̄ stays symmetric (angular momentum). The term is of the size of
+  !> the trapezoid's error on the path, O(|de|²). w - sa·de below noise (the round-off of w and of
+  !> sa·de: w comes from end values, Δψ or the law's work on a Δℓ that is the difference of two
+  !> logarithms) is round-off, not a path error: divided by |de|² it would make S̄ explode on a
+  !> step that barely strains, so S̄ = sa there (the work it leaves out is that round-off). The
+  !> neo-Hookean discrete stress and STRAIN_MEASURE LOG's step stress (plane_point) use it.
+  pure function gonzalez_stress(sa, de, w, noise) result(sbar)
+    real(dp), intent(in) :: sa(4), de(4), w, noise
+    real(dp) :: sbar(4), dd(4), den, gap
+    dd = [de(1), de(2), de(3), 0.5_dp * de(4)]
+    den = dot_product(dd, de)
+    gap = w - dot_product(sa, de)
+    sbar = sa
+    if (den > 0.0_dp .and. abs(gap) > noise) sbar = sa + (gap / den) * dd
+  end function gonzalez_stress
 
   !> Plane stress: C33 - 1 of a strain e, the root of mu (c - 1) + lambda/2 (ln det C + ln c) = 0
   !> (increasing in c: one root), by Newton on d = c - 1 from 0 (quadratic; converged to 4 ulps).

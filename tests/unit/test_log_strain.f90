@@ -4,7 +4,8 @@
 !> step stress of Gonzalez's term (S̄·ΔE = w exactly; round-off left out).
 program test_log_strain
   use kinds, only: dp
-  use log_strain, only: hencky_strain, gonzalez_stress, log_tangent
+  use log_strain, only: hencky_strain, log_tangent
+  use law_hyperelastic, only: gonzalez_stress
   use testing, only: check, check_close, test_summary
   use lapack_pure, only: dsyev
   implicit none
