@@ -42,8 +42,7 @@ if [[ ! -f $BUILD/librebond.a ]]; then
 fi
 
 BIN="$WORK/bench_plate"
-$CC $CFLAGS -c tools/bench/bench_cholmod.c -o "$WORK/bench_cholmod.o"
-$FC $FFLAGS -I"$BUILD" -J"$WORK" -o "$BIN" tools/bench/bench_plate.f90 "$WORK/bench_cholmod.o" "$BUILD/librebond.a" $LDLIBS
+$FC $FFLAGS -I"$BUILD" -J"$WORK" -o "$BIN" tools/bench/bench_plate.f90 "$BUILD/librebond.a" $LDLIBS
 
 # Machine.
 CPU=$(lscpu | sed -n 's/^Model name: *//p' | head -1)

@@ -10,7 +10,8 @@ module c_interfaces
   private
   public :: c_rename, c_mkdir, c_access, c_opendir, c_closedir, c_rmdir, c_install_signals, &
     c_signal_received, c_exit, c_remove, rb_format_es, rb_chol_new, rb_chol_free, rb_chol_is_factored, &
-    rb_chol_version, rb_chol_cost_ratio, rb_chol_solve_flops, rb_chol_factorize, rb_chol_solve, rb_umf_new, rb_umf_free, &
+    rb_chol_version, rb_chol_cost_ratio, rb_chol_solve_flops, rb_chol_stats, rb_chol_factorize, rb_chol_solve, &
+    rb_umf_new, rb_umf_free, &
     rb_umf_is_factored, &
     rb_umf_version, rb_umf_analyze, rb_umf_factorize, rb_umf_solve, c_usleep, &
     rb_file_open, rb_file_write, rb_file_close, rb_strerror, rb_room, c_exit_now, &
@@ -112,6 +113,13 @@ module c_interfaces
       type(c_ptr), value :: h
       real(c_double) :: r
     end function rb_chol_solve_flops
+
+    function rb_chol_stats(h, stats) bind(c, name='rb_chol_stats') result(rc)
+      import :: c_ptr, c_double, c_int
+      type(c_ptr), value :: h
+      real(c_double), intent(out) :: stats(6)
+      integer(c_int) :: rc
+    end function rb_chol_stats
 
     subroutine rb_chol_version(v) bind(c, name='rb_chol_version')
       import :: c_int

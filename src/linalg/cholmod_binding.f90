@@ -24,7 +24,7 @@ module cholmod_binding
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use sparse_matrix, only: sym_csc_t
   use c_interfaces, only: rb_chol_new, rb_chol_free, rb_chol_is_factored, rb_chol_version, rb_chol_factorize, rb_chol_cost_ratio, &
-    rb_chol_solve_flops, &
+    rb_chol_solve_flops, rb_chol_stats, &
     rb_chol_solve, rb_umf_new, rb_umf_free, rb_umf_is_factored, rb_umf_version, rb_umf_analyze, rb_umf_factorize, &
     rb_umf_solve
   implicit none
@@ -40,6 +40,7 @@ module cholmod_binding
     procedure :: is_factored
     procedure :: cost_ratio
     procedure :: solve_flops
+    procedure :: stats
     procedure :: destroy
     final :: cholmod_factor_final
   end type cholmod_factor_t
@@ -161,6 +162,18 @@ contains
     solve_flops = 0.0_dp
     if (c_associated(self%handle)) solve_flops = real(rb_chol_solve_flops(self%handle), dp)
   end function solve_flops
+
+  !> What CHOLMOD's analysis made (for reports; zeros before the first factorization): nnz(L),
+  !> the entries stored, the flops of a factorization, the ordering (1 AMD, 2 METIS on the DOF
+  !> graph, 3 nested dissection of the supervariables), the CPU seconds of the analysis, 1 if supernodal.
+  function stats(self) result(s)
+    class(cholmod_factor_t), intent(in) :: self
+    real(dp) :: s(6)
+    real(c_double) :: cs(6)
+    s = 0.0_dp
+    if (.not. c_associated(self%handle)) return
+    if (rb_chol_stats(self%handle, cs) /= 0) s = real(cs, dp)
+  end function stats
 
   !> True when the last factorize succeeded and destroy has not been called since.
   logical function is_factored(self)

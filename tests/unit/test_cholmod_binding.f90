@@ -15,6 +15,8 @@ program test_cholmod_binding
   write (*, '(a)') '# CHOLMOD ' // cholmod_version()
   call test_laplacian(50)       ! 2500 equations
   call test_laplacian(200)      ! 40000 equations: larger supernodes
+  call test_laplacian(240)      ! 57600 equations: nested dissection of the supervariables
+  call test_vector_laplacian(170)
   call test_misuse()
   write (*, '(a)') '# UMFPACK ' // umfpack_version()
   call test_kkt()
@@ -114,6 +116,7 @@ contains
 
     call f%solve(b, x2, stat, errmsg)
     call check(stat == STAT_OK .and. all(x2 == x), 'second solve is bit-identical' // tag)
+    call check_ordering(f, n, tag)
 
     ! Exact eigenvector: A u = (4 + shift - 2 cos(pi h) - 2 cos(pi h)) u, u = sin(pi x) sin(pi y).
     lam1 = 4.1_dp - 4.0_dp * cos(acos(-1.0_dp) / (m + 1))
@@ -167,6 +170,92 @@ contains
     call check(.true., 'destroy twice is safe' // tag)
     call check_close(real(n, dp), real(m * m, dp), 0.0_dp, 'order' // tag)
   end subroutine test_laplacian
+
+  !> The analysis's ordering: the best of AMD and METIS below 50000 equations, the nested
+  !> dissection of the supervariables above; a factor with entries.
+  subroutine check_ordering(f, n, tag)
+    type(cholmod_factor_t), intent(in) :: f
+    integer, intent(in) :: n
+    character(len=*), intent(in) :: tag
+    real(dp) :: st(6)
+    st = f%stats()
+    if (n >= 50000) then
+      call check(nint(st(4)) == 3, 'ordering: nested dissection of the supervariables' // tag, 'code ' // itoa(nint(st(4))))
+    else
+      call check(nint(st(4)) == 1 .or. nint(st(4)) == 2, 'ordering: best of AMD and METIS' // tag, &
+        'code ' // itoa(nint(st(4))))
+    end if
+    call check(st(1) >= real(n, dp) .and. st(3) > 0.0_dp .and. st(5) >= 0.0_dp, 'analysis figures reported' // tag)
+  end subroutine check_ordering
+
+  !> Two DOFs per node (x, y), A = L (x) T + couplings of some x DOFs alone (x of node i to x
+  !> of node i + 2 for every 7th node), so that supervariables are pairs and single columns:
+  !> the compressed ordering must still solve A x = b (manufactured x) to round-off.
+  subroutine test_vector_laplacian(m)
+    integer, intent(in) :: m
+    type(sym_csc_t) :: pat
+    type(cholmod_factor_t) :: f
+    real(dp), parameter :: t(2, 2) = reshape([2.0_dp, 1.0_dp, 1.0_dp, 2.0_dp], [2, 2])
+    real(dp), parameter :: kedge(2, 2) = reshape([1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp], [2, 2])
+    integer, allocatable :: eptr(:), edofs(:)
+    real(dp), allocatable :: v(:), xs(:), b(:), x(:)
+    real(dp) :: ke(4, 4)
+    integer :: ix, iy, i, j, ne, p, n, stat, a, c
+    character(len=:), allocatable :: errmsg, tag
+
+    n = 2 * m * m
+    tag = ' (' // itoa(n) // ' eq, 2 per node)'
+    allocate (eptr(4 * m * m + 1), edofs(12 * m * m))
+    ne = 0
+    p = 1
+    do iy = 1, m
+      do ix = 1, m
+        i = ix + (iy - 1) * m
+        ne = ne + 1; eptr(ne) = p; edofs(p:p + 1) = [2 * i - 1, 2 * i]; p = p + 2
+        do j = 1, 2
+          if ((j == 1 .and. ix < m) .or. (j == 2 .and. iy < m)) then
+            c = merge(i + 1, i + m, j == 1)
+            ne = ne + 1; eptr(ne) = p; edofs(p:p + 3) = [2 * i - 1, 2 * i, 2 * c - 1, 2 * c]; p = p + 4
+          end if
+        end do
+        if (mod(i, 7) == 0 .and. i + 2 <= m * m) then
+          ne = ne + 1; eptr(ne) = p; edofs(p:p + 1) = [2 * i - 1, 2 * i + 3]; p = p + 2
+        end if
+      end do
+    end do
+    eptr(ne + 1) = p
+    call pat%build(n, eptr(1:ne + 1), edofs(1:p - 1), stat, errmsg)
+    call check(stat == STAT_OK, 'vector Laplacian pattern' // tag)
+    allocate (v(pat%nnz), xs(n), b(n), x(n))
+    v = 0.0_dp
+    do i = 1, ne
+      select case (eptr(i + 1) - eptr(i))
+      case (2)
+        if (edofs(eptr(i) + 1) == edofs(eptr(i)) + 1) then
+          call pat%add_element(v, edofs(eptr(i):eptr(i) + 1), 4.1_dp * t)      ! the node's own block
+        else
+          call pat%add_element(v, edofs(eptr(i):eptr(i) + 1), kedge)           ! x alone to x
+        end if
+      case (4)
+        do a = 1, 2
+          do c = 1, 2
+            ke(2 * a - 1:2 * a, 2 * c - 1:2 * c) = kedge(a, c) * t
+          end do
+        end do
+        call pat%add_element(v, edofs(eptr(i):eptr(i) + 3), ke)
+      end select
+    end do
+    do i = 1, n
+      xs(i) = cos(0.013_dp * i) + 0.25_dp * sin(0.7_dp * i)
+    end do
+    call pat%matvec(v, xs, b)
+    call f%factorize(pat, v, stat, errmsg)
+    call check(stat == STAT_OK, 'vector Laplacian factorizes' // tag)
+    call f%solve(b, x, stat, errmsg)
+    call check(stat == STAT_OK .and. rel_residual(pat, v, x, b) <= 1.0e-12_dp, 'relative residual <= 1e-12' // tag)
+    call check(norm2(x - xs) <= 1.0e-10_dp * norm2(xs), 'manufactured solution recovered' // tag)
+    call check_ordering(f, n, tag)
+  end subroutine test_vector_laplacian
 
   subroutine test_misuse()
     type(sym_csc_t) :: pat, pat2
