@@ -5,17 +5,18 @@ module assembly
   use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, check_alloc
   use mesh, only: DOF_NAMES
-  use element_traits, only: ET_BEAM2, etype_needs_material, etype_family, FAMILY_SURFACE
+  use element_traits, only: ET_BEAM2, etype_needs_material
   use contact_modes, only: IMPACT_MASSLESS
   use loads, only: load_nodal_forces
   use scene, only: scene_t, function_value, model_point_kind, contact_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
   use dof_map, only: build_dof_map, cayley_rotations, imposed_dofs, DOF_ABSENT, DOF_FIXED
   use sparse_matrix, only: sym_csc_t
-  use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, elem_mass, &
+  use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
   use material_law, only: law_is_linear, law_nstate, law_stored, law_elastic_matrix
   use checkpoint, only: ckpt_file_t
   use reactions, only: reaction_set_t
+  use element_table, only: element_table_t, build_element_table, add_btdb
   implicit none
   private
   public :: system_t, build_system, commit_state, external_force, &
@@ -36,31 +37,6 @@ module assembly
     logical, allocatable :: cayley(:)        !< (neq) a rotation turned by the Cayley angle of its increment
     integer, allocatable :: cayley_eq(:)     !< those equations (cayley_rotations)
   end type dof_table_t
-
-  !> The element table: every element's equations and integration points (B, weights), per model
-  !> the elastic matrix, the point kind and the linearity of its law. Computed once.
-  type :: element_table_t
-    integer :: ngp = 0                       !< integration points
-    integer, allocatable :: edof_ptr(:), edof(:)  !< equations of the element DOFs (0: fixed or absent)
-    integer, allocatable :: gp_ptr(:)        !< (nelem+1) integration points of each element
-    integer, allocatable :: b_ptr(:)         !< (ngp+1) offsets of each B in bmat
-    real(dp), allocatable :: bmat(:), wt(:)
-    real(dp), allocatable :: bref(:)         !< KINEMATICS LARGE surface elements: the reference B (bmat then holds the current one)
-    !> Linear elastic surface elements (small strain): each point's shape-function gradients
-    !> (dN_a/dx, dN_a/dy by node), the quarter of B its zeros leave, which the element loop streams
-    !> instead of B (docs/performance.md); gr_ptr(igp) its offset in grad, 0 for other points.
-    integer, allocatable :: gr_ptr(:)
-    real(dp), allocatable :: grad(:)
-    real(dp), allocatable :: dmat(:, :, :)   !< (MAX_NSTRAIN, MAX_NSTRAIN, nmodel) elastic matrices
-    integer, allocatable :: pk(:)            !< (nmodel) material-point kind
-    logical, allocatable :: model_linear(:)  !< (nmodel) law linear: no sub-increments, sigma_c = 0
-    logical :: linear = .true.               !< every law linear: one solve per step, no iteration
-    logical :: any_large = .false.           !< some model has KINEMATICS LARGE (K0 holds only the reference axes)
-    integer :: inverted = 0                  !< the first LARGE element of the last trial that inverted (0: none)
-    !> Round-off floor of the last trial's residual from its LARGE axial members: the force one ulp
-    !> of the nodal positions makes in each (k ulp(|x|), k the axial stiffness), summed in squares.
-    real(dp) :: round_floor = 0.0_dp
-  end type element_table_t
 
   !> The integration-point states: committed (end of the last step) and trial; q internal
   !> variables. Saved and loaded with the checkpoints (save_points, load_points).
@@ -143,7 +119,7 @@ contains
       return
     end if
     call model_data(scn, sys)
-    call element_table(scn, sys, stat, errmsg)
+    call build_element_table(scn, sys%dofs%eqn, sys%elems, stat, errmsg)
     if (stat /= STAT_OK) return
     call reaction_map(scn, sys)
     call assemble_operators(scn, sys, stat, errmsg)
@@ -216,97 +192,6 @@ contains
     end do
   end subroutine model_data
 
-  !> The element table: equations of each element's DOFs, its integration points, their B
-  !> matrices and weights (computed once).
-  subroutine element_table(scn, sys, stat, errmsg)
-    type(scene_t), intent(in) :: scn
-    type(system_t), intent(inout) :: sys
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: e, et, im, nen, ndof, nstr, ngp, ig, igp, nb, ngr, k, a, d, n, ast
-    logical :: mask(3)
-    real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), w
-    allocate (sys%elems%edof_ptr(scn%mesh%nelem + 1), sys%elems%gp_ptr(scn%mesh%nelem + 1))
-    sys%elems%edof_ptr(1) = 1
-    sys%elems%gp_ptr(1) = 1
-    nb = 0
-    ngr = 0
-    do e = 1, scn%mesh%nelem
-      ndof = 0
-      ngp = 0
-      im = scn%elem_model(e)
-      if (im > 0) then
-        et = scn%mesh%etype(e)
-        ndof = elem_ndof(et)
-        ngp = elem_ngauss(et, scn%models(im)%sec)
-        nb = nb + ngp * elem_nstrain(et) * ndof
-        if (plane_gradients(scn, sys, im, et)) ngr = ngr + ngp * ndof
-      end if
-      sys%elems%edof_ptr(e + 1) = sys%elems%edof_ptr(e) + ndof
-      sys%elems%gp_ptr(e + 1) = sys%elems%gp_ptr(e) + ngp
-    end do
-    sys%elems%ngp = sys%elems%gp_ptr(scn%mesh%nelem + 1) - 1
-    stat = STAT_OK
-    allocate (sys%elems%edof(sys%elems%edof_ptr(scn%mesh%nelem + 1) - 1), sys%elems%b_ptr(sys%elems%ngp + 1), &
-      sys%elems%bmat(nb), sys%elems%wt(sys%elems%ngp), sys%elems%gr_ptr(sys%elems%ngp), sys%elems%grad(ngr), stat=ast)
-    call check_alloc(ast, 'the element table of ' // str(scn%mesh%nelem) // ' elements', &
-      8.0_dp * (nb + ngr) + 16.0_dp * sys%elems%ngp + 4.0_dp * sys%elems%edof_ptr(scn%mesh%nelem + 1), stat, errmsg)
-    if (stat /= STAT_OK) return
-    sys%elems%b_ptr(1) = 1
-    sys%elems%gr_ptr = 0
-    ngr = 0
-    do e = 1, scn%mesh%nelem
-      im = scn%elem_model(e)
-      if (im == 0) cycle
-      et = scn%mesh%etype(e)
-      nen = scn%mesh%nen(e)
-      mask = elem_dof_mask(et)
-      k = sys%elems%edof_ptr(e)
-      do a = 1, nen
-        n = scn%mesh%conn(a, e)
-        do d = 1, 3
-          if (.not. mask(d)) cycle
-          sys%elems%edof(k) = max(sys%dofs%eqn(d, n), 0)
-          k = k + 1
-        end do
-      end do
-      x(:, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
-      ndof = elem_ndof(et)
-      nstr = elem_nstrain(et)
-      do ig = 1, sys%elems%gp_ptr(e + 1) - sys%elems%gp_ptr(e)
-        igp = sys%elems%gp_ptr(e) + ig - 1
-        call elem_gauss_b(et, x(:, 1:nen), scn%models(im)%sec, ig, b(1:nstr, 1:ndof), w)
-        sys%elems%bmat(sys%elems%b_ptr(igp):sys%elems%b_ptr(igp) + nstr * ndof - 1) = reshape(b(1:nstr, 1:ndof), [nstr * ndof])
-        sys%elems%wt(igp) = w
-        sys%elems%b_ptr(igp + 1) = sys%elems%b_ptr(igp) + nstr * ndof
-        if (plane_gradients(scn, sys, im, et)) then
-          sys%elems%gr_ptr(igp) = ngr + 1
-          do a = 1, nen                     ! B(1, 2a-1) = dN_a/dx, B(2, 2a) = dN_a/dy (element_iso)
-            sys%elems%grad(ngr + 2 * a - 1) = b(1, 2 * a - 1)
-            sys%elems%grad(ngr + 2 * a) = b(2, 2 * a)
-          end do
-          ngr = ngr + ndof
-        end if
-      end do
-    end do
-    do k = 1, size(scn%models)        ! (once, whatever the number of such models)
-      if (scn%models(k)%large .and. etype_family(scn%models(k)%etype) == FAMILY_SURFACE) then
-        sys%elems%bref = sys%elems%bmat
-        exit
-      end if
-    end do
-  end subroutine element_table
-
-  !> Whether the points of model im's elements of type et keep their gradients (gr_ptr): linear
-  !> elastic surface elements in small strain, the ones the element loop's plane kernel serves.
-  pure logical function plane_gradients(scn, sys, im, et)
-    type(scene_t), intent(in) :: scn
-    type(system_t), intent(in) :: sys
-    integer, intent(in) :: im, et
-    plane_gradients = etype_family(et) == FAMILY_SURFACE .and. sys%elems%model_linear(im) .and. &
-      .not. scn%models(im)%large
-  end function plane_gradients
-
   !> One pattern for K0, M and K0 + c M; K0 = Σ B'DB w, M (consistent or lumped per model) and
   !> the gravity load M g (g on the translations: the consistent body force of each element).
   subroutine assemble_operators(scn, sys, stat, errmsg)
@@ -316,8 +201,8 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: e, et, im, nen, ndof, nstr, igp, k, a, d, ast
     logical :: mask(3)
-    real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho
-    real(dp) :: mlump(MAX_EDOF, MAX_EDOF)
+    real(dp) :: x(2, 8), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho
+    real(dp) :: mlump(MAX_EDOF, MAX_EDOF), bl(MAX_NSTRAIN * MAX_EDOF)
     logical, allocatable :: massless(:)
     logical :: damped
     if (scn%impact == IMPACT_MASSLESS) call contact_nodes(scn, massless)
@@ -347,9 +232,8 @@ contains
       associate (dofs => sys%elems%edof(sys%elems%edof_ptr(e):sys%elems%edof_ptr(e + 1) - 1))
         ke(1:ndof, 1:ndof) = 0.0_dp
         do igp = sys%elems%gp_ptr(e), sys%elems%gp_ptr(e + 1) - 1
-          b(1:nstr, 1:ndof) = reshape(sys%elems%bmat(sys%elems%b_ptr(igp):sys%elems%b_ptr(igp + 1) - 1), [nstr, ndof])
-          ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + sys%elems%wt(igp) * &
-            matmul(transpose(b(1:nstr, 1:ndof)), matmul(sys%elems%dmat(1:nstr, 1:nstr, im), b(1:nstr, 1:ndof)))
+          call sys%elems%point_b(igp, nstr, ndof, bl)
+          call add_btdb(nstr, ndof, bl, sys%elems%dmat(1, 1, im), sys%elems%wt(igp), ke)
         end do
         if (nstr > 0) call sys%ops%pat%add_element(sys%ops%kval, dofs, ke(1:ndof, 1:ndof))
         x(:, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
@@ -655,8 +539,8 @@ contains
     type(system_t), intent(inout) :: sys
     real(dp), intent(in) :: u(:), v(:), t, h
     logical, intent(in) :: first
-    real(dp) :: fe(MAX_EDOF)
-    integer :: e, il, p, ndof, nstr, igp, b0, i, k
+    real(dp) :: fe(MAX_EDOF), bl(MAX_NSTRAIN * MAX_EDOF)
+    integer :: e, il, p, ndof, nstr, igp, i, k
     if (sys%react%nslot == 0) return
     associate (r => sys%react)
       r%fint_w = 0.0_dp
@@ -664,13 +548,13 @@ contains
         if (r%ent_ptr(e + 1) == r%ent_ptr(e)) cycle
         ndof = sys%elems%edof_ptr(e + 1) - sys%elems%edof_ptr(e)
         fe(1:ndof) = 0.0_dp
+        nstr = sys%elems%nstr(e)
         do igp = sys%elems%gp_ptr(e), sys%elems%gp_ptr(e + 1) - 1
-          b0 = sys%elems%b_ptr(igp)
-          nstr = (sys%elems%b_ptr(igp + 1) - b0) / ndof
-          ! fe += w B'σ (B stored column-major, nstr x ndof); explicit loops: no temporaries.
+          call sys%elems%point_b(igp, nstr, ndof, bl)
+          ! fe += w B'σ (B column-major, nstr x ndof); explicit loops: no temporaries.
           do k = 1, ndof
             do i = 1, nstr
-              fe(k) = fe(k) + sys%elems%wt(igp) * sys%elems%bmat(b0 + (k - 1) * nstr + i - 1) * sys%pts%sig(i, igp)
+              fe(k) = fe(k) + sys%elems%wt(igp) * bl((k - 1) * nstr + i) * sys%pts%sig(i, igp)
             end do
           end do
         end do

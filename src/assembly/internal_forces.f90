@@ -10,6 +10,7 @@ module internal_forces
   use elements, only: MAX_EDOF, MAX_NSTRAIN
   use material_law, only: law_step_t
   use element_points, only: model_view_t, view_model, point_update
+  use element_table, only: add_btdb
   use large_kinematics, only: large_axial_element, large_plane_element, large_beam_element
   use subincrement, only: correction_stress
   implicit none
@@ -78,7 +79,7 @@ contains
       if (ng == 0) cycle
       e0 = sys%elems%edof_ptr(e)
       ndof = sys%elems%edof_ptr(e + 1) - e0
-      nstr = (sys%elems%b_ptr(g0 + 1) - sys%elems%b_ptr(g0)) / ndof
+      nstr = sys%elems%nstr(e)
       ! Per-model data, looked up once per run of elements of the same model.
       if (scn%elem_model(e) /= mv%im) call view_model(scn, sys, scn%elem_model(e), mv)
       do k = 1, ndof
@@ -149,6 +150,7 @@ contains
     real(dp), intent(in) :: ue(:)
     logical, intent(in) :: tangent
     real(dp), intent(inout) :: fe(:), ke(:, :), esum
+    real(dp) :: bl(MAX_NSTRAIN * MAX_EDOF)
     integer :: p, igp
     p = sys%elems%b_ptr(g0)
     select case (nstr)
@@ -169,7 +171,8 @@ contains
     end select
     if (tangent) then
       do igp = g0, g0 + ng - 1
-        call add_btdb(nstr, ndof, sys%elems%bmat(sys%elems%b_ptr(igp)), sys%elems%dmat(1, 1, im), sys%elems%wt(igp), ke)
+        call sys%elems%point_b(igp, nstr, ndof, bl)
+        call add_btdb(nstr, ndof, bl, sys%elems%dmat(1, 1, im), sys%elems%wt(igp), ke)
       end do
     end if
   end subroutine linear_element
@@ -186,12 +189,13 @@ contains
     real(qp), intent(inout) :: esumq
     real(qp), intent(in), optional :: uq(:)
     real(qp) :: ueq(MAX_EDOF), feq(MAX_EDOF), epsq(MAX_NSTRAIN), sigq(MAX_NSTRAIN), dq(MAX_NSTRAIN, MAX_NSTRAIN), wq
-    integer :: e0, g0, ng, ndof, nstr, k, j, a, b2, igp, p
+    real(dp) :: bl(MAX_NSTRAIN * MAX_EDOF)
+    integer :: e0, g0, ng, ndof, nstr, k, j, a, b2, igp
     g0 = sys%elems%gp_ptr(e)
     ng = sys%elems%gp_ptr(e + 1) - g0
     e0 = sys%elems%edof_ptr(e)
     ndof = sys%elems%edof_ptr(e + 1) - e0
-    nstr = (sys%elems%b_ptr(g0 + 1) - sys%elems%b_ptr(g0)) / ndof
+    nstr = sys%elems%nstr(e)
     if (present(uq)) then
       do k = 1, ndof
         j = sys%elems%edof(e0 + k - 1)
@@ -208,14 +212,13 @@ contains
       end do
     end do
     do igp = g0, g0 + ng - 1
-      p = sys%elems%b_ptr(igp) - 1
+      call sys%elems%point_b(igp, nstr, ndof, bl)
       wq = real(sys%elems%wt(igp), qp)
       epsq(1:nstr) = 0.0_qp
       do k = 1, ndof
         if (ueq(k) == 0.0_qp) cycle
         do a = 1, nstr
-          if (sys%elems%bmat(p + (k - 1) * nstr + a) /= 0.0_dp) &
-            epsq(a) = epsq(a) + real(sys%elems%bmat(p + (k - 1) * nstr + a), qp) * ueq(k)
+          if (bl((k - 1) * nstr + a) /= 0.0_dp) epsq(a) = epsq(a) + real(bl((k - 1) * nstr + a), qp) * ueq(k)
         end do
       end do
       do a = 1, nstr
@@ -226,8 +229,7 @@ contains
       end do
       do k = 1, ndof
         do a = 1, nstr
-          if (sys%elems%bmat(p + (k - 1) * nstr + a) /= 0.0_dp) &
-            feq(k) = feq(k) + wq * (real(sys%elems%bmat(p + (k - 1) * nstr + a), qp) * sigq(a))
+          if (bl((k - 1) * nstr + a) /= 0.0_dp) feq(k) = feq(k) + wq * (real(bl((k - 1) * nstr + a), qp) * sigq(a))
         end do
       end do
       esumq = esumq + 0.5_qp * wq * sum(sigq(1:nstr) * epsq(1:nstr))
@@ -439,21 +441,4 @@ contains
       fe(k) = fe(k) + w * dot_product(b(:, k), s)
     end do
   end subroutine add_btsig
-
-  !> ke(1:ndof, 1:ndof) += w B' D B, B nstr x ndof, D the leading nstr x nstr block of d.
-  pure subroutine add_btdb(nstr, ndof, b, d, w, ke)
-    integer, intent(in) :: nstr, ndof
-    real(dp), intent(in) :: b(nstr, ndof), d(MAX_NSTRAIN, MAX_NSTRAIN), w
-    real(dp), intent(inout) :: ke(MAX_EDOF, MAX_EDOF)
-    real(dp) :: db(MAX_NSTRAIN, MAX_EDOF)
-    integer :: k, m
-    do k = 1, ndof
-      db(1:nstr, k) = matmul(d(1:nstr, 1:nstr), b(:, k))
-    end do
-    do k = 1, ndof
-      do m = 1, ndof
-        ke(m, k) = ke(m, k) + w * dot_product(b(:, m), db(1:nstr, k))
-      end do
-    end do
-  end subroutine add_btdb
 end module internal_forces

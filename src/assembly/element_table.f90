@@ -1,0 +1,192 @@
+!> The element table of a scene: each element's equations, its integration points' weights and
+!> B matrices (or, for linear elastic surface elements in small strain, only the shape-function
+!> gradients B is made of), per model the elastic matrix, the point kind and the linearity of its
+!> law. Built once by build_element_table (the per-model data by assembly's model_data).
+module element_table
+  use kinds, only: dp
+  use errors, only: STAT_OK, STAT_RUN, set_error, str, check_alloc
+  use element_traits, only: etype_family, FAMILY_SURFACE
+  use scene, only: scene_t
+  use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, MAX_EDOF, MAX_NSTRAIN
+  implicit none
+  private
+  public :: element_table_t, build_element_table, add_btdb
+
+  !> The element table: every element's equations and integration points (B, weights), per model
+  !> the elastic matrix, the point kind and the linearity of its law. Computed once.
+  type :: element_table_t
+    integer :: ngp = 0                       !< integration points
+    integer, allocatable :: edof_ptr(:), edof(:)  !< equations of the element DOFs (0: fixed or absent)
+    integer, allocatable :: gp_ptr(:)        !< (nelem+1) integration points of each element
+    integer, allocatable :: b_ptr(:)         !< (ngp+1) offsets of each B in bmat (none for gradient points)
+    integer, allocatable :: nstr(:)          !< (nelem) strain components of each element's points
+    real(dp), allocatable :: bmat(:), wt(:)
+    real(dp), allocatable :: bref(:)         !< KINEMATICS LARGE surface elements: the reference B (bmat then holds the current one)
+    !> Linear elastic surface elements (small strain): each point's shape-function gradients
+    !> (dN_a/dx, dN_a/dy by node), the quarter of B its zeros leave, which the element loop streams
+    !> instead of B (docs/performance.md); gr_ptr(igp) its offset in grad, 0 for other points.
+    !> Those points store no B: point_b rebuilds it where a B is needed (K0, tangent, reactions).
+    integer, allocatable :: gr_ptr(:)
+    real(dp), allocatable :: grad(:)
+    real(dp), allocatable :: dmat(:, :, :)   !< (MAX_NSTRAIN, MAX_NSTRAIN, nmodel) elastic matrices
+    integer, allocatable :: pk(:)            !< (nmodel) material-point kind
+    logical, allocatable :: model_linear(:)  !< (nmodel) law linear: no sub-increments, sigma_c = 0
+    logical :: linear = .true.               !< every law linear: one solve per step, no iteration
+    logical :: any_large = .false.           !< some model has KINEMATICS LARGE (K0 holds only the reference axes)
+    integer :: inverted = 0                  !< the first LARGE element of the last trial that inverted (0: none)
+    !> Round-off floor of the last trial's residual from its LARGE axial members: the force one ulp
+    !> of the nodal positions makes in each (k ulp(|x|), k the axial stiffness), summed in squares.
+    real(dp) :: round_floor = 0.0_dp
+  contains
+    procedure :: point_b
+  end type element_table_t
+
+contains
+
+  !> The element table: equations of each element's DOFs, its integration points, their B
+  !> matrices and weights (computed once).
+  subroutine build_element_table(scn, eqn, elems, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: eqn(:, :)
+    type(element_table_t), intent(inout) :: elems
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: e, et, im, nen, ndof, nstr, ngp, ig, igp, nb, ngr, k, a, d, n, ast
+    logical :: mask(3)
+    real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), w, bl(MAX_NSTRAIN * MAX_EDOF)
+    allocate (elems%edof_ptr(scn%mesh%nelem + 1), elems%gp_ptr(scn%mesh%nelem + 1))
+    elems%edof_ptr(1) = 1
+    elems%gp_ptr(1) = 1
+    nb = 0
+    ngr = 0
+    do e = 1, scn%mesh%nelem
+      ndof = 0
+      ngp = 0
+      im = scn%elem_model(e)
+      if (im > 0) then
+        et = scn%mesh%etype(e)
+        ndof = elem_ndof(et)
+        ngp = elem_ngauss(et, scn%models(im)%sec)
+        if (plane_gradients(scn, elems, im, et)) then
+          ngr = ngr + ngp * ndof
+        else
+          nb = nb + ngp * elem_nstrain(et) * ndof
+        end if
+      end if
+      elems%edof_ptr(e + 1) = elems%edof_ptr(e) + ndof
+      elems%gp_ptr(e + 1) = elems%gp_ptr(e) + ngp
+    end do
+    elems%ngp = elems%gp_ptr(scn%mesh%nelem + 1) - 1
+    stat = STAT_OK
+    allocate (elems%edof(elems%edof_ptr(scn%mesh%nelem + 1) - 1), elems%b_ptr(elems%ngp + 1), &
+      elems%nstr(scn%mesh%nelem), elems%bmat(nb), elems%wt(elems%ngp), elems%gr_ptr(elems%ngp), &
+      elems%grad(ngr), stat=ast)
+    call check_alloc(ast, 'the element table of ' // str(scn%mesh%nelem) // ' elements', &
+      8.0_dp * (nb + ngr) + 16.0_dp * elems%ngp + 4.0_dp * elems%edof_ptr(scn%mesh%nelem + 1), stat, errmsg)
+    if (stat /= STAT_OK) return
+    elems%b_ptr(1) = 1
+    elems%gr_ptr = 0
+    elems%nstr = 0
+    ngr = 0
+    do e = 1, scn%mesh%nelem
+      im = scn%elem_model(e)
+      if (im == 0) cycle
+      et = scn%mesh%etype(e)
+      elems%nstr(e) = elem_nstrain(et)
+      nen = scn%mesh%nen(e)
+      mask = elem_dof_mask(et)
+      k = elems%edof_ptr(e)
+      do a = 1, nen
+        n = scn%mesh%conn(a, e)
+        do d = 1, 3
+          if (.not. mask(d)) cycle
+          elems%edof(k) = max(eqn(d, n), 0)
+          k = k + 1
+        end do
+      end do
+      x(:, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
+      ndof = elem_ndof(et)
+      nstr = elem_nstrain(et)
+      do ig = 1, elems%gp_ptr(e + 1) - elems%gp_ptr(e)
+        igp = elems%gp_ptr(e) + ig - 1
+        call elem_gauss_b(et, x(:, 1:nen), scn%models(im)%sec, ig, b(1:nstr, 1:ndof), w)
+        elems%wt(igp) = w
+        elems%b_ptr(igp + 1) = elems%b_ptr(igp)
+        if (plane_gradients(scn, elems, im, et)) then
+          elems%gr_ptr(igp) = ngr + 1
+          do a = 1, nen                     ! B(1, 2a-1) = dN_a/dx, B(2, 2a) = dN_a/dy (element_iso)
+            elems%grad(ngr + 2 * a - 1) = b(1, 2 * a - 1)
+            elems%grad(ngr + 2 * a) = b(2, 2 * a)
+          end do
+          ngr = ngr + ndof
+          call elems%point_b(igp, nstr, ndof, bl)
+          if (any(reshape(bl(1:nstr * ndof), [nstr, ndof]) /= b(1:nstr, 1:ndof))) then
+            call set_error(stat, errmsg, STAT_RUN, 'element ' // str(e) // ': its B is not made of its shape-function ' // &
+              'gradients (internal error: report it)')
+            return
+          end if
+        else
+          elems%bmat(elems%b_ptr(igp):elems%b_ptr(igp) + nstr * ndof - 1) = reshape(b(1:nstr, 1:ndof), &
+            [nstr * ndof])
+          elems%b_ptr(igp + 1) = elems%b_ptr(igp) + nstr * ndof
+        end if
+      end do
+    end do
+    do k = 1, size(scn%models)        ! (once, whatever the number of such models)
+      if (scn%models(k)%large .and. etype_family(scn%models(k)%etype) == FAMILY_SURFACE) then
+        elems%bref = elems%bmat
+        exit
+      end if
+    end do
+  end subroutine build_element_table
+
+  !> Point igp's B (nstr x ndof, column-major) into b: from bmat, or rebuilt from the gradients of
+  !> a point that keeps only those (B(1,2a-1) = B(4,2a) = dN_a/dx, B(2,2a) = B(4,2a-1) = dN_a/dy).
+  pure subroutine point_b(self, igp, nstr, ndof, b)
+    class(element_table_t), intent(in) :: self
+    integer, intent(in) :: igp, nstr, ndof
+    real(dp), intent(out) :: b(nstr, ndof)
+    integer :: a, k, g
+    if (self%gr_ptr(igp) == 0) then
+      do k = 1, ndof
+        b(:, k) = self%bmat(self%b_ptr(igp) + (k - 1) * nstr:self%b_ptr(igp) + k * nstr - 1)
+      end do
+      return
+    end if
+    b = 0.0_dp
+    g = self%gr_ptr(igp) - 1
+    do a = 1, ndof / 2
+      b(1, 2 * a - 1) = self%grad(g + 2 * a - 1)
+      b(4, 2 * a) = self%grad(g + 2 * a - 1)
+      b(2, 2 * a) = self%grad(g + 2 * a)
+      b(4, 2 * a - 1) = self%grad(g + 2 * a)
+    end do
+  end subroutine point_b
+
+  !> Whether the points of model im's elements of type et keep their gradients (gr_ptr): linear
+  !> elastic surface elements in small strain, the ones the element loop's plane kernel serves.
+  pure logical function plane_gradients(scn, elems, im, et)
+    type(scene_t), intent(in) :: scn
+    type(element_table_t), intent(in) :: elems
+    integer, intent(in) :: im, et
+    plane_gradients = etype_family(et) == FAMILY_SURFACE .and. elems%model_linear(im) .and. &
+      .not. scn%models(im)%large
+  end function plane_gradients
+
+  !> ke(1:ndof, 1:ndof) += w B' D B, B nstr x ndof, D the leading nstr x nstr block of d.
+  pure subroutine add_btdb(nstr, ndof, b, d, w, ke)
+    integer, intent(in) :: nstr, ndof
+    real(dp), intent(in) :: b(nstr, ndof), d(MAX_NSTRAIN, MAX_NSTRAIN), w
+    real(dp), intent(inout) :: ke(MAX_EDOF, MAX_EDOF)
+    real(dp) :: db(MAX_NSTRAIN, MAX_EDOF)
+    integer :: k, m
+    do k = 1, ndof
+      db(1:nstr, k) = matmul(d(1:nstr, 1:nstr), b(:, k))
+    end do
+    do k = 1, ndof
+      do m = 1, ndof
+        ke(m, k) = ke(m, k) + w * dot_product(b(:, m), db(1:nstr, k))
+      end do
+    end do
+  end subroutine add_btdb
+end module element_table
