@@ -7,6 +7,7 @@ program rebond
   use errors, only: STAT_OK, STAT_INPUT, STAT_RUN, str
   use scene, only: scene_t
   use contact_modes, only: IMPACT_NAMES
+  use cholmod_binding, only: ORDERING_NAMES
   use scene_loader, only: load_scene
   use assembly, only: system_t, build_system
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
@@ -143,6 +144,9 @@ contains
   subroutine print_summary()
     write (*, '(a,i0,a,f0.3,a)') '  ', summary%steps, ' steps in ', summary%wall, ' s'
     write (*, '(a,es10.3)') '  max |balance| / max(kinetic + internal) = ', summary%max_rel_balance
+    if (summary%factor_ordering > 0) write (*, '(a,i0,a,f0.3,a)') '  factor of S: nnz(L) = ', &
+      nint(summary%factor_nnz, 8), ', ' // trim(ORDERING_NAMES(summary%factor_ordering)) // ' ordering (analysis ', &
+      summary%analysis_cpu, ' s CPU)'
     if (summary%factorizations > 1) write (*, '(a,i0,a)') '  iteration matrix factorized ', summary%factorizations, &
       ' times (ITERATION TANGENT or AUTO, SCHEME RETRY)'
     if (summary%retried > 0) write (*, '(a,i0,a,i0,a)') '  ', summary%retried, &

@@ -29,7 +29,11 @@ module cholmod_binding
     rb_umf_solve
   implicit none
   private
-  public :: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version
+  public :: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version, ORDERING_NAMES
+
+  !> The fill-reducing orderings stats() reports (its 4th figure).
+  character(len=*), parameter :: ORDERING_NAMES(3) = [character(len=35) :: 'AMD', 'METIS', &
+    'nested dissection of supervariables']
 
   type :: cholmod_factor_t
     private
