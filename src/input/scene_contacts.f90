@@ -473,7 +473,8 @@ contains
     type(scene_t), intent(inout) :: scn
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j
+    logical, allocatable :: contact(:)
+    integer :: i, j
     stat = STAT_OK
     if (scn%impact == IMPACT_MASSLESS) then
       j = findloc(scn%conditions%restitution < 1.0_dp, .true., 1)
@@ -489,34 +490,28 @@ contains
     scn%impact_auto = .true.
     if (size(scn%conditions) == 0) then
       scn%impact = IMPACT_PAPER                   ! (no contact: the choice changes nothing)
-    else if (all(scn%conditions%restitution >= 1.0_dp) .and. .not. any(scn%conditions%follow) .and. &
-      contact_mass_movable(scn) .and. .not. contact_on_large(scn)) then
-      scn%impact = IMPACT_MASSLESS
-    else
-      scn%impact = IMPACT_PERSIST
+      return
+    end if
+    scn%impact = IMPACT_PERSIST
+    if (all(scn%conditions%restitution >= 1.0_dp) .and. .not. any(scn%conditions%follow)) then
+      ! No contact node on a KINEMATICS LARGE model: MASSLESS books what a massless node's row leaves
+      ! in the step's energy as its snap to equilibrium, f²/(2k) >= 0 for a linear element; on LARGE
+      ! elements it came out negative (energy created: the ring of inputs/ring_impact.dat gained 10 %
+      ! of its energy at h = T/30, 4e-4 at T/100).
+      call contact_nodes(scn, contact)
+      if (contact_mass_movable(scn, contact) .and. .not. on_large(scn, pack([(i, i = 1, size(contact))], contact))) &
+        scn%impact = IMPACT_MASSLESS
     end if
   end subroutine resolve_impact
 
-  !> Whether a contact node is on a KINEMATICS LARGE model. MASSLESS books what a massless node's
-  !> row leaves in the step's energy as its snap to equilibrium, f²/(2k) >= 0 for a linear element;
-  !> on LARGE elements it came out negative (energy created: the ring of inputs/ring_impact.dat
-  !> gained 10 % of its energy at h = T/30, 4e-4 at T/100), so AUTO takes PERSIST there.
-  logical function contact_on_large(scn)
+  !> Whether every contact node (contact(node)) can give its translational mass to a neighbour: no
+  !> element that carries mass has contact nodes only (assembly's move_contact_mass would leave it
+  !> there).
+  logical function contact_mass_movable(scn, contact) result(ok)
     type(scene_t), intent(in) :: scn
-    logical, allocatable :: contact(:)
-    integer :: i
-    call contact_nodes(scn, contact)
-    contact_on_large = on_large(scn, pack([(i, i = 1, size(contact))], contact))
-  end function contact_on_large
-
-  !> Whether every contact node can give its translational mass to a neighbour: no element that
-  !> carries mass has contact nodes only (assembly's move_contact_mass would leave it there).
-  logical function contact_mass_movable(scn) result(ok)
-    type(scene_t), intent(in) :: scn
-    logical, allocatable :: contact(:)
+    logical, intent(in) :: contact(:)
     integer :: e, im
     logical :: massive
-    call contact_nodes(scn, contact)
     ok = .true.
     do e = 1, scn%mesh%nelem
       im = scn%elem_model(e)
