@@ -204,7 +204,7 @@ contains
     character(len=:), allocatable :: errmsg, tag
 
     n = 2 * m * m
-    tag = ' (' // itoa(n) // ' eq, 2 per node)'
+    tag = ' (' // trim(adjustl(itoa(n))) // ' eq, 2 per node)'
     allocate (eptr(4 * m * m + 1), edofs(12 * m * m))
     ne = 0
     p = 1
