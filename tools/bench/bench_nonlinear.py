@@ -8,6 +8,7 @@ tools/bench_nonlinear.sh passes the arguments). Wall times are the best of BENCH
 """
 import math
 import os
+import re
 import subprocess
 import sys
 import time
@@ -275,5 +276,17 @@ try:
 except ImportError as e:
     L.append('(plot not drawn: %s)\n' % e)
 
-open(OUT_MD, 'w').write('\n'.join(L))
+# The sections after this report's own three (the energy test, ITERATION AUTO, the nonlinear zone:
+# written by hand and by tools/iteration_study.py and tools/zone_study.py between their markers) are
+# kept as they are.
+kept = ''
+if os.path.exists(OUT_MD):
+    old = open(OUT_MD).read()
+    m = re.search(r'^## (?![123]\. ).*', old, re.M)
+    if m:
+        kept = old[m.start():]
+text = '\n'.join(L)
+if kept:
+    text = text.rstrip('\n') + '\n\n' + kept
+open(OUT_MD, 'w').write(text)
 print('\n'.join(L))
