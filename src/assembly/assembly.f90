@@ -1,6 +1,6 @@
-!> The discrete system of a scene: DOF numbering, the element data of every integration
-!> point (B matrices and weights, computed once), the sparse K0 and M on one pattern, and
-!> the internal forces Bσ assembled from the element stresses.
+!> The discrete system of a scene: DOF numbering, the element table (element_table.f90: every
+!> integration point's weight and B, computed once), the sparse K0 and M on one pattern, the
+!> loads, the points' states and the support reactions.
 module assembly
   use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, check_alloc

@@ -43,8 +43,9 @@ module element_table
 
 contains
 
-  !> The element table: equations of each element's DOFs, its integration points, their B
-  !> matrices and weights (computed once).
+  !> The table of scn's elements: equations of each element's DOFs (eqn: the DOF map), its
+  !> integration points, their weights and B matrices or gradients (plane_gradients); elems' per-model
+  !> data (model_linear) must be set. A gradient point's B is checked to be the one point_b rebuilds.
   subroutine build_element_table(scn, eqn, elems, stat, errmsg)
     type(scene_t), intent(in) :: scn
     integer, intent(in) :: eqn(:, :)
