@@ -110,10 +110,10 @@ void rb_chol_version(int *v)
     v[2] = CHOLMOD_SUBSUB_VERSION;
 }
 
-/* From this order on, the analysis is CHOLMOD's nested dissection (METIS's separators, CAMD
- * inside) of the graph of supervariables: on a 1e6-equation plate 3.5 s against 5.6 s for AMD
- * and METIS on the DOF graph, with 3 % less fill (docs/performance.md). Below it, the best of
- * AMD and METIS on the DOF graph (a few ms). */
+/* From this order on, the analysis is one ordering, CHOLMOD's nested dissection (METIS's
+ * separators, CAMD inside) of the graph of supervariables: on a 1e6-equation plate 2.8-3.0 s CPU
+ * against 4.6-5.5 s for AMD and METIS on the DOF graph, with 3.4 % less fill (docs/performance.md,
+ * finding 5). Below it, the best of AMD and METIS on the DOF graph (milliseconds). */
 enum { RB_COMPRESSED_ABOVE = 50000 };
 
 /* A well-mixed 64-bit image of i (splitmix64's finalizer): sums of these identify a pattern. */
