@@ -144,9 +144,9 @@ contains
   subroutine print_summary()
     write (*, '(a,i0,a,f0.3,a)') '  ', summary%steps, ' steps in ', summary%wall, ' s'
     write (*, '(a,es10.3)') '  max |balance| / max(kinetic + internal) = ', summary%max_rel_balance
-    if (summary%factor_ordering > 0) write (*, '(a,i0,a,f0.3,a)') '  factor of S: nnz(L) = ', &
-      nint(summary%factor_nnz, 8), ', ' // trim(ORDERING_NAMES(summary%factor_ordering)) // ' ordering (analysis ', &
-      summary%analysis_cpu, ' s CPU)'
+    if (summary%factor%ordering > 0) write (*, '(a,i0,a,f0.3,a)') '  factor of S: nnz(L) = ', &
+      nint(summary%factor%nnz, 8), ', ' // trim(ORDERING_NAMES(summary%factor%ordering)) // ' ordering (analysis ', &
+      summary%factor%analysis_cpu, ' s CPU)'
     if (summary%factorizations > 1) write (*, '(a,i0,a)') '  iteration matrix factorized ', summary%factorizations, &
       ' times (ITERATION TANGENT or AUTO, SCHEME RETRY)'
     if (summary%retried > 0) write (*, '(a,i0,a,i0,a)') '  ', summary%retried, &

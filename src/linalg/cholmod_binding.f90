@@ -29,11 +29,21 @@ module cholmod_binding
     rb_umf_solve
   implicit none
   private
-  public :: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version, ORDERING_NAMES
+  public :: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version, factor_stats_t, ORDERING_NAMES
 
-  !> The fill-reducing orderings stats() reports (its 4th figure).
+  !> The fill-reducing orderings a factor's analysis may use (factor_stats_t%ordering).
   character(len=*), parameter :: ORDERING_NAMES(3) = [character(len=35) :: 'AMD', 'METIS', &
     'nested dissection of supervariables']
+
+  !> What CHOLMOD's analysis made, for reports (zeros before the first factorization).
+  type :: factor_stats_t
+    real(dp) :: nnz = 0.0_dp                 !< nonzeros of L
+    real(dp) :: stored = 0.0_dp              !< entries stored (supernodal blocks)
+    real(dp) :: flops = 0.0_dp               !< of a numeric factorization
+    real(dp) :: analysis_cpu = 0.0_dp        !< CPU seconds of the ordering and symbolic analysis
+    integer :: ordering = 0                  !< index in ORDERING_NAMES
+    logical :: supernodal = .false.
+  end type factor_stats_t
 
   type :: cholmod_factor_t
     private
@@ -167,16 +177,14 @@ contains
     if (c_associated(self%handle)) solve_flops = real(rb_chol_solve_flops(self%handle), dp)
   end function solve_flops
 
-  !> What CHOLMOD's analysis made (for reports; zeros before the first factorization): nnz(L),
-  !> the entries stored, the flops of a factorization, the ordering (1 AMD, 2 METIS on the DOF
-  !> graph, 3 nested dissection of the supervariables), the CPU seconds of the analysis, 1 if supernodal.
+  !> What CHOLMOD's analysis made (factor_stats_t; zeros before the first factorization).
   function stats(self) result(s)
     class(cholmod_factor_t), intent(in) :: self
-    real(dp) :: s(6)
+    type(factor_stats_t) :: s
     real(c_double) :: cs(6)
-    s = 0.0_dp
     if (.not. c_associated(self%handle)) return
-    if (rb_chol_stats(self%handle, cs) /= 0) s = real(cs, dp)
+    if (rb_chol_stats(self%handle, cs) == 0) return
+    s = factor_stats_t(real(cs(1), dp), real(cs(2), dp), real(cs(3), dp), real(cs(5), dp), nint(cs(4)), cs(6) /= 0.0_c_double)
   end function stats
 
   !> True when the last factorize succeeded and destroy has not been called since.

@@ -18,6 +18,7 @@ module newmark
   use step_state, only: step_state_t
   use iteration_matrix, only: iteration_matrix_t
   use nonlinear_zone, only: zone_t
+  use cholmod_binding, only: factor_stats_t
   use newmark_step, only: step_report_t, iterate_eq9, iterate_eq9_zone, end_step, following_rows, STEP_CONVERGED, &
     STEP_DIVERGED, STEP_NOT_CONVERGED, &
     STEP_NONFINITE, STEP_INVERTED
@@ -46,10 +47,7 @@ module newmark
     integer :: retried = 0                   !< steps taken again as sub-steps (SCHEME RETRY)
     integer :: max_substeps = 1              !< the most sub-steps one step took
     integer(8) :: factorizations = 0         !< of the iteration matrix S (setup, TANGENT, AUTO, RETRY)
-    !> The factor of S as CHOLMOD's analysis made it: nnz(L), the ordering (1 AMD, 2 METIS, 3 nested
-    !> dissection of the supervariables), the analysis's CPU seconds.
-    real(dp) :: factor_nnz = 0.0_dp, analysis_cpu = 0.0_dp
-    integer :: factor_ordering = 0
+    type(factor_stats_t) :: factor           !< the factor of S as CHOLMOD's analysis made it
     ! Contact multipliers (contact_multipliers): Schur columns computed (solves with S), trial
     ! active sets solved by Schur / by the augmented system, its LU factorizations.
     integer(8) :: schur_columns = 0, schur_solves = 0, augmented_solves = 0, augmented_factorizations = 0
@@ -669,11 +667,7 @@ contains
     summary%iterations = total_iter
     summary%retried = rs%retried
     summary%factorizations = rs%mat%n_factor + rs%mat_sub%n_factor
-    associate (fs => rs%mat%factor%stats())
-      summary%factor_nnz = fs(1)
-      summary%factor_ordering = nint(fs(4))
-      summary%analysis_cpu = fs(5)
-    end associate
+    summary%factor = rs%mat%factor%stats()
     summary%max_substeps = rs%max_sub
     summary%max_rel_balance = rs%en%relative_balance()
     if (rs%has_contact) then

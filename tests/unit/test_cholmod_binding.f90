@@ -8,7 +8,7 @@ program test_cholmod_binding
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT
   use testing, only: check, check_close, test_summary
   use sparse_matrix, only: sym_csc_t
-  use cholmod_binding, only: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version
+  use cholmod_binding, only: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version, factor_stats_t
   use dense_solve, only: spd_solve
   implicit none
 
@@ -177,15 +177,16 @@ contains
     type(cholmod_factor_t), intent(in) :: f
     integer, intent(in) :: n
     character(len=*), intent(in) :: tag
-    real(dp) :: st(6)
+    type(factor_stats_t) :: st
     st = f%stats()
     if (n >= 50000) then
-      call check(nint(st(4)) == 3, 'ordering: nested dissection of the supervariables' // tag, 'code ' // itoa(nint(st(4))))
+      call check(st%ordering == 3, 'ordering: nested dissection of the supervariables' // tag, 'code ' // itoa(st%ordering))
     else
-      call check(nint(st(4)) == 1 .or. nint(st(4)) == 2, 'ordering: best of AMD and METIS' // tag, &
-        'code ' // itoa(nint(st(4))))
+      call check(st%ordering == 1 .or. st%ordering == 2, 'ordering: best of AMD and METIS' // tag, &
+        'code ' // itoa(st%ordering))
     end if
-    call check(st(1) >= real(n, dp) .and. st(3) > 0.0_dp .and. st(5) >= 0.0_dp, 'analysis figures reported' // tag)
+    call check(st%nnz >= real(n, dp) .and. st%flops > 0.0_dp .and. st%analysis_cpu >= 0.0_dp, &
+      'analysis figures reported' // tag)
   end subroutine check_ordering
 
   !> Two DOFs per node (x, y), A = L (x) T + couplings of some x DOFs alone (x of node i to x

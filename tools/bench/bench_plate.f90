@@ -19,6 +19,7 @@ program bench_plate
   use scene_loader, only: load_scene
   use assembly, only: system_t, build_system, external_force, commit_state
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
+  use cholmod_binding, only: factor_stats_t, ORDERING_NAMES
   implicit none
 
   ! Parts of a replayed step, in run_newmark's order.
@@ -36,7 +37,8 @@ program bench_plate
   character(len=:), allocatable :: errmsg, workdir, path, ordname
   character(len=512), allocatable :: overrides(:)
   integer :: nx, ny, nsteps, nsolve, nrep, rep, stat, i, k, minor, unit
-  real(dp) :: lnz, xsize, fl, cstats(6)
+  real(dp) :: lnz, xsize, fl
+  type(factor_stats_t) :: fst
   real(dp) :: t0, t_load, t_build, t_analyze, t_prepare, t_factor, t_step, t_solve, h, dw, kin
   real(dp) :: part(NPART), tp, t_kmv, kdiff, t_rmed
   real(dp), allocatable :: b(:), x(:), ts(:), steps_t(:, :), solve_rep(:), step_rep(:), t_rstep(:), fac_rep(:)
@@ -86,21 +88,16 @@ program bench_plate
   t_prepare = wall() - t0
   hw_prepare = vm_hwm()
   ! What the factor's analysis made (the shim's own figures: ordering, fill, flops, CPU time).
-  cstats = rs%mat%factor%stats()
-  lnz = cstats(1)
-  xsize = cstats(2)
-  fl = cstats(3)
-  t_analyze = cstats(5)
-  select case (nint(cstats(4)))
-  case (1)
-    ordname = 'AMD'
-  case (2)
-    ordname = 'METIS'
-  case (3)
-    ordname = 'NESDIS-supervariables'
-  case default
-    ordname = '?'
-  end select
+  fst = rs%mat%factor%stats()
+  lnz = fst%nnz
+  xsize = fst%stored
+  fl = fst%flops
+  t_analyze = fst%analysis_cpu
+  ordname = '?'
+  if (fst%ordering > 0) ordname = trim(ORDERING_NAMES(fst%ordering))
+  do k = 1, len(ordname)                    ! one word in the RESULT line
+    if (ordname(k:k) == ' ') ordname(k:k) = '-'
+  end do
 
   ! Numeric factorization alone: same pattern, so CHOLMOD only refactorizes (median of NREP).
   allocate (fac_rep(nrep))
