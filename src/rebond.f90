@@ -131,6 +131,8 @@ contains
       if (size(scn%conditions) > 0) write (*, '(a,i0,a)') '  contact conditions: ', size(scn%conditions), ', IMPACT ' // &
         trim(IMPACT_NAMES(scn%impact)) // trim(merge(' (AUTO)', '       ', scn%impact_auto))
       if (.not. sys%elems%linear) write (*, '(a)') '  nonlinear zone: ' // rs%zone%why
+      if (sys%ops%k0u%active()) &
+        write (*, '(a)') '  internal forces: K0 u (linear elastic model; SCHEME FORCES POINTS for the element loop)'
     end if
     call run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
     if (stat /= STAT_OK) then

@@ -9,7 +9,8 @@ module assembly
   use contact_modes, only: IMPACT_MASSLESS
   use loads, only: load_nodal_forces
   use scene, only: scene_t, function_value, model_point_kind, contact_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
-  use dof_map, only: build_dof_map, cayley_rotations, imposed_dofs, DOF_ABSENT, DOF_FIXED
+  use dof_map, only: build_dof_map, cayley_rotations, imposed_dofs, equation_bodies, DOF_ABSENT, DOF_FIXED
+  use stiffness_product, only: k0_product_t
   use sparse_matrix, only: sym_csc_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
@@ -43,6 +44,9 @@ module assembly
   type :: point_states_t
     real(dp), allocatable :: eps(:, :), sig(:, :), eps_t(:, :), sig_t(:, :), q(:, :), q_t(:, :)
     integer :: nq = 0                        !< internal variables per point (largest over models)
+    ! Linear elastic points are evaluated on demand where Bσ is K0 u (stiffness_product): the
+    ! committed (trial) arrays hold the committed (trial) u's points only when current (trial_current).
+    logical :: current = .true., trial_current = .true.
     integer, allocatable :: nsub_pt(:)       !< SUBSTEPS AUTO: largest count chosen so far in the step
   end type point_states_t
 
@@ -56,6 +60,7 @@ module assembly
     real(dp), allocatable :: mcomp(:)
     real(dp), allocatable :: tval(:)         !< tangent stiffness on the pattern (ITERATION TANGENT)
     real(dp), allocatable :: cval(:)         !< Rayleigh damping C = Σ (alpha M_e + beta K0_e) (MODEL DAMPING)
+    type(k0_product_t) :: k0u                !< Bσ = K0 u for a linear elastic small-strain model
   end type operators_t
 
   !> The external forces: M g, and the LOAD statements' nodal vectors.
@@ -109,6 +114,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: ast
+    integer, allocatable :: body(:)
     stat = STAT_OK
     call build_dof_map(scn, sys%dofs%eqn, sys%dofs%neq)
     call cayley_rotations(scn, sys%dofs%eqn, sys%dofs%neq, sys%dofs%cayley, sys%dofs%cayley_eq)
@@ -153,6 +159,10 @@ contains
     if (sys%extended) then
       allocate (sys%fint_q(sys%dofs%neq))
       sys%fint_q = 0.0_qp
+    end if
+    if (sys%elems%linear .and. .not. (sys%extended .or. scn%forces_points)) then
+      call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, body)
+      call sys%ops%k0u%setup(sys%ops%pat, sys%ops%kval, sys%dofs%eqn, scn%mesh%x, body)
     end if
     if (scn%tangent .and. .not. sys%elems%linear) then
       allocate (sys%ops%tval(sys%ops%pat%nnz))
@@ -661,6 +671,7 @@ contains
     type(system_t), intent(inout) :: sys
     real(dp), allocatable :: tmp(:, :)
     sys%pts%nsub_pt = 0
+    sys%pts%current = sys%pts%trial_current
     call move_alloc(sys%pts%eps, tmp)
     call move_alloc(sys%pts%eps_t, sys%pts%eps)
     call move_alloc(tmp, sys%pts%eps_t)
@@ -693,6 +704,7 @@ contains
     character(len=:), allocatable, intent(inout) :: errmsg
     call ck%get('eps', sys%pts%eps, stat, errmsg)
     call ck%get('sig', sys%pts%sig, stat, errmsg)
+    sys%pts%current = .true.
     if (sys%pts%nq > 0) call ck%get('q', sys%pts%q, stat, errmsg)
   end subroutine load_points
 

@@ -139,6 +139,7 @@ module scene
     logical :: tangent = .true.               !< the consistent tangent is assembled (ITERATION TANGENT or AUTO)
     logical :: iter_auto = .true.             !< ITERATION AUTO: K0 + 4M/h² until the tangent pays (iteration_matrix)
     integer :: zone = 1                       !< SCHEME ZONE: 1 AUTO, 2 ON, 3 OFF (nonlinear_zone)
+    logical :: forces_points = .false.        !< SCHEME FORCES POINTS: linear models' Bσ by the element loop too
     logical :: iteration_given = .false.      !< SCHEME ITERATION was given (else TANGENT with KINEMATICS LARGE)
     logical :: extended = .false.             !< SCHEME PRECISION EXTENDED
     integer :: history_every = 1

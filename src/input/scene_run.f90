@@ -40,6 +40,7 @@ contains
     call sch%add_param('SCHEME', 'AUGMENTED_ABOVE', 1, 1)
     call sch%add_param('SCHEME', 'RETRY', 1, 1)
     call sch%add_param('SCHEME', 'ZONE', 1, 1)
+    call sch%add_param('SCHEME', 'FORCES', 1, 1)
     call sch%add_keyword('OUTPUT', 0, 0, once=.true.)
     call sch%add_param('OUTPUT', 'HISTORY', 1, 2)
     call sch%add_param('OUTPUT', 'FIELDS', 1, 2)
@@ -124,6 +125,10 @@ contains
     ! ZONE: iterate eq (9) on the equations of the nonlinear elements only (nonlinear_zone).
     call get_choice(st, 'ZONE', ['AUTO', 'ON  ', 'OFF '], 'AUTO', scn%zone, stat, errmsg)
     if (stat /= STAT_OK) return
+    ! FORCES: Bσ of linear elastic small-strain models as K0 u (AUTO) or by the element loop.
+    call get_choice(st, 'FORCES', ['AUTO  ', 'POINTS'], 'AUTO', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%forces_points = k == 2
     call get_choice(st, 'IMPACT', ['AUTO    ', 'PAPER   ', 'PERSIST ', 'OFF     ', 'MASSLESS'], 'AUTO', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%impact = IMPACT_MODES(k)

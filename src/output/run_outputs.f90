@@ -51,6 +51,8 @@ module run_outputs
     procedure :: add_contact_impulses => outputs_add_contact_impulses
     procedure :: set_step => outputs_set_step
     procedure :: close => outputs_close
+    procedure :: writes_fields => outputs_writes_fields
+    procedure :: writes_history => outputs_writes_history
   end type output_set_t
 
 contains
@@ -149,6 +151,25 @@ contains
 
   !> The history and probe lines of a step (every HISTORY EVERY steps and the last one) and its
   !> fields (every FIELDS EVERY steps, the first and the last).
+  !> Step `step` writes a line of history.csv (the energies are then read).
+  pure logical function outputs_writes_history(self, scn, step) result(yes)
+    class(output_set_t), intent(in) :: self
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: step
+    yes = .false.
+    if (scn%history_every > 0) yes = mod(step, scn%history_every) == 0 .or. step == self%last_step
+  end function outputs_writes_history
+
+  !> Step `step` writes fields.h5 (the stresses of every point are then read).
+  pure logical function outputs_writes_fields(self, scn, step) result(yes)
+    class(output_set_t), intent(in) :: self
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: step
+    yes = .false.
+    if (.not. self%with_fields) return
+    yes = step == 0 .or. step == self%last_step .or. (scn%fields_every > 0 .and. mod(step, max(scn%fields_every, 1)) == 0)
+  end function outputs_writes_fields
+
   subroutine outputs_write_step(self, scn, sys, step, t, iter, nactive, nsub, en, u, v, mv, rig, stat, errmsg, cs)
     class(output_set_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
@@ -163,46 +184,41 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(contact_set_t), intent(in), optional :: cs
     integer :: k, r
-    logical :: last
     stat = STAT_OK
-    last = step == self%last_step
-    if (scn%history_every > 0) then
-      if (mod(step, scn%history_every) == 0 .or. last) then
-        self%hreals = [t, en%kinetic, en%internal(), en%external(), en%correction(), en%balance()]
-        if (sys%elems%linear) then
-          self%htail(1:3) = [0.0_dp, en%elastic, en%impact_dissipated()]
-        else
-          self%htail(1:3) = [en%dissipated(), stored_energy(scn, sys), en%impact_dissipated()]
-        end if
-        do k = 1, 3
-          self%htail(3 + k) = dot_product(rig(:, k), mv)
-        end do
-        ! KINEMATICS LARGE: the angular momentum about the origin of the current configuration.
-        if (any(scn%models%large)) self%htail(6) = current_angular_momentum(scn, sys, u, mv)
-        self%htail(7) = en%damping()
-        call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail, [nsub])
-        if (stat /= STAT_OK) return
-        self%preals(1) = t
-        r = 0
-        do k = 1, size(scn%probes)
-          self%preals(k + 1) = 0.0_dp
-          if (scn%probes(k)%reaction) then
-            r = r + 1
-            self%preals(k + 1) = sys%react%value(r)
-            cycle
-          end if
-          associate (j => sys%dofs%eqn(scn%probes(k)%dof, scn%probes(k)%node))
-            if (j > 0) self%preals(k + 1) = merge(v(j), u(j), scn%probes(k)%velocity)
-          end associate
-        end do
-        call self%probes%write_row(step, self%preals, [integer ::], stat, errmsg)
-        if (stat /= STAT_OK) return
-        if (present(cs)) call write_contacts(self, step, t, cs, stat, errmsg)
-        if (stat /= STAT_OK) return
+    if (self%writes_history(scn, step)) then
+      self%hreals = [t, en%kinetic, en%internal(), en%external(), en%correction(), en%balance()]
+      if (sys%elems%linear) then
+        self%htail(1:3) = [0.0_dp, en%elastic, en%impact_dissipated()]
+      else
+        self%htail(1:3) = [en%dissipated(), stored_energy(scn, sys), en%impact_dissipated()]
       end if
+      do k = 1, 3
+        self%htail(3 + k) = dot_product(rig(:, k), mv)
+      end do
+      ! KINEMATICS LARGE: the angular momentum about the origin of the current configuration.
+      if (any(scn%models%large)) self%htail(6) = current_angular_momentum(scn, sys, u, mv)
+      self%htail(7) = en%damping()
+      call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail, [nsub])
+      if (stat /= STAT_OK) return
+      self%preals(1) = t
+      r = 0
+      do k = 1, size(scn%probes)
+        self%preals(k + 1) = 0.0_dp
+        if (scn%probes(k)%reaction) then
+          r = r + 1
+          self%preals(k + 1) = sys%react%value(r)
+          cycle
+        end if
+        associate (j => sys%dofs%eqn(scn%probes(k)%dof, scn%probes(k)%node))
+          if (j > 0) self%preals(k + 1) = merge(v(j), u(j), scn%probes(k)%velocity)
+        end associate
+      end do
+      call self%probes%write_row(step, self%preals, [integer ::], stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (present(cs)) call write_contacts(self, step, t, cs, stat, errmsg)
+      if (stat /= STAT_OK) return
     end if
-    if (.not. self%with_fields) return
-    if (step == 0 .or. last .or. (scn%fields_every > 0 .and. mod(step, max(scn%fields_every, 1)) == 0)) then
+    if (self%writes_fields(scn, step)) then
       call nodal_values(sys, u, self%nodal_u)
       call nodal_values(sys, v, self%nodal_v)
       call element_stress(sys, self%estress)
