@@ -15,7 +15,7 @@ module internal_forces
   use subincrement, only: correction_stress
   implicit none
   private
-  public :: internal_force, work_increment_t, refresh_points, check_k0_product
+  public :: internal_force, work_increment_t, refresh_points, check_k0_product, linear_strain_energy
 
   !> The energies of a trial increment.
   type :: work_increment_t
@@ -157,17 +157,15 @@ contains
   !> The committed points of the linear elastic elements from the committed u, where the steps
   !> took Bσ = K0 u and left them unevaluated (sys%pts%current false): every element (fields,
   !> checkpoints), or with supports only those of the support reactions (reaction_update reads
-  !> their stresses; the others stay as they were). energy: every point evaluated (current or
-  !> not), and their strain energy ½ Σ w σ·ε.
-  subroutine refresh_points(scn, sys, u, supports, energy)
+  !> their stresses; the others stay as they were).
+  subroutine refresh_points(scn, sys, u, supports)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     real(dp), intent(in) :: u(:)
     logical, intent(in) :: supports
-    real(dp), intent(out), optional :: energy
     real(dp) :: ue(MAX_EDOF), fe(MAX_EDOF), ke(1, 1), esum
     integer :: e, e0, g0, ng, ndof, k, j
-    if (sys%pts%current .and. .not. present(energy)) return
+    if (sys%pts%current) return
     if (supports .and. sys%react%nslot == 0) return
     esum = 0.0_dp
     do e = 1, scn%mesh%nelem
@@ -175,6 +173,7 @@ contains
         if (sys%react%ent_ptr(e + 1) == sys%react%ent_ptr(e)) cycle
       end if
       if (scn%elem_model(e) == 0) cycle
+      if (.not. sys%elems%model_linear(scn%elem_model(e))) cycle   ! (their points are always evaluated)
       g0 = sys%elems%gp_ptr(e)
       ng = sys%elems%gp_ptr(e + 1) - g0
       if (ng == 0) cycle
@@ -190,8 +189,71 @@ contains
         ue, .false., fe, ke, esum)
     end do
     if (.not. supports) sys%pts%current = .true.
-    if (present(energy)) energy = esum
   end subroutine refresh_points
+
+  !> The strain energy ½ Σ w σ·ε of the linear elastic points at u, σ = D B u, as the element loop
+  !> sums it (the same operations in the same order: the same value bit for bit), without the
+  !> element forces: what a history line reports where Bσ = K0 u (½ u·K0 u would round at eps x
+  !> the condition of K0). Surface elements from their gradients; the others through their
+  !> element kernel, the trial points as scratch (the steps do not read them: sys%pts%trial_current).
+  subroutine linear_strain_energy(scn, sys, u, esum)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    real(dp), intent(in) :: u(:)
+    real(dp), intent(out) :: esum
+    real(dp) :: ue(MAX_EDOF), fe(MAX_EDOF), ke(1, 1)
+    integer :: e, e0, g0, ng, ndof, k, j, im
+    esum = 0.0_dp
+    do e = 1, scn%mesh%nelem
+      im = scn%elem_model(e)
+      if (im == 0) cycle
+      if (.not. sys%elems%model_linear(im)) cycle
+      g0 = sys%elems%gp_ptr(e)
+      ng = sys%elems%gp_ptr(e + 1) - g0
+      if (ng == 0) cycle
+      e0 = sys%elems%edof_ptr(e)
+      ndof = sys%elems%edof_ptr(e + 1) - e0
+      do k = 1, ndof
+        j = sys%elems%edof(e0 + k - 1)
+        ue(k) = 0.0_dp
+        if (j > 0) ue(k) = u(j)
+      end do
+      if (sys%elems%nstr(e) == 4 .and. sys%elems%gr_ptr(g0) > 0) then
+        call energy_points_plane(ndof / 2, ng, sys%elems%grad(sys%elems%gr_ptr(g0)), sys%elems%wt(g0), ue, &
+          sys%elems%dmat(1, 1, im), esum)
+      else
+        fe(1:ndof) = 0.0_dp
+        call linear_element(sys%elems, sys%pts%eps_t, sys%pts%sig_t, g0, ng, ndof, sys%elems%nstr(e), im, ue, .false., &
+          fe, ke, esum)
+      end if
+    end do
+  end subroutine linear_strain_energy
+
+  !> linear_points_plane's strain energy alone: the same strains and stresses, no element force.
+  pure subroutine energy_points_plane(nen, ng, g, w, ue, d, esum)
+    integer, intent(in) :: nen, ng
+    real(dp), intent(in) :: g(2, nen, ng), w(ng), ue(2, nen), d(MAX_NSTRAIN, MAX_NSTRAIN)
+    real(dp), intent(inout) :: esum
+    integer :: ig, a
+    real(dp) :: e1, e2, e3, e4, s1, s2, s3, s4
+    e3 = 0.0_dp
+    do ig = 1, ng
+      e1 = 0.0_dp
+      e2 = 0.0_dp
+      e4 = 0.0_dp
+      do a = 1, nen
+        e1 = e1 + g(1, a, ig) * ue(1, a)
+        e2 = e2 + g(2, a, ig) * ue(2, a)
+        e4 = e4 + g(2, a, ig) * ue(1, a)
+        e4 = e4 + g(1, a, ig) * ue(2, a)
+      end do
+      s1 = d(1, 1) * e1 + d(1, 2) * e2 + d(1, 3) * e3 + d(1, 4) * e4
+      s2 = d(2, 1) * e1 + d(2, 2) * e2 + d(2, 3) * e3 + d(2, 4) * e4
+      s3 = d(3, 1) * e1 + d(3, 2) * e2 + d(3, 3) * e3 + d(3, 4) * e4
+      s4 = d(4, 1) * e1 + d(4, 2) * e2 + d(4, 3) * e3 + d(4, 4) * e4
+      esum = esum + 0.5_dp * w(ig) * (s1 * e1 + s2 * e2 + s3 * e3 + s4 * e4)
+    end do
+  end subroutine energy_points_plane
 
   !> Before the first step: keep Bσ = K0 u (stiffness_product) only if it reproduces the element
   !> loop on a displacement with every kind of content (rigid motion, strain at every scale):

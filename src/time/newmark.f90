@@ -15,7 +15,7 @@ module newmark
   use assembly, only: system_t, external_force, mass_times, initial_state, dof_label, dof_origin, save_points, reaction_update, &
     load_points
   use energy, only: energy_t
-  use internal_forces, only: refresh_points, check_k0_product
+  use internal_forces, only: refresh_points, check_k0_product, linear_strain_energy
   use step_state, only: step_state_t
   use iteration_matrix, only: iteration_matrix_t
   use nonlinear_zone, only: zone_t
@@ -138,7 +138,7 @@ contains
     ! Initial internal forces and strain energy: the laws take the path from zero strain to u0.
     call check_k0_product(scn, sys, rs%st%fint, rs%st%r)
     call rs%st%set_initial(scn, sys)
-    if (sys%ops%k0u%active()) call refresh_points(scn, sys, rs%st%u, .false., rs%st%inc%elastic)
+    if (sys%ops%k0u%active()) call linear_strain_energy(scn, sys, rs%st%u, rs%st%inc%elastic)
     call rs%en%start(rs%st%kinetic, rs%st%inc%work, rs%st%inc%elastic)
     call refresh_points(scn, sys, rs%st%u, .true.)
     call reaction_update(scn, sys, rs%st%u, rs%st%v, scn%t_start, rs%h, .true.)
@@ -581,7 +581,7 @@ contains
     ! Bσ = K0 u: the strain energy a history line reports is the points' ½ Σ w σ·ε, as the element
     ! loop has it (½ u·K0 u rounds at eps x the condition of K0: 1e-11 of a bent beam's energy).
     if (sys%ops%k0u%active() .and. outs%writes_history(scn, step)) &
-      call refresh_points(scn, sys, rs%st%u, .false., rs%st%inc%elastic)
+      call linear_strain_energy(scn, sys, rs%st%u, rs%st%inc%elastic)
     ! MODEL DAMPING: the step's damping work du'C du/h is booked, so that the balance holds.
     call rs%en%add_damping(rs%st%damping_work(sys))
     call rs%en%add_step(rs%st%kinetic, rs%st%inc%work, dw_ext, dw_corr + e_rest, rs%st%inc%dissipated, &
