@@ -91,15 +91,10 @@ contains
       ng = sys%elems%gp_ptr(e + 1) - g0
       if (ng == 0) cycle
       e0 = sys%elems%edof_ptr(e)
-      ndof = sys%elems%edof_ptr(e + 1) - e0
       nstr = sys%elems%nstr(e)
       ! Per-model data, looked up once per run of elements of the same model.
       if (scn%elem_model(e) /= mv%im) call view_model(scn, sys, scn%elem_model(e), mv)
-      do k = 1, ndof
-        j = sys%elems%edof(e0 + k - 1)
-        ue(k) = 0.0_dp
-        if (j > 0) ue(k) = u(j)
-      end do
+      call gather(sys%elems, e, u, ue, ndof)
       fe(1:ndof) = 0.0_dp
       any_c = .false.
       if (mv%linear .and. sys%extended .and. .not. tangent) then
@@ -164,7 +159,7 @@ contains
     real(dp), intent(in) :: u(:)
     logical, intent(in) :: supports
     real(dp) :: ue(MAX_EDOF), fe(MAX_EDOF), ke(1, 1), esum
-    integer :: e, e0, g0, ng, ndof, k, j
+    integer :: e, g0, ng, ndof
     if (sys%pts%current) return
     if (supports .and. sys%react%nslot == 0) return
     esum = 0.0_dp
@@ -177,19 +172,30 @@ contains
       g0 = sys%elems%gp_ptr(e)
       ng = sys%elems%gp_ptr(e + 1) - g0
       if (ng == 0) cycle
-      e0 = sys%elems%edof_ptr(e)
-      ndof = sys%elems%edof_ptr(e + 1) - e0
-      do k = 1, ndof
-        j = sys%elems%edof(e0 + k - 1)
-        ue(k) = 0.0_dp
-        if (j > 0) ue(k) = u(j)
-      end do
+      call gather(sys%elems, e, u, ue, ndof)
       fe(1:ndof) = 0.0_dp
       call linear_element(sys%elems, sys%pts%eps, sys%pts%sig, g0, ng, ndof, sys%elems%nstr(e), scn%elem_model(e), &
         ue, .false., fe, ke, esum)
     end do
     if (.not. supports) sys%pts%current = .true.
   end subroutine refresh_points
+
+  !> ue(1:ndof) = the displacements of element e's DOFs (0 on the fixed ones).
+  pure subroutine gather(elems, e, u, ue, ndof)
+    type(element_table_t), intent(in) :: elems
+    integer, intent(in) :: e
+    real(dp), intent(in) :: u(:)
+    real(dp), intent(out) :: ue(:)
+    integer, intent(out) :: ndof
+    integer :: e0, k, j
+    e0 = elems%edof_ptr(e)
+    ndof = elems%edof_ptr(e + 1) - e0
+    do k = 1, ndof
+      j = elems%edof(e0 + k - 1)
+      ue(k) = 0.0_dp
+      if (j > 0) ue(k) = u(j)
+    end do
+  end subroutine gather
 
   !> The strain energy ½ Σ w σ·ε of the linear elastic points at u, σ = D B u, as the element loop
   !> sums it (the same operations in the same order: the same value bit for bit), without the
@@ -202,7 +208,7 @@ contains
     real(dp), intent(in) :: u(:)
     real(dp), intent(out) :: esum
     real(dp) :: ue(MAX_EDOF), fe(MAX_EDOF), ke(1, 1)
-    integer :: e, e0, g0, ng, ndof, k, j, im
+    integer :: e, g0, ng, ndof, im
     esum = 0.0_dp
     do e = 1, scn%mesh%nelem
       im = scn%elem_model(e)
@@ -211,13 +217,7 @@ contains
       g0 = sys%elems%gp_ptr(e)
       ng = sys%elems%gp_ptr(e + 1) - g0
       if (ng == 0) cycle
-      e0 = sys%elems%edof_ptr(e)
-      ndof = sys%elems%edof_ptr(e + 1) - e0
-      do k = 1, ndof
-        j = sys%elems%edof(e0 + k - 1)
-        ue(k) = 0.0_dp
-        if (j > 0) ue(k) = u(j)
-      end do
+      call gather(sys%elems, e, u, ue, ndof)
       if (sys%elems%nstr(e) == 4 .and. sys%elems%gr_ptr(g0) > 0) then
         call energy_points_plane(ndof / 2, ng, sys%elems%grad(sys%elems%gr_ptr(g0)), sys%elems%wt(g0), ue, &
           sys%elems%dmat(1, 1, im), esum)
@@ -234,23 +234,12 @@ contains
     integer, intent(in) :: nen, ng
     real(dp), intent(in) :: g(2, nen, ng), w(ng), ue(2, nen), d(MAX_NSTRAIN, MAX_NSTRAIN)
     real(dp), intent(inout) :: esum
-    integer :: ig, a
+    integer :: ig
     real(dp) :: e1, e2, e3, e4, s1, s2, s3, s4
     e3 = 0.0_dp
     do ig = 1, ng
-      e1 = 0.0_dp
-      e2 = 0.0_dp
-      e4 = 0.0_dp
-      do a = 1, nen
-        e1 = e1 + g(1, a, ig) * ue(1, a)
-        e2 = e2 + g(2, a, ig) * ue(2, a)
-        e4 = e4 + g(2, a, ig) * ue(1, a)
-        e4 = e4 + g(1, a, ig) * ue(2, a)
-      end do
-      s1 = d(1, 1) * e1 + d(1, 2) * e2 + d(1, 3) * e3 + d(1, 4) * e4
-      s2 = d(2, 1) * e1 + d(2, 2) * e2 + d(2, 3) * e3 + d(2, 4) * e4
-      s3 = d(3, 1) * e1 + d(3, 2) * e2 + d(3, 3) * e3 + d(3, 4) * e4
-      s4 = d(4, 1) * e1 + d(4, 2) * e2 + d(4, 3) * e3 + d(4, 4) * e4
+      call plane_strains(nen, g(1, 1, ig), ue, e1, e2, e4)
+      call stress_4(d, e1, e2, e3, e4, s1, s2, s3, s4)
       esum = esum + 0.5_dp * w(ig) * (s1 * e1 + s2 * e2 + s3 * e3 + s4 * e4)
     end do
   end subroutine energy_points_plane
@@ -460,10 +449,7 @@ contains
     real(dp), intent(in) :: d(MAX_NSTRAIN, MAX_NSTRAIN), w, e1, e2, e3, e4
     real(dp), intent(inout) :: eps(4), sig(4), esum
     real(dp), intent(out) :: s1, s2, s3, s4
-    s1 = d(1, 1) * e1 + d(1, 2) * e2 + d(1, 3) * e3 + d(1, 4) * e4
-    s2 = d(2, 1) * e1 + d(2, 2) * e2 + d(2, 3) * e3 + d(2, 4) * e4
-    s3 = d(3, 1) * e1 + d(3, 2) * e2 + d(3, 3) * e3 + d(3, 4) * e4
-    s4 = d(4, 1) * e1 + d(4, 2) * e2 + d(4, 3) * e3 + d(4, 4) * e4
+    call stress_4(d, e1, e2, e3, e4, s1, s2, s3, s4)
     eps(1) = e1
     eps(2) = e2
     eps(3) = e3
@@ -495,12 +481,7 @@ contains
       e1 = 0.0_dp
       e2 = 0.0_dp
       e4 = 0.0_dp
-      do a = 1, nen
-        e1 = e1 + g(1, a, ig) * ue(1, a)
-        e2 = e2 + g(2, a, ig) * ue(2, a)
-        e4 = e4 + g(2, a, ig) * ue(1, a)
-        e4 = e4 + g(1, a, ig) * ue(2, a)
-      end do
+      call plane_strains(nen, g(1, 1, ig), ue, e1, e2, e4)
       call elastic_point_4(d, w(ig), e1, e2, e3, e4, eps(1, ig), sig(1, ig), esum, s1, s2, s3, s4)
       do a = 1, nen
         fe(1, a) = fe(1, a) + (g(1, a, ig) * s1 + g(2, a, ig) * s4)
@@ -508,6 +489,34 @@ contains
       end do
     end do
   end subroutine linear_points_plane
+
+  !> The plane strains of one point from its shape-function gradients g(:, a) and the nodal
+  !> displacements: e1 = ε_xx, e2 = ε_yy, e4 = γ_xy (ε_zz = 0), summed node by node.
+  pure subroutine plane_strains(nen, g, ue, e1, e2, e4)
+    integer, intent(in) :: nen
+    real(dp), intent(in) :: g(2, nen), ue(2, nen)
+    real(dp), intent(out) :: e1, e2, e4
+    integer :: a
+    e1 = 0.0_dp
+    e2 = 0.0_dp
+    e4 = 0.0_dp
+    do a = 1, nen
+      e1 = e1 + g(1, a) * ue(1, a)
+      e2 = e2 + g(2, a) * ue(2, a)
+      e4 = e4 + g(2, a) * ue(1, a)
+      e4 = e4 + g(1, a) * ue(2, a)
+    end do
+  end subroutine plane_strains
+
+  !> σ = D ε with four components, row by row.
+  pure subroutine stress_4(d, e1, e2, e3, e4, s1, s2, s3, s4)
+    real(dp), intent(in) :: d(MAX_NSTRAIN, MAX_NSTRAIN), e1, e2, e3, e4
+    real(dp), intent(out) :: s1, s2, s3, s4
+    s1 = d(1, 1) * e1 + d(1, 2) * e2 + d(1, 3) * e3 + d(1, 4) * e4
+    s2 = d(2, 1) * e1 + d(2, 2) * e2 + d(2, 3) * e3 + d(2, 4) * e4
+    s3 = d(3, 1) * e1 + d(3, 2) * e2 + d(3, 3) * e3 + d(3, 4) * e4
+    s4 = d(4, 1) * e1 + d(4, 2) * e2 + d(4, 3) * e3 + d(4, 4) * e4
+  end subroutine stress_4
 
   !> linear_points_4 for beams (axial strain, curvature).
   pure subroutine linear_points_2(ndof, ng, b, w, ue, d, eps, sig, fe, esum)

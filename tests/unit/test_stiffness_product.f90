@@ -41,7 +41,7 @@ contains
     type(section_t) :: sec
     real(dp) :: d(4, 4), ke(16, 16), xe(2, 4)
     integer :: p, i, j, n, e, a, stat, nel, k
-    integer :: conn(4)
+    integer, allocatable :: econn(:, :)
     character(len=:), allocatable :: errmsg
     allocate (x(2, NNODE), eqn(3, NNODE))
     eqn = 0
@@ -72,17 +72,17 @@ contains
       end do
     end do
     nel = NPLATE * NX * NY
-    allocate (eptr(nel + 1), edofs(8 * nel))
+    allocate (eptr(nel + 1), edofs(8 * nel), econn(4, nel))
     e = 0
     do p = 1, NPLATE
       do j = 0, NY - 1
         do i = 0, NX - 1
           e = e + 1
           n = (p - 1) * NNP + j * (NX + 1) + i + 1
-          conn = [n, n + 1, n + NX + 2, n + NX + 1]
+          econn(:, e) = [n, n + 1, n + NX + 2, n + NX + 1]
           eptr(e) = 8 * (e - 1) + 1
           do a = 1, 4
-            edofs(8 * (e - 1) + 2 * a - 1:8 * (e - 1) + 2 * a) = max(eqn(1:2, conn(a)), 0)
+            edofs(8 * (e - 1) + 2 * a - 1:8 * (e - 1) + 2 * a) = max(eqn(1:2, econn(a, e)), 0)
           end do
         end do
       end do
@@ -93,20 +93,12 @@ contains
     allocate (kval(pat%nnz))
     kval = 0.0_dp
     call elem_elastic_d(ET_QUAD4, 2.0e11_dp, 0.3_dp, sec, d)
-    e = 0
-    do p = 1, NPLATE
-      do j = 0, NY - 1
-        do i = 0, NX - 1
-          e = e + 1
-          n = (p - 1) * NNP + j * (NX + 1) + i + 1
-          conn = [n, n + 1, n + NX + 2, n + NX + 1]
-          do k = 1, 4
-            xe(:, k) = x(:, conn(k))
-          end do
-          call elem_stiffness(ET_QUAD4, xe, sec, d, ke)
-          call pat%add_element(kval, edofs(eptr(e):eptr(e + 1) - 1), ke(1:8, 1:8), stat)
-        end do
+    do e = 1, nel
+      do k = 1, 4
+        xe(:, k) = x(:, econn(k, e))
       end do
+      call elem_stiffness(ET_QUAD4, xe, sec, d, ke)
+      call pat%add_element(kval, edofs(eptr(e):eptr(e + 1) - 1), ke(1:8, 1:8), stat)
     end do
     allocate (u(neq), ud(neq), rig(neq), f(neq), fref(neq), fbare(neq))
   end subroutine build
