@@ -185,6 +185,11 @@ contains
     real(dp), intent(in) :: kval(:), u(:)
     real(dp), intent(out) :: f(:), energy
     integer :: k, i, d, b
+    if (self%nb == 0) then                   ! every body held: the bare product
+      call pat%matvec(kval, u, f)
+      energy = 0.5_dp * dot_product(u, f)
+      return
+    end if
     self%ur = u
     ! The bodies' mean translations, out of u.
     self%s = 0.0_dp
