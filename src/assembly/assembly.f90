@@ -11,6 +11,7 @@ module assembly
   use scene, only: scene_t, function_value, model_point_kind, contact_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
   use dof_map, only: build_dof_map, cayley_rotations, imposed_dofs, equation_bodies, DOF_ABSENT, DOF_FIXED
   use stiffness_product, only: k0_product_t
+  use lapack_pure, only: dsyev
   use sparse_matrix, only: sym_csc_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
@@ -162,13 +163,73 @@ contains
     end if
     if (sys%elems%linear .and. .not. (sys%extended .or. scn%forces_points)) then
       call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, body)
-      call sys%ops%k0u%setup(sys%ops%pat, sys%ops%kval, sys%dofs%eqn, scn%mesh%x, body)
+      call sys%ops%k0u%setup(sys%ops%pat, sys%ops%kval, sys%dofs%eqn, scn%mesh%x, body, held_modes(scn, sys, body))
     end if
     if (scn%tangent .and. .not. sys%elems%linear) then
       allocate (sys%ops%tval(sys%ops%pat%nnz))
       sys%ops%tval = sys%ops%kval
     end if
   end subroutine build_system
+
+  !> held(k, b): body b has an element acting on a fixed DOF where its rigid mode k (UX, UY, the
+  !> rotation about the origin) does not vanish, so mode k is not a motion the body can make
+  !> freely (stiffness_product). Structural, whatever the stiffness: a spring to a support 1e-12
+  !> times as stiff as the body still holds it. held(4, b): the supports leave body b a rigid
+  !> motion that is none of the free modes 1-3 (a pin, or rollers and a pin on other lines: the
+  !> rigid motions vanishing at its fixed DOFs, the null space of their 3-column constraint rows,
+  !> outnumber its modes not held): stiffness_product then keeps the element loop.
+  function held_modes(scn, sys, body) result(held)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    integer, intent(in) :: body(:)
+    logical, allocatable :: held(:, :)
+    real(dp), allocatable :: g(:, :, :)
+    real(dp) :: row(3), w(3), work(16), xy(2)
+    logical :: mask(3)
+    integer :: e, a, n, b, d, info
+    allocate (held(4, maxval(body)), g(3, 3, maxval(body)))
+    held = .false.
+    g = 0.0_dp
+    do e = 1, scn%mesh%nelem
+      if (scn%elem_model(e) == 0) cycle
+      mask = elem_dof_mask(scn%mesh%etype(e))
+      b = 0
+      do a = 1, scn%mesh%nen(e)                ! the element's body: that of any free equation
+        do d = 1, 3
+          if (mask(d) .and. sys%dofs%eqn(d, scn%mesh%conn(a, e)) > 0) b = body(sys%dofs%eqn(d, scn%mesh%conn(a, e)))
+        end do
+      end do
+      if (b == 0) cycle
+      do a = 1, scn%mesh%nen(e)
+        n = scn%mesh%conn(a, e)
+        xy = scn%mesh%x(:, n)
+        do d = 1, 3
+          if (.not. (mask(d) .and. sys%dofs%eqn(d, n) == DOF_FIXED)) cycle
+          ! The fixed DOF's row: modes 1-3 there (UX: 1, 0, -y; UY: 0, 1, x; RZ: 0, 0, 1).
+          row = [merge(1.0_dp, 0.0_dp, d == 1), merge(1.0_dp, 0.0_dp, d == 2), merge(-xy(2), merge(xy(1), 1.0_dp, d == 2), d == 1)]
+          held(1:3, b) = held(1:3, b) .or. row /= 0.0_dp
+          call dsyr_3(row, g(:, :, b))
+        end do
+      end do
+    end do
+    do b = 1, size(held, 2)
+      if (.not. any(held(1:3, b))) cycle      ! free body: its three modes
+      call dsyev('N', 'U', 3, g(:, :, b), 3, w, work, size(work), info)
+      held(4, b) = info /= 0
+      if (info == 0) held(4, b) = count(w <= 1.0e-12_dp * max(w(3), tiny(1.0_dp))) > count(.not. held(1:3, b))
+    end do
+  contains
+    pure subroutine dsyr_3(r, gb)
+      real(dp), intent(in) :: r(3)
+      real(dp), intent(inout) :: gb(3, 3)
+      integer :: i, j
+      do j = 1, 3
+        do i = 1, 3
+          gb(i, j) = gb(i, j) + r(i) * r(j)
+        end do
+      end do
+    end subroutine dsyr_3
+  end function held_modes
 
   !> Per model: the elastic matrix D (K0 uses it, and the laws), the point kind, linearity and
   !> the number of internal variables.

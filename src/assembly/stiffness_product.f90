@@ -23,6 +23,9 @@ module stiffness_product
 
   !> Relative size of K0 r, against |K0| |r|, below which a rigid mode r counts as K0's kernel.
   real(dp), parameter :: KERNEL_TOL = 1.0e-9_dp
+  !> Below this relative K0 r a mode held by a support is nearly free (the support much softer than
+  !> the body): the product is not used.
+  real(dp), parameter :: SOFT_TOL = 1.0e-4_dp
 
   type :: k0_product_t
     private
@@ -48,12 +51,16 @@ contains
 
   !> The bodies' kernel modes of K0 (values kval on pat). eqn(3, nnode): the equation of each node
   !> DOF (> 0 free); x(2, nnode) the reference coordinates; body(neq) the component of each
-  !> equation (equation_bodies).
-  subroutine k0p_setup(self, pat, kval, eqn, x, body)
+  !> equation (equation_bodies); held(k, b), k = 1..3: mode k of body b is held by a support
+  !> (assembly's held_modes), which the numerical test alone would miss for a support through a
+  !> spring much softer than the body; held(4, b): a rigid motion the supports leave free that is
+  !> none of the modes. Returns with the product off (active() false) on a near-mechanism.
+  subroutine k0p_setup(self, pat, kval, eqn, x, body, held)
     class(k0_product_t), intent(inout) :: self
     type(sym_csc_t), intent(in) :: pat
     real(dp), intent(in) :: kval(:), x(:, :)
     integer, intent(in) :: eqn(:, :), body(:)
+    logical, intent(in) :: held(:, :)
     real(dp), allocatable :: r(:, :), g(:, :), a(:, :), kabs(:), gmax(:, :), amax(:, :)
     integer, allocatable :: comp(:), local(:)
     integer :: n, nbody, i, j, d, k, b, m
@@ -85,7 +92,18 @@ contains
         amax(k, b) = max(amax(k, b), a(i, k))
       end do
     end do
-    ! A body keeps the modes K0 annihilates to round-off; a mode it has no DOF of is dropped.
+    ! Near-mechanisms stay with the element loop: a body free to move rigidly in a way the modes
+    ! do not describe (held(4)), or held only by supports far softer than itself (a spring to the
+    ! ground: K0 r below 1e-4 |K0||r|). The product would round at eps |K0| |u| on a motion without
+    ! bound, which the loop's equilibrated Bᵀσ does not (a soft-spring plate: balance 3e-7 against
+    ! 1.3e-9).
+    if (any(held(4, 1:nbody)) .or. any(held(1:3, 1:nbody) .and. gmax < SOFT_TOL * amax)) then
+      self%on = .false.
+      return
+    end if
+    ! A body keeps the modes K0 annihilates to round-off and no support holds; a mode it has no DOF
+    ! of is dropped.
+    where (held(1:3, 1:nbody)) gmax = huge(1.0_dp)
     local = 0
     self%nb = 0
     do b = 1, nbody
