@@ -89,16 +89,22 @@ contains
   end subroutine start
 
   !> Account for one step: new kinetic energy and the works of the step.
-  pure subroutine add_step(self, kinetic, dw_internal, dw_external, dw_correction, dw_dissipated, elastic)
+  pure subroutine add_step(self, kinetic, dw_internal, dw_external, dw_correction, dw_dissipated, elastic, sampled)
     class(energy_t), intent(inout) :: self
     real(dp), intent(in) :: kinetic, dw_internal, dw_external, dw_correction
     real(dp), intent(in), optional :: dw_dissipated, elastic
+    !> .false.: the elastic energy is not the one the balance is judged on (Bσ = K0 u between
+    !> history lines: stiffness_product), so the step does not enter max |balance| (default .true.)
+    logical, intent(in), optional :: sampled
     self%kinetic = kinetic
     if (present(elastic)) self%elastic = elastic
     call add(self%internal_sum, dw_internal)
     call add(self%external_sum, dw_external)
     call add(self%correction_sum, dw_correction)
     if (present(dw_dissipated)) call add(self%dissipated_sum, dw_dissipated)
+    if (present(sampled)) then
+      if (.not. sampled .and. abs(self%balance()) <= huge(1.0_dp)) return
+    end if
     ! A non-finite balance must not vanish in max(): it is reported as huge.
     if (abs(self%balance()) <= huge(1.0_dp)) then
       self%max_balance = max(self%max_balance, abs(self%balance()))

@@ -542,6 +542,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(contact_report_t) :: crep
     real(dp) :: dw_ext, dw_corr, e_rest
+    logical :: sampled
     if (rs%follow%count() > 0) then
       call end_geometry(scn, sys, rs, stat, errmsg)
       if (stat /= STAT_OK) return
@@ -580,12 +581,12 @@ contains
     if (size(rs%imp_row) > 0) call imposed_reactions(rs%cs, rs%imp_row, rs%imp_slot, sys%react%value)
     ! Bσ = K0 u: the strain energy a history line reports is the points' ½ Σ w σ·ε, as the element
     ! loop has it (½ u·K0 u rounds at eps x the condition of K0: 1e-11 of a bent beam's energy).
-    if (sys%ops%k0u%active() .and. outs%writes_history(scn, step)) &
-      call linear_strain_energy(scn, sys, rs%st%u, rs%st%inc%elastic)
+    sampled = .not. sys%ops%k0u%active() .or. outs%writes_history(scn, step) .or. step == rs%nsteps
+    if (sys%ops%k0u%active() .and. sampled) call linear_strain_energy(scn, sys, rs%st%u, rs%st%inc%elastic)
     ! MODEL DAMPING: the step's damping work du'C du/h is booked, so that the balance holds.
     call rs%en%add_damping(rs%st%damping_work(sys))
     call rs%en%add_step(rs%st%kinetic, rs%st%inc%work, dw_ext, dw_corr + e_rest, rs%st%inc%dissipated, &
-      rs%st%inc%elastic)
+      rs%st%inc%elastic, sampled)
   end subroutine finish_step
 
   !> Before the impact corrections of a step with contacts that follow the geometry: the step's
