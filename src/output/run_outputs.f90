@@ -149,8 +149,6 @@ contains
     end do
   end subroutine remove_stale_temporaries
 
-  !> The history and probe lines of a step (every HISTORY EVERY steps and the last one) and its
-  !> fields (every FIELDS EVERY steps, the first and the last).
   !> Step `step` writes a line of history.csv (the energies are then read).
   pure logical function outputs_writes_history(self, scn, step) result(yes)
     class(output_set_t), intent(in) :: self
@@ -170,6 +168,8 @@ contains
     yes = step == 0 .or. step == self%last_step .or. (scn%fields_every > 0 .and. mod(step, max(scn%fields_every, 1)) == 0)
   end function outputs_writes_fields
 
+  !> The history and probe lines of a step (every HISTORY EVERY steps and the last one) and its
+  !> fields (every FIELDS EVERY steps, the first and the last).
   subroutine outputs_write_step(self, scn, sys, step, t, iter, nactive, nsub, en, u, v, mv, rig, stat, errmsg, cs)
     class(output_set_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
