@@ -245,8 +245,8 @@ contains
   end subroutine energy_points_plane
 
   !> Before the first step: keep Bσ = K0 u (stiffness_product) only if it reproduces the element
-  !> loop on a displacement with every kind of content (rigid motion, strain at every scale):
-  !> relative difference 1e-10, where both round at 1e-15. Any model the product would not
+  !> loop on a rough test displacement (strain at every scale, on every equation): forces and
+  !> strain energy to a relative 1e-10, where both round at 1e-15. Any model the product would not
   !> represent goes back to the loop instead of giving other forces. The points are left as the
   !> loop wrote them; the caller's initial state overwrites them.
   subroutine check_k0_product(scn, sys, fint, fk)

@@ -6,14 +6,18 @@
 !> the body's rigid motion, which has no bound on a free body. Measured with the bare product:
 !> momentum drifting by 2e-9 of m v0 on two blocks in contact, the balance of a falling beam at
 !> 1e-9 to 3e-8 of its energy instead of round-off. So, for each body (mesh-connected component)
-!> and each rigid mode that K0 annihilates there (the translations x and y, the infinitesimal
-!> rotation: checked numerically at setup, so a support, a spring to the ground or an
-!> axisymmetric hoop term simply removes the mode), exact in exact arithmetic:
+!> and each rigid mode it can make freely (the translations x and y, the infinitesimal rotation:
+!> not held by a support, assembly's held_modes, and annihilated by K0, checked numerically at
+!> setup, so an axisymmetric hoop term or a misaligned spring also removes the mode), exact in
+!> exact arithmetic:
 !> - the body's mean translation is taken out of u first (K0 t = 0; a constant shift, so the
 !>   shifted u rounds at the deformation's size, not the motion's), and
 !> - the product is projected orthogonally to the modes (t'K0 u = 0: the net force and moment a
-!>   free body's elasticity exerts on itself are zero), which equilibrates the rounding;
-!> the strain energy is ½ u'·K0 u' of the shifted u'. No allocation after setup.
+!>   free body's elasticity exerts on itself are zero), which equilibrates the rounding.
+!> Near-mechanisms (a rigid motion the supports leave that is none of the modes, or supports far
+!> softer than the body) leave the product off: the element loop is used. apply also returns
+!> ½ u'·K0 u', which rounds at eps x cond(K0): the energy the balance is judged on is the points'
+!> (internal_forces' linear_strain_energy). No allocation after setup.
 module stiffness_product
   use kinds, only: dp
   use sparse_matrix, only: sym_csc_t
