@@ -13,6 +13,7 @@ module assembly
   use stiffness_product, only: k0_product_t
   use lapack_pure, only: dsyev
   use sparse_matrix, only: sym_csc_t
+  use pair_blocks, only: pair_block_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
   use material_law, only: law_is_linear, law_nstate, law_stored, law_elastic_matrix
@@ -58,6 +59,7 @@ module assembly
     logical :: mass_diagonal = .false.       !< every model lumped: M is its diagonal
     real(dp), allocatable :: mdiag(:)
     type(sym_csc_t) :: mpat                  !< M without its zeros (mass_times; sym_csc_t%compact)
+    type(pair_block_t) :: mblk               !< M by node blocks, where they pay (mass_times; pair_blocks)
     real(dp), allocatable :: mcomp(:)
     real(dp), allocatable :: tval(:)         !< tangent stiffness on the pattern (ITERATION TANGENT)
     real(dp), allocatable :: cval(:)         !< Rayleigh damping C = Σ (alpha M_e + beta K0_e) (MODEL DAMPING)
@@ -405,6 +407,7 @@ contains
       sys%ops%mdiag = dm
     else
       call sys%ops%pat%compact(sys%ops%mval, sys%ops%mpat, sys%ops%mcomp)
+      call sys%ops%mblk%build(sys%ops%mpat, sys%ops%mcomp)
     end if
   end subroutine check_operators
 
@@ -667,6 +670,8 @@ contains
     real(dp), intent(out) :: y(:)
     if (sys%ops%mass_diagonal) then
       y = sys%ops%mdiag * x
+    else if (sys%ops%mblk%active()) then
+      call sys%ops%mblk%matvec(x, y)
     else
       call sys%ops%mpat%matvec(sys%ops%mcomp, x, y)
     end if

@@ -21,6 +21,7 @@
 module stiffness_product
   use kinds, only: dp
   use sparse_matrix, only: sym_csc_t
+  use pair_blocks, only: pair_block_t
   implicit none
   private
   public :: k0_product_t
@@ -43,6 +44,7 @@ module stiffness_product
     real(dp), allocatable :: rn(:, :)       !< (2, nb) 1 / number of UX, UY equations of body b
     real(dp), allocatable :: s(:, :)        !< (3, nb) workspace: means, then projections
     real(dp), allocatable :: ur(:)          !< (neq) workspace: u without its translations
+    type(pair_block_t) :: blk               !< K0 by node blocks, where they pay (pair_blocks)
   contains
     procedure :: setup => k0p_setup
     procedure :: apply => k0p_apply
@@ -133,6 +135,7 @@ contains
     end do
     call count_translations(self)
     call rotation_unit(self)
+    call self%blk%build(pat, kval)
     self%on = .true.
   end subroutine k0p_setup
 
@@ -208,7 +211,7 @@ contains
     real(dp), intent(out) :: f(:), energy
     integer :: k, i, d, b
     if (self%nb == 0) then                   ! every body held: the bare product
-      call pat%matvec(kval, u, f)
+      call product(self, pat, kval, u, f)
       energy = 0.5_dp * dot_product(u, f)
       return
     end if
@@ -225,7 +228,7 @@ contains
       if (d > 2) cycle
       if (self%kern(d, b)) self%ur(self%eq(k)) = u(self%eq(k)) - self%s(d, b) * self%rn(d, b)
     end do
-    call pat%matvec(kval, self%ur, f)
+    call product(self, pat, kval, self%ur, f)
     ! The net force and moment of each body's elastic forces, out of f.
     self%s = 0.0_dp
     do k = 1, size(self%eq)
@@ -246,6 +249,19 @@ contains
     end do
     energy = 0.5_dp * dot_product(self%ur, f)
   end subroutine k0p_apply
+
+  !> f = K0 x, by node blocks where they were built.
+  subroutine product(self, pat, kval, x, f)
+    type(k0_product_t), intent(in) :: self
+    type(sym_csc_t), intent(in) :: pat
+    real(dp), intent(in) :: kval(:), x(:)
+    real(dp), intent(out) :: f(:)
+    if (self%blk%active()) then
+      call self%blk%matvec(x, f)
+    else
+      call pat%matvec(kval, x, f)
+    end if
+  end subroutine product
 
   pure logical function k0p_active(self)
     class(k0_product_t), intent(in) :: self

@@ -13,7 +13,7 @@ module newmark
   use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
     contact_prepare, contact_set_rigid_modes, contact_gaps, contact_step_gaps
   use assembly, only: system_t, external_force, mass_times, initial_state, dof_label, dof_origin, save_points, reaction_update, &
-    load_points
+    load_points, is_damped
   use energy, only: energy_t
   use internal_forces, only: refresh_points, check_k0_product, linear_strain_energy
   use step_state, only: step_state_t
@@ -138,6 +138,11 @@ contains
     ! Initial internal forces and strain energy: the laws take the path from zero strain to u0.
     call check_k0_product(scn, sys, rs%st%fint, rs%st%r)
     call rs%st%set_initial(scn, sys)
+    ! The linear fast path (Bσ = K0 u) with nothing added to (9) (no contact rows, damping or
+    ! lumped mass, whose product is one pass anyway) takes M v(n+1) from the step's momentum
+    ! balance instead of the consistent mass's product (momentum_eq2).
+    rs%st%momentum_form = sys%ops%k0u%active() .and. .not. (rs%has_contact .or. is_damped(sys) .or. &
+      sys%ops%mass_diagonal)
     if (sys%ops%k0u%active()) call linear_strain_energy(scn, sys, rs%st%u, rs%st%inc%elastic)
     call rs%en%start(rs%st%kinetic, rs%st%inc%work, rs%st%inc%elastic)
     call refresh_points(scn, sys, rs%st%u, .true.)

@@ -9,7 +9,7 @@ module newmark_scheme
   use kinds, only: dp, qp
   implicit none
   private
-  public :: velocity_eq3, rhs_eq9, residual_eq9, massless_rows_eq9
+  public :: velocity_eq3, rhs_eq9, residual_eq9, massless_rows_eq9, momentum_eq2
 
   interface velocity_eq3
     module procedure velocity_eq3_dp, velocity_eq3_qp
@@ -43,6 +43,17 @@ contains
     real(qp), intent(inout) :: v(:)
     v = a * real(du, qp) - v
   end subroutine velocity_eq3_qp
+
+  !> The trapezoidal momentum balance the scheme is, M (v(n+1) - v(n)) = h/2 (F(n) + F(n+1) - Bσ(n)
+  !> - Bσ(n+1)) (eq 2 with the average-acceleration rule), giving M v(n+1) without a product by M.
+  !> It equals M v(n+1) of eq (3) up to h/2 times the solve's residual, the same rounding the
+  !> energy balance already carries as ½ du'(S du - r); used on linear steps without contact, whose
+  !> equation (9) is S du = r with nothing added (newmark's prepare_run decides).
+  pure subroutine momentum_eq2(h, f_n, f_np1, fint_n, fint, mv)
+    real(dp), intent(in) :: h, f_n(:), f_np1(:), fint_n(:), fint(:)
+    real(dp), intent(inout) :: mv(:)
+    mv = mv + (0.5_dp * h) * ((f_n + f_np1) - (fint_n + fint))
+  end subroutine momentum_eq2
 
   !> Right-hand side of eq (9): F(n+1) + F(n) - Bσ(n) + 4M v(n)/h, with the true Bσ(n) of the
   !> end of the last step: the previous step's Bσc is never carried over (method.md section 2).

@@ -9,13 +9,15 @@ module step_state
   use assembly, only: system_t, commit_state, mass_times, mass_times_q, damping_times, is_damped
   use internal_forces, only: internal_force, work_increment_t
   use checkpoint, only: ckpt_file_t
-  use newmark_scheme, only: rhs_eq9, residual_eq9, velocity_eq3, massless_rows_eq9
+  use newmark_scheme, only: rhs_eq9, residual_eq9, velocity_eq3, massless_rows_eq9, momentum_eq2
   implicit none
   private
   public :: step_state_t
 
   type :: step_state_t
     logical :: extended = .false.
+    !> M v(n+1) by the momentum balance of the step instead of the product (momentum_form)
+    logical :: momentum_form = .false.
     real(dp) :: h = 0.0_dp, c4 = 0.0_dp      !< step, 4/h²
     real(qp) :: a = 0.0_qp                   !< 2/h unrounded (extended)
     ! Start of the step (state): u(n), v(n), Bσ(n), F(n), M v(n).
@@ -190,6 +192,8 @@ contains
   end function state_massless_work
 
   !> End of the step: v(n+1) by eq (3), M v(n+1); v_eq3 keeps it for the impact correction.
+  !> With momentum_form, M v(n+1) is the step's momentum balance (momentum_eq2) instead of the
+  !> product by M.
   subroutine state_velocity(self, sys)
     class(step_state_t), intent(inout) :: self
     type(system_t), intent(in) :: sys
@@ -198,7 +202,11 @@ contains
       call velocity_eq3(self%a, self%du, self%v_q)
       self%v = real(self%v_q, dp)
     end if
-    call mass_times(sys, self%v, self%mv)
+    if (self%momentum_form) then
+      call momentum_eq2(self%h, self%f_n, self%f_np1, self%fint_n, self%fint, self%mv)
+    else
+      call mass_times(sys, self%v, self%mv)
+    end if
     self%v_eq3 = self%v
   end subroutine state_velocity
 

@@ -4,7 +4,7 @@
 !> they are compared exactly unless stated otherwise.
 program test_newmark
   use kinds, only: dp
-  use newmark_scheme, only: velocity_eq3
+  use newmark_scheme, only: velocity_eq3, momentum_eq2
   use energy, only: energy_t
   use testing, only: check, check_close, test_summary
   implicit none
@@ -13,6 +13,7 @@ program test_newmark
   call test_energy_by_hand()
   call test_neumaier()
   call test_sdof_energy()
+  call test_momentum_eq2()
   call test_summary('newmark')
 
 contains
@@ -113,6 +114,50 @@ contains
     call check_close(en%internal(), 0.5_dp * k * u**2, 0.0_dp, 'sdof: internal account = ½ k u²', tol * e0)
     call check_close(en%kinetic + en%internal(), e0, tol, 'sdof: total energy = initial')
   end subroutine test_sdof_energy
+
+  !> Eq (2) times M, the step's momentum balance (momentum_eq2), against M v(n+1) of eq (3) on two
+  !> masses (consistent mass) joined by a spring, pushed by a load on mass 1 for half the run: the
+  !> two agree to the solve's rounding at every step, and without the load the total momentum is
+  !> the load's impulse, the internal forces cancelling exactly.
+  subroutine test_momentum_eq2()
+    real(dp), parameter :: h = 1.0e-2_dp, k = 3.0e3_dp
+    real(dp), parameter :: m(2, 2) = reshape([2.0_dp, 0.5_dp, 0.5_dp, 1.0_dp], [2, 2])
+    real(dp), parameter :: kk(2, 2) = reshape([k, -k, -k, k], [2, 2])
+    integer, parameter :: nsteps = 2000
+    real(dp) :: u(2), v(2), p(2), du(2), s(2, 2), r(2), fn(2), f1(2), fint_n(2), fint(2), det, dev, impulse, pscale
+    integer :: n
+    u = [0.01_dp, -0.02_dp]
+    v = [0.3_dp, -0.1_dp]
+    p = matmul(m, v)
+    fint_n = matmul(kk, u)
+    fn = [5.0_dp, 0.0_dp]
+    s = kk + 4.0_dp / h**2 * m
+    det = s(1, 1) * s(2, 2) - s(1, 2) * s(2, 1)
+    dev = 0.0_dp
+    impulse = 0.0_dp
+    pscale = 0.0_dp
+    do n = 1, nsteps
+      f1 = 0.0_dp
+      if (n < nsteps / 2) f1(1) = 5.0_dp
+      r = f1 + fn - 2.0_dp * fint_n + 4.0_dp / h * p
+      du = [s(2, 2) * r(1) - s(1, 2) * r(2), s(1, 1) * r(2) - s(2, 1) * r(1)] / det
+      call velocity_eq3(h, du, v)
+      u = u + du
+      fint = matmul(kk, u)
+      call momentum_eq2(h, fn, f1, fint_n, fint, p)
+      impulse = impulse + 0.5_dp * h * (fn(1) + f1(1))
+      dev = max(dev, maxval(abs(p - matmul(m, v))))
+      pscale = max(pscale, maxval(abs(p)))
+      fint_n = fint
+      fn = f1
+    end do
+    call check(dev <= 1.0e-12_dp * pscale, 'momentum_eq2: M v(n+1) of eq (3) to the solve''s rounding', &
+      'max |p - M v| / max |p| = ' // fmt(dev / pscale))
+    call check(dev > 0.0_dp, 'momentum_eq2: not the product itself (the comparison discriminates)')
+    ! M v0 sums to 0.6; the load's impulse is h/2 (5 + 2 x 5 x 999) = 49.975.
+    call check_close(impulse, 49.975_dp, 1.0e-12_dp, 'momentum_eq2: the load''s impulse as counted')
+    call check_close(sum(p), 0.6_dp + 49.975_dp, 1.0e-14_dp, 'momentum_eq2: total momentum = initial + the load''s impulse')
+  end subroutine test_momentum_eq2
 
   function fmt(x) result(s)
     real(dp), intent(in) :: x
