@@ -23,7 +23,7 @@ module step_state
     ! Start of the step (state): u(n), v(n), Bσ(n), F(n), M v(n).
     real(dp), allocatable :: u(:), v(:), fint_n(:), f_n(:), mv(:)
     ! The step: F(n+1), right-hand side of (9), iterate du and its update ddu, residual r, trial
-    ! u(n) + du with its Bσ(n+1) and Bσc, M du; v(n+1) by (3) before the impact correction.
+    ! u(n) + du with its Bσ(n+1) and Bσc, M du; v(n+1) by (3) before the impact correction (extended).
     real(dp), allocatable :: f_np1(:), rhs(:), du(:), ddu(:), r(:), utrial(:), fint(:), fcorr(:), mdu(:), v_eq3(:)
     real(dp), allocatable :: cdu(:)          !< C du (MODEL DAMPING)
     real(dp), allocatable :: res_hist(:)     !< residual norm of each iteration of the step
@@ -191,7 +191,7 @@ contains
     w = 0.5_dp * w
   end function state_massless_work
 
-  !> End of the step: v(n+1) by eq (3), M v(n+1); v_eq3 keeps it for the impact correction.
+  !> End of the step: v(n+1) by eq (3), M v(n+1); v_eq3 keeps it for the extended shadow (absorb).
   !> With momentum_form, M v(n+1) is the step's momentum balance (momentum_eq2) instead of the
   !> product by M.
   subroutine state_velocity(self, sys)
@@ -207,7 +207,7 @@ contains
     else
       call mass_times(sys, self%v, self%mv)
     end if
-    self%v_eq3 = self%v
+    if (self%extended) self%v_eq3 = self%v
   end subroutine state_velocity
 
   !> After the impact correction changed v (and M v): carry the change into the shadow.
