@@ -10,7 +10,7 @@ module c_interfaces
   private
   public :: c_rename, c_mkdir, c_access, c_opendir, c_closedir, c_rmdir, c_install_signals, &
     c_signal_received, c_exit, c_remove, rb_format_es, rb_chol_new, rb_chol_free, rb_chol_is_factored, &
-    rb_chol_version, rb_chol_cost_ratio, rb_chol_solve_flops, rb_chol_stats, rb_chol_factorize, rb_chol_solve, &
+    rb_chol_version, rb_blas_threads, rb_chol_cost_ratio, rb_chol_solve_flops, rb_chol_stats, rb_chol_factorize, rb_chol_solve, &
     rb_umf_new, rb_umf_free, &
     rb_umf_is_factored, &
     rb_umf_version, rb_umf_analyze, rb_umf_factorize, rb_umf_solve, c_usleep, &
@@ -125,6 +125,11 @@ module c_interfaces
       import :: c_int
       integer(c_int), intent(out) :: v(3)
     end subroutine rb_chol_version
+
+    subroutine rb_blas_threads(solve, factorize) bind(c, name='rb_blas_threads')
+      import :: c_int
+      integer(c_int), intent(out) :: solve, factorize
+    end subroutine rb_blas_threads
 
     function rb_chol_factorize(h, n, nnz, colptr, rowind, values, minor, msg, msglen) &
         bind(c, name='rb_chol_factorize') result(rc)

@@ -24,12 +24,12 @@ module cholmod_binding
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use sparse_matrix, only: sym_csc_t
   use c_interfaces, only: rb_chol_new, rb_chol_free, rb_chol_is_factored, rb_chol_version, rb_chol_factorize, rb_chol_cost_ratio, &
-    rb_chol_solve_flops, rb_chol_stats, &
+    rb_chol_solve_flops, rb_chol_stats, rb_blas_threads, &
     rb_chol_solve, rb_umf_new, rb_umf_free, rb_umf_is_factored, rb_umf_version, rb_umf_analyze, rb_umf_factorize, &
     rb_umf_solve
   implicit none
   private
-  public :: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version, factor_stats_t, ORDERING_NAMES
+  public :: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version, factor_stats_t, ORDERING_NAMES, blas_threads
 
   !> The fill-reducing orderings a factor's analysis may use (factor_stats_t%ordering).
   character(len=*), parameter :: ORDERING_NAMES(3) = [character(len=35) :: 'AMD', 'METIS', &
@@ -205,6 +205,16 @@ contains
     type(cholmod_factor_t), intent(inout) :: self
     call self%destroy()
   end subroutine cholmod_factor_final
+
+  !> The BLAS threads of a solve and of a numeric factorization (cholmod_shim.c: solves on one
+  !> thread, factorizations on OpenBLAS's own count; both that count with another BLAS).
+  subroutine blas_threads(solve, factorize)
+    integer, intent(out) :: solve, factorize
+    integer(c_int) :: s, f
+    call rb_blas_threads(s, f)
+    solve = s
+    factorize = f
+  end subroutine blas_threads
 
   !> CHOLMOD version compiled against, e.g. '3.0.14'.
   function cholmod_version() result(s)

@@ -13,9 +13,49 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <dlfcn.h>
 #include "cholmod.h"
 
 int rb_chol_solve(void *vh, int n, const double *b, double *x, char *msg, int msglen);
+
+/* BLAS threads. A solve is a sequence of small, memory-bound triangular sweeps (one BLAS call
+ * per supernode): threads do not speed it up, and OpenBLAS's helpers spin (sched_yield) after
+ * each parallel call, so with its default of one thread per CPU a time loop of solves burned
+ * twice its CPU time (measured on a 1e4-equation plate: 3.7 s CPU for 1.9 s of wall time,
+ * 2.0 s single-threaded; docs/performance.md). Solves therefore run on one thread and numeric
+ * factorizations, whose dense supernodes do gain, on the number OpenBLAS started with (its
+ * environment settings respected). Found at run time (dlsym), so another BLAS links as well
+ * and is left alone. */
+typedef void (*set_threads_fn)(int);
+typedef int (*get_threads_fn)(void);
+static set_threads_fn blas_set_threads = NULL;
+static int blas_threads_all = 1, blas_threads_now = 0, blas_probed = 0;
+
+static void blas_threads(int factorizing)
+{
+    int want;
+    if (!blas_probed) {
+        get_threads_fn get = (get_threads_fn)dlsym(RTLD_DEFAULT, "openblas_get_num_threads");
+        blas_set_threads = (set_threads_fn)dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
+        blas_probed = 1;
+        if (get != NULL && blas_set_threads != NULL) blas_threads_all = get();
+        blas_threads_now = blas_threads_all;
+    }
+    if (blas_set_threads == NULL || blas_threads_all <= 1) return;
+    want = factorizing ? blas_threads_all : 1;
+    if (want != blas_threads_now) {
+        blas_set_threads(want);
+        blas_threads_now = want;
+    }
+}
+
+/* The threads a solve and a factorization use (tests, docs/performance.md). */
+void rb_blas_threads(int *solve, int *factorize)
+{
+    blas_threads(0);
+    *solve = blas_set_threads != NULL && blas_threads_all > 1 ? 1 : blas_threads_all;
+    *factorize = blas_threads_all;
+}
 
 enum { RB_OK = 0, RB_NOT_POSDEF = 1, RB_FAIL = 2, RB_BADARG = 3 };
 
@@ -308,6 +348,7 @@ int rb_chol_factorize(void *vh, int n, int nnz, const int *colptr, const int *ro
     }
 
     memcpy(h->A->x, values, (size_t)nnz * sizeof(double));
+    blas_threads(1);
     if (!cholmod_factorize(h->A, h->L, &h->c) || h->c.status < CHOLMOD_OK)
         return fail(h, msg, msglen, "factorize");
 
@@ -405,6 +446,7 @@ int rb_chol_solve(void *vh, int n, const double *b, double *x, char *msg, int ms
         h->Y->ncol = (size_t)n;
         h->Y->d = 4;
     }
+    blas_threads(0);
     ok = cholmod_solve2(CHOLMOD_A, h->L, &h->B, NULL, &h->X, NULL, &h->Y, &h->E, &h->c);
     h->B.x = NULL;
     if (!ok || h->X == NULL || h->c.status < CHOLMOD_OK) return fail(h, msg, msglen, "solve2");

@@ -5,10 +5,10 @@
 !> (constraint deactivated then activated), a singular system, bad patterns and misuse.
 program test_cholmod_binding
   use kinds, only: dp
-  use errors, only: STAT_OK, STAT_RUN, STAT_INPUT
+  use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, str
   use testing, only: check, check_close, test_summary
   use sparse_matrix, only: sym_csc_t
-  use cholmod_binding, only: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version, factor_stats_t
+  use cholmod_binding, only: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version, factor_stats_t, blas_threads
   use dense_solve, only: spd_solve
   implicit none
 
@@ -17,6 +17,7 @@ program test_cholmod_binding
   call test_laplacian(200)      ! 40000 equations: larger supernodes
   call test_laplacian(240)      ! 57600 equations: nested dissection of the supervariables
   call test_vector_laplacian(170)
+  call test_threads()
   call test_misuse()
   write (*, '(a)') '# UMFPACK ' // umfpack_version()
   call test_kkt()
@@ -25,6 +26,15 @@ program test_cholmod_binding
   call test_summary('cholmod_binding')
 
 contains
+
+  !> After the factorizations and solves above: solves run on one BLAS thread, factorizations on
+  !> the count OpenBLAS started with (cholmod_shim.c; one per CPU unless OPENBLAS_NUM_THREADS says).
+  subroutine test_threads()
+    integer :: ts, tf
+    call blas_threads(ts, tf)
+    call check(ts == 1 .and. tf >= 1, 'BLAS threads: a solve on one thread, a factorization on ' // &
+      'OpenBLAS''s count', 'solve ' // str(ts) // ', factorize ' // str(tf))
+  end subroutine test_threads
 
   !> Pattern and values of L + shift*I, L the 5-point Laplacian on an m x m grid (Dirichlet),
   !> assembled from 2-node "edge" elements [1 -1; -1 1] and 1-node shift elements.

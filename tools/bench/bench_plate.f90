@@ -19,7 +19,7 @@ program bench_plate
   use scene_loader, only: load_scene
   use assembly, only: system_t, build_system, external_force, commit_state
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
-  use cholmod_binding, only: factor_stats_t, ORDERING_NAMES
+  use cholmod_binding, only: factor_stats_t, ORDERING_NAMES, blas_threads
   implicit none
 
   ! Parts of a replayed step, in run_newmark's order.
@@ -41,6 +41,7 @@ program bench_plate
   type(factor_stats_t) :: fst
   real(dp) :: t0, t_load, t_build, t_analyze, t_prepare, t_factor, t_step, t_solve, h, dw, kin
   real(dp) :: part(NPART), tp, t_kmv, kdiff, t_rmed, ratio_own
+  integer :: th_solve, th_factor
   real(dp), allocatable :: b(:), x(:), ts(:), steps_t(:, :), solve_rep(:), step_rep(:), t_rstep(:), fac_rep(:)
   character(len=256) :: hw_prepare
 
@@ -227,7 +228,9 @@ program bench_plate
   do i = 1, NPART
     write (*, '(a)', advance='no') ' ' // trim(PART_KEY(i)) // '=' // rtoa(part(i))
   end do
-  write (*, '(a)') ' hwm_prepare_kb=' // trim(hw_prepare) // ' hwm_kb=' // trim(vm_hwm())
+  call blas_threads(th_solve, th_factor)
+  write (*, '(a)') ' hwm_prepare_kb=' // trim(hw_prepare) // ' hwm_kb=' // trim(vm_hwm()) // &
+    ' blas_solve=' // itoa(th_solve) // ' blas_factor=' // itoa(th_factor)
   call rs%mat%factor%destroy()
 
 contains
