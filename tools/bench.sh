@@ -334,7 +334,7 @@ L.append("   at a time, x and y seen as 2 × n/2 arrays) where that stores at mo
 L.append("   entries (a roller or a beam's RZ shifts the pairing: the scalar product is kept), and a")
 L.append("   consistent mass whose blocks are all m I by one value per block (the scalar product bit for")
 L.append("   bit). Minimum CPU time of the product alone on the plates, both kernels in one process")
-L.append("   (/tmp-built probe on the library): K0 u 101–139 → 47–77 µs at 1e4 DOFs, 1.26–1.54 → 0.84–0.88")
+L.append("   (a probe program linked to the library): K0 u 101–139 → 47–77 µs at 1e4 DOFs, 1.26–1.54 → 0.84–0.88")
 L.append("   ms at 1e5; M v 64–77 → 47–62 µs and 0.78–0.94 → 0.65–0.70 ms. In the step the product reads")
 L.append("   K0 from the cache level the solve left it in, so it gains less there. Memory: +4 bytes per")
 L.append("   stored value (about 90 MB at 1e6 DOFs, 4 % of the peak). (b) A linear step whose eq (9) has nothing added")
