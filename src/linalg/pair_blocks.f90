@@ -179,8 +179,8 @@ contains
   !> y = A x (active() only). No allocation.
   subroutine pb_matvec(self, x, y)
     class(pair_block_t), intent(in) :: self
-    real(dp), intent(in), contiguous :: x(:)
-    real(dp), intent(out), contiguous :: y(:)
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: y(:)
     integer :: k
     real(dp) :: s, xn
     y(1:self%n) = 0.0_dp
