@@ -91,6 +91,18 @@ contains
   subroutine test_grid(odd)
     logical, intent(in) :: odd
     type(sym_csc_t) :: pat
+    if (odd) then
+      call pattern(30, grid_conn(), pat, extra=[3, 8, 60])
+      call check(mod(pat%n, 2) == 1, 'odd grid: an odd number of equations')
+      call compare(pat, 'grid with an odd last equation', .true.)
+    else
+      call pattern(30, grid_conn(), pat)
+      call compare(pat, 'grid', .true.)
+    end if
+  end subroutine test_grid
+
+  !> The nodes of the 5 x 4 cells of a 6 x 5 grid of nodes, counter-clockwise.
+  pure function grid_conn() result(conn)
     integer :: conn(4, 20), i, j, e, n0
     e = 0
     do j = 0, 3
@@ -100,21 +112,7 @@ contains
         conn(:, e) = [n0, n0 + 1, n0 + 7, n0 + 6]
       end do
     end do
-    if (odd) then
-      call pattern(30, conn, pat, extra=[3, 8, 60])
-      call check(mod(pat%n, 2) == 1, 'odd grid: an odd number of equations')
-      call compare(pat, 'grid with an odd last equation', .true.)
-    else
-      call compare_grid(pat, conn)
-    end if
-  end subroutine test_grid
-
-  subroutine compare_grid(pat, conn)
-    type(sym_csc_t), intent(inout) :: pat
-    integer, intent(in) :: conn(:, :)
-    call pattern(30, conn, pat)
-    call compare(pat, 'grid', .true.)
-  end subroutine compare_grid
+  end function grid_conn
 
   !> The same grid with one equation first (a roller's lone DOF): every pair straddles two nodes,
   !> the blocks would store zeros, the scalar product is kept.
@@ -150,17 +148,9 @@ contains
   subroutine test_iso()
     type(sym_csc_t) :: pat, cpat
     type(pair_block_t) :: pb
-    integer :: conn(4, 20), i, j, e, n0, k
+    integer :: i, j, k
     real(dp), allocatable :: v(:), cv(:), x(:), y(:), ys(:)
-    e = 0
-    do j = 0, 3
-      do i = 0, 4
-        e = e + 1
-        n0 = j * 6 + i + 1
-        conn(:, e) = [n0, n0 + 1, n0 + 7, n0 + 6]
-      end do
-    end do
-    call pattern(30, conn, pat)
+    call pattern(30, grid_conn(), pat)
     allocate (v(pat%nnz), x(pat%n), y(pat%n), ys(pat%n))
     do j = 1, pat%n
       do k = pat%colptr(j), pat%colptr(j + 1) - 1
