@@ -3,8 +3,8 @@
 !> (dof_map), so on a 2D solid whose nodes have both UX and UY free a pair is a node and a block
 !> is the node-node coupling: one index read per four values instead of one per value, and the
 !> symmetric product's scatter touches y two entries at a time. Measured on the QUAD4 plates of
-!> `make bench` (minimum CPU time of the product alone): K0 u 1.5 times faster at 1e4 DOFs, 1.2
-!> at 1e5.
+!> `make bench` (minimum CPU time of the product alone, docs/performance.md): K0 u 101–139 → 47–77
+!> µs at 1e4 DOFs, 1.26–1.54 → 0.84–0.88 ms at 1e5.
 !>
 !> Where the pairs are not nodes (a roller shifts the numbering, beams carry RZ) blocks hold
 !> zeros: build leaves the matrix off (active() false, the caller keeps sym_csc_t%matvec) when the
@@ -30,8 +30,7 @@ module pair_blocks
     integer, allocatable :: bptr(:)        !< (nb+1) blocks of block column J; the diagonal block last
     integer, allocatable :: brow(:)        !< block rows I <= J, increasing
     real(dp), allocatable :: a(:, :)       !< (4, nblocks) column-major 2 × 2 blocks (A(I, J)), or (1, :) with iso
-    integer, allocatable :: tptr(:)        !< (2) the last column's entries when n is odd
-    integer, allocatable :: trow(:)
+    integer, allocatable :: trow(:)        !< the last column's rows and values when n is odd
     real(dp), allocatable :: tval(:)
   contains
     procedure :: build => pb_build
@@ -157,7 +156,6 @@ contains
     if (mod(self%n, 2) == 0) return
     k0 = pat%colptr(self%n)
     k1 = pat%colptr(self%n + 1) - 1
-    self%tptr = [1, k1 - k0 + 2]
     self%trow = pat%rowind(k0:k1)
     self%tval = values(k0:k1)
   end subroutine odd_column
