@@ -151,8 +151,12 @@ contains
       summary%factor%analysis_cpu, ' s CPU)'
     if (summary%factorizations > 1) write (*, '(a,i0,a)') '  iteration matrix factorized ', summary%factorizations, &
       ' times (ITERATION TANGENT or AUTO, SCHEME RETRY)'
-    if (summary%retried > 0) write (*, '(a,i0,a,i0,a)') '  ', summary%retried, &
-      ' steps did not converge and were taken again as sub-steps (SCHEME RETRY; up to ', summary%max_substeps, ' per step)'
+    if (summary%retried > summary%impact_retried) write (*, '(a,i0,a,i0,a)') '  ', &
+      summary%retried - summary%impact_retried, ' steps did not converge and were taken again as sub-steps ' // &
+      '(SCHEME RETRY; up to ', summary%max_substeps, ' per step)'
+    if (summary%impact_retried > 0) write (*, '(a,i0,a,i0,a)') '  ', summary%impact_retried, ' steps were taken ' // &
+      'again as sub-steps: the impact correction of the whole step could not restore the energy (SCHEME RETRY; up to ', &
+      summary%max_substeps, ' per step)'
     if (summary%schur_solves + summary%augmented_solves > 0) write (*, '(a,4(i0,a))') '  contact multipliers: ', &
       summary%schur_solves, ' Schur solves (', summary%schur_columns, ' columns), ', summary%augmented_solves, &
       ' augmented solves (', summary%augmented_factorizations, ' LU)'

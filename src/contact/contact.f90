@@ -46,7 +46,7 @@ module contact
   public :: contact_set_t, contact_settings_t, contact_event_t, contact_report_t, multiplier_counters_t, row_geometry_t
   public :: contact_set_bilateral, contact_set_gap0, contact_rewrite, contact_step_gaps
   public :: contact_add, contact_finalize, contact_set_mass, contact_prepare, contact_solve_step, &
-    contact_end_step, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, contact_am_block, &
+    contact_end_step, contact_shortfall, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, contact_am_block, &
     contact_set_rigid_modes, contact_events, hzero_reflection
 
   integer, parameter :: EVENT_ESTABLISH = 1, EVENT_RELEASE = 2
@@ -148,6 +148,7 @@ module contact
     procedure :: counters => cs_counters
     procedure :: warm_start => cs_warm_start
     procedure :: last_active_set => cs_last_active_set
+    procedure :: changing_set => cs_changing_set
     procedure :: set_solver => cs_set_solver
     procedure :: save => cs_save
     procedure :: load => cs_load
@@ -184,6 +185,19 @@ module contact
       integer, intent(in), optional :: body(:)
       type(contact_report_t), intent(out), optional :: report
     end subroutine contact_end_step
+
+    !> What the impact correction of the step that just converged would leave in the energy
+    !> balance (MASSLESS; 0 otherwise), before anything is committed (contact_impact).
+    module subroutine contact_shortfall(cs, mode, u_n, du, v, mv, body, shortfall, stat, errmsg)
+      type(contact_set_t), intent(inout) :: cs
+      integer, intent(in) :: mode
+      real(dp), intent(in) :: u_n(:), du(:)
+      real(dp), intent(inout) :: v(:), mv(:)
+      integer, intent(in) :: body(:)
+      real(dp), intent(out) :: shortfall
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+    end subroutine contact_shortfall
 
     !> (16) The hzero step about the conditions conds with the gains 1 + e (2: the reflection;
     !> 1: PERSIST's projection; RESTITUTION e: Newton's law) (contact_impact).
@@ -367,6 +381,17 @@ contains
     logical, intent(out) :: active(:)
     active = self%st%active_iter
   end subroutine cs_last_active_set
+
+  !> Does the active set of the step's last iterate establish or release a contact condition?
+  pure logical function cs_changing_set(self)
+    class(contact_set_t), intent(in) :: self
+    integer :: j
+    cs_changing_set = .false.
+    do j = 1, self%nc
+      if (self%bilat(j)) cycle
+      if (self%st%active_iter(j) .neqv. self%st%active(j)) cs_changing_set = .true.
+    end do
+  end function cs_changing_set
 
   !> Change how the multipliers are computed (SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED).
   pure subroutine cs_set_solver(self, solver)

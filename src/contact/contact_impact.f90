@@ -37,35 +37,8 @@ contains
       return
     end if
     associate (gn => cs%gn, gend => cs%gend, now => cs%now, est => cs%est, rel => cs%rel, e => cs%e, y => cs%y)
-      if (.not. cs%gaps_kept) then             ! (else kept with the rows of the step: contact_step_gaps)
-        call cs%c%gaps(u_n, gn)
-        do j = 1, cs%nc
-          gend(j) = gn(j) + cs%c%dot(j, du)
-        end do
-      end if
+      call step_conditions(cs, mode, u_n, du, rep)
       cs%gaps_kept = .false.
-      ! Bilateral rows (IMPOSE) are no contacts: no events, no correction; their multipliers'
-      ! work is the work of the imposed motion, for the driver's external work.
-      now = cs%st%active_iter .and. .not. cs%bilat
-      rep%imposed_work = 0.5_dp * sum(cs%st%lambda * (gend - gn), mask=cs%bilat)
-      est = now .and. .not. cs%st%active
-      rel = cs%st%active .and. .not. now
-      y = 0.0_dp
-      e = 0.0_dp
-      where (est) e = impact_energy_error(cs%st%lambda, max(gn, 0.0_dp))
-      ! MASSLESS: Λ is R(n+1) (the massless rows are equilibrium at n+1), the step's multiplier
-      ! R(n) + R(n+1); a release gives back ½ R(n) g(n+1) the scheme counted (docs/contact.md).
-      cs%lam_step = cs%st%lambda
-      if (mode == IMPACT_MASSLESS) then
-        cs%lam_step = cs%st%lambda + cs%st%r_prev
-        where (rel) e = -impact_energy_error(cs%st%r_prev, max(gend, 0.0_dp))
-        rep%reaction_work = 0.5_dp * dot_product(cs%st%r_prev, gend - gn)
-      end if
-      rep%n_active = count(now)
-      rep%n_establish = count(est)
-      rep%n_release = count(rel)
-      rep%energy_error = sum(e)
-      rep%scheme_work = 0.5_dp * dot_product(cs%lam_step, gend - gn)
       t_before = 0.5_dp * dot_product(v, mv)
       cs%cimp = 0.0_dp
       cs%bimp = 0.0_dp
@@ -142,6 +115,65 @@ contains
     end associate
     if (present(report)) report = rep
   end procedure contact_end_step
+
+  !> The conditions of the step that just converged: gaps g(n), g(n+1); active now, established,
+  !> released; E_j (10) of the established ones and, under MASSLESS, -½ R(n) g(n+1) of the released
+  !> ones (docs/contact.md); the step's multiplier; counts and works into rep. Work arrays of cs
+  !> only: contact_shortfall may call it before contact_end_step does.
+  subroutine step_conditions(cs, mode, u_n, du, rep)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: mode
+    real(dp), intent(in) :: u_n(:), du(:)
+    type(contact_report_t), intent(inout) :: rep
+    integer :: j
+    associate (gn => cs%gn, gend => cs%gend, now => cs%now, est => cs%est, rel => cs%rel, e => cs%e, y => cs%y)
+      if (.not. cs%gaps_kept) then             ! (else kept with the rows of the step: contact_step_gaps)
+        call cs%c%gaps(u_n, gn)
+        do j = 1, cs%nc
+          gend(j) = gn(j) + cs%c%dot(j, du)
+        end do
+      end if
+      ! Bilateral rows (IMPOSE) are no contacts: no events, no correction; their multipliers'
+      ! work is the work of the imposed motion, for the driver's external work.
+      now = cs%st%active_iter .and. .not. cs%bilat
+      rep%imposed_work = 0.5_dp * sum(cs%st%lambda * (gend - gn), mask=cs%bilat)
+      est = now .and. .not. cs%st%active
+      rel = cs%st%active .and. .not. now
+      y = 0.0_dp
+      e = 0.0_dp
+      where (est) e = impact_energy_error(cs%st%lambda, max(gn, 0.0_dp))
+      ! MASSLESS: Λ is R(n+1) (the massless rows are equilibrium at n+1), the step's multiplier
+      ! R(n) + R(n+1); a release gives back ½ R(n) g(n+1) the scheme counted (docs/contact.md).
+      cs%lam_step = cs%st%lambda
+      if (mode == IMPACT_MASSLESS) then
+        cs%lam_step = cs%st%lambda + cs%st%r_prev
+        where (rel) e = -impact_energy_error(cs%st%r_prev, max(gend, 0.0_dp))
+        rep%reaction_work = 0.5_dp * dot_product(cs%st%r_prev, gend - gn)
+      end if
+      rep%n_active = count(now)
+      rep%n_establish = count(est)
+      rep%n_release = count(rel)
+      rep%energy_error = sum(e)
+      rep%scheme_work = 0.5_dp * dot_product(cs%lam_step, gend - gn)
+    end associate
+  end subroutine step_conditions
+
+  !> What the impact correction of the step that just converged would leave in the energy balance
+  !> (contact_end_step's report%unrestored), found before anything is committed, so that the
+  !> driver can take the step again as sub-steps (SCHEME RETRY) rather than leave it: under
+  !> MASSLESS a release's ½ R(n) g(n+1) that the body's kinetic energy cannot give (a step about as
+  !> long as the contact). v, mv: v(n+1) and M v(n+1) of eq (3), scratch (changed). 0 in the
+  !> other modes and on steps where no condition changes.
+  module procedure contact_shortfall
+    type(contact_report_t) :: rep
+    stat = STAT_OK
+    shortfall = 0.0_dp
+    if (.not. cs%finalized .or. cs%nc == 0 .or. mode /= IMPACT_MASSLESS) return
+    call step_conditions(cs, mode, u_n, du, rep)
+    if (rep%n_establish == 0 .and. rep%n_release == 0) return
+    call persist_correction(cs, body, v, mv, rep, stat, errmsg, project=.false.)
+    shortfall = rep%unrestored
+  end procedure contact_shortfall
 
   !> Dense workspaces amat and gmat at least n x n (they only grow).
   subroutine reserve_dense(cs, n)

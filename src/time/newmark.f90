@@ -11,7 +11,8 @@ module newmark
   use dof_map, only: equation_bodies
   use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions
   use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
-    contact_prepare, contact_set_rigid_modes, contact_gaps, contact_step_gaps
+    contact_prepare, contact_set_rigid_modes, contact_gaps, contact_step_gaps, contact_shortfall
+  use newmark_scheme, only: velocity_eq3
   use assembly, only: system_t, external_force, mass_times, initial_state, dof_label, dof_origin, save_points, reaction_update, &
     load_points, is_damped
   use energy, only: energy_t
@@ -46,6 +47,7 @@ module newmark
     real(dp) :: max_rel_balance = 0.0_dp
     integer :: iterations = 0
     integer :: retried = 0                   !< steps taken again as sub-steps (SCHEME RETRY)
+    integer :: impact_retried = 0            !< of which for their impact correction (impact_short)
     integer :: max_substeps = 1              !< the most sub-steps one step took
     integer(8) :: factorizations = 0         !< of the iteration matrix S (setup, TANGENT, AUTO, RETRY)
     type(factor_stats_t) :: factor           !< the factor of S as CHOLMOD's analysis made it
@@ -65,6 +67,8 @@ module newmark
     type(iteration_matrix_t) :: mat_sub      !< S of SCHEME RETRY's sub-steps (set up at each retry)
     type(zone_t) :: zone                     !< SCHEME ZONE: the iteration on the nonlinear elements' equations
     integer :: retried = 0, max_sub = 1      !< steps retried as sub-steps, the most sub-steps of one
+    integer :: impact_retried = 0            !< of which because of their impact correction (impact_short)
+    logical :: step_short = .false.          !< the step at hand was (impact_short)
     type(energy_t) :: en
     ! Unilateral contact (method.md section 3).
     logical :: has_contact = .false.
@@ -77,6 +81,7 @@ module newmark
     real(dp), allocatable :: crig(:, :), cmrig(:, :)  !< the same, rotation about the origin of the step's end (following contacts)
     real(dp), allocatable :: lam(:)          !< step multipliers of the last iterate
     logical, allocatable :: act0(:)          !< the LCP's warm start at the start of a step (retries)
+    real(dp), allocatable :: vtry(:), mvtry(:)   !< v(n+1), M v(n+1) before the commit (impact_short)
     integer, allocatable :: imp_row(:), imp_slot(:)   !< IMPOSE rows summed by reaction probes
   end type run_state_t
 
@@ -222,6 +227,7 @@ contains
     end if
     call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, rs%body)
     allocate (rs%lam(rs%cs%n_conditions()), rs%act0(rs%cs%n_conditions()))
+    allocate (rs%vtry(sys%dofs%neq), rs%mvtry(sys%dofs%neq))
     rs%lam = 0.0_dp
   end subroutine setup_contact
 
@@ -393,6 +399,7 @@ contains
       t = scn%t_start + step * rs%h
       iters = 0
       nsub = 0
+      rs%step_short = .false.
       call advance(scn, sys, rs, outs, step, scn%t_start + (step - 1) * rs%h, t, rs%h, 0, iters, nsub, nactive, rep, &
         tfail, stat, errmsg)
       total_iter = total_iter + iters
@@ -403,6 +410,7 @@ contains
       end if
       if (nsub > 1) then
         rs%retried = rs%retried + 1
+        if (rs%step_short) rs%impact_retried = rs%impact_retried + 1
         rs%max_sub = max(rs%max_sub, nsub)
       end if
       if (.not. (abs(rs%en%balance()) <= huge(1.0_dp))) then
@@ -457,6 +465,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp) :: tm
+    logical :: short
     tfail = t1
     call external_force(scn, sys, t1, rs%st%f_np1)
     if (size(scn%imposes) > 0) call imposed_targets(scn, rs%cs, t1)
@@ -472,12 +481,22 @@ contains
     end if
     iters = iters + rep%iterations
     if (rep%outcome == STEP_CONVERGED) then
-      nsub = nsub + 1
-      call finish_step(scn, sys, rs, outs, step, t1, h, nactive, stat, errmsg)
-      return
+      if (level >= scn%retry) short = .false.
+      if (level < scn%retry) short = impact_short(scn, sys, rs, stat, errmsg)
+      if (stat /= STAT_OK) then
+        errmsg = at_step(step, t1) // errmsg
+        return
+      end if
+      rs%step_short = rs%step_short .or. short
+      if (.not. short) then
+        nsub = nsub + 1
+        call finish_step(scn, sys, rs, outs, step, t1, h, nactive, stat, errmsg)
+        return
+      end if
     end if
     if (level >= scn%retry) return
-    ! Nothing was committed: the same interval again as two half steps.
+    ! Nothing was committed: the same interval again as two half steps (a failed iteration, or
+    ! an impact correction that would leave energy in the balance: impact_short).
     if (rs%has_contact) call rs%cs%warm_start(rs%act0)
     call use_step(scn, sys, rs, outs, 0.5_dp * h, level + 1, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -503,6 +522,30 @@ contains
       end if
     end subroutine attempt
   end subroutine advance
+
+  !> IMPACT MASSLESS: would the impact correction of the step that just converged leave energy in
+  !> the balance? A release's ½ R(n) g(n+1) more than the body's kinetic energy can give (a step
+  !> about as long as the contact, docs/contact.md): the step is then taken again as sub-steps.
+  !> Only on steps where a condition changes (a velocity and a product by M more); not with
+  !> conditions that follow the geometry (rewritten at the end configuration first).
+  logical function impact_short(scn, sys, rs, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    type(run_state_t), intent(inout) :: rs
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: shortfall
+    stat = STAT_OK
+    impact_short = .false.
+    if (.not. (rs%has_contact .and. scn%impact == IMPACT_MASSLESS)) return
+    if (rs%follow%count() > 0 .or. .not. rs%cs%changing_set()) return
+    rs%vtry = rs%st%v
+    call velocity_eq3(rs%st%h, rs%st%du, rs%vtry)
+    call mass_times(sys, rs%vtry, rs%mvtry)
+    call contact_shortfall(rs%cs, scn%impact, rs%st%u, rs%st%du, rs%vtry, rs%mvtry, rs%body, shortfall, stat, errmsg)
+    if (stat /= STAT_OK) return
+    impact_short = shortfall > 1.0e-12_dp * max(abs(rs%en%kinetic) + abs(rs%en%internal()), tiny(1.0_dp))
+  end function impact_short
 
   !> The step h for the steps that follow: the run's S (level 0) or the sub-steps' S, set up
   !> afresh (K0 + 4M/h², so that a retry never depends on an earlier one: restarts stay bit for
@@ -682,6 +725,7 @@ contains
     summary%steps = last
     summary%iterations = total_iter
     summary%retried = rs%retried
+    summary%impact_retried = rs%impact_retried
     summary%factorizations = rs%mat%n_factor + rs%mat_sub%n_factor
     summary%factor = rs%mat%factor%stats()
     summary%max_substeps = rs%max_sub
