@@ -282,6 +282,7 @@ for kin, extra in (('LARGE', ['SCHEME.IMPACT=MASSLESS']), ('SMALL', ['MODEL.KINE
     rc, err, out = sc.run('inputs/ring_impact.dat', ['TIME.STEP=%.6g' % (T_RING / 10), 'OUTPUT.FIELDS=0'] + extra)
     hr = sc.history(out)
     bal = rel_balance(hr)
+    retried = sorted(int(s) for s, n in zip(hr['step'], hr['substeps']) if n >= 2)
     sc.report_measured('ring %s, IMPACT MASSLESS at h = T/10: the release step taken again as sub-steps, '
                        '|balance| <= 1e-10 of E, no warning' % kin,
                        rc == 0 and bal <= 1e-10 and 'warning' not in err and hr['substeps'].max() >= 2,
@@ -295,4 +296,7 @@ for kin, extra in (('LARGE', ['SCHEME.IMPACT=MASSLESS']), ('SMALL', ['MODEL.KINE
     sc.report_measured('ring %s, MASSLESS at h = T/10, RETRY 0: a warning names the step and the energy left in '
                        'the balance (1e-9)' % kin, rc == 0 and named > 1e-3 * hr['kinetic'][0] and
                        abs(named - left) <= 1e-9 * left, 'named %.6e J, balance %.6e J' % (named, left))
+    warned = sorted(int(ln.split('warning: step ')[1].split()[0]) for ln in err.splitlines() if 'could not restore' in ln)
+    sc.report_measured('ring %s: the steps retried (the correction tried before the commit) are those that warn '
+                       'without RETRY' % kin, retried == warned and len(warned) > 0, 'retried %s, warned %s' % (retried, warned))
 
