@@ -6,7 +6,7 @@ module assembly
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, check_alloc
   use mesh, only: DOF_NAMES
   use element_traits, only: ET_BEAM2, etype_needs_material
-  use contact_modes, only: IMPACT_MASSLESS
+  use contact_modes, only: IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use loads, only: load_nodal_forces
   use scene, only: scene_t, function_value, model_point_kind, contact_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
   use dof_map, only: build_dof_map, cayley_rotations, imposed_dofs, equation_bodies, DOF_ABSENT, DOF_FIXED
@@ -276,9 +276,10 @@ contains
     logical :: mask(3)
     real(dp) :: x(2, 8), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho
     real(dp) :: mlump(MAX_EDOF, MAX_EDOF), bl(MAX_NSTRAIN * MAX_EDOF)
-    logical, allocatable :: massless(:)
+    logical, allocatable :: massless(:), lumped_rows(:)
     logical :: damped
     if (scn%impact == IMPACT_MASSLESS) call contact_nodes(scn, massless)
+    if (scn%impact == IMPACT_SYMMETRIC) call contact_nodes(scn, lumped_rows)
     call sys%ops%pat%build(sys%dofs%neq, sys%elems%edof_ptr, sys%elems%edof, stat, errmsg)
     if (stat /= STAT_OK) return
     damped = any(scn%models%alpha > 0.0_dp .or. scn%models%beta > 0.0_dp)
@@ -320,6 +321,8 @@ contains
           me(1:ndof, 1:ndof) = 0.5_dp * (me(1:ndof, 1:ndof) + mlump(1:ndof, 1:ndof))
         end if
         if (allocated(massless)) call move_contact_mass(scn%mesh%conn(1:nen, e), elem_dof_mask(et), massless, &
+          me(1:ndof, 1:ndof))
+        if (allocated(lumped_rows)) call lump_contact_rows(scn%mesh%conn(1:nen, e), elem_dof_mask(et), lumped_rows, &
           me(1:ndof, 1:ndof))
         call sys%ops%pat%add_element(sys%ops%mval, dofs, me(1:ndof, 1:ndof))
         if (damped) call sys%ops%pat%add_element(sys%ops%cval, dofs, scn%models(im)%alpha * me(1:ndof, 1:ndof) + &
@@ -374,6 +377,35 @@ contains
       end do
     end do
   end subroutine move_contact_mass
+
+  !> IMPACT SYMMETRIC (docs/contact.md): the couplings of the element's contact nodes' UX, UY with
+  !> the same DOF of its other nodes lumped on the two diagonals (row sums, the element's total
+  !> mass and gravity load kept; M stays positive definite, the change being c [1 -1; -1 1] with
+  !> c > 0), so that stopping a contact node's normal velocity (the projection at establishment)
+  !> and the impulse at its release act on that node alone.
+  pure subroutine lump_contact_rows(nodes, mask, contact, me)
+    integer, intent(in) :: nodes(:)
+    logical, intent(in) :: mask(3), contact(:)
+    real(dp), intent(inout) :: me(:, :)
+    integer :: a, b, d, ia, ib, nper
+    real(dp) :: c
+    nper = count(mask)
+    do a = 1, size(nodes)
+      if (.not. contact(nodes(a))) cycle
+      do d = 1, 2
+        ia = (a - 1) * nper + d
+        do b = 1, size(nodes)
+          if (b == a) cycle
+          ib = (b - 1) * nper + d
+          c = me(ia, ib)
+          me(ia, ia) = me(ia, ia) + c
+          me(ib, ib) = me(ib, ib) + c
+          me(ia, ib) = 0.0_dp
+          me(ib, ia) = 0.0_dp
+        end do
+      end do
+    end do
+  end subroutine lump_contact_rows
 
   !> A DOF with neither mass nor stiffness makes K0 + 4M/h2 singular: refused, named. A mass
   !> matrix with no off-diagonal entry is kept as its diagonal (lumped).

@@ -34,13 +34,12 @@ module contact
   use constraint_rows, only: constraint_rows_t, LABEL_LEN, MAX_REWRITE
   use contact_state, only: contact_state_t
   use contact_multipliers, only: multiplier_system_t
-  use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, SOLVER_AUTO, SOLVER_SCHUR, &
-    SOLVER_AUGMENTED, &
-    SWITCH_DEFAULT
+  use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC, SOLVER_AUTO, &
+    SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   use impact_kernels, only: impact_energy_error, impulse_fixed_point, persist_scale
   implicit none
   private
-  public :: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, EVENT_ESTABLISH, EVENT_RELEASE, LABEL_LEN
+  public :: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_SYMMETRIC, EVENT_ESTABLISH, EVENT_RELEASE, LABEL_LEN
   public :: inverse_op_t, diag_inverse_t, chol_inverse_t
   public :: SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   public :: contact_set_t, contact_settings_t, contact_event_t, contact_report_t, multiplier_counters_t, row_geometry_t

@@ -32,7 +32,8 @@ contains
       if (present(report)) report = rep
       return
     end if
-    if ((mode == IMPACT_PAPER .or. mode == IMPACT_PERSIST) .and. .not. cs%mass_set .and. cs%first_bilateral > 1) then
+    if ((mode == IMPACT_PAPER .or. mode == IMPACT_PERSIST .or. mode == IMPACT_SYMMETRIC) .and. .not. cs%mass_set .and. &
+      cs%first_bilateral > 1) then
       call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: call contact_set_mass first')
       return
     end if
@@ -43,7 +44,7 @@ contains
       cs%cimp = 0.0_dp
       cs%bimp = 0.0_dp
 
-      if (rep%n_establish > 0 .or. (mode == IMPACT_MASSLESS .and. rep%n_release > 0)) then
+      if (rep%n_establish > 0 .or. ((mode == IMPACT_MASSLESS .or. mode == IMPACT_SYMMETRIC) .and. rep%n_release > 0)) then
         select case (mode)
         case (IMPACT_PAPER)
           call paper_correction(cs, est, v, mv, rep, stat, errmsg)
@@ -68,6 +69,8 @@ contains
             return
           end if
           call persist_correction(cs, body, v, mv, rep, stat, errmsg, project=.false.)
+        case (IMPACT_SYMMETRIC)
+          call symmetric_correction(cs, v, mv, rep, stat, errmsg)
         case (IMPACT_OFF)
         case default
           call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: unknown impact mode ' // str(mode))
@@ -174,6 +177,76 @@ contains
     call persist_correction(cs, body, v, mv, rep, stat, errmsg, project=.false.)
     shortfall = rep%unrestored
   end procedure contact_shortfall
+
+  !> IMPACT SYMMETRIC (docs/contact.md): a release is the impact reversed. Released conditions
+  !> first: each gives back the energy it held, held_j, as an impulse x along c_j on its nodes,
+  !> v <- v + x M⁻¹c_j' with ½ s x² + (c_j v) x = held_j, s = c_j M⁻¹c_j', x > 0 (repulsive).
+  !> Then, if conditions are established: the velocity projected on zero normal velocity of every
+  !> active condition (the hzero step with gains 1: PERSIST's projection, impulses -ν along c_j),
+  !> and the kinetic energy it takes, ½ ν'A v, with the step's loss E_j (10) held by the
+  !> established conditions (the projection's share of each: ½ ν_j (c_j v) before it, the positive
+  !> ones). rep%impact_dissipated: the energy held in the step less the energy given back (the
+  !> driver books it beside the plastic and restitution losses, so the balance holds exactly).
+  subroutine symmetric_correction(cs, v, mv, rep, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    real(dp), intent(inout) :: v(:), mv(:)
+    type(contact_report_t), intent(inout) :: rep
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: j, k, n, rank
+    real(dp) :: b, q, x, t1, dt, wsum
+    stat = STAT_OK
+    associate (held => cs%st%held, est => cs%est, rel => cs%rel, now => cs%now)
+      do j = 1, cs%nc
+        if (.not. (rel(j) .and. held(j) > 0.0_dp)) cycle
+        cs%idx(1) = j
+        call contact_am_block(cs, cs%idx(1:1), 1, cs%amat(1:1, 1:1), stat, errmsg)
+        if (stat /= STAT_OK) return
+        b = cs%c%dot(j, v)
+        q = sqrt(b * b + 2.0_dp * cs%amat(1, 1) * held(j))
+        if (b >= 0.0_dp) then                    ! (the root without cancellation)
+          x = 2.0_dp * held(j) / (q + b)
+        else
+          x = (q - b) / cs%amat(1, 1)
+        end if
+        cs%mu = 0.0_dp
+        cs%mu(j) = x
+        call add_minv_ct(cs, cs%mu, 1.0_dp, v, mv, stat, errmsg)
+        if (stat /= STAT_OK) return
+        cs%cimp(j) = cs%cimp(j) + x
+        rep%impact_dissipated = rep%impact_dissipated - held(j)
+        held(j) = 0.0_dp
+      end do
+      if (.not. any(est)) return
+      n = 0
+      do j = 1, cs%nc
+        if (.not. now(j)) cycle
+        n = n + 1
+        cs%idx(n) = j
+        cs%ct(n) = cs%c%dot(j, v)
+      end do
+      t1 = 0.5_dp * dot_product(v, mv)
+      cs%gain(1:n) = 1.0_dp
+      call hzero_reflection(cs, cs%idx(1:n), cs%gain(1:n), v, mv, rank, stat, errmsg)
+      if (stat /= STAT_OK) return
+      dt = t1 - 0.5_dp * dot_product(v, mv)
+      cs%cimp = cs%cimp - cs%mu
+      wsum = 0.0_dp
+      do k = 1, n
+        if (est(cs%idx(k))) wsum = wsum + max(0.5_dp * cs%mu(cs%idx(k)) * cs%ct(k), 0.0_dp)
+      end do
+      do k = 1, n
+        j = cs%idx(k)
+        if (.not. est(j)) cycle
+        if (wsum > 0.0_dp) then
+          held(j) = held(j) + cs%e(j) + dt * max(0.5_dp * cs%mu(j) * cs%ct(k), 0.0_dp) / wsum
+        else
+          held(j) = held(j) + cs%e(j) + dt / real(count(est), dp)
+        end if
+      end do
+      rep%impact_dissipated = rep%impact_dissipated + dt + sum(cs%e, mask=est)
+    end associate
+  end subroutine symmetric_correction
 
   !> Dense workspaces amat and gmat at least n x n (they only grow).
   subroutine reserve_dense(cs, n)

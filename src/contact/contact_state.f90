@@ -3,7 +3,7 @@
 !> R(n) reported only, the active set of the last step and the warm start of the next LCP).
 module contact_state
   use kinds, only: dp
-    use checkpoint, only: ckpt_file_t
+  use checkpoint, only: ckpt_file_t
   implicit none
   private
   public :: contact_state_t
@@ -15,6 +15,7 @@ module contact_state
     real(dp), allocatable :: r_prev(:)       !< physical reaction R(n) at the end of the last step
     real(dp), allocatable :: gap_n(:)        !< g(n) = g0 + C u_n of the last solve
     real(dp), allocatable :: gap(:)          !< g(n+1) of the last LCP
+    real(dp), allocatable :: held(:)         !< IMPACT SYMMETRIC: energy held by the closed condition
   contains
     procedure :: init => state_init
     procedure :: save => state_save
@@ -30,8 +31,10 @@ contains
     integer :: nc
     nc = size(g0)
     if (allocated(self%active)) deallocate (self%active, self%active_iter, self%lambda, self%r_prev, self%gap_n, &
-      self%gap)
-    allocate (self%active(nc), self%active_iter(nc), self%lambda(nc), self%r_prev(nc), self%gap_n(nc), self%gap(nc))
+      self%gap, self%held)
+    allocate (self%active(nc), self%active_iter(nc), self%lambda(nc), self%r_prev(nc), self%gap_n(nc), self%gap(nc), &
+      self%held(nc))
+    self%held = 0.0_dp
     self%active = .false.
     self%active_iter = .false.
     self%lambda = 0.0_dp
@@ -51,6 +54,7 @@ contains
     call ck%put('contact_active_iter', merge(1, 0, self%active_iter), stat, errmsg)
     call ck%put('contact_lambda', self%lambda, stat, errmsg)
     call ck%put('contact_r_prev', self%r_prev, stat, errmsg)
+    call ck%put('contact_held', self%held, stat, errmsg)
   end subroutine state_save
 
   !> The fields saved by state_save, their sizes checked against this set (sticky stat).
@@ -67,5 +71,6 @@ contains
     self%active_iter = flags == 1
     call ck%get('contact_lambda', self%lambda, stat, errmsg)
     call ck%get('contact_r_prev', self%r_prev, stat, errmsg)
+    call ck%get('contact_held', self%held, stat, errmsg)
   end subroutine state_load
 end module contact_state

@@ -7,7 +7,8 @@ module scene_contacts
   use statement, only: statement_t, token_t, stmt_error, find_param, get
   use statement_schema, only: schema_t
   use scene, only: scene_t, condition_t, contact_nodes, condition_keyword
-  use contact_modes, only: IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, SOLVER_AUTO, SOLVER_SCHUR
+  use contact_modes, only: IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC, IMPACT_NAMES, &
+    SOLVER_AUTO, SOLVER_SCHUR
   use element_traits, only: ET_MASS, ET_SPRING
   use scene_helpers, only: node_group, get_point, model_size, get_unit, get_choice
   use mesh_segments, only: segment_set_t, segment_pair_t, group_segments, closest_segment, pair_segment, orient_lines, &
@@ -287,7 +288,8 @@ contains
     ! default follows the kinematics: STEP when a node of ga or gs is on a LARGE model.
     call get_choice(st, 'PAIRING', ['AUTO ', 'START', 'STEP '], 'AUTO', k, stat, errmsg)
     if (stat /= STAT_OK) return
-    c%follow = k == 3 .or. (k == 1 .and. on_large(scn, [scn%mesh%ngroups(ga)%items, scn%mesh%ngroups(gs)%items]))
+    c%follow = k == 3 .or. (k == 1 .and. on_models(scn, [scn%mesh%ngroups(ga)%items, scn%mesh%ngroups(gs)%items], &
+      scn%models%large))
     if (c%follow) then
       call check_following(scn, st, ks, stat, errmsg)
       if (stat /= STAT_OK) return
@@ -362,26 +364,28 @@ contains
     end if
   end subroutine do_gap_segments
 
-  !> Whether one of the nodes is on an element of a KINEMATICS LARGE model.
-  logical function on_large(scn, nodes) result(large)
+  !> Whether one of the nodes is on an element of a model with sel(model) (KINEMATICS LARGE:
+  !> scn%models%large).
+  logical function on_models(scn, nodes, sel) result(found)
     type(scene_t), intent(in) :: scn
     integer, intent(in) :: nodes(:)
+    logical, intent(in) :: sel(:)
     logical, allocatable :: in(:)
     integer :: e, im
     allocate (in(scn%mesh%nnode))
     in = .false.
     in(nodes) = .true.
-    large = .false.
+    found = .false.
     do e = 1, scn%mesh%nelem
       im = scn%elem_model(e)
       if (im == 0) cycle
-      if (.not. scn%models(im)%large) cycle
+      if (.not. sel(im)) cycle
       if (any(in(scn%mesh%conn(1:scn%mesh%nen(e), e)))) then
-        large = .true.
+        found = .true.
         return
       end if
     end do
-  end function on_large
+  end function on_models
 
   !> A pairing that follows the configuration rewrites its rows at every step: the Schur
   !> multipliers only (the augmented system's pattern is analysed once), and the contact nodes
@@ -397,10 +401,10 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'the pairing follows the configuration (PAIRING STEP, ' // &
         'the default with KINEMATICS LARGE) and the rows change at every step: SCHEME MULTIPLIERS AUGMENTED cannot ' // &
         'take them (use SCHUR or AUTO)', st%params(ks)%keytok))
-    else if (scn%impact == IMPACT_MASSLESS) then
+    else if (scn%impact == IMPACT_MASSLESS .or. scn%impact == IMPACT_SYMMETRIC) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'the pairing follows the configuration (PAIRING STEP, ' // &
-        'the default with KINEMATICS LARGE): SCHEME IMPACT MASSLESS (which takes the mass of a fixed set of contact ' // &
-        'nodes) cannot take it (use PERSIST, PAPER or AUTO)', st%params(ks)%keytok))
+        'the default with KINEMATICS LARGE): SCHEME IMPACT ' // trim(IMPACT_NAMES(scn%impact)) // ' (which treats the ' // &
+        'mass of a fixed set of contact nodes) cannot take it (use PERSIST, PAPER or AUTO)', st%params(ks)%keytok))
     end if
     scn%multipliers = SOLVER_SCHUR
   end subroutine check_following
@@ -474,15 +478,18 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     logical, allocatable :: contact(:)
+    integer, allocatable :: nodes(:)
     integer :: i, j
+    character(len=:), allocatable :: why
     stat = STAT_OK
-    if (scn%impact == IMPACT_MASSLESS) then
+    if (scn%impact == IMPACT_MASSLESS .or. scn%impact == IMPACT_SYMMETRIC) then
+      why = "IMPACT MASSLESS leaves no velocity at the contact nodes for Newton's law"
+      if (scn%impact == IMPACT_SYMMETRIC) why = 'IMPACT SYMMETRIC gives back at the release all it held'
       j = findloc(scn%conditions%restitution < 1.0_dp, .true., 1)
       if (j > 0) then
         call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(scn%conditions(j)%line) // ': ' // &
-          condition_keyword(scn%conditions(j)) // &
-          ' ' // scn%conditions(j)%source // ': RESTITUTION < 1 needs IMPACT PERSIST or PAPER (IMPACT MASSLESS leaves ' // &
-          "no velocity at the contact nodes for Newton's law), at 'RESTITUTION'")
+          condition_keyword(scn%conditions(j)) // ' ' // scn%conditions(j)%source // &
+          ': RESTITUTION < 1 needs IMPACT PERSIST or PAPER (' // why // "), at 'RESTITUTION'")
         return
       end if
     end if
@@ -499,8 +506,13 @@ contains
       ! elements it came out negative (energy created: the ring of inputs/ring_impact.dat gained 10 %
       ! of its energy at h = T/30, 4e-4 at T/100).
       call contact_nodes(scn, contact)
-      if (contact_mass_movable(scn, contact) .and. .not. on_large(scn, pack([(i, i = 1, size(contact))], contact))) &
+      nodes = pack([(i, i = 1, size(contact))], contact)
+      if (contact_mass_movable(scn, contact) .and. .not. on_models(scn, nodes, scn%models%large)) then
+        ! With a consistent mass MASSLESS rebounds best; with MIXED (or LUMPED) SYMMETRIC, whose
+        ! rebound then converges with the mesh (docs/contact.md, "IMPACT SYMMETRIC").
         scn%impact = IMPACT_MASSLESS
+        if (.not. on_models(scn, nodes, .not. (scn%models%lumped .or. scn%models%mixed))) scn%impact = IMPACT_SYMMETRIC
+      end if
     end if
   end subroutine resolve_impact
 

@@ -6,9 +6,8 @@ module scene_run
   use mesh, only: DOF_UX, DOF_UY, DOF_RZ
   use statement, only: statement_t, token_t, stmt_error, find_param, count_param, get_real, get_int, to_int
   use statement_schema, only: schema_t
-  use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_AUTO, SOLVER_AUTO, SOLVER_SCHUR, &
-    SOLVER_AUGMENTED, &
-    SWITCH_DEFAULT
+  use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_AUTO, IMPACT_SYMMETRIC, &
+    SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   use scene, only: scene_t, probe_t
   use scene_helpers, only: node_group, get_choice
   implicit none
@@ -16,7 +15,8 @@ module scene_run
   public :: run_schema, run_statement
 
   !> SCHEME IMPACT and MULTIPLIERS: the codes of each word, in the words' order.
-  integer, parameter :: IMPACT_MODES(5) = [IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_OFF, IMPACT_MASSLESS]
+  integer, parameter :: IMPACT_MODES(6) = [IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_OFF, IMPACT_MASSLESS, &
+    IMPACT_SYMMETRIC]
   integer, parameter :: SOLVERS(3) = [SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED]
 
 contains
@@ -129,7 +129,8 @@ contains
     call get_choice(st, 'FORCES', ['AUTO  ', 'POINTS'], 'AUTO', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%forces_points = k == 2
-    call get_choice(st, 'IMPACT', ['AUTO    ', 'PAPER   ', 'PERSIST ', 'OFF     ', 'MASSLESS'], 'AUTO', k, stat, errmsg)
+    call get_choice(st, 'IMPACT', ['AUTO     ', 'PAPER    ', 'PERSIST  ', 'OFF      ', 'MASSLESS ', &
+      'SYMMETRIC'], 'AUTO', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%impact = IMPACT_MODES(k)
     call get_choice(st, 'PRECISION', ['DOUBLE  ', 'EXTENDED'], 'DOUBLE', k, stat, errmsg)

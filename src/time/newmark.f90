@@ -7,7 +7,7 @@ module newmark
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use scene, only: scene_t, condition_nodes, condition_keyword
-  use contact_modes, only: IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS
+  use contact_modes, only: IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use dof_map, only: equation_bodies
   use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions
   use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
@@ -199,15 +199,16 @@ contains
     if (stat /= STAT_OK) return
     call check_initial_gaps(scn, rs%cs, rs%st%u, lscale, stat, errmsg)
     if (stat /= STAT_OK) return
-    if ((scn%impact == IMPACT_PAPER .or. scn%impact == IMPACT_PERSIST) .and. size(scn%conditions) > 0) then
-      ! The impulse (12) and the reflection (16) need M^-1: every DOF must carry mass.
+    if ((scn%impact == IMPACT_PAPER .or. scn%impact == IMPACT_PERSIST .or. scn%impact == IMPACT_SYMMETRIC) .and. &
+      size(scn%conditions) > 0) then
+      ! The impulse (12), the reflection (16) and SYMMETRIC's impulses need M^-1: every DOF must carry mass.
       if (sys%ops%mass_diagonal) then
         call contact_set_mass(rs%cs, sys%ops%mdiag, stat, msg)
       else
         call contact_set_mass(rs%cs, sys%ops%pat, sys%ops%mval, stat, msg)
       end if
       if (stat /= STAT_OK) then
-        call set_error(stat, errmsg, STAT_INPUT, scn%path // ': SCHEME IMPACT PAPER/PERSIST needs a mass on every ' // &
+        call set_error(stat, errmsg, STAT_INPUT, scn%path // ': SCHEME IMPACT PAPER/PERSIST/SYMMETRIC needs a mass on every ' // &
           'degree of freedom (the impulse of eq (12) and the reflection of eq (16) use M^-1): ' // msg)
         return
       end if

@@ -44,7 +44,8 @@ program test_contact
   use contact, only: contact_set_t, contact_event_t, contact_report_t, IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, &
     EVENT_ESTABLISH, EVENT_RELEASE, contact_add, contact_finalize, contact_set_mass, contact_prepare, &
     contact_solve_step, contact_end_step, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, &
-    contact_am_block, SOLVER_AUTO, SOLVER_AUGMENTED, SOLVER_SCHUR, contact_events, hzero_reflection, multiplier_counters_t
+    contact_am_block, SOLVER_AUTO, SOLVER_AUGMENTED, SOLVER_SCHUR, contact_events, hzero_reflection, multiplier_counters_t, &
+    IMPACT_SYMMETRIC
   use impact_kernels, only: impact_energy_error, lambda_root, impulse_fixed_point, normal_multiplier, &
     hzero_reflection_dense, persist_projection_dense, persist_scale
   use test_contact_ops, only: dense_inverse_t
@@ -72,6 +73,7 @@ program test_contact
   call test_chain_run(IMPACT_PERSIST, .false.)
   call test_collision()
   call test_two_bodies_persist()
+  call test_chain_symmetric()
   call test_cholmod()
   call test_column_cache()
   call test_summary('contact')
@@ -514,6 +516,72 @@ contains
       cs = contact_set_t()
     end do
   end subroutine test_chain_single_step
+
+  !> IMPACT SYMMETRIC on the chain (consistent coupling): at the establishment the contact point's
+  !> normal velocity is stopped and the energy taken, ½ v1'M v1 - ½ v'M v, plus the step's loss E (10),
+  !> is held (reported as impact_dissipated); at the release it comes back whole as a repulsive
+  !> impulse on the contact point (the kinetic energy rises by the held energy, -impact_dissipated);
+  !> kinetic + strain + held is constant to round-off over the bounce.
+  subroutine test_chain_symmetric()
+    type(contact_set_t) :: cs
+    type(dense_inverse_t) :: sop, mop
+    type(contact_report_t) :: rep
+    real(dp) :: k(3, 3), m(3, 3), s(3, 3), c0(3), g0, h, u(3), v(3), du(3), dufree(3), lam(1), mv(3), er
+    real(dp) :: t1, held, e0, dev, vn, mvdev
+    real(dp), allocatable :: a(:, :)
+    integer :: stat, step, nest, nrel
+    character(len=:), allocatable :: errmsg
+    h = 0.01_dp
+    call chain(.true., h, k, m, s, c0, g0)
+    call contact_add(cs, g0, [1], [1.0_dp], [0, 1], 'left end')
+    call contact_finalize(cs, 3, 1.0_dp, stat, errmsg)
+    sop%a = s
+    mop%a = m
+    call contact_set_mass(cs, mop, stat, errmsg)
+    call contact_prepare(cs, sop, stat, errmsg)
+    u = 0.0_dp
+    v = -1.0_dp
+    e0 = 0.5_dp * dot_product(v, matmul(m, v))
+    held = 0.0_dp
+    dev = 0.0_dp
+    mvdev = 0.0_dp
+    nest = 0
+    nrel = 0
+    do step = 1, 400
+      a = s
+      dufree = matmul((4.0_dp / h) * m, v) - 2.0_dp * matmul(k, u)
+      call spd_solve(a, dufree, stat, errmsg)
+      call contact_solve_step(cs, sop, u, dufree, du, lam, stat, errmsg)
+      v = 2.0_dp * du / h - v
+      mv = matmul(m, v)
+      t1 = 0.5_dp * dot_product(v, mv)
+      vn = v(1)
+      call contact_end_step(cs, IMPACT_SYMMETRIC, u, du, v, mv, er, stat, errmsg, body=[1, 1, 1], report=rep)
+      u = u + du
+      if (rep%n_establish > 0) then
+        nest = nest + 1
+        call check(abs(v(1)) <= 1.0e-14_dp * maxval(abs(v)), 'chain SYMMETRIC: the contact point stopped')
+        call check_close(rep%impact_dissipated, t1 - 0.5_dp * dot_product(v, mv) + rep%energy_error, 1.0e-13_dp, &
+          'chain SYMMETRIC: held = kinetic energy taken + E (10)')
+        call check(rep%impact_dissipated > rep%energy_error .and. rep%energy_error >= 0.0_dp, &
+          'chain SYMMETRIC: the stop takes energy (and the step E >= 0)')
+      end if
+      if (rep%n_release > 0) then
+        nrel = nrel + 1
+        call check_close(0.5_dp * dot_product(v, mv) - t1, held, 1.0e-13_dp, &
+          'chain SYMMETRIC: the release gives back what was held')
+        call check_close(rep%impact_dissipated, -held, 1.0e-15_dp, 'chain SYMMETRIC: reported as -held')
+        call check(v(1) > vn, 'chain SYMMETRIC: the impulse at the release pushes the point away')
+      end if
+      held = held + rep%impact_dissipated
+      dev = max(dev, abs(0.5_dp * dot_product(v, matmul(m, v)) + 0.5_dp * dot_product(u, matmul(k, u)) + held - e0))
+      mvdev = max(mvdev, maxval(abs(mv - matmul(m, v))) / max(maxval(abs(mv)), 1.0_dp))
+    end do
+    call check(mvdev <= 1.0e-13_dp, 'chain SYMMETRIC: mv = M v kept')
+    call check(nest >= 1 .and. nrel == nest, 'chain SYMMETRIC: every contact established was released')
+    call check(dev <= 1.0e-12_dp * e0, 'chain SYMMETRIC: kinetic + strain + held constant (1e-12)')
+    call contact_destroy(cs)
+  end subroutine test_chain_symmetric
 
   !> 400 steps of the chain bouncing on the wall: kinetic + strain energy is constant to
   !> round-off in PAPER and PERSIST (without correction it drops by Σ E_j), no penetration, and
