@@ -378,11 +378,12 @@ contains
     end do
   end subroutine move_contact_mass
 
-  !> IMPACT SYMMETRIC (docs/contact.md): the couplings of the element's contact nodes' UX, UY with
-  !> the same DOF of its other nodes lumped on the two diagonals (row sums, the element's total
-  !> mass and gravity load kept; M stays positive definite, the change being c [1 -1; -1 1] with
-  !> c > 0), so that stopping a contact node's normal velocity (the projection at establishment)
-  !> and the impulse at its release act on that node alone.
+  !> IMPACT SYMMETRIC (docs/contact.md): the positive couplings of the element's contact nodes' UX,
+  !> UY with the same DOF of its other nodes lumped on the two diagonals (row sums, the element's
+  !> total mass and gravity load kept; M stays positive definite, the change being c [1 -1; -1 1]
+  !> with c > 0; the negative couplings of quadratic elements are kept), so that stopping a contact
+  !> node's normal velocity (the projection at establishment) and the impulse at its release act on
+  !> that node alone (on linear elements).
   pure subroutine lump_contact_rows(nodes, mask, contact, me)
     integer, intent(in) :: nodes(:)
     logical, intent(in) :: mask(3), contact(:)
@@ -398,6 +399,7 @@ contains
           if (b == a) cycle
           ib = (b - 1) * nper + d
           c = me(ia, ib)
+          if (c <= 0.0_dp) cycle                 ! (QUAD8, TRI6 corners: kept, M stays definite)
           me(ia, ia) = me(ia, ia) + c
           me(ib, ib) = me(ib, ib) + c
           me(ia, ib) = 0.0_dp
