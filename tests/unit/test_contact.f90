@@ -462,6 +462,39 @@ contains
     g0 = 0.05_dp
   end subroutine chain
 
+  !> The chain's contact set: its left end against the wall at g0, S and the consistent M.
+  subroutine chain_set(cs, sop, mop, s, m, g0)
+    type(contact_set_t), intent(inout) :: cs
+    type(dense_inverse_t), intent(inout) :: sop, mop
+    real(dp), intent(in) :: s(3, 3), m(3, 3), g0
+    integer :: stat
+    character(len=:), allocatable :: errmsg
+    call contact_add(cs, g0, [1], [1.0_dp], [0, 1], 'left end')
+    call contact_finalize(cs, 3, 1.0_dp, stat, errmsg)
+    sop%a = s
+    mop%a = m
+    call contact_set_mass(cs, mop, stat, errmsg)
+    call contact_prepare(cs, sop, stat, errmsg)
+    call check(stat == STAT_OK, 'chain: contact set prepared')
+  end subroutine chain_set
+
+  !> One step of the chain: the free increment S du = 4 M v / h - 2 K u, the contact solve, eq (3).
+  subroutine chain_step(cs, sop, s, m, k, h, u, v, du, lam)
+    type(contact_set_t), intent(inout) :: cs
+    type(dense_inverse_t), intent(inout) :: sop
+    real(dp), intent(in) :: s(3, 3), m(3, 3), k(3, 3), h, u(3)
+    real(dp), intent(inout) :: v(3)
+    real(dp), intent(out) :: du(3), lam(1)
+    real(dp) :: a(3, 3), dufree(3)
+    integer :: stat
+    character(len=:), allocatable :: errmsg
+    a = s
+    dufree = matmul((4.0_dp / h) * m, v) - 2.0_dp * matmul(k, u)
+    call spd_solve(a, dufree, stat, errmsg)
+    call contact_solve_step(cs, sop, u, dufree, du, lam, stat, errmsg)
+    v = 2.0_dp * du / h - v
+  end subroutine chain_step
+
   !> One impact step of the chain: PAPER restores Σ E_j; PERSIST zeroes the normal velocity and
   !> brings the kinetic energy to T* = ½v1'Mv1 + E.
   subroutine test_chain_single_step()
@@ -470,8 +503,7 @@ contains
     type(dense_inverse_t) :: sop, mop
     type(contact_event_t), allocatable :: ev(:)
     type(contact_report_t) :: rep
-    real(dp) :: k(3, 3), m(3, 3), s(3, 3), c0(3), g0, h, u(3), v(3), du(3), dufree(3), lam(1), mv(3), er, t1
-    real(dp), allocatable :: a(:, :)
+    real(dp) :: k(3, 3), m(3, 3), s(3, 3), c0(3), g0, h, u(3), v(3), du(3), lam(1), mv(3), er, t1
     integer :: stat, step
     character(len=:), allocatable :: errmsg, tag
     h = 0.02_dp
@@ -479,20 +511,11 @@ contains
     do imode = 1, 2
       mode = merge(IMPACT_PAPER, IMPACT_PERSIST, imode == 1)
       tag = merge(' [PAPER]  ', ' [PERSIST]', mode == IMPACT_PAPER)
-      call contact_add(cs, g0, [1], [1.0_dp])
-      call contact_finalize(cs, 3, 1.0_dp, stat, errmsg)
-      sop%a = s
-      mop%a = m
-      call contact_set_mass(cs, mop, stat, errmsg)
-      call contact_prepare(cs, sop, stat, errmsg)
+      call chain_set(cs, sop, mop, s, m, g0)
       u = 0.0_dp
       v = -1.0_dp
       do step = 1, 10
-        a = s
-        dufree = matmul((4.0_dp / h) * m, v) - 2.0_dp * matmul(k, u)
-        call spd_solve(a, dufree, stat, errmsg)
-        call contact_solve_step(cs, sop, u, dufree, du, lam, stat, errmsg)
-        v = 2.0_dp * du / h - v
+        call chain_step(cs, sop, s, m, k, h, u, v, du, lam)
         mv = matmul(m, v)
         t1 = 0.5_dp * dot_product(v, mv)
         call contact_end_step(cs, mode, u, du, v, mv, er, stat, errmsg, body=[1, 1, 1], report=rep)
@@ -526,19 +549,13 @@ contains
     type(contact_set_t) :: cs
     type(dense_inverse_t) :: sop, mop
     type(contact_report_t) :: rep
-    real(dp) :: k(3, 3), m(3, 3), s(3, 3), c0(3), g0, h, u(3), v(3), du(3), dufree(3), lam(1), mv(3), er
+    real(dp) :: k(3, 3), m(3, 3), s(3, 3), c0(3), g0, h, u(3), v(3), du(3), lam(1), mv(3), er
     real(dp) :: t1, held, e0, dev, vn, mvdev
-    real(dp), allocatable :: a(:, :)
     integer :: stat, step, nest, nrel
     character(len=:), allocatable :: errmsg
     h = 0.01_dp
     call chain(.true., h, k, m, s, c0, g0)
-    call contact_add(cs, g0, [1], [1.0_dp], [0, 1], 'left end')
-    call contact_finalize(cs, 3, 1.0_dp, stat, errmsg)
-    sop%a = s
-    mop%a = m
-    call contact_set_mass(cs, mop, stat, errmsg)
-    call contact_prepare(cs, sop, stat, errmsg)
+    call chain_set(cs, sop, mop, s, m, g0)
     u = 0.0_dp
     v = -1.0_dp
     e0 = 0.5_dp * dot_product(v, matmul(m, v))
@@ -548,11 +565,7 @@ contains
     nest = 0
     nrel = 0
     do step = 1, 400
-      a = s
-      dufree = matmul((4.0_dp / h) * m, v) - 2.0_dp * matmul(k, u)
-      call spd_solve(a, dufree, stat, errmsg)
-      call contact_solve_step(cs, sop, u, dufree, du, lam, stat, errmsg)
-      v = 2.0_dp * du / h - v
+      call chain_step(cs, sop, s, m, k, h, u, v, du, lam)
       mv = matmul(m, v)
       t1 = 0.5_dp * dot_product(v, mv)
       vn = v(1)
