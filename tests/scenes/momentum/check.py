@@ -20,7 +20,7 @@ import scenecheck as sc  # noqa: E402
 import contactcheck as cc  # noqa: E402
 
 HERE = os.path.relpath(os.path.dirname(os.path.abspath(__file__)), sc.ROOT)
-for mode in ['PAPER', 'PERSIST', 'OFF']:
+for mode in ['PAPER', 'PERSIST', 'OFF', 'MASSLESS', 'SYMMETRIC']:
     out = sc.run_ok(os.path.join(HERE, 'two_beams.dat'), ['SCHEME.IMPACT=' + mode])
     h = sc.history(out)
     ev = cc.events(out)
