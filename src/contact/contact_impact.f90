@@ -231,15 +231,16 @@ contains
       if (stat /= STAT_OK) return
       dt = t1 - 0.5_dp * dot_product(v, mv)
       cs%cimp = cs%cimp - cs%mu
-      wsum = 0.0_dp
-      do k = 1, n
-        if (est(cs%idx(k))) wsum = wsum + max(0.5_dp * cs%mu(cs%idx(k)) * cs%ct(k), 0.0_dp)
+      do k = 1, n                                ! ct <- the established ones' shares
+        j = cs%idx(k)
+        cs%ct(k) = merge(max(0.5_dp * cs%mu(j) * cs%ct(k), 0.0_dp), 0.0_dp, est(j))
       end do
+      wsum = sum(cs%ct(1:n))
       do k = 1, n
         j = cs%idx(k)
         if (.not. est(j)) cycle
         if (wsum > 0.0_dp) then
-          held(j) = held(j) + cs%e(j) + dt * max(0.5_dp * cs%mu(j) * cs%ct(k), 0.0_dp) / wsum
+          held(j) = held(j) + cs%e(j) + dt * cs%ct(k) / wsum
         else
           held(j) = held(j) + cs%e(j) + dt / real(count(est), dp)
         end if

@@ -10,9 +10,10 @@ module contact_modes
   !> massless contact nodes (their mass moved to their neighbours, the energy lost at
   !> establishment given back by scaling the body; docs/contact.md).
   integer, parameter :: IMPACT_OFF = 0, IMPACT_PAPER = 1, IMPACT_PERSIST = 2, IMPACT_MASSLESS = 3
-  !> SCHEME IMPACT AUTO (default): MASSLESS where every contact node can give its mass away and
-  !> every impact is elastic, PERSIST otherwise; resolved when the scene is loaded (scene_contacts),
-  !> so that the contact code only ever sees one of the four above.
+  !> SCHEME IMPACT AUTO (default): where every contact node can give its mass away and every impact
+  !> is elastic, SYMMETRIC on MIXED or LUMPED masses and MASSLESS on a consistent one; PERSIST
+  !> otherwise; resolved when the scene is loaded (scene_contacts), so that the contact code only
+  !> ever sees one of the other five.
   integer, parameter :: IMPACT_AUTO = 4
   !> SCHEME IMPACT SYMMETRIC: the contact nodes keep their mass (their element couplings lumped on
   !> them); the kinetic energy an establishment takes (their normal velocity stopped, PERSIST's

@@ -482,7 +482,7 @@ contains
     end if
     iters = iters + rep%iterations
     if (rep%outcome == STEP_CONVERGED) then
-      if (level >= scn%retry) short = .false.
+      short = .false.
       if (level < scn%retry) short = impact_short(scn, sys, rs, stat, errmsg)
       if (stat /= STAT_OK) then
         errmsg = at_step(step, t1) // errmsg
@@ -545,8 +545,16 @@ contains
     call mass_times(sys, rs%vtry, rs%mvtry)
     call contact_shortfall(rs%cs, scn%impact, rs%st%u, rs%st%du, rs%vtry, rs%mvtry, rs%body, shortfall, stat, errmsg)
     if (stat /= STAT_OK) return
-    impact_short = shortfall > 1.0e-12_dp * max(abs(rs%en%kinetic) + abs(rs%en%internal()), tiny(1.0_dp))
+    impact_short = shortfall > unrestored_floor(rs%en)
   end function impact_short
+
+  !> The energy an impact correction may leave unrestored before it counts (round-off): 1e-12 of
+  !> the kinetic + internal energy. Above it the step is retried (impact_short) or, at the last
+  !> level, the run warns (finish_step).
+  pure real(dp) function unrestored_floor(en)
+    type(energy_t), intent(in) :: en
+    unrestored_floor = 1.0e-12_dp * max(abs(en%kinetic) + abs(en%internal()), tiny(1.0_dp))
+  end function unrestored_floor
 
   !> The step h for the steps that follow: the run's S (level 0) or the sub-steps' S, set up
   !> afresh (K0 + 4M/h², so that a retry never depends on an earlier one: restarts stay bit for
@@ -611,7 +619,7 @@ contains
         e_rest = e_rest + crep%impact_dissipated
       end if
       if (crep%snap_dissipated /= 0.0_dp) call rs%en%add_impact(crep%snap_dissipated)
-      if (crep%unrestored > 1.0e-12_dp * max(abs(rs%en%kinetic) + abs(rs%en%internal()), tiny(1.0_dp))) &
+      if (crep%unrestored > unrestored_floor(rs%en)) &
         write (0, '(a)') 'rebond: warning: ' // at_step(step, t) // 'the impact correction could not restore ' // &
         str(crep%unrestored) // ' J (more than the body''s kinetic energy can give: a step about as long as the ' // &
         'contact); it stays in the energy balance. A smaller TIME STEP (or IMPACT PERSIST) avoids it'
