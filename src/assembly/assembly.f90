@@ -8,7 +8,8 @@ module assembly
   use element_traits, only: ET_BEAM2, etype_needs_material
   use contact_modes, only: IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use loads, only: load_nodal_forces
-  use scene, only: scene_t, function_value, model_point_kind, contact_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC
+  use scene, only: scene_t, function_value, model_point_kind, tuned_mix, contact_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, &
+    INIT_STATIC
   use dof_map, only: build_dof_map, cayley_rotations, imposed_dofs, equation_bodies, DOF_ABSENT, DOF_FIXED
   use stiffness_product, only: k0_product_t
   use lapack_pure, only: dsyev
@@ -274,7 +275,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: e, et, im, nen, ndof, nstr, igp, k, a, d, ast
     logical :: mask(3)
-    real(dp) :: x(2, 8), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho
+    real(dp) :: x(2, 8), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho, mix
     real(dp) :: mlump(MAX_EDOF, MAX_EDOF), bl(MAX_NSTRAIN * MAX_EDOF)
     logical, allocatable :: massless(:), lumped_rows(:)
     logical :: damped
@@ -316,9 +317,12 @@ contains
         call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, scn%models(im)%lumped, me(1:ndof, 1:ndof), &
           scn%models(im)%large)
         if (scn%models(im)%mixed) then
-          ! MASS MIXED: the average of the consistent and the lumped mass (docs/contact.md).
+          ! MASS MIXED [alpha]: alpha x consistent + (1 - alpha) x lumped; TUNED: alpha from the step (docs/contact.md).
           call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, .true., mlump(1:ndof, 1:ndof), scn%models(im)%large)
-          me(1:ndof, 1:ndof) = 0.5_dp * (me(1:ndof, 1:ndof) + mlump(1:ndof, 1:ndof))
+          mix = scn%models(im)%mix
+          if (scn%models(im)%tuned) mix = tuned_mix(sqrt(scn%materials(scn%models(im)%material)%young / rho), scn%dt, &
+            norm2(x(:, 2) - x(:, 1)))
+          me(1:ndof, 1:ndof) = mix * me(1:ndof, 1:ndof) + (1 - mix) * mlump(1:ndof, 1:ndof)
         end if
         if (allocated(massless)) call move_contact_mass(scn%mesh%conn(1:nen, e), elem_dof_mask(et), massless, &
           me(1:ndof, 1:ndof))

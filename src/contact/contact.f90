@@ -693,14 +693,15 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: minor
+    character(len=:), allocatable :: msg
     if (allocated(cs%minv)) call contact_destroy_mass(cs)
     allocate (chol_inverse_t :: cs%minv)
     select type (op => cs%minv)
     type is (chol_inverse_t)
-      call op%f%factorize(pat, mval, stat, errmsg, minor)
+      call op%f%factorize(pat, mval, stat, msg, minor)
       if (stat /= STAT_OK) then
         call set_error(stat, errmsg, STAT_INPUT, 'contact with a consistent mass needs M positive definite: ' // &
-          'zero or negative mass pivot at equation ' // str(minor) // ' (' // errmsg // ')')
+          'zero or negative mass pivot at equation ' // str(minor) // ' (' // msg // ')')
         return
       end if
     end select

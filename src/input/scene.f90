@@ -14,10 +14,11 @@ module scene
   implicit none
   private
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
-  public :: function_value, model_point_kind
+  public :: function_value, model_point_kind, tuned_mix
   public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t, condition_nodes, contact_nodes, condition_keyword
   public :: impose_t, function_slope
 
+  real(dp), parameter :: TUNED_MAX = 1.4999_dp  !< MASS TUNED's mixing factor at c h/dx = 1
 
   integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3
   integer, parameter, public :: LOAD_NODAL = 0, LOAD_PRESSURE = 1, LOAD_TRACTION = 2
@@ -50,7 +51,10 @@ module scene
     integer :: material = 0       !< index in scene%materials (0 for MASS elements)
     type(section_t) :: sec        !< copy of the section, with the model's plane option
     logical :: lumped = .false.
-    logical :: mixed = .false.    !< MASS MIXED: (consistent + lumped) / 2
+    logical :: mixed = .false.    !< MASS MIXED: mix x consistent + (1 - mix) x lumped
+    real(dp) :: mix = 0.5_dp      !< MASS MIXED's mixing factor (1/2 unless given)
+    logical :: tuned = .false.    !< MASS TUNED: each element's mix from the step (tuned_mix)
+    logical :: tuned_exact = .false. !< TUNED with c h/dx = 1 on every element: the exact lattice (1D)
     integer :: substeps = 0       !< sub-increments of the laws (Cast3M SOUS_INCREMENT); 0 = AUTO, NSUB_EXACT = EXACT
     logical :: large = .false.    !< KINEMATICS LARGE: strains from the current configuration
     logical :: log_strain = .false. !< STRAIN_MEASURE LOG: a LARGE surface element on the Hencky strain
@@ -194,6 +198,15 @@ contains
       where (nodes > 0) mark(max(nodes, 1)) = .true.
     end do
   end subroutine contact_nodes
+
+  !> MASS TUNED's mixing factor for a bar element of length ell, wave speed c, step h: 1/2 + (c h/ell)^2
+  !> cancels the trapezoidal rule's phase lag against the mass's lead at second order, so the phase
+  !> error of the uniform lattice is fourth order in dx (docs/contact.md, "A mass tuned to the step").
+  !> At c h/ell = 1 it would be 3/2, where the element mass is singular: TUNED_MAX (3/2 - 1e-4) there.
+  pure real(dp) function tuned_mix(c, h, ell)
+    real(dp), intent(in) :: c, h, ell
+    tuned_mix = min(0.5_dp + (c * h / ell)**2, TUNED_MAX)
+  end function tuned_mix
 
   !> Material-point kind of a model's integration points (material_law PK_*; 0 for masses).
   pure integer function model_point_kind(md) result(pk)

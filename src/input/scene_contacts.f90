@@ -468,9 +468,10 @@ contains
     end do
   end subroutine check_matching
 
-  !> SCHEME IMPACT after every statement is read: AUTO becomes MASSLESS when every contact node
-  !> can give its mass away (none of its elements with mass has contact nodes only: not a point
-  !> mass, not a body touching with all its nodes) and every impact is elastic, PERSIST otherwise
+  !> SCHEME IMPACT after every statement is read: AUTO becomes MASSLESS (consistent mass) or
+  !> SYMMETRIC (MIXED, TUNED, LUMPED) when every contact node can give its mass away (none of its
+  !> elements with mass has contact nodes only: not a point mass, not a body touching with all its
+  !> nodes) and every impact is elastic, PERSIST on MASS TUNED at c h/dx = 1 and otherwise
   !> (docs/contact.md, "The default"). MASSLESS has no velocity at the contact nodes to apply
   !> Newton's law to: RESTITUTION e < 1 with IMPACT MASSLESS is refused, naming the statement.
   subroutine resolve_impact(scn, stat, errmsg)
@@ -512,6 +513,10 @@ contains
         ! rebound then converges with the mesh (docs/contact.md, "IMPACT SYMMETRIC").
         scn%impact = IMPACT_MASSLESS
         if (.not. on_models(scn, nodes, .not. (scn%models%lumped .or. scn%models%mixed))) scn%impact = IMPACT_SYMMETRIC
+        ! MASS TUNED at c h/dx = 1 on every contact node's element: the lattice is exact and PERSIST,
+        ! which keeps the contact nodes' mass as it is, keeps it so (docs/contact.md, "A mass tuned to
+        ! the step"); SYMMETRIC's lumped rows and MASSLESS's moved mass would not.
+        if (.not. on_models(scn, nodes, .not. scn%models%tuned_exact)) scn%impact = IMPACT_PERSIST
       end if
     end if
   end subroutine resolve_impact

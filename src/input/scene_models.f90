@@ -10,11 +10,12 @@ module scene_models
   use elements, only: elem_check_geometry
   use scene, only: scene_t, model_t, MAX_SUBSTEPS, model_point_kind
   use scene_helpers, only: get_etype, model_size
+  use number_text, only: real_text
   use element_traits, only: FAMILY_LINE, etype_family, etypes_of_family, etype_needs_material, etype_section_needs, &
-    etype_name, etype_nen, ET_MASS
+    etype_name, etype_nen, ET_MASS, ET_BAR2
   implicit none
   private
-  public :: models_schema, models_statement
+  public :: models_schema, models_statement, check_tuned
 
 contains
 
@@ -24,7 +25,7 @@ contains
     call sch%add_param('MODEL', 'TYPE', 1, 1)
     call sch%add_param('MODEL', 'MATERIAL', 1, 1)
     call sch%add_param('MODEL', 'SECTION', 1, 1)
-    call sch%add_param('MODEL', 'MASS', 1, 1)
+    call sch%add_param('MODEL', 'MASS', 1, 2)
     call sch%add_param('MODEL', 'PLANE', 1, 1)
     call sch%add_param('MODEL', 'SUBSTEPS', 1, 1)
     call sch%add_param('MODEL', 'KINEMATICS', 1, 1)
@@ -124,20 +125,8 @@ contains
     end if
     call check_section(st, md, stat, errmsg)
     if (stat /= STAT_OK) return
-    call get_word(st, 'MASS', w, stat, errmsg, default='CONSISTENT')
+    call get_mass(st, md, stat, errmsg)
     if (stat /= STAT_OK) return
-    select case (upper(w))
-    case ('CONSISTENT')
-      md%lumped = .false.
-    case ('LUMPED')
-      md%lumped = .true.
-    case ('MIXED')
-      md%mixed = .true.
-    case default
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected CONSISTENT, LUMPED or MIXED', &
-        st%params(find_param(st, 'MASS'))%values(1)))
-      return
-    end select
     call get_word(st, 'SUBSTEPS', w, stat, errmsg, default='AUTO')
     if (stat /= STAT_OK) return
     if (upper(w) == 'AUTO') then
@@ -194,6 +183,97 @@ contains
     end associate
     scn%models = [scn%models, md]
   end subroutine do_model
+
+  !> MASS CONSISTENT | LUMPED | MIXED [alpha] | TUNED: the element mass alpha x consistent + (1 - alpha)
+  !> x lumped (MIXED alone: alpha = 1/2). Above 1 the consistent part is extrapolated: allowed on BAR2
+  !> up to 3/2 excluded (where the element mass stops being positive definite), for the mass tuned
+  !> to the step, alpha = 1/2 + (c h / dx)^2, which TUNED takes element by element (tuned_mix;
+  !> docs/contact.md, "A mass tuned to the step"; c h/dx <= 1 checked by check_tuned).
+  subroutine get_mass(st, md, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(model_t), intent(inout) :: md
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: w
+    integer :: ip
+    call get_word(st, 'MASS', w, stat, errmsg, default='CONSISTENT')
+    if (stat /= STAT_OK) return
+    ip = find_param(st, 'MASS')
+    select case (upper(w))
+    case ('CONSISTENT')
+      md%lumped = .false.
+    case ('LUMPED')
+      md%lumped = .true.
+    case ('MIXED')
+      md%mixed = .true.
+    case ('TUNED')
+      md%mixed = .true.
+      md%tuned = .true.
+      if (md%etype /= ET_BAR2) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'TUNED is the rule of a 1D bar: BAR2 models only (' // &
+          etype_name(md%etype) // ' elements; MIXED alpha for them)', st%params(ip)%values(1)))
+        return
+      end if
+    case default
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected CONSISTENT, LUMPED, MIXED or TUNED', &
+        st%params(ip)%values(1)))
+      return
+    end select
+    if (ip == 0) return
+    if (size(st%params(ip)%values) < 2) return
+    if (.not. md%mixed .or. md%tuned) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a mixing factor follows MIXED only', &
+        st%params(ip)%values(2)))
+      return
+    end if
+    if (md%etype == ET_BAR2) then
+      call get_real(st, 'MASS', md%mix, stat, errmsg, index=2, lower=0.0_dp, lower_inclusive=.true., &
+        upper=1.5_dp, upper_inclusive=.false.)
+    else
+      call get_real(st, 'MASS', md%mix, stat, errmsg, index=2, lower=0.0_dp, lower_inclusive=.true., &
+        upper=1.0_dp, upper_inclusive=.true.)
+      if (stat /= STAT_OK) errmsg = errmsg // ' (above 1 on BAR2 only: ' // etype_name(md%etype) // ' elements)'
+    end if
+  end subroutine get_mass
+
+  !> MASS TUNED needs c h/dx <= 1 on every element of the model (past it the rule would pass 3/2, where
+  !> the mass stops being positive definite), and a wave speed: the first element past it is named.
+  !> A model at c h/dx = 1 on every element is marked tuned_exact (IMPACT AUTO takes PERSIST there).
+  subroutine check_tuned(scn, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: i, k, e
+    real(dp) :: c, r
+    stat = STAT_OK
+    do i = 1, size(scn%models)
+      associate (md => scn%models(i))
+        if (.not. md%tuned) cycle
+        associate (mat => scn%materials(md%material))
+          if (mat%density <= 0.0_dp .or. mat%young <= 0.0_dp) then
+            call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(md%line) // ': MODEL ' // md%group // &
+              ': MASS TUNED needs the wave speed of material ' // mat%name // " (YOUNG and DENSITY > 0), at 'TUNED'")
+            return
+          end if
+          c = sqrt(mat%young / mat%density)
+        end associate
+        md%tuned_exact = .true.
+        associate (items => scn%mesh%egroups(md%egroup)%items)
+          do k = 1, size(items)
+            e = items(k)
+            r = c * scn%dt / norm2(scn%mesh%x(:, scn%mesh%conn(2, e)) - scn%mesh%x(:, scn%mesh%conn(1, e)))
+            if (r > 1.0_dp + 1.0e-9_dp) then   ! the rounding of c, h and dx of a step meant as dx/c
+              call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(md%line) // ': MODEL ' // md%group // &
+                ': MASS TUNED needs c h/dx <= 1 (element ' // str(k) // ' of the group: ' // real_text(r) // &
+                "; a smaller TIME STEP or MIXED alpha), at 'TUNED'")
+              return
+            end if
+            if (r < 1.0_dp - 1.0e-9_dp) md%tuned_exact = .false.
+          end do
+        end associate
+      end associate
+    end do
+  end subroutine check_tuned
 
   pure function node_list(nodes) result(s)
     integer, intent(in) :: nodes(:)

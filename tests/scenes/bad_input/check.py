@@ -59,6 +59,13 @@ QUAD = [
     'TIME STEP 1e-4 END 1e-3',
 ]
 
+BAR = [                                        # a bar; its MODEL is line 5, then TIME
+    'LINE bar FROM 0 0 TO 1 0 ELEMENTS 4 TYPE BAR2',
+    'FIX bar UY',
+    'MATERIAL m ELASTIC YOUNG 1 DENSITY 1',
+    'SECTION s AREA 1',
+]
+
 BROKEN_MSH = """$MeshFormat
 4.1 0 8
 $EndMeshFormat
@@ -130,6 +137,19 @@ CASES = [
     ('negative RESTITUTION', BASE + ['GAP g PAIRS a b RESTITUTION -0.1'], None, [], 15, 'GAP g', '-0.1'),
     ('MASSLESS on a point mass', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0', 'SCHEME IMPACT MASSLESS'], None,
      [], 15, 'OBSTACLE wall', 'wall'),
+    ('a mixing factor after LUMPED', edit(QUAD, 8, QUAD[7] + ' MASS LUMPED 0.5'), None, [], 8, 'MODEL', '0.5'),
+    ('a mixing factor that is not a number', edit(QUAD, 8, QUAD[7] + ' MASS MIXED half'), None, [], 8, 'MODEL', 'half'),
+    ('MASS MIXED above 1 on a QUAD4', edit(QUAD, 8, QUAD[7] + ' MASS MIXED 1.1'), None, [], 8, 'MODEL', '1.1'),
+    ('MASS MIXED at 1.5 on a BAR2 (singular element mass)', BAR + ['MODEL bar MATERIAL m SECTION s MASS MIXED 1.5',
+                                                                'TIME STEP 0.1 END 1'],
+     None, [], 5, 'MODEL', '1.5'),
+    ('negative MASS MIXED', BAR + ['MODEL bar MATERIAL m SECTION s MASS MIXED -0.1',
+                                   'TIME STEP 0.1 END 1'], None, [], 5, 'MODEL', '-0.1'),
+    ('MASS TUNED on a QUAD4', edit(QUAD, 8, QUAD[7] + ' MASS TUNED'), None, [], 8, 'MODEL', 'TUNED'),
+    ('a mixing factor after TUNED', BAR + ['MODEL bar MATERIAL m SECTION s MASS TUNED 0.7', 'TIME STEP 0.1 END 1'], None,
+     [], 5, 'MODEL', '0.7'),
+    ('MASS TUNED past c h over dx = 1', BAR + ['MODEL bar MATERIAL m SECTION s MASS TUNED', 'TIME STEP 0.3 END 1'], None, [],
+     5, 'MODEL bar', 'TUNED'),
     ('KINEMATICS LARGE on a MASS', edit(BASE, 9, BASE[8] + ' KINEMATICS LARGE'), None, [], 9, 'MODEL', 'LARGE'),
     ('KINEMATICS LARGE with DAMPING BETA', edit(BASE, 8, BASE[7] + ' KINEMATICS LARGE DAMPING BETA 1e-4'), None, [], 8,
      'MODEL', 'BETA'),
