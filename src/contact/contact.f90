@@ -198,6 +198,15 @@ module contact
       character(len=:), allocatable, intent(out) :: errmsg
     end subroutine contact_shortfall
 
+    !> a(1:n, 1:n) = C_idx M⁻¹ C_idx' for the conditions idx(1:n) (contact_impact).
+    module subroutine contact_am_block(cs, idx, n, a, stat, errmsg)
+      type(contact_set_t), intent(inout) :: cs
+      integer, intent(in) :: idx(:), n
+      real(dp), intent(out) :: a(:, :)
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+    end subroutine contact_am_block
+
     !> (16) The hzero step about the conditions conds with the gains 1 + e (2: the reflection;
     !> 1: PERSIST's projection; RESTITUTION e: Newton's law) (contact_impact).
     module subroutine hzero_reflection(cs, conds, gain, v, mv, rank, stat, errmsg)
@@ -600,55 +609,6 @@ contains
     call cs%c%add_transpose(cs%st%lambda, f)
   end subroutine contact_add_force
 
-  !> a(1:n, 1:n) = C_idx M⁻¹ C_idx' for the conditions idx(1:n): the blocks of A M⁻¹A' that the
-  !> impulse (14) and the reflection (16) need. Lumped mass: from the sparse rows directly;
-  !> otherwise one solve with M per condition. Symmetrized.
-  subroutine contact_am_block(cs, idx, n, a, stat, errmsg)
-    type(contact_set_t), intent(inout) :: cs
-    integer, intent(in) :: idx(:), n
-    real(dp), intent(out) :: a(:, :)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: k, l, p, q, ep
-    stat = STAT_OK
-    select type (op => cs%minv)
-    type is (diag_inverse_t)
-      do l = 1, n
-        do k = 1, l
-          a(k, l) = 0.0_dp
-          do p = cs%c%first(idx(k)), cs%c%last(idx(k))
-            ep = cs%c%eq_at(p)
-            do q = cs%c%first(idx(l)), cs%c%last(idx(l))
-              if (ep /= cs%c%eq_at(q)) cycle
-              if (.not. (op%d(ep) > 0.0_dp)) then
-                call set_error(stat, errmsg, STAT_INPUT, 'contact: equation ' // str(ep) // &
-                  ' carries a contact condition but has no mass (lumped mass diagonal ' // str(op%d(ep)) // ')')
-                return
-              end if
-              a(k, l) = a(k, l) + cs%c%coef_at(p) * cs%c%coef_at(q) / op%d(ep)
-            end do
-          end do
-          a(l, k) = a(k, l)
-        end do
-      end do
-    class default
-      do l = 1, n
-        cs%f = 0.0_dp
-        call cs%c%scatter(idx(l), 1.0_dp, cs%f)
-        call cs%minv%apply(cs%f, cs%xw, stat, errmsg)
-        if (stat /= STAT_OK) return
-        do k = 1, n
-          a(k, l) = cs%c%dot(idx(k), cs%xw)
-        end do
-      end do
-      do l = 1, n
-        do k = 1, l - 1
-          a(k, l) = 0.5_dp * (a(k, l) + a(l, k))
-          a(l, k) = a(k, l)
-        end do
-      end do
-    end select
-  end subroutine contact_am_block
 
   !> W = C S⁻¹ C' over every candidate (nc solves; diagnostics and tests, not the run).
   subroutine contact_w_matrix(cs, s, w, stat, errmsg)
@@ -704,6 +664,8 @@ contains
           'zero or negative mass pivot at equation ' // str(minor) // ' (' // msg // ')')
         return
       end if
+      allocate (op%dloc(pat%n))
+      call pat%isolated_diagonal(mval, op%dloc)
     end select
     call finish_mass(cs, stat, errmsg)
   end subroutine set_mass_chol

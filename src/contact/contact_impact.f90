@@ -249,6 +249,96 @@ contains
     end associate
   end subroutine symmetric_correction
 
+  !> a(1:n, 1:n) = C_idx M⁻¹ C_idx' for the conditions idx(1:n): the blocks of A M⁻¹A' that the
+  !> impulse (14) and the reflection (16) need. From the sparse rows directly where M⁻¹ is 1/m on
+  !> every equation of the conditions (a lumped mass; the contact rows SYMMETRIC lumps in a
+  !> consistent one: no solve, the cost of the contact zone); otherwise one solve with M per
+  !> condition, symmetrized.
+  module procedure contact_am_block
+    integer :: k, l
+    stat = STAT_OK
+    select type (op => cs%minv)
+    type is (diag_inverse_t)
+      call local_block(cs, idx, n, op%d, a, stat, errmsg)
+      return
+    type is (chol_inverse_t)
+      if (rows_local(cs, idx(1:n), op%dloc)) then
+        call local_block(cs, idx, n, op%dloc, a, stat, errmsg)
+        return
+      end if
+    end select
+    do l = 1, n
+      cs%f = 0.0_dp
+      call cs%c%scatter(idx(l), 1.0_dp, cs%f)
+      call cs%minv%apply(cs%f, cs%xw, stat, errmsg)
+      if (stat /= STAT_OK) return
+      do k = 1, n
+        a(k, l) = cs%c%dot(idx(k), cs%xw)
+      end do
+    end do
+    do l = 1, n
+      do k = 1, l - 1
+        a(k, l) = 0.5_dp * (a(k, l) + a(l, k))
+        a(l, k) = a(k, l)
+      end do
+    end do
+  end procedure contact_am_block
+
+  !> contact_am_block where M⁻¹ is 1/d(eq) on every equation the conditions idx(1:n) touch.
+  subroutine local_block(cs, idx, n, d, a, stat, errmsg)
+    type(contact_set_t), intent(in) :: cs
+    integer, intent(in) :: idx(:), n
+    real(dp), intent(in) :: d(:)
+    real(dp), intent(out) :: a(:, :)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, l, p, q, ep
+    stat = STAT_OK
+    do l = 1, n
+      do k = 1, l
+        a(k, l) = 0.0_dp
+        do p = cs%c%first(idx(k)), cs%c%last(idx(k))
+          ep = cs%c%eq_at(p)
+          do q = cs%c%first(idx(l)), cs%c%last(idx(l))
+            if (ep /= cs%c%eq_at(q)) cycle
+            if (.not. (d(ep) > 0.0_dp)) then
+              call set_error(stat, errmsg, STAT_INPUT, 'contact: equation ' // str(ep) // &
+                ' carries a contact condition but has no mass (lumped mass diagonal ' // str(d(ep)) // ')')
+              return
+            end if
+            a(k, l) = a(k, l) + cs%c%coef_at(p) * cs%c%coef_at(q) / d(ep)
+          end do
+        end do
+        a(l, k) = a(k, l)
+      end do
+    end do
+  end subroutine local_block
+
+  !> Whether every equation of the conditions conds has a local inverse (d > 0: no coupling in M).
+  pure logical function rows_local(cs, conds, d) result(ok)
+    type(contact_set_t), intent(in) :: cs
+    integer, intent(in) :: conds(:)
+    real(dp), intent(in) :: d(:)
+    integer :: k
+    ok = .false.
+    do k = 1, size(conds)
+      if (.not. row_local(cs, conds(k), d)) return
+    end do
+    ok = .true.
+  end function rows_local
+
+  pure logical function row_local(cs, j, d) result(ok)
+    type(contact_set_t), intent(in) :: cs
+    integer, intent(in) :: j
+    real(dp), intent(in) :: d(:)
+    integer :: p
+    ok = .false.
+    do p = cs%c%first(j), cs%c%last(j)
+      if (.not. (d(cs%c%eq_at(p)) > 0.0_dp)) return
+    end do
+    ok = .true.
+  end function row_local
+
   !> Dense workspaces amat and gmat at least n x n (they only grow).
   subroutine reserve_dense(cs, n)
     type(contact_set_t), intent(inout) :: cs
@@ -613,7 +703,27 @@ contains
     real(dp), intent(inout) :: v(:), mv(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    integer :: j, p, ep
+    logical :: local
     stat = STAT_OK
+    select type (op => cs%minv)
+    type is (chol_inverse_t)                     ! rows with a local inverse: no solve (contact_am_block)
+      local = .true.
+      do j = 1, cs%nc
+        if (mu(j) /= 0.0_dp) local = local .and. row_local(cs, j, op%dloc)
+      end do
+      if (local) then
+        do j = 1, cs%nc
+          if (mu(j) == 0.0_dp) cycle
+          do p = cs%c%first(j), cs%c%last(j)
+            ep = cs%c%eq_at(p)
+            v(ep) = v(ep) + alpha * mu(j) * cs%c%coef_at(p) / op%dloc(ep)
+            mv(ep) = mv(ep) + alpha * mu(j) * cs%c%coef_at(p)
+          end do
+        end do
+        return
+      end if
+    end select
     cs%f = 0.0_dp
     call cs%c%add_transpose(mu, cs%f)
     call cs%minv%apply(cs%f, cs%xw, stat, errmsg)

@@ -35,6 +35,9 @@ module inverse_ops
   !> Owns a CHOLMOD factor (used for a consistent mass matrix); call f%destroy() when done.
   type, extends(inverse_op_t) :: chol_inverse_t
     type(cholmod_factor_t) :: f
+    !> The mass of the equations whose row of the matrix has no off-diagonal entry (the inverse is
+    !> 1/dloc there: the contact nodes' rows IMPACT SYMMETRIC lumps), 0 on the others.
+    real(dp), allocatable :: dloc(:)
   contains
     procedure :: apply => chol_apply
   end type chol_inverse_t

@@ -21,6 +21,7 @@ module sparse_matrix
     procedure :: add_element => sym_csc_add_element
     procedure :: matvec => sym_csc_matvec
     procedure :: diagonal => sym_csc_diagonal
+    procedure :: isolated_diagonal => sym_csc_isolated_diagonal
     procedure :: compact => sym_csc_compact
     procedure :: element_positions
   end type sym_csc_t
@@ -381,6 +382,23 @@ contains
       d(j) = values(self%colptr(j + 1) - 1)
     end do
   end subroutine sym_csc_diagonal
+
+  !> d(j) = the diagonal entry of the equations whose row has no nonzero off the diagonal (the matrix's
+  !> inverse acts on them as 1/d(j)), 0 on the others: where a solve can be skipped.
+  pure subroutine sym_csc_isolated_diagonal(self, values, d)
+    class(sym_csc_t), intent(in) :: self
+    real(dp), intent(in) :: values(:)
+    real(dp), intent(out) :: d(:)
+    integer :: j, p
+    call self%diagonal(values, d)
+    do j = 1, self%n
+      do p = self%colptr(j), self%colptr(j + 1) - 2      ! (the diagonal is the column's last entry)
+        if (values(p) == 0.0_dp) cycle
+        d(j) = 0.0_dp
+        d(self%rowind(p)) = 0.0_dp
+      end do
+    end do
+  end subroutine sym_csc_isolated_diagonal
 
   !> Full dense copy a(n,n) of the symmetric matrix (for small problems and checks).
   pure subroutine to_dense(pat, values, a)

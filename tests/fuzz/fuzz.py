@@ -76,7 +76,7 @@ PARAM_NAMES = sorted({p for ps in SCHEMA.values() for p in ps})
 WORDS = ['ELASTIC', 'STRAIN', 'STRESS', 'CONSISTENT', 'LUMPED', 'AUTO', 'ON', 'OFF', 'TANGENT',
          'PAPER', 'PERSIST', 'EXTENDED', 'DOUBLE', 'EVERY', 'BAR2', 'BEAM2', 'QUAD4', 'QUAD8',
          'SPRING', 'MASS', 'UX', 'UY', 'RZ', 'ALL', 'NEWMARK', 'TRI3', 'bar2', 'every', 'START', 'STEP', 'LARGE',
-         'LOG', 'GREEN', 'VON_MISES', 'SMALL']
+         'LOG', 'GREEN', 'VON_MISES', 'SMALL', 'MIXED', 'TUNED', 'SYMMETRIC', 'MASSLESS']
 
 SPECIAL_NUMBERS = [
     '1e308', '1.7976931348623157e308', '1.7976931348623159e308', '1.8e308', '1e309', '-1e309',

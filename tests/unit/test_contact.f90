@@ -75,6 +75,7 @@ program test_contact
   call test_two_bodies_persist()
   call test_chain_symmetric()
   call test_cholmod()
+  call test_local_rows()
   call test_column_cache()
   call test_summary('contact')
 
@@ -768,6 +769,61 @@ contains
   end subroutine test_two_bodies_persist
 
   ! ---------------------------------------------------------------- CHOLMOD
+
+  !> A consistent mass whose row of equation 1 has no coupling (the contact rows IMPACT SYMMETRIC
+  !> lumps): C M⁻¹ C' and the reflection (16) about a condition on it are taken from the row
+  !> (no solve), about a coupled one by solves; both equal the dense LAPACK values, and mv stays M v.
+  subroutine test_local_rows()
+    integer, parameter :: n = 30
+    type(sym_csc_t) :: pat
+    type(contact_set_t) :: cs
+    real(dp), allocatable :: kval(:), mval(:), md(:, :), cd(:, :), z(:, :), amd(:, :)
+    real(dp) :: mdiag(n), am(2, 2), v(n), mv(n), vref(n), w(n), a(1, 1), nu(1)
+    integer :: i, k, stat, rank
+    character(len=:), allocatable :: errmsg
+    character(len=8) :: tag
+    do i = 1, n
+      mdiag(i) = 1.0_dp + 0.01_dp * i
+    end do
+    call chain_matrices(n, mdiag, pat, kval, mval)
+    do i = 2, n - 1                                   ! consistent couplings, none on equation 1
+      call pat%add_element(mval, [i, i + 1], reshape([0.0_dp, 0.2_dp, 0.2_dp, 0.0_dp], [2, 2]))
+    end do
+    call contact_add(cs, 1.0e-4_dp, [1], [1.0_dp], [0, 1], 'node 1 wall')
+    call contact_add(cs, 2.0e-5_dp, [10, 11], [-1.0_dp, 1.0_dp], [10, 11], 'nodes 10-11')
+    call contact_finalize(cs, n, 1.0_dp, stat, errmsg)
+    call contact_set_mass(cs, pat, mval, stat, errmsg)
+    call check(stat == STAT_OK, 'local rows: M factorized')
+    allocate (md(n, n), cd(2, n))
+    call to_dense(pat, mval, md)
+    cd = 0.0_dp
+    cd(1, 1) = 1.0_dp; cd(2, 10) = -1.0_dp; cd(2, 11) = 1.0_dp
+    z = transpose(cd)
+    call spd_solve(md, z, stat, errmsg)               ! z = M⁻¹ C'
+    call to_dense(pat, mval, md)
+    amd = matmul(cd, z)
+    call contact_am_block(cs, [1, 2], 2, am, stat, errmsg)
+    call check(stat == STAT_OK .and. maxval(abs(am - amd)) <= 1.0e-14_dp * maxval(abs(amd)), &
+      'local rows: C M-1 C'' (one local, one coupled) matches LAPACK')
+    call contact_am_block(cs, [1], 1, a, stat, errmsg)
+    call check_close(a(1, 1), 1.0_dp / mdiag(1), 1.0e-15_dp, 'local rows: the local condition alone, 1/m_11')
+    do k = 1, 2
+      do i = 1, n
+        v(i) = cos(0.3_dp * i) - 0.5_dp
+      end do
+      mv = matmul(md, v)
+      nu(1) = dot_product(cd(k, :), v) / amd(k, k)
+      vref = v - 2.0_dp * nu(1) * z(:, k)
+      call hzero_reflection(cs, [k], [2.0_dp], v, mv, rank, stat, errmsg)
+      w = matmul(md, v)
+      tag = merge('local  ', 'coupled', k == 1)
+      call check(stat == STAT_OK .and. maxval(abs(v - vref)) <= 1.0e-13_dp * maxval(abs(vref)), &
+        'local rows: reflection (16) about the ' // trim(tag) // ' condition matches LAPACK')
+      call check(maxval(abs(mv - w)) <= 1.0e-13_dp * maxval(abs(w)), 'local rows: mv = M v after the ' // trim(tag) // &
+        ' reflection')
+    end do
+    call contact_destroy(cs)
+  end subroutine test_local_rows
 
   !> Chain of n equations (springs between neighbours, lumped masses, no support): S = K + 4M/h²
   !> factorized by CHOLMOD. Conditions: equation 1 on a wall (twice: a duplicated condition),
