@@ -124,6 +124,7 @@ module contact
     ! Rigid translations t_k (neq, 2) on the free equations and M t_k (contact_set_rigid_modes):
     ! PERSIST scales node-to-node groups about their centre-of-mass velocity.
     logical :: has_rigid = .false.
+    logical :: inelastic = .false.           !< a condition has RESTITUTION e < 1
     real(dp), allocatable :: rig(:, :), mrig(:, :)
     integer, allocatable :: ipiv(:)
   contains
@@ -560,7 +561,8 @@ contains
     cs%has_rigid = .false.
     if (allocated(cs%vn)) deallocate (cs%vn, cs%mvn)
     allocate (cs%f(neq), cs%xw(neq), cs%vp(neq), cs%mvp(neq), cs%rows(neq), cs%parent(neq))  ! bodies <= neq
-    if (any([(cs%c%restitution(j) < 1.0_dp, j = 1, nc)])) allocate (cs%vn(neq), cs%mvn(neq))
+    allocate (cs%vn(neq), cs%mvn(neq))             ! (RESTITUTION e < 1; SYMMETRIC's velocity before projecting)
+    cs%inelastic = any([(cs%c%restitution(j) < 1.0_dp, j = 1, nc)])
     if (allocated(cs%amat)) deallocate (cs%amat, cs%gmat)
     ! Dense blocks for up to 64 conditions established together; they grow beyond (rarely).
     allocate (cs%amat(min(nc, 64), min(nc, 64)), cs%gmat(min(nc, 64), min(nc, 64)))

@@ -70,7 +70,16 @@ contains
           end if
           call persist_correction(cs, body, v, mv, rep, stat, errmsg, project=.false.)
         case (IMPACT_SYMMETRIC)
-          call symmetric_correction(cs, v, mv, rep, stat, errmsg)
+          if (.not. present(body)) then
+            call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: IMPACT SYMMETRIC needs body(:)')
+            return
+          end if
+          call symmetric_correction(cs, body, v, mv, rep, stat, errmsg)
+          if (stat == STAT_OK .and. any(cs%fallback)) then   ! (groups with nothing to hold it: PAPER)
+            cs%est = cs%fallback
+            call paper_correction(cs, cs%est, v, mv, rep, stat, errmsg)
+            cs%est = now .and. .not. cs%st%active
+          end if
         case (IMPACT_OFF)
         case default
           call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: unknown impact mode ' // str(mode))
@@ -185,18 +194,22 @@ contains
   !> active condition (the hzero step with gains 1: PERSIST's projection, impulses -ν along c_j),
   !> and the kinetic energy it takes, ½ ν'A v, with the step's loss E_j (10) held by the
   !> established conditions (the projection's share of each: ½ ν_j (c_j v) before it, the positive
-  !> ones). rep%impact_dissipated: the energy held in the step less the energy given back (the
-  !> driver books it beside the plastic and restitution losses, so the balance holds exactly).
-  subroutine symmetric_correction(cs, v, mv, rep, stat, errmsg)
+  !> ones), except in the groups the projection leaves without kinetic energy (symmetric_fallback:
+  !> returned in cs%fallback for PAPER). rep%impact_dissipated: the energy held in the step less
+  !> the energy given back (the driver books it beside the plastic and restitution losses, so the
+  !> balance holds exactly).
+  subroutine symmetric_correction(cs, body, v, mv, rep, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: body(:)
     real(dp), intent(inout) :: v(:), mv(:)
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, k, n, rank
-    real(dp) :: b, q, x, t1, dt, wsum
+    integer :: j, k, n, rank, kept
+    real(dp) :: b, q, x, dt, wsum, held_now
     stat = STAT_OK
-    associate (held => cs%st%held, est => cs%est, rel => cs%rel, now => cs%now)
+    cs%fallback = .false.
+    associate (held => cs%st%held, est => cs%est, rel => cs%rel, now => cs%now, share => cs%sv)
       do j = 1, cs%nc
         if (.not. (rel(j) .and. held(j) > 0.0_dp)) cycle
         cs%idx(1) = j
@@ -225,27 +238,37 @@ contains
         cs%idx(n) = j
         cs%ct(n) = cs%c%dot(j, v)
       end do
-      t1 = 0.5_dp * dot_product(v, mv)
+      cs%vn = v                                  ! (the velocity before the projection)
+      cs%mvn = mv
       cs%gain(1:n) = 1.0_dp
       call hzero_reflection(cs, cs%idx(1:n), cs%gain(1:n), v, mv, rank, stat, errmsg)
       if (stat /= STAT_OK) return
-      dt = t1 - 0.5_dp * dot_product(v, mv)
-      cs%cimp = cs%cimp - cs%mu
-      do k = 1, n                                ! ct <- the established ones' shares
-        j = cs%idx(k)
-        cs%ct(k) = merge(max(0.5_dp * cs%mu(j) * cs%ct(k), 0.0_dp), 0.0_dp, est(j))
-      end do
-      wsum = sum(cs%ct(1:n))
+      share = 0.0_dp                             ! the established ones' shares, by condition
       do k = 1, n
         j = cs%idx(k)
-        if (.not. est(j)) cycle
-        if (wsum > 0.0_dp) then
-          held(j) = held(j) + cs%e(j) + dt * cs%ct(k) / wsum
-        else
-          held(j) = held(j) + cs%e(j) + dt / real(count(est), dp)
-        end if
+        if (est(j)) share(j) = max(0.5_dp * cs%mu(j) * cs%ct(k), 0.0_dp)
       end do
-      rep%impact_dissipated = rep%impact_dissipated + dt + sum(cs%e, mask=est)
+      call symmetric_fallback(cs, body, v, mv, rep)
+      dt = 0.5_dp * (dot_product(cs%vn, cs%mvn) - dot_product(v, mv))
+      cs%cimp = cs%cimp - cs%mu
+      wsum = 0.0_dp
+      kept = 0
+      do j = 1, cs%nc
+        if (.not. est(j) .or. cs%fallback(j)) cycle
+        wsum = wsum + share(j)
+        kept = kept + 1
+      end do
+      held_now = 0.0_dp
+      do j = 1, cs%nc
+        if (.not. est(j) .or. cs%fallback(j)) cycle
+        if (wsum > 0.0_dp) then
+          held(j) = held(j) + cs%e(j) + dt * share(j) / wsum
+        else
+          held(j) = held(j) + cs%e(j) + dt / real(kept, dp)
+        end if
+        held_now = held_now + cs%e(j)
+      end do
+      if (kept > 0) rep%impact_dissipated = rep%impact_dissipated + dt + held_now
     end associate
   end subroutine symmetric_correction
 
@@ -338,6 +361,62 @@ contains
     end do
     ok = .true.
   end function row_local
+
+  !> SYMMETRIC's held energy comes back when the body's elasticity ends the contact. A group (bodies
+  !> linked by active conditions) the projection leaves without kinetic energy of its own (a point
+  !> mass, a body landing with every node, two rigid-like bodies meeting) has none to end it: under
+  !> gravity it would stay down with the energy held. Those groups (PERSIST's test: the projected
+  !> energy, less the group's rigid translation, at most persist_min_fraction of T1 + Σ E_j) get
+  !> their velocity before the projection back (cs%vn, cs%mvn), their projection impulses dropped,
+  !> and their established conditions in cs%fallback, for PAPER's reflection.
+  subroutine symmetric_fallback(cs, body, v, mv, rep)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: body(:)
+    real(dp), intent(inout) :: v(:), mv(:)
+    type(contact_report_t), intent(inout) :: rep
+    integer :: nb, grp, n, j, i
+    real(dp) :: t1, tp, tstar, acm(3), tcm
+    logical :: hit
+    cs%changing = cs%est
+    call group_conditions(cs, body, nb)
+    cs%vp = v                                    ! (the projected velocity, for group_translation)
+    cs%mvp = mv
+    associate (cgroup => cs%cgroup, rows => cs%rows)
+      do grp = 1, nb
+        if (find(cs%parent, grp) /= grp) cycle
+        hit = .false.
+        n = 0
+        tstar = 0.0_dp
+        do j = 1, cs%nc
+          if (cgroup(j) /= grp) cycle
+          if (cs%est(j)) then
+            hit = .true.
+            tstar = tstar + cs%e(j)
+          end if
+          if (.not. cs%now(j)) cycle
+          n = n + 1
+          cs%idx(n) = j
+        end do
+        if (.not. hit) cycle
+        call group_rows(cs, body, grp)
+        t1 = 0.5_dp * sum(cs%vn * cs%mvn, mask=rows)
+        tp = 0.5_dp * sum(v * mv, mask=rows)
+        call group_translation(cs, rows, n, acm, tcm)
+        if (tp - tcm > cs%settings%persist_min_fraction * (t1 + tstar)) cycle
+        do i = 1, cs%neq
+          if (.not. rows(i)) cycle
+          v(i) = cs%vn(i)
+          mv(i) = cs%mvn(i)
+        end do
+        do j = 1, cs%nc
+          if (cgroup(j) /= grp) cycle
+          cs%mu(j) = 0.0_dp
+          cs%fallback(j) = cs%est(j)
+        end do
+        rep%persist_fallbacks = rep%persist_fallbacks + 1
+      end do
+    end associate
+  end subroutine symmetric_fallback
 
   !> Dense workspaces amat and gmat at least n x n (they only grow).
   subroutine reserve_dense(cs, n)
@@ -488,7 +567,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     logical, intent(in), optional :: project     !< .false.: scale only (IMPACT MASSLESS)
     real(dp), intent(in), optional :: geometry(:)   !< the active conditions that follow the geometry, these energies
-    integer :: nb, j, p, bj, i, grp, rank, n, j0, k
+    integer :: nb, j, i, grp, rank, n, j0, k
     real(dp) :: t1, tp, tstar, s, acm(3), tcm, vcm, mvcm, dis
     logical :: proj
 
@@ -500,50 +579,19 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: body(:) must have one entry per equation')
       return
     end if
-    nb = 0
-    if (cs%neq > 0) nb = max(maxval(body), 0)
-    if (size(cs%parent) < nb) then                 ! sized neq at contact_finalize: never
-      deallocate (cs%parent)
-      allocate (cs%parent(nb))
-    end if
     ! The conditions that change the energy: established ones, and under MASSLESS (no
     ! projection) released ones too; the maintained ones join the groups.
     cs%changing = cs%est
     if (.not. proj) cs%changing = cs%est .or. cs%rel
     if (present(geometry)) cs%changing = cs%follow .and. cs%now
+    call group_conditions(cs, body, nb)
     associate (parent => cs%parent, cgroup => cs%cgroup, now => cs%now, est => cs%changing, rows => cs%rows)
-      do i = 1, nb
-        parent(i) = i
-      end do
-      ! Union of the bodies touched by each active condition; cgroup = representative body (0: none).
-      cgroup = 0
-      do j = 1, cs%nc
-        if (.not. (now(j) .or. est(j))) cycle
-        do p = cs%c%first(j), cs%c%last(j)
-          bj = body(cs%c%eq_at(p))
-          if (bj <= 0) then
-            cgroup(j) = -1
-            exit
-          end if
-          if (cgroup(j) == 0) then
-            cgroup(j) = bj
-          else
-            call union(parent, cgroup(j), bj)
-          end if
-        end do
-      end do
-      do j = 1, cs%nc
-        if (cgroup(j) > 0) cgroup(j) = find(parent, cgroup(j))
-      end do
       where (est .and. cgroup <= 0) cs%fallback = .true.
       do grp = 1, nb
         if (find(parent, grp) /= grp) cycle
         if (.not. any(est .and. cgroup == grp)) cycle
         rep%persist_groups = rep%persist_groups + 1
-        do i = 1, cs%neq
-          rows(i) = body(i) > 0
-          if (rows(i)) rows(i) = find(parent, body(i)) == grp
-        end do
+        call group_rows(cs, body, grp)
         n = 0
         do j = 1, cs%nc
           if (.not. (now(j) .and. cgroup(j) == grp)) cycle
@@ -558,7 +606,7 @@ contains
         if (proj) then                           ! (massless contact nodes: nothing to project)
           ! RESTITUTION e < 1 on established conditions: Newton's law (gains 1 + e, maintained
           ! contacts 1) tells the kinetic energy the impact keeps; the rest is dissipated.
-          if (allocated(cs%vn)) then
+          if (cs%inelastic) then
             do k = 1, n
               cs%gain(k) = 1.0_dp
               if (est(cs%idx(k))) cs%gain(k) = 1.0_dp + cs%c%restitution(cs%idx(k))
@@ -620,6 +668,57 @@ contains
       end do
     end associate
   end subroutine persist_correction
+
+  !> The groups of section 6: the bodies (body(:), per equation) linked by the active conditions
+  !> and by cs%changing; cs%cgroup(j) = the representative body of condition j's group (0: not
+  !> active, -1: on an equation without body), cs%parent the union-find forest over nb bodies.
+  subroutine group_conditions(cs, body, nb)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: body(:)
+    integer, intent(out) :: nb
+    integer :: i, j, p, bj
+    nb = 0
+    if (cs%neq > 0) nb = max(maxval(body), 0)
+    if (size(cs%parent) < nb) then                 ! sized neq at contact_finalize: never
+      deallocate (cs%parent)
+      allocate (cs%parent(nb))
+    end if
+    associate (parent => cs%parent, cgroup => cs%cgroup)
+      do i = 1, nb
+        parent(i) = i
+      end do
+      cgroup = 0
+      do j = 1, cs%nc
+        if (.not. (cs%now(j) .or. cs%changing(j))) cycle
+        do p = cs%c%first(j), cs%c%last(j)
+          bj = body(cs%c%eq_at(p))
+          if (bj <= 0) then
+            cgroup(j) = -1
+            exit
+          end if
+          if (cgroup(j) == 0) then
+            cgroup(j) = bj
+          else
+            call union(parent, cgroup(j), bj)
+          end if
+        end do
+      end do
+      do j = 1, cs%nc
+        if (cgroup(j) > 0) cgroup(j) = find(parent, cgroup(j))
+      end do
+    end associate
+  end subroutine group_conditions
+
+  !> cs%rows = the equations of group grp (group_conditions).
+  subroutine group_rows(cs, body, grp)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: body(:), grp
+    integer :: i
+    do i = 1, cs%neq
+      cs%rows(i) = body(i) > 0
+      if (cs%rows(i)) cs%rows(i) = find(cs%parent, body(i)) == grp
+    end do
+  end subroutine group_rows
 
   !> The rigid motion v_r = Σ a_k t_k of the group (rows) after the projection (cs%vp, cs%mvp):
   !> the M-orthogonal projection on the rigid modes t_k its active conditions cs%idx(1:n) leave
