@@ -74,7 +74,11 @@ module contact
     real(dp) :: gap_rtol = 1.0e-12_dp        !< gap tolerance = gap_rtol * model size
     real(dp) :: fp_tol = 1.0e-14_dp          !< relative change ending the impulse fixed point
     integer :: fp_max_iter = 500
-    real(dp) :: persist_min_fraction = 1.0e-6_dp  !< PERSIST falls back to PAPER below this T_body/T*
+    !> PERSIST (and SYMMETRIC) fall back to PAPER's reflection where the projection leaves the group
+    !> less than this share of its target energy: a rigid-like impact (a point mass, a body landing
+    !> with every node), whose energy scaling would pour into vibration (docs/contact.md, Limits).
+    real(dp) :: persist_min_fraction = 1.0e-2_dp
+    real(dp) :: massless_min_fraction = 1.0e-6_dp !< MASSLESS: below it a group cannot be scaled (left unrestored)
     integer :: solver = SOLVER_AUTO          !< multipliers: SOLVER_AUTO, SOLVER_SCHUR or SOLVER_AUGMENTED
     integer :: switch_size = SWITCH_DEFAULT  !< AUTO: augmented above this many active conditions
     integer(8) :: z_max_entries = 8388608_8  !< 64 MB: initial size of the Schur column cache

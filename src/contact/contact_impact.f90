@@ -556,7 +556,8 @@ contains
   !> Section 6. Groups: bodies linked by active conditions. For each group holding an
   !> established condition: project on zero normal velocity of all its active conditions, then
   !> scale its velocity so that its kinetic energy is T1_group + Σ E_j. Groups whose projected
-  !> kinetic energy is below persist_min_fraction of that target, or conditions on equations
+  !> kinetic energy is below persist_min_fraction of that target (massless_min_fraction without the
+  !> projection, MASSLESS), or conditions on equations
   !> without body, are left untouched and returned in cs%fallback (their established conditions).
   subroutine persist_correction(cs, body, v, mv, rep, stat, errmsg, project, geometry)
     type(contact_set_t), intent(inout) :: cs
@@ -633,7 +634,7 @@ contains
         ! invariant under its translations (node-to-node, no obstacle, no support): momentum and
         ! the zero normal velocities are kept; otherwise about zero.
         call group_translation(cs, rows, n, acm, tcm)
-        if (.not. (tp - tcm > cs%settings%persist_min_fraction * tstar)) then
+        if (.not. (tp - tcm > merge(cs%settings%persist_min_fraction, cs%settings%massless_min_fraction, proj) * tstar)) then
           where (est .and. cgroup == grp) cs%fallback = .true.
           rep%persist_fallbacks = rep%persist_fallbacks + 1
           if (.not. proj) rep%unrestored = rep%unrestored + abs(tstar - t1)   ! (PERSIST: PAPER takes over)
