@@ -54,11 +54,6 @@ contains
             return
           end if
           call persist_correction(cs, body, v, mv, rep, stat, errmsg)
-          if (stat == STAT_OK .and. any(cs%fallback)) then
-            cs%est = cs%fallback
-            call paper_correction(cs, cs%est, v, mv, rep, stat, errmsg)
-            cs%est = now .and. .not. cs%st%active
-          end if
         case (IMPACT_MASSLESS)
           ! Massless contact nodes: no velocity to reflect or project; the energy the step lost
           ! at establishment, or counted at a release, goes to (comes from) the body by scaling
@@ -75,16 +70,18 @@ contains
             return
           end if
           call symmetric_correction(cs, body, v, mv, rep, stat, errmsg)
-          if (stat == STAT_OK .and. any(cs%fallback)) then   ! (groups with nothing to hold it: PAPER)
-            cs%est = cs%fallback
-            call paper_correction(cs, cs%est, v, mv, rep, stat, errmsg)
-            cs%est = now .and. .not. cs%st%active
-          end if
         case (IMPACT_OFF)
         case default
           call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: unknown impact mode ' // str(mode))
         end select
         if (stat /= STAT_OK) return
+        ! PERSIST's and SYMMETRIC's groups left without kinetic energy (cs%fallback): PAPER.
+        if ((mode == IMPACT_PERSIST .or. mode == IMPACT_SYMMETRIC) .and. any(cs%fallback)) then
+          cs%est = cs%fallback
+          call paper_correction(cs, cs%est, v, mv, rep, stat, errmsg)
+          cs%est = now .and. .not. cs%st%active
+          if (stat /= STAT_OK) return
+        end if
         if (mode /= IMPACT_OFF) energy_restored = 0.5_dp * dot_product(v, mv) - t_before
       end if
       ! Rows that follow the geometry (contact_rewrite) start each step at the gap of the new
