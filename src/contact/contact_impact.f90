@@ -45,30 +45,23 @@ contains
       cs%bimp = 0.0_dp
 
       if (rep%n_establish > 0 .or. ((mode == IMPACT_MASSLESS .or. mode == IMPACT_SYMMETRIC) .and. rep%n_release > 0)) then
+        if ((mode == IMPACT_PERSIST .or. mode == IMPACT_MASSLESS .or. mode == IMPACT_SYMMETRIC) .and. &
+          .not. present(body)) then
+          call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: IMPACT PERSIST, MASSLESS and SYMMETRIC need body(:)')
+          return
+        end if
         select case (mode)
         case (IMPACT_PAPER)
           call paper_correction(cs, est, v, mv, rep, stat, errmsg)
         case (IMPACT_PERSIST)
-          if (.not. present(body)) then
-            call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: IMPACT PERSIST needs body(:)')
-            return
-          end if
           call persist_correction(cs, body, v, mv, rep, stat, errmsg)
         case (IMPACT_MASSLESS)
           ! Massless contact nodes: no velocity to reflect or project; the energy the step lost
           ! at establishment, or counted at a release, goes to (comes from) the body by scaling
           ! (groups without kinetic energy are left, reported in persist_fallbacks: the balance
           ! shows it).
-          if (.not. present(body)) then
-            call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: IMPACT MASSLESS needs body(:)')
-            return
-          end if
           call persist_correction(cs, body, v, mv, rep, stat, errmsg, project=.false.)
         case (IMPACT_SYMMETRIC)
-          if (.not. present(body)) then
-            call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: IMPACT SYMMETRIC needs body(:)')
-            return
-          end if
           call symmetric_correction(cs, body, v, mv, rep, stat, errmsg)
         case (IMPACT_OFF)
         case default
@@ -245,7 +238,8 @@ contains
         j = cs%idx(k)
         if (est(j)) share(j) = max(0.5_dp * cs%mu(j) * cs%ct(k), 0.0_dp)
       end do
-      call symmetric_fallback(cs, body, v, mv, rep)
+      call symmetric_fallback(cs, body, v, mv, rep, stat, errmsg)
+      if (stat /= STAT_OK) return
       dt = 0.5_dp * (dot_product(cs%vn, cs%mvn) - dot_product(v, mv))
       cs%cimp = cs%cimp - cs%mu
       wsum = 0.0_dp
@@ -366,16 +360,19 @@ contains
   !> energy, less the group's rigid translation, at most persist_min_fraction of T1 + Σ E_j) get
   !> their velocity before the projection back (cs%vn, cs%mvn), their projection impulses dropped,
   !> and their established conditions in cs%fallback, for PAPER's reflection.
-  subroutine symmetric_fallback(cs, body, v, mv, rep)
+  subroutine symmetric_fallback(cs, body, v, mv, rep, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(in) :: body(:)
     real(dp), intent(inout) :: v(:), mv(:)
     type(contact_report_t), intent(inout) :: rep
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     integer :: nb, grp, n, j, i
     real(dp) :: t1, tp, tstar, acm(3), tcm
     logical :: hit
     cs%changing = cs%est
-    call group_conditions(cs, body, nb)
+    call group_conditions(cs, body, nb, stat, errmsg)
+    if (stat /= STAT_OK) return
     cs%vp = v                                    ! (the projected velocity, for group_translation)
     cs%mvp = mv
     associate (cgroup => cs%cgroup, rows => cs%rows)
@@ -573,16 +570,13 @@ contains
     cs%fallback = .false.
     proj = .true.
     if (present(project)) proj = project
-    if (size(body) /= cs%neq) then
-      call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: body(:) must have one entry per equation')
-      return
-    end if
     ! The conditions that change the energy: established ones, and under MASSLESS (no
     ! projection) released ones too; the maintained ones join the groups.
     cs%changing = cs%est
     if (.not. proj) cs%changing = cs%est .or. cs%rel
     if (present(geometry)) cs%changing = cs%follow .and. cs%now
-    call group_conditions(cs, body, nb)
+    call group_conditions(cs, body, nb, stat, errmsg)
+    if (stat /= STAT_OK) return
     associate (parent => cs%parent, cgroup => cs%cgroup, now => cs%now, est => cs%changing, rows => cs%rows)
       where (est .and. cgroup <= 0) cs%fallback = .true.
       do grp = 1, nb
@@ -670,12 +664,19 @@ contains
   !> The groups of section 6: the bodies (body(:), per equation) linked by the active conditions
   !> and by cs%changing; cs%cgroup(j) = the representative body of condition j's group (0: not
   !> active, -1: on an equation without body), cs%parent the union-find forest over nb bodies.
-  subroutine group_conditions(cs, body, nb)
+  subroutine group_conditions(cs, body, nb, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(in) :: body(:)
     integer, intent(out) :: nb
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
     integer :: i, j, p, bj
+    stat = STAT_OK
     nb = 0
+    if (size(body) /= cs%neq) then
+      call set_error(stat, errmsg, STAT_INPUT, 'contact_end_step: body(:) must have one entry per equation')
+      return
+    end if
     if (cs%neq > 0) nb = max(maxval(body), 0)
     if (size(cs%parent) < nb) then                 ! sized neq at contact_finalize: never
       deallocate (cs%parent)
