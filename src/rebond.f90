@@ -108,6 +108,7 @@ contains
 
   !> The single-scene mode.
   subroutine run_scene()
+    integer :: im
     if (len(scene_path) == 0) call fail_usage('no scene file given')
     if (len(outdir) == 0) outdir = 'results/' // path_stem(scene_path)
 
@@ -130,6 +131,10 @@ contains
       write (*, '(a,i0,a,i0,a,i0,a)') '  ', scn%mesh%nnode, ' nodes, ', scn%mesh%nelem, ' elements, ', sys%dofs%neq, ' equations'
       if (size(scn%conditions) > 0) write (*, '(a,i0,a)') '  contact conditions: ', size(scn%conditions), ', IMPACT ' // &
         trim(IMPACT_NAMES(scn%impact)) // trim(merge(' (AUTO)', '       ', scn%impact_auto))
+      do im = 1, size(scn%models)
+        if (scn%models(im)%tuned .and. .not. scn%models(im)%mass_said) write (*, '(a)') '  MODEL ' // &
+          scn%models(im)%group // ': mass tuned to the step (BAR2 default at c h/dx <= 1; MASS CONSISTENT for the classic)'
+      end do
       if (.not. sys%elems%linear) write (*, '(a)') '  nonlinear zone: ' // rs%zone%why
       if (sys%ops%k0u%active()) &
         write (*, '(a)') '  internal forces: K0 u (linear elastic model; SCHEME FORCES POINTS for the element loop)'

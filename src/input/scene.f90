@@ -55,6 +55,7 @@ module scene
     real(dp) :: mix = 0.5_dp      !< MASS MIXED's mixing factor (1/2 unless given)
     logical :: tuned = .false.    !< MASS TUNED: each element's mix from the step (tuned_mix)
     logical :: tuned_exact = .false. !< TUNED with c h/dx = 1 on every element: the exact lattice (1D)
+    logical :: mass_said = .false. !< MASS given; otherwise default_mass chooses (TUNED or CONSISTENT)
     integer :: substeps = 0       !< sub-increments of the laws (Cast3M SOUS_INCREMENT); 0 = AUTO, NSUB_EXACT = EXACT
     logical :: large = .false.    !< KINEMATICS LARGE: strains from the current configuration
     logical :: log_strain = .false. !< STRAIN_MEASURE LOG: a LARGE surface element on the Hencky strain

@@ -12,7 +12,7 @@ module scene_loader
   use material_law, only: LAW_HYPERELASTIC
   use scene_mesh, only: mesh_schema, mesh_statement
   use scene_materials, only: materials_schema, materials_statement
-  use scene_models, only: models_schema, models_statement, check_tuned
+  use scene_models, only: models_schema, models_statement, default_mass, check_tuned
   use scene_conditions, only: conditions_schema, conditions_statement
   use scene_contacts, only: contacts_schema, contacts_statement, resolve_impact
   use scene_run, only: run_schema, run_statement
@@ -86,6 +86,7 @@ contains
       return
     end if
     call check_required(st, sch, path, stat, errmsg)
+    if (stat == STAT_OK) call default_mass(scn)
     if (stat == STAT_OK) call check_tuned(scn, stat, errmsg)
     if (stat == STAT_OK) call resolve_impact(scn, stat, errmsg)
     if (stat == STAT_OK) call check_large(scn, stat, errmsg)

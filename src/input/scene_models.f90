@@ -15,7 +15,7 @@ module scene_models
     etype_name, etype_nen, ET_MASS, ET_BAR2
   implicit none
   private
-  public :: models_schema, models_statement, check_tuned
+  public :: models_schema, models_statement, default_mass, check_tuned
 
 contains
 
@@ -199,6 +199,7 @@ contains
     call get_word(st, 'MASS', w, stat, errmsg, default='CONSISTENT')
     if (stat /= STAT_OK) return
     ip = find_param(st, 'MASS')
+    md%mass_said = ip /= 0
     select case (upper(w))
     case ('CONSISTENT')
       md%lumped = .false.
@@ -235,6 +236,35 @@ contains
       if (stat /= STAT_OK) errmsg = errmsg // ' (above 1 on BAR2 only: ' // etype_name(md%etype) // ' elements)'
     end if
   end subroutine get_mass
+
+  !> The mass of a model that says no MASS: TUNED on a small-displacement BAR2 model whose every element
+  !> has c h/dx <= 1 (the step resolves the wave, where the tuned mass is measured best: rebound,
+  !> release and contact force, docs/contact.md "The default mass"), CONSISTENT otherwise (Cast3M's).
+  !> LARGE is left out: its rotations turn the axial wave the rule tunes into transverse motion.
+  subroutine default_mass(scn)
+    type(scene_t), intent(inout) :: scn
+    integer :: i, k, e
+    real(dp) :: c, r
+    do i = 1, size(scn%models)
+      associate (md => scn%models(i))
+        if (md%mass_said .or. md%etype /= ET_BAR2 .or. md%large .or. md%material == 0) cycle
+        associate (mat => scn%materials(md%material))
+          if (mat%density <= 0.0_dp .or. mat%young <= 0.0_dp) cycle
+          c = sqrt(mat%young / mat%density)
+        end associate
+        r = 0.0_dp
+        associate (items => scn%mesh%egroups(md%egroup)%items)
+          do k = 1, size(items)
+            e = items(k)
+            r = max(r, c * scn%dt / norm2(scn%mesh%x(:, scn%mesh%conn(2, e)) - scn%mesh%x(:, scn%mesh%conn(1, e))))
+          end do
+        end associate
+        if (r > 1.0_dp + 1.0e-9_dp) cycle   ! the tolerance of check_tuned
+        md%mixed = .true.
+        md%tuned = .true.
+      end associate
+    end do
+  end subroutine default_mass
 
   !> MASS TUNED needs c h/dx <= 1 on every element of the model (past it the rule would pass 3/2, where
   !> the mass stops being positive definite), and a wave speed: the first element past it is named.

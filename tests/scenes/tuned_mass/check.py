@@ -17,6 +17,14 @@ Impact (code_aster SDNV100's bar, ../contact_massless/sdnv100_bar.dat, 20 elemen
   |balance| <= 1e-10 of E; MIXED 1.4999 with IMPACT PERSIST gives the same bits;
 - at h = dx/(2c), TUNED (alpha = 3/4) under AUTO (SYMMETRIC): rebound within 0.5 %, at most a third
   of MIXED's error (-1.38 %), release within one step of 2L/c.
+The default mass (docs/contact.md, "The default mass"; inputs/sdnv100.dat, the benchmark at its own
+settings with no MASS and no SCHEME IMPACT):
+- as given (h = dx/c): stdout says the mass is tuned and AUTO takes PERSIST, and every target of the
+  TUNED run above holds; the same bits as MASS TUNED;
+- at c h/dx = 0.1: rebound within 0.5 % at 20 elements, and its error falls at 80 and at 320;
+- at h = 1.1 dx/c, where no tuned mass exists, and on a KINEMATICS LARGE model: the consistent mass
+  (the same bits as MASS CONSISTENT, AUTO takes MASSLESS and PERSIST), and stdout says nothing of
+  a tuned mass.
 """
 import os
 import sys
@@ -29,6 +37,7 @@ import contactcheck as cc  # noqa: E402
 
 MODAL = os.path.join('tests', 'scenes', 'tuned_mass', 'modal_bar.dat')
 BAR = os.path.join('tests', 'scenes', 'contact_massless', 'sdnv100_bar.dat')
+DEFAULT = os.path.join('inputs', 'sdnv100.dat')
 
 
 def discrete_w(n, r, alpha):
@@ -77,12 +86,14 @@ sc.report('MASS MIXED and MASS MIXED 0.5: the same bits', np.array_equal(a, b))
 M, V0, F, DXC = 8000 * 4e-4 * 0.2, 100.0, 1.6e6, 2e-6
 
 
-def impact(tag, sets, h, reb_tol, force_checks, auto=None):
+def impact(tag, sets, h, reb_tol, force_checks, auto=None, scene=BAR):
     out = sc.new_dir('impact')
-    r = sc.run_limited([sc.REBOND, BAR, '-o', out, '--set', 'TIME.STEP=%r' % h] + sum((['--set', x] for x in sets), []),
+    r = sc.run_limited([sc.REBOND, scene, '-o', out, '--set', 'TIME.STEP=%r' % h] + sum((['--set', x] for x in sets), []),
                        120, cwd=sc.ROOT, capture_output=True, text=True)
     if auto:
         sc.report(tag + ': AUTO takes ' + auto, r.returncode == 0 and 'IMPACT %s (AUTO)' % auto in r.stdout)
+    if scene == DEFAULT:
+        sc.report(tag + ': stdout says the mass is tuned to the step', 'bar: mass tuned to the step' in r.stdout)
     hist, c = sc.history(out), sc.contacts(out)
     cc.check_balance(tag, out)
     err = hist['momentum_x'][-1] / M / V0 - 1
@@ -112,3 +123,24 @@ out = sc.run_ok(BAR, ['TIME.STEP=%r' % (DXC / 2), 'MODEL.bar.MASS=MIXED', 'SCHEM
 mixed = sc.history(out)['momentum_x'][-1] / M / V0 - 1
 sc.report_measured('h = dx/(2c): the tuned rebound error at most a third of MIXED\'s', abs(tuned) * 3 <= abs(mixed),
                    'tuned %+.3f %%, MIXED %+.3f %%' % (100 * tuned, 100 * mixed))
+
+# The default mass: inputs/sdnv100.dat says no MASS and no IMPACT.
+dflt = impact('SDNV100 as given (default mass, h = dx/c)', [], DXC, 1e-4, True, 'PERSIST', DEFAULT)
+out = sc.run_ok(DEFAULT, ['MODEL.bar.MASS=TUNED'])
+sc.report('SDNV100 as given: the same bits as MASS TUNED', sc.history(out)['momentum_x'][-1] / M / V0 - 1 == dflt)
+errs = []
+for n in (20, 80, 320):
+    out = sc.run_ok(DEFAULT, ['LINE.bar.ELEMENTS=%d' % n, 'TIME.STEP=%r' % (0.1 * DXC * 20 / n), 'OUTPUT.FIELDS=EVERY 0'])
+    errs.append(sc.history(out)['momentum_x'][-1] / M / V0 - 1)
+sc.report_measured('default mass at c h/dx = 0.1: rebound within 0.5 % at 20 elements, falling at 80 and 320',
+                   abs(errs[0]) <= 5e-3 and abs(errs[0]) > abs(errs[1]) > abs(errs[2]),
+                   ', '.join('%+.3f %%' % (100 * e) for e in errs))
+for tag, sets, auto in (('h = 1.1 dx/c', ['TIME.STEP=%r' % (1.1 * DXC)], 'MASSLESS'),
+                        ('KINEMATICS LARGE', ['MODEL.bar.KINEMATICS=LARGE'], 'PERSIST')):
+    out = sc.new_dir('default')
+    r = sc.run_limited([sc.REBOND, DEFAULT, '-o', out] + sum((['--set', x] for x in sets), []), 120, cwd=sc.ROOT,
+                       capture_output=True, text=True)
+    ref = sc.run_ok(DEFAULT, sets + ['MODEL.bar.MASS=CONSISTENT'])
+    sc.report('default mass, %s: consistent (the same bits as MASS CONSISTENT), AUTO takes %s, no tuned mass said'
+              % (tag, auto), r.returncode == 0 and 'IMPACT %s (AUTO)' % auto in r.stdout and 'tuned' not in r.stdout
+              and np.array_equal(sc.history(out)['momentum_x'], sc.history(ref)['momentum_x']))
