@@ -3,7 +3,7 @@
 module scene_models
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
-  use material_law, only: material_t, law_check, LAW_ELASTOPLASTIC, LAW_VON_MISES, LAW_ELASTIC
+  use material_law, only: material_t, law_check, law_is_linear, LAW_ELASTOPLASTIC, LAW_VON_MISES, LAW_ELASTIC
   use law_types, only: NSUB_EXACT
   use statement, only: statement_t, stmt_error, find_param, get_int, get_word, get_real
   use statement_schema, only: schema_t
@@ -237,10 +237,12 @@ contains
     end if
   end subroutine get_mass
 
-  !> The mass of a model that says no MASS: TUNED on a small-displacement BAR2 model whose every element
-  !> has c h/dx <= 1 (the step resolves the wave, where the tuned mass is measured best: rebound,
-  !> release and contact force, docs/contact.md "The default mass"), CONSISTENT otherwise (Cast3M's).
-  !> LARGE is left out: its rotations turn the axial wave the rule tunes into transverse motion.
+  !> The mass of a model that says no MASS: TUNED on a small-displacement, linear elastic BAR2 model
+  !> whose every element has c h/dx <= 1 (the step resolves the wave, where the tuned mass is measured
+  !> best: rebound, release and contact force, docs/contact.md "The default mass"), CONSISTENT
+  !> otherwise (Cast3M's). The rule tunes the elastic wave: a nonlinear law slows it (near 3/2 the
+  !> mass's shortest wave then needs sub-steps to converge), and LARGE's rotations turn it into
+  !> transverse motion.
   subroutine default_mass(scn)
     type(scene_t), intent(inout) :: scn
     integer :: i, k, e
@@ -249,7 +251,7 @@ contains
       associate (md => scn%models(i))
         if (md%mass_said .or. md%etype /= ET_BAR2 .or. md%large .or. md%material == 0) cycle
         associate (mat => scn%materials(md%material))
-          if (mat%density <= 0.0_dp .or. mat%young <= 0.0_dp) cycle
+          if (.not. law_is_linear(mat) .or. mat%density <= 0.0_dp .or. mat%young <= 0.0_dp) cycle
           c = sqrt(mat%young / mat%density)
         end associate
         r = 0.0_dp

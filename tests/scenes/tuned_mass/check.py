@@ -22,9 +22,9 @@ settings with no MASS and no SCHEME IMPACT):
 - as given (h = dx/c): stdout says the mass is tuned and AUTO takes PERSIST, and every target of the
   TUNED run above holds; the same bits as MASS TUNED;
 - at c h/dx = 0.1: rebound within 0.5 % at 20 elements, and its error falls at 80 and at 320;
-- at h = 1.1 dx/c, where no tuned mass exists, and on a KINEMATICS LARGE model: the consistent mass
-  (the same bits as MASS CONSISTENT, AUTO takes MASSLESS and PERSIST), and stdout says nothing of
-  a tuned mass.
+- at h = 1.1 dx/c, where no tuned mass exists, on a KINEMATICS LARGE model, and on an ELASTOPLASTIC
+  bar: the consistent mass (the same bits as MASS CONSISTENT; AUTO takes MASSLESS, PERSIST,
+  MASSLESS), and stdout says nothing of a tuned mass.
 """
 import os
 import sys
@@ -135,12 +135,16 @@ for n in (20, 80, 320):
 sc.report_measured('default mass at c h/dx = 0.1: rebound within 0.5 % at 20 elements, falling at 80 and 320',
                    abs(errs[0]) <= 5e-3 and abs(errs[0]) > abs(errs[1]) > abs(errs[2]),
                    ', '.join('%+.3f %%' % (100 * e) for e in errs))
-for tag, sets, auto in (('h = 1.1 dx/c', ['TIME.STEP=%r' % (1.1 * DXC)], 'MASSLESS'),
-                        ('KINEMATICS LARGE', ['MODEL.bar.KINEMATICS=LARGE'], 'PERSIST')):
+with open(os.path.join(sc.ROOT, DEFAULT)) as f:
+    PLASTIC = sc.write_scene('plastic_default.dat', f.read().replace(
+        'steel ELASTIC YOUNG 2e11 POISSON 0 DENSITY 8000', 'steel ELASTOPLASTIC YOUNG 2e11 YIELD 2.5e8 H_ISO 2e10 DENSITY 8000'))
+for tag, scene, sets, auto in (('h = 1.1 dx/c', DEFAULT, ['TIME.STEP=%r' % (1.1 * DXC)], 'MASSLESS'),
+                               ('KINEMATICS LARGE', DEFAULT, ['MODEL.bar.KINEMATICS=LARGE'], 'PERSIST'),
+                               ('ELASTOPLASTIC', PLASTIC, [], 'MASSLESS')):
     out = sc.new_dir('default')
-    r = sc.run_limited([sc.REBOND, DEFAULT, '-o', out] + sum((['--set', x] for x in sets), []), 120, cwd=sc.ROOT,
+    r = sc.run_limited([sc.REBOND, scene, '-o', out] + sum((['--set', x] for x in sets), []), 120, cwd=sc.ROOT,
                        capture_output=True, text=True)
-    ref = sc.run_ok(DEFAULT, sets + ['MODEL.bar.MASS=CONSISTENT'])
+    ref = sc.run_ok(scene, sets + ['MODEL.bar.MASS=CONSISTENT'])
     sc.report('default mass, %s: consistent (the same bits as MASS CONSISTENT), AUTO takes %s, no tuned mass said'
               % (tag, auto), r.returncode == 0 and 'IMPACT %s (AUTO)' % auto in r.stdout and 'tuned' not in r.stdout
               and np.array_equal(sc.history(out)['momentum_x'], sc.history(ref)['momentum_x']))
