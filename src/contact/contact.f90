@@ -561,6 +561,7 @@ contains
       cs%gn(nc), cs%gend(nc), cs%e(nc), cs%y(nc), cs%r(nc), cs%mu(nc), cs%viol(nc), &
       cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%idx(nc), cs%cgroup(nc), cs%ev(nc), cs%sv(nc), &
       cs%ct(nc), cs%work2(2 * nc), cs%ipiv(nc))
+    cs%fallback = .false.
     if (allocated(cs%parent)) deallocate (cs%parent)
     cs%has_rigid = .false.
     if (allocated(cs%vn)) deallocate (cs%vn, cs%mvn)

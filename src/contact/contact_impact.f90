@@ -69,11 +69,14 @@ contains
         end select
         if (stat /= STAT_OK) return
         ! PERSIST's and SYMMETRIC's groups left without kinetic energy (cs%fallback): PAPER.
-        if ((mode == IMPACT_PERSIST .or. mode == IMPACT_SYMMETRIC) .and. any(cs%fallback)) then
-          cs%est = cs%fallback
-          call paper_correction(cs, cs%est, v, mv, rep, stat, errmsg)
-          cs%est = now .and. .not. cs%st%active
-          if (stat /= STAT_OK) return
+        ! (Nested: Fortran's .and. may read both sides, and other modes leave cs%fallback as it was.)
+        if (mode == IMPACT_PERSIST .or. mode == IMPACT_SYMMETRIC) then
+          if (any(cs%fallback)) then
+            cs%est = cs%fallback
+            call paper_correction(cs, cs%est, v, mv, rep, stat, errmsg)
+            cs%est = now .and. .not. cs%st%active
+            if (stat /= STAT_OK) return
+          end if
         end if
         if (mode /= IMPACT_OFF) energy_restored = 0.5_dp * dot_product(v, mv) - t_before
       end if

@@ -18,6 +18,9 @@ module scene_materials
   !> INERTIA, HEIGHT, THICKNESS, MASS): squares, products E I, masses times 4/h² and energies stay
   !> finite (docs/input.md).
   real(dp), parameter :: MAX_MATERIAL = 1.0e100_dp
+  !> |B| of NONLINEAR_ELASTIC: its cubic term equals the linear one at a strain of 1e-10 there; past it
+  !> the first iterates' strains made E b eps^3 overflow (SIGFPE under make check-debug, seed check 209).
+  real(dp), parameter :: MAX_NL_B = 1.0e20_dp
 
 contains
 
@@ -95,7 +98,8 @@ contains
     if (find_param(st, 'HYPERELASTIC') > 0) mat%law = LAW_HYPERELASTIC
     call check_law_params(st, mat%law, stat, errmsg)
     if (stat /= STAT_OK) return
-    call get_real(st, 'B', mat%nl_b, stat, errmsg, default=0.0_dp)
+    call get_real(st, 'B', mat%nl_b, stat, errmsg, default=0.0_dp, lower=-MAX_NL_B, lower_inclusive=.true., &
+      upper=MAX_NL_B, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
     if (mat%law == LAW_ELASTOPLASTIC .or. mat%law == LAW_VON_MISES) then
       call get_real(st, 'YIELD', mat%yield, stat, errmsg, lower=0.0_dp, lower_inclusive=.false., &

@@ -45,6 +45,10 @@ CASES = [
     # A FUNCTION value of -1e300 scaling a pressure overflowed it (SIGFPE under the debug build,
     # seed s9dbg2 5635).
     ('function_1e300', ['FUNCTION ramp POINTS 0 0 2e-3 -1e300'], 4, '-1e300'),
+    # A NONLINEAR_ELASTIC B of 1e300 (1e30 already) overflowed E b eps^3 on the first iterates (SIGFPE
+    # under make check-debug, seed check 209 once inputs/sdnv100.dat joined the corpus).
+    ('nl_b_1e300', ['MATERIAL nl NONLINEAR_ELASTIC YOUNG 2.1e11 B 1e300 DENSITY 7800'], 4, '1e300'),
+    ('nl_b_minus_1e30', ['MATERIAL nl NONLINEAR_ELASTIC YOUNG 2.1e11 B -1e30 DENSITY 7800'], 4, '-1e30'),
 ]
 
 
