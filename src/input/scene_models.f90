@@ -17,6 +17,9 @@ module scene_models
   private
   public :: models_schema, models_statement, default_mass, check_tuned
 
+  !> c h/dx above 1 by less than this is 1: the rounding of c, h and dx of a step meant as dx/c.
+  real(dp), parameter :: COURANT_TOL = 1.0e-9_dp
+
 contains
 
   subroutine models_schema(sch)
@@ -258,10 +261,10 @@ contains
         associate (items => scn%mesh%egroups(md%egroup)%items)
           do k = 1, size(items)
             e = items(k)
-            r = max(r, c * scn%dt / norm2(scn%mesh%x(:, scn%mesh%conn(2, e)) - scn%mesh%x(:, scn%mesh%conn(1, e))))
+            r = max(r, courant(scn, c, e))
           end do
         end associate
-        if (r > 1.0_dp + 1.0e-9_dp) cycle   ! the tolerance of check_tuned
+        if (r > 1.0_dp + COURANT_TOL) cycle
         md%mixed = .true.
         md%tuned = .true.
       end associate
@@ -293,19 +296,27 @@ contains
         associate (items => scn%mesh%egroups(md%egroup)%items)
           do k = 1, size(items)
             e = items(k)
-            r = c * scn%dt / norm2(scn%mesh%x(:, scn%mesh%conn(2, e)) - scn%mesh%x(:, scn%mesh%conn(1, e)))
-            if (r > 1.0_dp + 1.0e-9_dp) then   ! the rounding of c, h and dx of a step meant as dx/c
+            r = courant(scn, c, e)
+            if (r > 1.0_dp + COURANT_TOL) then
               call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(md%line) // ': MODEL ' // md%group // &
                 ': MASS TUNED needs c h/dx <= 1 (element ' // str(k) // ' of the group: ' // real_text(r) // &
                 "; a smaller TIME STEP or MIXED alpha), at 'TUNED'")
               return
             end if
-            if (r < 1.0_dp - 1.0e-9_dp) md%tuned_exact = .false.
+            if (r < 1.0_dp - COURANT_TOL) md%tuned_exact = .false.
           end do
         end associate
       end associate
     end do
   end subroutine check_tuned
+
+  !> c h/dx of 2-node element e of the scene (wave speed c, the TIME STEP).
+  pure real(dp) function courant(scn, c, e)
+    type(scene_t), intent(in) :: scn
+    real(dp), intent(in) :: c
+    integer, intent(in) :: e
+    courant = c * scn%dt / norm2(scn%mesh%x(:, scn%mesh%conn(2, e)) - scn%mesh%x(:, scn%mesh%conn(1, e)))
+  end function courant
 
   pure function node_list(nodes) result(s)
     integer, intent(in) :: nodes(:)
