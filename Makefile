@@ -54,6 +54,7 @@ help:
 	@echo "make iterations  ITERATION ELASTIC, TANGENT, AUTO and the energy test (docs/nonlinear-performance.md)"
 	@echo "make zone    SCHEME ZONE: eq (9) on the nonlinear elements' equations (docs/nonlinear-performance.md)"
 	@echo "make peers   rebond and CalculiX on the same bar impacts (docs/peers.md)"
+	@echo "make restitution  RESTITUTION e against the bodies' coefficient (docs/contact.md)"
 
 # Dependencies: installed once by `make deps`, checked by every build.
 deps:
@@ -103,6 +104,7 @@ run: bin/rebond
 
 bench: bin/rebond
 	@bash tools/bench.sh
+	@/usr/bin/python3 tools/bench_load.py --write
 	@bash tools/bench_nonlinear.sh
 	@BENCH_CONTACT_OUT=docs/performance-contact.md bash tools/bench_contact.sh
 
@@ -116,6 +118,12 @@ validation: bin/rebond
 	@bash tools/make_validation.sh
 	@/usr/bin/python3 tools/contact_table.py
 	@/usr/bin/python3 tools/contact_table.py --trade
+
+# RESTITUTION e on deformable bodies: the body-level coefficient and the energy dissipated, two
+# blocks and a ring (docs/contact.md, "What RESTITUTION means on a deformable body"; ~1 min).
+.PHONY: restitution
+restitution: bin/rebond
+	@/usr/bin/python3 tools/restitution_table.py --write
 
 # Large displacements (docs/large-displacements.md): the energy correction against plain Newmark
 # on the stiff bar pendulum, by step, with the figure docs/figures/large_energy_vs_h.png.

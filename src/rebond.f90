@@ -4,6 +4,7 @@
 !> Exit codes: 0 success, 2 bad input (scene, mesh, sweep file, command line), 1 failure during
 !> the run (sweep: some case failed; the table is written all the same).
 program rebond
+  use, intrinsic :: iso_fortran_env, only: error_unit
   use errors, only: STAT_OK, STAT_INPUT, STAT_RUN, str
   use scene, only: scene_t
   use contact_modes, only: IMPACT_NAMES
@@ -14,6 +15,7 @@ program rebond
   use sweep, only: run_sweep
   use os_utils, only: path_stem, exit_with
   use hdf5_file, only: hdf5_failed
+  use text_file, only: say, stdout_error
   implicit none
 
   character(len=*), parameter :: VERSION = '0.1.0'
@@ -124,20 +126,21 @@ contains
     if (len(restart) > 0) opts%restart = restart
     if (.not. quiet) then
       if (len(scn%title) > 0) then
-        write (*, '(a)') 'rebond ' // VERSION // ': ' // scene_path // ' — ' // scn%title
+        call say('rebond ' // VERSION // ': ' // scene_path // ' — ' // scn%title)
       else
-        write (*, '(a)') 'rebond ' // VERSION // ': ' // scene_path
+        call say('rebond ' // VERSION // ': ' // scene_path)
       end if
-      write (*, '(a,i0,a,i0,a,i0,a)') '  ', scn%mesh%nnode, ' nodes, ', scn%mesh%nelem, ' elements, ', sys%dofs%neq, ' equations'
-      if (size(scn%conditions) > 0) write (*, '(a,i0,a)') '  contact conditions: ', size(scn%conditions), ', IMPACT ' // &
-        trim(IMPACT_NAMES(scn%impact)) // trim(merge(' (AUTO)', '       ', scn%impact_auto))
+      call say('  ' // str(scn%mesh%nnode) // ' nodes, ' // str(scn%mesh%nelem) // ' elements, ' // str(sys%dofs%neq) // &
+        ' equations')
+      if (size(scn%conditions) > 0) call say('  contact conditions: ' // str(size(scn%conditions)) // ', IMPACT ' // &
+        trim(IMPACT_NAMES(scn%impact)) // trim(merge(' (AUTO)', '       ', scn%impact_auto)))
       do im = 1, size(scn%models)
-        if (scn%models(im)%tuned .and. .not. scn%models(im)%mass_said) write (*, '(a)') '  MODEL ' // &
-          scn%models(im)%group // ': mass tuned to the step (BAR2 default at c h/dx <= 1; MASS CONSISTENT for the classic)'
+        if (scn%models(im)%tuned .and. .not. scn%models(im)%mass_said) call say('  MODEL ' // &
+          scn%models(im)%group // ': mass tuned to the step (BAR2 default at c h/dx <= 1; MASS CONSISTENT for the classic)')
       end do
-      if (.not. sys%elems%linear) write (*, '(a)') '  nonlinear zone: ' // rs%zone%why
-      if (sys%ops%k0u%active()) &
-        write (*, '(a)') '  internal forces: K0 u (linear elastic model; SCHEME FORCES POINTS for the element loop)'
+      if (.not. sys%elems%linear) call say('  nonlinear zone: ' // rs%zone%why)
+      if (sys%ops%k0u%active()) call say('  internal forces: K0 u (linear elastic model; SCHEME FORCES POINTS for the ' // &
+        'element loop)')
     end if
     call run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
     if (stat /= STAT_OK) then
@@ -146,29 +149,57 @@ contains
       call fail(stat, errmsg)
     end if
     if (.not. quiet) call print_summary()
+    call check_stdout()
   end subroutine run_scene
 
+  !> The run's report reached standard output, or the run says so and exits 1 (its results are
+  !> written and kept): a full disk or a closed pipe there is no success.
+  subroutine check_stdout()
+    character(len=:), allocatable :: why
+    why = stdout_error()
+    if (len(why) > 0) then
+      write (error_unit, '(a)') 'rebond: error: cannot write the run''s report to standard output: ' // why // &
+        ' (the results in ' // outdir // '/ are complete)'
+      call exit_with(1)
+    end if
+  end subroutine check_stdout
+
+  !> The summary of the run on standard output (say: every line checked).
   subroutine print_summary()
-    write (*, '(a,i0,a,f0.3,a)') '  ', summary%steps, ' steps in ', summary%wall, ' s'
-    write (*, '(a,es10.3)') '  max |balance| / max(kinetic + internal) = ', summary%max_rel_balance
-    if (summary%factor%ordering > 0) write (*, '(a,i0,a,f0.3,a)') '  factor of S: nnz(L) = ', &
-      nint(summary%factor%nnz, 8), ', ' // trim(ORDERING_NAMES(summary%factor%ordering)) // ' ordering (analysis ', &
-      summary%factor%analysis_cpu, ' s CPU)'
-    if (summary%factorizations > 1) write (*, '(a,i0,a)') '  iteration matrix factorized ', summary%factorizations, &
-      ' times (ITERATION TANGENT or AUTO, SCHEME RETRY)'
-    if (summary%retried > summary%impact_retried) write (*, '(a,i0,a,i0,a)') '  ', &
-      summary%retried - summary%impact_retried, ' steps did not converge and were taken again as sub-steps ' // &
-      '(SCHEME RETRY; up to ', summary%max_substeps, ' per step)'
-    if (summary%impact_retried > 0) write (*, '(a,i0,a,i0,a)') '  ', summary%impact_retried, ' steps were taken ' // &
-      'again as sub-steps: the impact correction of the whole step could not restore the energy (SCHEME RETRY; up to ', &
-      summary%max_substeps, ' per step)'
-    if (summary%schur_solves + summary%augmented_solves > 0) write (*, '(a,4(i0,a))') '  contact multipliers: ', &
-      summary%schur_solves, ' Schur solves (', summary%schur_columns, ' columns), ', summary%augmented_solves, &
-      ' augmented solves (', summary%augmented_factorizations, ' LU)'
-    if (summary%following > 0) write (*, '(a,i0,a,i0,a)') '  contact pairing: ', summary%following, &
-      ' node-to-segment conditions re-paired at every step (PAIRING STEP), ', summary%repairings, ' changes of partner'
-    write (*, '(a)') '  results in ' // outdir // '/'
+    character(len=256) :: line
+    write (line, '(a,i0,a,f0.3,a)') '  ', summary%steps, ' steps in ', summary%wall, ' s'
+    call say(trim(line))
+    write (line, '(a,es10.3)') '  max |balance| / max(kinetic + internal) = ', summary%max_rel_balance
+    call say(trim(line))
+    if (summary%factor%ordering > 0) then
+      write (line, '(a,i0,a,f0.3,a)') '  factor of S: nnz(L) = ', nint(summary%factor%nnz, 8), ', ' // &
+        trim(ORDERING_NAMES(summary%factor%ordering)) // ' ordering (analysis ', summary%factor%analysis_cpu, ' s CPU)'
+      call say(trim(line))
+    end if
+    if (summary%factorizations > 1) call say('  iteration matrix factorized ' // str8(int(summary%factorizations, 8)) // &
+      ' times (ITERATION TANGENT or AUTO, SCHEME RETRY)')
+    if (summary%retried > summary%impact_retried) call say('  ' // str(summary%retried - summary%impact_retried) // &
+      ' steps did not converge and were taken again as sub-steps (SCHEME RETRY; up to ' // str(summary%max_substeps) // &
+      ' per step)')
+    if (summary%impact_retried > 0) call say('  ' // str(summary%impact_retried) // ' steps were taken again as ' // &
+      'sub-steps: the impact correction of the whole step could not restore the energy (SCHEME RETRY; up to ' // &
+      str(summary%max_substeps) // ' per step)')
+    if (summary%schur_solves + summary%augmented_solves > 0) call say('  contact multipliers: ' // &
+      str8(summary%schur_solves) // ' Schur solves (' // str8(summary%schur_columns) // ' columns), ' // &
+      str8(summary%augmented_solves) // ' augmented solves (' // str8(summary%augmented_factorizations) // ' LU)')
+    if (summary%following > 0) call say('  contact pairing: ' // str(summary%following) // ' node-to-segment ' // &
+      'conditions re-paired at every step (PAIRING STEP), ' // str8(summary%repairings) // ' changes of partner')
+    call say('  results in ' // outdir // '/')
   end subroutine print_summary
+
+  !> An integer of any kind as I0 (the summary's counters are 8-byte).
+  function str8(i) result(t)
+    integer(8), intent(in) :: i
+    character(len=:), allocatable :: t
+    character(len=24) :: buf
+    write (buf, '(i0)') i
+    t = trim(buf)
+  end function str8
 
   function get_arg(k) result(a)
     integer, intent(in) :: k

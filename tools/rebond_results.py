@@ -71,11 +71,13 @@ class Run:
         potential = -h["external"]
         damping = h["damping"] if "damping" in h else np.zeros_like(kin)
         impact = h["impact_dissipated"] if "impact_dissipated" in h else np.zeros_like(kin)
-        # internal holds the plastic work already; damping and inelastic impacts are booked apart.
-        total = kin + internal + potential + damping + impact
+        held = h["contact_held"] if "contact_held" in h else np.zeros_like(kin)
+        # internal holds the plastic work already; damping, inelastic impacts and the energy a
+        # contact holds until its release (IMPACT SYMMETRIC) are booked apart.
+        total = kin + internal + potential + damping + impact + held
         return {"kinetic": kin, "strain": strain, "potential": potential,
-                "dissipated": dissipated, "damping": damping, "impact": impact, "total": total,
-                "balance": h["balance"]}
+                "dissipated": dissipated, "damping": damping, "impact": impact, "held": held,
+                "total": total, "balance": h["balance"]}
 
     def energy_scale(self):
         """The energy swing of the run, max(kinetic + strain): the scale of relative errors."""
@@ -182,6 +184,7 @@ class SceneInfo:
         self.coords = {}
         self.obstacles = []
         self.step = None
+        self.work_sources = []     # what does external work: gravity, loads, pressure, traction, imposed motion
         if path:
             self._parse(path)
 
@@ -228,6 +231,12 @@ class SceneInfo:
                 st = _after(tk, "STEP", 1)
                 if st:
                     self.step = st[0]
+            source = {"LOAD": "loads", "PRESSURE": "pressure", "TRACTION": "traction",
+                      "IMPOSE": "imposed motion"}.get(key)
+            if source and source not in self.work_sources:
+                self.work_sources.append(source)
+        if self.gravity != (0.0, 0.0):
+            self.work_sources.insert(0, "gravity")
 
     def up(self):
         """Unit vector opposite to gravity (None without gravity)."""
@@ -270,7 +279,8 @@ def probe_signal(run, probes, scene=None):
         cols.append(u)
     sig = np.mean(cols, axis=0)
     what = names[0] if len(names) == 1 else "mean of " + ", ".join(names)
-    ylabel = f"displacement (m)\n{what}"
+    kinds = {probe_kind(n) for n in names}
+    ylabel = (f"{kinds.pop()}\n{what}" if len(kinds) == 1 else f"mixed quantities\n{what}")
     if absolute and all(n.upper().endswith(".UY") for n in names):
         gr = scene.ground()
         if gr is not None and abs(gr[1][0]) < 1e-12:
@@ -279,6 +289,16 @@ def probe_signal(run, probes, scene=None):
         else:
             ylabel = f"y (m)\n{what}"
     return run.probe_time(), sig, ylabel, names
+
+
+PROBE_KINDS = {"UX": "displacement (m)", "UY": "displacement (m)", "RZ": "rotation (rad)",
+               "VX": "velocity (m/s)", "VY": "velocity (m/s)", "VRZ": "angular velocity (rad/s)",
+               "RX": "reaction (N)", "RY": "reaction (N)", "MZ": "reaction moment (N m)"}
+
+
+def probe_kind(name):
+    """What a probe column (group.DOF) measures, with its unit."""
+    return PROBE_KINDS.get(name.rsplit(".", 1)[-1].upper(), "value")
 
 
 def find_apexes(run, t, sig, min_flight_frac=0.02, min_rise_frac=0.01):

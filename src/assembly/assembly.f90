@@ -841,10 +841,10 @@ contains
             ! Supports win over initial values: a fixed (or absent) DOF keeps zero.
             if (j <= 0) cycle
             select case (c%kind)
-            case (INIT_DISPLACEMENT)
-              u(j) = s * c%values(d)
+            case (INIT_DISPLACEMENT)                ! (INITIALs add up: one sets each component, initial_once)
+              u(j) = u(j) + s * c%values(d)
             case (INIT_VELOCITY)
-              v(j) = s * c%values(d)
+              v(j) = v(j) + s * c%values(d)
             case (INIT_STATIC)
               fstatic(j) = fstatic(j) + c%values(d)
               has_static = .true.

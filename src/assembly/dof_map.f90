@@ -2,13 +2,14 @@
 !> use (UX UY for masses, springs, bars and quads, plus RZ for beams); supports (FIX) are
 !> eliminated from the system, not penalized.
 module dof_map
+  use kinds, only: dp
   use mesh, only: mesh_t
   use scene, only: scene_t
   use elements, only: elem_dof_mask
   use element_traits, only: ET_BEAM2
   implicit none
   private
-  public :: build_dof_map, equation_bodies, cayley_rotations, imposed_dofs, DOF_ABSENT, DOF_FIXED
+  public :: build_dof_map, equation_bodies, body_rigid_freedom, cayley_rotations, imposed_dofs, DOF_ABSENT, DOF_FIXED
 
   integer, parameter :: DOF_ABSENT = 0, DOF_FIXED = -1
 
@@ -59,9 +60,59 @@ contains
     integer, intent(in) :: eqn(:, :)
     integer, intent(in) :: neq
     integer, allocatable, intent(out) :: body(:)
-    integer, allocatable :: parent(:), label(:)
-    integer :: e, a, n, ra, rb, nb
-    allocate (parent(scn%mesh%nnode), label(scn%mesh%nnode), body(neq))
+    integer, allocatable :: label(:)
+    integer :: n, a, nb
+    call node_bodies(scn, label, nb)
+    allocate (body(neq))
+    body = 0
+    do n = 1, scn%mesh%nnode
+      do a = 1, size(eqn, 1)
+        if (eqn(a, n) > 0) body(eqn(a, n)) = label(n)
+      end do
+    end do
+  end subroutine equation_bodies
+
+  !> free(k, b): the rigid mode k of the model (1, 2: the translations x, y; 3: the rotation about
+  !> the origin, -y, x on the translations, 1 on RZ) is a free motion of body b (equation_bodies'
+  !> numbering): no node of b has a DOF that the mode moves held by FIX or IMPOSE (a body pinned
+  !> at the origin keeps its rotation). An impact correction keeps the momentum of b along its
+  !> free modes that the contact conditions leave invariant (docs/contact.md, "What a correction
+  !> may change").
+  subroutine body_rigid_freedom(scn, eqn, free)
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: eqn(:, :)
+    logical, allocatable, intent(out) :: free(:, :)
+    integer, allocatable :: label(:)
+    logical, allocatable :: imposed(:, :)
+    logical :: held(3)
+    integer :: n, nb
+    real(dp) :: tol
+    call node_bodies(scn, label, nb)
+    call imposed_dofs(scn, imposed)
+    allocate (free(3, nb))
+    free = .true.
+    tol = 0.0_dp
+    if (scn%mesh%nnode > 0) tol = 1.0e-12_dp * maxval(abs(scn%mesh%x(:, 1:scn%mesh%nnode)))
+    do n = 1, scn%mesh%nnode
+      if (label(n) == 0) cycle
+      held = eqn(:, n) == DOF_FIXED .or. (imposed(:, n) .and. eqn(:, n) /= DOF_ABSENT)
+      if (held(1)) free(1, label(n)) = .false.
+      if (held(2)) free(2, label(n)) = .false.
+      ! The rotation moves UX by -y, UY by x and RZ by 1.
+      if ((held(1) .and. abs(scn%mesh%x(2, n)) > tol) .or. (held(2) .and. abs(scn%mesh%x(1, n)) > tol) .or. held(3)) &
+        free(3, label(n)) = .false.
+    end do
+  end subroutine body_rigid_freedom
+
+  !> label(node): the mesh-connected component (through modelled elements) of each node, from 1
+  !> in node order; nb components. Nodes of no modelled element are components of their own.
+  subroutine node_bodies(scn, label, nb)
+    type(scene_t), intent(in) :: scn
+    integer, allocatable, intent(out) :: label(:)
+    integer, intent(out) :: nb
+    integer, allocatable :: parent(:), rlabel(:)
+    integer :: e, a, n, ra, rb
+    allocate (parent(scn%mesh%nnode), rlabel(scn%mesh%nnode), label(scn%mesh%nnode))
     parent = [(n, n = 1, scn%mesh%nnode)]
     do e = 1, scn%mesh%nelem
       if (scn%elem_model(e) == 0) cycle
@@ -71,18 +122,15 @@ contains
         if (ra /= rb) parent(rb) = ra
       end do
     end do
-    label = 0
+    rlabel = 0
     nb = 0
-    body = 0
     do n = 1, scn%mesh%nnode
       ra = root(n)
-      if (label(ra) == 0) then
+      if (rlabel(ra) == 0) then
         nb = nb + 1
-        label(ra) = nb
+        rlabel(ra) = nb
       end if
-      do a = 1, size(eqn, 1)
-        if (eqn(a, n) > 0) body(eqn(a, n)) = label(ra)
-      end do
+      label(n) = rlabel(ra)
     end do
   contains
     integer function root(i)
@@ -93,7 +141,7 @@ contains
         root = parent(root)
       end do
     end function root
-  end subroutine equation_bodies
+  end subroutine node_bodies
 
   !> The rotation equations a step turns by the Cayley angle 2 atan(Δw/2) of its increment Δw
   !> (docs/large-displacements.md, "Angular momentum"): RZ of the nodes whose rotation only LARGE

@@ -30,6 +30,7 @@ module contact
   use inverse_ops, only: inverse_op_t, diag_inverse_t, chol_inverse_t, chol_ref_t
   use lcp, only: lcp_pivot
   use dense_solve, only: spsd_solve_ws
+  use rigid_motion, only: invariant_rigid_motion, normal_impulses
   use checkpoint, only: ckpt_file_t
   use constraint_rows, only: constraint_rows_t, LABEL_LEN, MAX_REWRITE
   use contact_state, only: contact_state_t
@@ -125,11 +126,15 @@ module contact
     integer, allocatable :: idx(:), cgroup(:), parent(:)
     real(dp), allocatable :: f(:), xw(:), vp(:), mvp(:), ct(:), vn(:), mvn(:)
     real(dp), allocatable :: amat(:, :), gmat(:, :), sv(:), work2(:)
-    ! Rigid translations t_k (neq, 2) on the free equations and M t_k (contact_set_rigid_modes):
-    ! PERSIST scales node-to-node groups about their centre-of-mass velocity.
+    ! Rigid modes t_k (neq, 2 or 3: translations x, y, the rotation) on the free equations and
+    ! M t_k (contact_set_rigid_modes); body_free(k, b): mode k is free on body b (no support);
+    ! erig(j, k) = c_j't_k of a group's active rows (workspace). A scaling is about the group's
+    ! motion in the free modes its conditions leave invariant (rigid_motion).
     logical :: has_rigid = .false.
     logical :: inelastic = .false.           !< a condition has RESTITUTION e < 1
-    real(dp), allocatable :: rig(:, :), mrig(:, :)
+    real(dp), allocatable :: rig(:, :), mrig(:, :), erig(:, :), cnorm(:)
+    real(dp) :: rig_scale = 0.0_dp           !< max |t_k| over the last group's equations (group_rigid_motion)
+    logical, allocatable :: body_free(:, :)
     integer, allocatable :: ipiv(:)
   contains
     procedure :: n_conditions => cs_n_conditions
@@ -171,7 +176,8 @@ module contact
     integer :: fp_failures = 0               !< 1 if (14) had no all-negative solution (see impulse_fixed_point)
     integer :: persist_groups = 0, persist_fallbacks = 0
     integer :: reflection_rank = 0           !< rank of A M⁻¹A' in (16) (< rows: dependent rows)
-    real(dp) :: impact_dissipated = 0.0_dp   !< kinetic energy removed by RESTITUTION e < 1
+    real(dp) :: impact_dissipated = 0.0_dp   !< kinetic energy removed by RESTITUTION e < 1 (never negative)
+    real(dp) :: held = 0.0_dp                !< SYMMETRIC: energy taken into (> 0) or given back from (< 0) the contacts' hold
     real(dp) :: snap_dissipated = 0.0_dp     !< MASSLESS: lost by massless nodes snapping to equilibrium (driver's)
     real(dp) :: unrestored = 0.0_dp          !< energy a scaling could not give back or take off (left in the balance)
   end type contact_report_t
@@ -561,6 +567,8 @@ contains
       cs%gn(nc), cs%gend(nc), cs%e(nc), cs%y(nc), cs%r(nc), cs%mu(nc), cs%viol(nc), &
       cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%idx(nc), cs%cgroup(nc), cs%ev(nc), cs%sv(nc), &
       cs%ct(nc), cs%work2(2 * nc), cs%ipiv(nc))
+    if (allocated(cs%erig)) deallocate (cs%erig, cs%cnorm)
+    allocate (cs%erig(nc, 3), cs%cnorm(nc))
     cs%fallback = .false.
     if (allocated(cs%parent)) deallocate (cs%parent)
     cs%has_rigid = .false.
@@ -760,15 +768,18 @@ contains
     cs%prepared = .true.
   end subroutine prepare_op
 
-  !> The rigid translations of the model on the free equations, t (neq, 2) (1 on the UX, resp.
-  !> UY, equation of every node, 0 elsewhere) and mt = M t. With them PERSIST scales a group
-  !> linked only by node-to-node conditions about its centre-of-mass velocity, which keeps its
-  !> momentum (docs/contact.md).
-  subroutine contact_set_rigid_modes(cs, t, mt, stat, errmsg)
+  !> The rigid modes of the model on the free equations, t (neq, 2 or 3: the translations x and y
+  !> (1 on every node's UX, resp. UY), the rotation about the origin), mt = M t, and free(k, b):
+  !> mode k is a free motion of body b (body(:) of contact_end_step; no support or imposed DOF
+  !> it moves). A PERSIST, MASSLESS or SYMMETRIC scaling keeps the momentum of a group along its
+  !> free modes that its active conditions leave invariant (docs/contact.md, "What a correction
+  !> may change"). Without free, every mode counts as free.
+  subroutine contact_set_rigid_modes(cs, t, mt, stat, errmsg, free)
     type(contact_set_t), intent(inout) :: cs
     real(dp), intent(in) :: t(:, :), mt(:, :)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    logical, intent(in), optional :: free(:, :)
     stat = STAT_OK
     if (.not. cs%finalized .or. size(t, 1) /= cs%neq .or. any(shape(mt) /= shape(t)) .or. size(t, 2) < 2 .or. &
       size(t, 2) > 3) then
@@ -778,6 +789,13 @@ contains
     end if
     cs%rig = t
     cs%mrig = mt
+    if (present(free)) then
+      if (size(free, 1) /= 3) then
+        call set_error(stat, errmsg, STAT_INPUT, 'contact_set_rigid_modes: free must be (3, bodies)')
+        return
+      end if
+      cs%body_free = free
+    end if
     cs%has_rigid = .true.
   end subroutine contact_set_rigid_modes
 

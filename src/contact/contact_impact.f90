@@ -188,9 +188,9 @@ contains
   !> and the kinetic energy it takes, ½ ν'A v, with the step's loss E_j (10) held by the
   !> established conditions (the projection's share of each: ½ ν_j (c_j v) before it, the positive
   !> ones), except in the groups the projection leaves without kinetic energy (symmetric_fallback:
-  !> returned in cs%fallback for PAPER). rep%impact_dissipated: the energy held in the step less
-  !> the energy given back (the driver books it beside the plastic and restitution losses, so the
-  !> balance holds exactly).
+  !> returned in cs%fallback for PAPER). rep%held: the energy held in the step less the energy
+  !> given back (the driver books it in history.csv's contact_held, so the balance holds exactly;
+  !> impact_dissipated stays for energy that never comes back).
   subroutine symmetric_correction(cs, body, v, mv, rep, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(in) :: body(:)
@@ -220,7 +220,7 @@ contains
         call add_minv_ct(cs, cs%mu, 1.0_dp, v, mv, stat, errmsg)
         if (stat /= STAT_OK) return
         cs%cimp(j) = cs%cimp(j) + x
-        rep%impact_dissipated = rep%impact_dissipated - held(j)
+        rep%held = rep%held - held(j)
         held(j) = 0.0_dp
       end do
       if (.not. any(est)) return
@@ -262,7 +262,7 @@ contains
         end if
         held_now = held_now + cs%e(j)
       end do
-      if (kept > 0) rep%impact_dissipated = rep%impact_dissipated + dt + held_now
+      if (kept > 0) rep%held = rep%held + dt + held_now
     end associate
   end subroutine symmetric_correction
 
@@ -370,13 +370,13 @@ contains
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: nb, grp, n, j, i
+    integer :: nb, grp, n, j, i, nm, mk(3)
     real(dp) :: t1, tp, tstar, acm(3), tcm
     logical :: hit
     cs%changing = cs%est
     call group_conditions(cs, body, nb, stat, errmsg)
     if (stat /= STAT_OK) return
-    cs%vp = v                                    ! (the projected velocity, for group_translation)
+    cs%vp = v                                    ! (the projected velocity, for group_rigid_motion)
     cs%mvp = mv
     associate (cgroup => cs%cgroup, rows => cs%rows)
       do grp = 1, nb
@@ -398,7 +398,7 @@ contains
         call group_rows(cs, body, grp)
         t1 = 0.5_dp * sum(cs%vn * cs%mvn, mask=rows)
         tp = 0.5_dp * sum(v * mv, mask=rows)
-        call group_translation(cs, rows, n, acm, tcm)
+        call group_rigid_motion(cs, body, rows, n, acm, tcm, nm, mk)
         if (tp - tcm > cs%settings%persist_min_fraction * (t1 + tstar)) cycle
         do i = 1, cs%neq
           if (.not. rows(i)) cycle
@@ -565,8 +565,8 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     logical, intent(in), optional :: project     !< .false.: scale only (IMPACT MASSLESS)
     real(dp), intent(in), optional :: geometry(:)   !< the active conditions that follow the geometry, these energies
-    integer :: nb, j, i, grp, rank, n, j0, k
-    real(dp) :: t1, tp, tstar, s, acm(3), tcm, vcm, mvcm, dis
+    integer :: nb, j, i, grp, rank, n, k, nm, mk(3)
+    real(dp) :: t1, tp, tstar, s, acm(3), tcm, vcm, mvcm, dis, dm(3), pb(2)
     logical :: proj
 
     stat = STAT_OK
@@ -624,10 +624,11 @@ contains
         else
           tstar = t1 + sum(cs%e, mask=est .and. cgroup == grp) - dis
         end if
-        ! Scale about the centre-of-mass velocity a_k t_k when the group's conditions are all
-        ! invariant under its translations (node-to-node, no obstacle, no support): momentum and
-        ! the zero normal velocities are kept; otherwise about zero.
-        call group_translation(cs, rows, n, acm, tcm)
+        ! Scale about the group's rigid motion that its conditions leave invariant (a rigid
+        ! motion the contact cannot change: the tangential translation and the rotation about
+        ! the contact normal against a wall, every translation between free bodies): the momenta
+        ! the contact cannot change and the zero normal velocities are kept.
+        call group_rigid_motion(cs, body, rows, n, acm, tcm, nm, mk)
         if (.not. (tp - tcm > merge(cs%settings%persist_min_fraction, cs%settings%massless_min_fraction, proj) * tstar)) then
           where (est .and. cgroup == grp) cs%fallback = .true.
           rep%persist_fallbacks = rep%persist_fallbacks + 1
@@ -640,29 +641,54 @@ contains
         if (tstar < tcm) rep%unrestored = rep%unrestored + (tcm - tstar)
         cs%cimp = cs%cimp - cs%mu                  ! the projection's impulses along c_j
         rep%impact_dissipated = rep%impact_dissipated + dis
-        j0 = findloc(est .and. cgroup == grp, .true., 1)
+        dm = 0.0_dp
+        pb = 0.0_dp
         do i = 1, cs%neq                           ! (a loop: a WHERE block allocates its mask)
           if (.not. rows(i)) cycle
+          vcm = 0.0_dp
+          mvcm = 0.0_dp
           if (cs%has_rigid) then
-            vcm = acm(1) * cs%rig(i, 1) + acm(2) * cs%rig(i, 2)
-            mvcm = acm(1) * cs%mrig(i, 1) + acm(2) * cs%mrig(i, 2)
-            if (acm(3) /= 0.0_dp) then
-              vcm = vcm + acm(3) * cs%rig(i, 3)
-              mvcm = mvcm + acm(3) * cs%mrig(i, 3)
-            end if
-          else
-            vcm = 0.0_dp
-            mvcm = 0.0_dp
+            do k = 1, size(cs%rig, 2)
+              if (acm(k) == 0.0_dp) cycle
+              vcm = vcm + acm(k) * cs%rig(i, k)
+              mvcm = mvcm + acm(k) * cs%mrig(i, k)
+            end do
           end if
           v(i) = vcm + s * (cs%vp(i) - vcm)
           mv(i) = mvcm + s * (cs%mvp(i) - mvcm)
-          ! The momentum the scaling gives the group (0 about its centre of mass), booked on its
-          ! first established condition.
-          if (cs%has_rigid) cs%bimp(:, j0) = cs%bimp(:, j0) + cs%rig(i, 1:2) * (mv(i) - cs%mvp(i))
+          do k = 1, nm                             ! the momenta the scaling gave, by free mode
+            dm(k) = dm(k) + cs%rig(i, mk(k)) * (mv(i) - cs%mvp(i))
+          end do
+          if (cs%has_rigid) pb = pb + cs%rig(i, 1:2) * (mv(i) - cs%mvp(i))
         end do
+        call book_scaling(cs, n, nm, dm, pb, findloc(est .and. cgroup == grp, .true., 1))
       end do
     end associate
   end subroutine persist_correction
+
+  !> The momentum a scaling gave a group, as impulses: dm(1:nm) along its free rigid modes
+  !> (group_rigid_motion's mk, rows cs%erig(1:n, 1:nm) of its active conditions cs%idx(1:n)) lies
+  !> in what normal impulses at those rows can give; their least-norm impulses z (normal_impulses)
+  !> join cs%cimp along c_j, so that contacts.csv and the reaction count them where they act. A
+  !> group without a free mode (held by supports, whose reactions take any momentum) books the
+  !> momentum pb (x, y) on its first established condition j0, as a body impulse (cs%bimp).
+  subroutine book_scaling(cs, n, nm, dm, pb, j0)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: n, nm, j0
+    real(dp), intent(in) :: dm(3), pb(2)
+    real(dp) :: resid
+    integer :: j
+    if (nm > 0 .and. n > 0) then
+      call normal_impulses(cs%erig(1:n, 1:nm), dm(1:nm), maxval(cs%cnorm(1:n)) * cs%rig_scale, cs%sv(1:n), resid)
+      if (resid <= 1.0e-8_dp) then
+        do j = 1, n
+          cs%cimp(cs%idx(j)) = cs%cimp(cs%idx(j)) + cs%sv(j)
+        end do
+        return
+      end if
+    end if
+    if (j0 > 0) cs%bimp(:, j0) = cs%bimp(:, j0) + pb
+  end subroutine book_scaling
 
   !> The groups of section 6: the bodies (body(:), per equation) linked by the active conditions
   !> and by cs%changing; cs%cgroup(j) = the representative body of condition j's group (0: not
@@ -722,65 +748,61 @@ contains
     end do
   end subroutine group_rows
 
-  !> The rigid motion v_r = Σ a_k t_k of the group (rows) after the projection (cs%vp, cs%mvp):
-  !> the M-orthogonal projection on the rigid modes t_k its active conditions cs%idx(1:n) leave
-  !> invariant, G a = P with G_kl = t_k'M t_l and P_k = t_k'M v over the group, and its kinetic
-  !> energy tcm = ½ a'P. The translations count when every condition is exactly invariant under
-  !> them (c_j't_k = 0: node-to-node, no obstacle, no support), the rotation (third mode, when
-  !> given) when also c_j'r = 0 to round-off (a pair along the line of its nodes). Scaling about
-  !> v_r keeps the group's linear (and angular) momentum and the zero normal velocities. a = 0,
-  !> tcm = 0 (scale about zero) without rigid modes, with an obstacle or a support, or when G is
-  !> singular.
-  subroutine group_translation(cs, rows, n, a, tcm)
-    type(contact_set_t), intent(in) :: cs
+  !> The rigid motion v_r = Σ a_k t_k of the group (rows) after the projection (cs%vp, cs%mvp)
+  !> that a scaling must leave alone: its M-orthogonal projection on the free rigid modes of the
+  !> group (translations, rotation about the origin; cs%body_free: no support moves them) that
+  !> its active conditions cs%idx(1:n) leave invariant (c_j't = 0), and its kinetic energy
+  !> tcm (invariant_rigid_motion). Scaling about v_r keeps every momentum the contact cannot
+  !> change (the tangential one against a wall, the angular one about the contact normal) and
+  !> the zero normal velocities; node-to-node groups keep all their momenta. nm, mk(1:nm): the
+  !> free modes, cs%erig(1:n, 1:nm) their c_j't_k, for normal_impulses. a = 0 without free mode.
+  subroutine group_rigid_motion(cs, body, rows, n, a, tcm, nm, mk)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: body(:)
     logical, intent(in) :: rows(:)
     integer, intent(in) :: n
     real(dp), intent(out) :: a(3), tcm
-    real(dp) :: g(3, 3), pk(3), det, cr, cn, rn
-    integer :: k, l, j, nm
+    integer, intent(out) :: nm, mk(3)
+    real(dp) :: g(3, 3), pk(3), rmax(3), am(3)
+    logical :: free(3)
+    integer :: k, l, i, j
     a = 0.0_dp
     tcm = 0.0_dp
+    nm = 0
     if (.not. cs%has_rigid) return
-    do j = 1, n                                ! (node-to-segment weights sum to 0 to round-off)
-      cn = sqrt(cs%c%norm2_sq(cs%idx(j)))
-      do k = 1, 2
-        if (abs(cs%c%dot(cs%idx(j), cs%rig(:, k))) > 1.0e-14_dp * cn) return
-      end do
-    end do
-    nm = 2
-    if (size(cs%rig, 2) >= 3) then
-      nm = 3
-      do j = 1, n
-        cr = cs%c%dot(cs%idx(j), cs%rig(:, 3))
-        cn = sqrt(cs%c%norm2_sq(cs%idx(j)))
-        rn = maxval(abs(cs%rig(:, 3)), mask=rows)
-        if (abs(cr) > 1.0e-12_dp * cn * max(rn, tiny(1.0_dp))) nm = 2
+    free = .false.
+    free(1:size(cs%rig, 2)) = .true.
+    if (allocated(cs%body_free)) then
+      do i = 1, cs%neq
+        if (rows(i) .and. body(i) > 0) free = free .and. cs%body_free(:, body(i))
       end do
     end if
+    do k = 1, 3
+      if (.not. free(k)) cycle
+      nm = nm + 1
+      mk(nm) = k
+    end do
+    if (nm == 0) return
+    cs%rig_scale = 0.0_dp
     do k = 1, nm
-      pk(k) = sum(cs%rig(:, k) * cs%mvp, mask=rows)
+      pk(k) = sum(cs%rig(:, mk(k)) * cs%mvp, mask=rows)
+      rmax(k) = maxval(abs(cs%rig(:, mk(k))), mask=rows)
+      cs%rig_scale = max(cs%rig_scale, rmax(k))
       do l = 1, nm
-        g(k, l) = sum(cs%rig(:, k) * cs%mrig(:, l), mask=rows)
+        g(k, l) = sum(cs%rig(:, mk(k)) * cs%mrig(:, mk(l)), mask=rows)
       end do
     end do
-    if (nm == 2) then
-      det = g(1, 1) * g(2, 2) - g(1, 2) * g(2, 1)
-      if (.not. (det > 0.0_dp)) return
-      a(1) = (g(2, 2) * pk(1) - g(1, 2) * pk(2)) / det     ! 2 x 2 by Cramer's rule
-      a(2) = (g(1, 1) * pk(2) - g(2, 1) * pk(1)) / det
-    else
-      det = g(1, 1) * (g(2, 2) * g(3, 3) - g(2, 3) * g(3, 2)) - g(1, 2) * (g(2, 1) * g(3, 3) - g(2, 3) * g(3, 1)) + &
-        g(1, 3) * (g(2, 1) * g(3, 2) - g(2, 2) * g(3, 1))
-      if (.not. (det > 1.0e-14_dp * abs(g(1, 1) * g(2, 2) * g(3, 3)))) return
-      a(1) = (pk(1) * (g(2, 2) * g(3, 3) - g(2, 3) * g(3, 2)) - g(1, 2) * (pk(2) * g(3, 3) - g(2, 3) * pk(3)) + &
-        g(1, 3) * (pk(2) * g(3, 2) - g(2, 2) * pk(3))) / det              ! 3 x 3 by Cramer's rule
-      a(2) = (g(1, 1) * (pk(2) * g(3, 3) - g(2, 3) * pk(3)) - pk(1) * (g(2, 1) * g(3, 3) - g(2, 3) * g(3, 1)) + &
-        g(1, 3) * (g(2, 1) * pk(3) - pk(2) * g(3, 1))) / det
-      a(3) = (g(1, 1) * (g(2, 2) * pk(3) - pk(2) * g(3, 2)) - g(1, 2) * (g(2, 1) * pk(3) - pk(2) * g(3, 1)) + &
-        pk(1) * (g(2, 1) * g(3, 2) - g(2, 2) * g(3, 1))) / det
-    end if
-    tcm = 0.5_dp * dot_product(a(1:nm), pk(1:nm))
-  end subroutine group_translation
+    do j = 1, n
+      cs%cnorm(j) = sqrt(cs%c%norm2_sq(cs%idx(j)))
+      do k = 1, nm
+        cs%erig(j, k) = cs%c%dot(cs%idx(j), cs%rig(:, mk(k)))
+      end do
+    end do
+    call invariant_rigid_motion(g(1:nm, 1:nm), pk(1:nm), cs%erig(1:n, 1:nm), cs%cnorm(1:n), rmax(1:nm), am(1:nm), tcm)
+    do k = 1, nm
+      a(mk(k)) = am(k)
+    end do
+  end subroutine group_rigid_motion
 
   pure recursive integer function find(parent, i) result(r)
     integer, intent(in) :: parent(:), i

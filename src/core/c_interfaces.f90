@@ -15,7 +15,7 @@ module c_interfaces
     rb_umf_is_factored, &
     rb_umf_version, rb_umf_analyze, rb_umf_factorize, rb_umf_solve, c_usleep, &
     rb_file_open, rb_file_write, rb_file_close, rb_strerror, rb_room, c_exit_now, &
-    rb_take_errno, rb_unlink_symlink, rb_file_replace_tail
+    rb_take_errno, rb_unlink_symlink, rb_file_replace_tail, rb_stdout_line
 
   interface
     ! libc and os_shim.c (os_utils)
@@ -221,6 +221,13 @@ module c_interfaces
       integer(c_int), intent(out) :: err
       type(c_ptr) :: h
     end function rb_file_open
+
+    function rb_stdout_line(buf, n) bind(c, name='rebond_stdout_line') result(err)
+      import :: c_char, c_int, c_size_t
+      character(kind=c_char), intent(in) :: buf(*)
+      integer(c_size_t), value :: n
+      integer(c_int) :: err
+    end function rb_stdout_line
 
     function rb_file_write(h, buf, n, newline) bind(c, name='rebond_file_write') result(err)
       import :: c_char, c_int, c_ptr, c_size_t

@@ -10,6 +10,7 @@
  * (docs/reliability.md). */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <signal.h>
 #include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
@@ -66,31 +67,23 @@ void *rebond_file_open(const char *path, int mode, int *err)
     return f;
 }
 
-/* Append n bytes of buf, then a newline if newline != 0, in one writev(2) (unbuffered: the
- * bytes are in the file when this returns 0). Returns 0 or errno; on failure the file is cut
- * back to the end of the last complete write. */
-int rebond_file_write(void *handle, const char *buf, size_t n, int newline)
+/* n bytes of buf, then a newline if newline != 0, to fd in writev(2) calls until all is out
+ * (short writes continued, EINTR retried). Returns 0 or errno (ENOSPC for a write of 0). */
+static int write_all(int fd, const char *buf, size_t n, int newline)
 {
     static const char nl = '\n';
-    rebond_file *f = handle;
     struct iovec iov[2];
-    int cnt = newline ? 2 : 1, err;
-    size_t total = n + (newline ? 1 : 0);
+    int cnt = newline ? 2 : 1;
     ssize_t w;
     iov[0].iov_base = (void *)buf;
     iov[0].iov_len = n;
     iov[1].iov_base = (void *)&nl;
     iov[1].iov_len = 1;
-    while (total > 0) {
-        w = writev(f->fd, iov, cnt);
+    if (n == 0 && !newline) return 0;
+    while (cnt > 0) {
+        w = writev(fd, iov, cnt);
         if (w < 0 && errno == EINTR) continue;
-        if (w <= 0) {
-            err = (w < 0) ? errno : ENOSPC;
-            (void)ftruncate(f->fd, f->good);
-            (void)lseek(f->fd, f->good, SEEK_SET);
-            return err;
-        }
-        total -= (size_t)w;
+        if (w <= 0) return (w < 0) ? errno : ENOSPC;
         /* A short write: skip what went out and go on with the rest. */
         while (cnt > 0 && (size_t)w >= iov[0].iov_len) {
             w -= (ssize_t)iov[0].iov_len;
@@ -102,8 +95,38 @@ int rebond_file_write(void *handle, const char *buf, size_t n, int newline)
             iov[0].iov_len -= (size_t)w;
         }
     }
+    return 0;
+}
+
+/* Append n bytes of buf, then a newline if newline != 0, in one writev(2) (unbuffered: the
+ * bytes are in the file when this returns 0). Returns 0 or errno; on failure the file is cut
+ * back to the end of the last complete write. */
+int rebond_file_write(void *handle, const char *buf, size_t n, int newline)
+{
+    rebond_file *f = handle;
+    int err = write_all(f->fd, buf, n, newline);
+    if (err != 0) {
+        (void)ftruncate(f->fd, f->good);
+        (void)lseek(f->fd, f->good, SEEK_SET);
+        return err;
+    }
     f->good += (off_t)(n + (newline ? 1 : 0));
     return 0;
+}
+
+/* Write n bytes of buf and a newline to standard output (fd 1), unbuffered, short writes and
+ * EINTR taken care of. Returns 0 or errno (ENOSPC on /dev/full, EPIPE on a closed pipe), so that
+ * the run's report is checked like its result files. */
+int rebond_stdout_line(const char *buf, size_t n)
+{
+    static int pipe_ignored = 0;
+    /* A reader that goes away (rebond scene | head) must not kill the run: EPIPE instead of
+     * SIGPIPE, said at the end, results complete. */
+    if (!pipe_ignored) {
+        signal(SIGPIPE, SIG_IGN);
+        pipe_ignored = 1;
+    }
+    return write_all(1, buf, n, 1);
 }
 
 /* Overwrite the last tail_len bytes of the file with buf (n >= tail_len bytes, ending with the

@@ -131,8 +131,9 @@ contains
   subroutine exit_with(status, now)
     integer, intent(in) :: status
     logical, intent(in), optional :: now
-    flush (6)
-    flush (0)
+    integer :: ios
+    flush (6, iostat=ios)                        ! (a failure here is said by the caller, check_stdout)
+    flush (0, iostat=ios)
     if (present(now)) then
       if (now) call c_exit_now(int(status, c_int))
     end if

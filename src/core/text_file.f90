@@ -5,10 +5,11 @@
 module text_file
   use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_int, c_char, c_size_t, c_null_char
   use errors, only: STAT_OK, STAT_RUN, set_error
-  use c_interfaces, only: rb_file_open, rb_file_write, rb_file_close, rb_strerror, rb_take_errno, rb_file_replace_tail
+  use c_interfaces, only: rb_file_open, rb_file_write, rb_file_close, rb_strerror, rb_take_errno, rb_file_replace_tail, &
+    rb_stdout_line
   implicit none
   private
-  public :: text_file_t, os_reason, clear_os_reason
+  public :: text_file_t, os_reason, clear_os_reason, say, stdout_error
 
   type :: text_file_t
     private
@@ -25,7 +26,27 @@ module text_file
     procedure :: close_keep => tf_close_keep
   end type text_file_t
 
+  !> The first error writing to standard output (say), 0 if none: the run's report is checked
+  !> like its files, and a run that could not give it exits 1 (rebond.f90).
+  integer, save :: stdout_err = 0
+
 contains
+
+  !> One line of the run's report on standard output, written at once and checked (gfortran's
+  !> unit 6 drops a write to a full device without a word).
+  subroutine say(text)
+    character(len=*), intent(in) :: text
+    integer(c_int) :: err
+    err = rb_stdout_line(text, int(len(text), c_size_t))
+    if (err /= 0 .and. stdout_err == 0) stdout_err = err
+  end subroutine say
+
+  !> '' when every line of say reached standard output, else the reason of the first failure.
+  function stdout_error() result(msg)
+    character(len=:), allocatable :: msg
+    msg = ''
+    if (stdout_err /= 0) msg = strerror_text(stdout_err)
+  end function stdout_error
 
   !> Why the last failed system call failed (strerror of errno), '' if it is not known; errno
   !> is cleared. For libraries that do not say (HDF5).

@@ -8,7 +8,7 @@ module text_format
   use c_interfaces, only: rb_format_es
   implicit none
   private
-  public :: put_es, put_int, put_text, ES_MAX_LEN
+  public :: put_es, put_int, put_text, put_csv, csv_field, ES_MAX_LEN
 
   !> Longest text put_es writes: sign, 17 digits, the point, E, sign, 3 exponent digits.
   integer, parameter :: ES_MAX_LEN = 24
@@ -62,4 +62,42 @@ contains
     buf(pos + 1:pos + len(s)) = s
     pos = pos + len(s)
   end subroutine put_text
+
+  !> buf(pos+1:) = text as one CSV field (RFC 4180): as it is, or between double quotes with its
+  !> quotes doubled when it holds a comma, a quote or a line break (a name from the scene or a
+  !> Gmsh file can). pos advances; the caller keeps 2 len(text) + 2 characters free.
+  pure subroutine put_csv(buf, pos, text)
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: pos
+    character(len=*), intent(in) :: text
+    integer :: i
+    if (scan(text, ',"' // achar(10) // achar(13)) == 0) then
+      buf(pos + 1:pos + len(text)) = text
+      pos = pos + len(text)
+      return
+    end if
+    pos = pos + 1
+    buf(pos:pos) = '"'
+    do i = 1, len(text)
+      pos = pos + 1
+      buf(pos:pos) = text(i:i)
+      if (text(i:i) == '"') then
+        pos = pos + 1
+        buf(pos:pos) = '"'
+      end if
+    end do
+    pos = pos + 1
+    buf(pos:pos) = '"'
+  end subroutine put_csv
+
+  !> text as one CSV field (put_csv), for headers built once.
+  pure function csv_field(text) result(f)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: f
+    character(len=2 * len(text) + 2) :: buf
+    integer :: pos
+    pos = 0
+    call put_csv(buf, pos, text)
+    f = buf(1:pos)
+  end function csv_field
 end module text_format

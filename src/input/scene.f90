@@ -127,6 +127,10 @@ module scene
     type(model_t), allocatable :: models(:)
     integer, allocatable :: elem_model(:)     !< (nelem) model of each element, 0 = not modelled
     integer, allocatable :: node_line(:)      !< (nnode) line of the statement that created each node
+    logical, allocatable :: modelled(:)       !< (nnode) the node carries an element of some MODEL (after pass 2)
+    !> (6, nnode) the line of the INITIAL that set component d (1..3) of a node's DISPLACEMENT
+    !> (d) or VELOCITY (3 + d); 0: not set
+    integer, allocatable :: initial_line(:, :)
     type(fix_t), allocatable :: fixes(:)
     type(initial_t), allocatable :: initials(:)
     type(function_t), allocatable :: functions(:)

@@ -2,17 +2,17 @@
 !> Their grammar (schema) and their handlers; scene_loader calls them.
 module scene_conditions
   use kinds, only: dp
-  use errors, only: STAT_OK, STAT_INPUT, set_error, upper
+  use errors, only: STAT_OK, STAT_INPUT, set_error, upper, str
   use statement, only: statement_t, stmt_error, find_param, get_real, get_word, to_real
   use statement_schema, only: schema_t
   use scene, only: scene_t, fix_t, initial_t, load_t, impose_t, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, LOAD_PRESSURE, &
     LOAD_TRACTION
   use mesh_segments, only: side_set_t, group_sides
-  use scene_helpers, only: node_group
+  use scene_helpers, only: node_group, check_modelled
   use mesh, only: MAX_COORD
   implicit none
   private
-  public :: conditions_schema, conditions_statement
+  public :: conditions_schema, conditions_statement, loads_modelled
 
 contains
 
@@ -75,6 +75,26 @@ contains
       call do_side_load(scn, st, stat, errmsg)
     end select
   end subroutine conditions_statement
+
+  !> LOAD, PRESSURE and TRACTION act on nodes that carry a modelled element (check_modelled; pass
+  !> 3 of load_scene, once every MODEL is read).
+  subroutine loads_modelled(scn, st, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: ig, k
+    stat = STAT_OK
+    select case (st%keyword)
+    case ('LOAD')
+      k = find_param(st, 'NODES')
+      call node_group(scn, st, st%params(k)%values(1), ig, stat, errmsg)
+      if (stat == STAT_OK) call check_modelled(scn, st, st%params(k)%values(1), scn%mesh%ngroups(ig)%items, stat, errmsg)
+    case ('PRESSURE', 'TRACTION')
+      call node_group(scn, st, st%lead(1), ig, stat, errmsg)
+      if (stat == STAT_OK) call check_modelled(scn, st, st%lead(1), scn%mesh%ngroups(ig)%items, stat, errmsg)
+    end select
+  end subroutine loads_modelled
 
   subroutine do_fix(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn
@@ -159,8 +179,53 @@ contains
     end if
     call initial_profile(scn, st, ic, stat, errmsg)
     if (stat /= STAT_OK) return
+    call initial_once(scn, st, ic, stat, errmsg)
+    if (stat /= STAT_OK) return
     scn%initials = [scn%initials, ic]
   end subroutine do_initial
+
+  !> Each component of a node's initial displacement or velocity is set by one INITIAL at most: a
+  !> second would replace or add to the first without a word. A component counts as set when its
+  !> value is not zero (a zero stands for "nothing here": VELOCITY 0 0 w gives a spin alone, which
+  !> another INITIAL may give a profile of vx, vy); the INITIALs of a node add up (assembly's
+  !> initial_state). The error names the node, the component and the line of the first.
+  subroutine initial_once(scn, st, ic, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    type(initial_t), intent(in) :: ic
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=2), parameter :: comp(6) = ['ux', 'uy', 'rz', 'vx', 'vy', 'wz']
+    integer :: k0, i, n, d
+    stat = STAT_OK
+    if (ic%kind == INIT_DISPLACEMENT) then
+      k0 = 0
+    else if (ic%kind == INIT_VELOCITY) then
+      k0 = 3
+    else
+      return
+    end if
+    if (.not. allocated(scn%initial_line)) then
+      allocate (scn%initial_line(6, scn%mesh%nnode))
+      scn%initial_line = 0
+    end if
+    associate (nodes => scn%mesh%ngroups(ic%ngroup)%items)
+      do i = 1, size(nodes)
+        n = nodes(i)
+        do d = 1, 3
+          if (.not. ic%mask(d) .or. ic%values(d) == 0.0_dp) cycle
+          if (scn%initial_line(k0 + d, n) /= 0) then
+            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, trim(merge('DISPLACEMENT', 'VELOCITY    ', k0 == 0)) // &
+              ' ' // comp(k0 + d) // ' of node ' // str(scn%mesh%node_tag(n)) // ' already given by INITIAL at line ' // &
+              str(scn%initial_line(k0 + d, n)) // ' (one INITIAL per component of a node; a zero leaves it free)', &
+              st%lead(1)))
+            return
+          end if
+          scn%initial_line(k0 + d, n) = st%line
+        end do
+      end do
+    end associate
+  end subroutine initial_once
 
   !> FUNCTION f ALONG X|Y (default X): the values vary with position, times f of the node's x
   !> (or y), f a FUNCTION's piecewise-linear table read as a function of the coordinate.
@@ -318,6 +383,37 @@ contains
     call get_function(scn, st, im%func, stat, errmsg)
     if (stat /= STAT_OK) return
     im%line = st%line
+    call impose_once(scn, st, im, stat, errmsg)
+    if (stat /= STAT_OK) return
     scn%imposes = [scn%imposes, im]
   end subroutine do_impose
+
+  !> A DOF is imposed by one IMPOSE at most: two would be two equalities on one DOF, dependent (or
+  !> contradictory) rows of the step's multipliers. The error names the node and the first line.
+  subroutine impose_once(scn, st, im, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    type(impose_t), intent(in) :: im
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=2), parameter :: names(3) = ['UX', 'UY', 'RZ']
+    logical, allocatable :: held(:)
+    integer :: k, i
+    stat = STAT_OK
+    allocate (held(scn%mesh%nnode))
+    do k = 1, size(scn%imposes)
+      if (scn%imposes(k)%dof /= im%dof) cycle
+      held = .false.
+      held(scn%mesh%ngroups(scn%imposes(k)%ngroup)%items) = .true.
+      associate (b => scn%mesh%ngroups(im%ngroup)%items)
+        do i = 1, size(b)
+          if (.not. held(b(i))) cycle
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, names(im%dof) // ' of node ' // &
+            str(scn%mesh%node_tag(b(i))) // ' already imposed by IMPOSE at line ' // str(scn%imposes(k)%line) // &
+            ' (one IMPOSE per DOF)', st%lead(1)))
+          return
+        end do
+      end associate
+    end do
+  end subroutine impose_once
 end module scene_conditions

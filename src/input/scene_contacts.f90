@@ -10,7 +10,7 @@ module scene_contacts
   use contact_modes, only: IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC, IMPACT_NAMES, &
     SOLVER_AUTO, SOLVER_SCHUR
   use element_traits, only: ET_MASS, ET_SPRING
-  use scene_helpers, only: node_group, get_point, model_size, get_unit, get_choice
+  use scene_helpers, only: node_group, get_point, model_size, get_unit, get_choice, check_modelled
   use mesh_segments, only: segment_set_t, segment_pair_t, group_segments, closest_segment, pair_segment, orient_lines, &
     node_stars, NO_PARTNER
   implicit none
@@ -83,12 +83,15 @@ contains
     real(dp) :: p(2), n(2)
     integer :: ig, k, i
     type(condition_t) :: c
+    type(condition_t), allocatable :: batch(:)
     k = find_param(st, 'NODES')
     if (k == 0) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter NODES', st%lead(1)))
       return
     end if
     call node_group(scn, st, st%params(k)%values(1), ig, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call check_modelled(scn, st, st%params(k)%values(1), scn%mesh%ngroups(ig)%items, stat, errmsg)
     if (stat /= STAT_OK) return
     call get_point(st, 'POINT', p, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -97,6 +100,7 @@ contains
     call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
       upper=1.0_dp, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
+    allocate (batch(size(scn%mesh%ngroups(ig)%items)))
     do i = 1, size(scn%mesh%ngroups(ig)%items)
       c%source = st%lead(1)%text
       c%node_a = 0
@@ -106,8 +110,9 @@ contains
       c%line = st%line
       call check_penetration(scn, st, c, stat, errmsg)
       if (stat /= STAT_OK) return
-      scn%conditions = [scn%conditions, c]
+      batch(i) = c
     end do
+    scn%conditions = [scn%conditions, batch]        ! (once per statement: linear in the group)
   end subroutine do_obstacle
 
   !> GAP name NODES ga WITH gb [NORMAL nx ny] | GAP name PAIRS a1 b1 a2 b2 … [NORMAL nx ny]:
@@ -163,7 +168,11 @@ contains
     else if (kn > 0 .and. kw > 0 .and. kp == 0) then
       call node_group(scn, st, st%params(kn)%values(1), ga, stat, errmsg)
       if (stat /= STAT_OK) return
+      call check_modelled(scn, st, st%params(kn)%values(1), scn%mesh%ngroups(ga)%items, stat, errmsg)
+      if (stat /= STAT_OK) return
       call node_group(scn, st, st%params(kw)%values(1), gb, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call check_modelled(scn, st, st%params(kw)%values(1), scn%mesh%ngroups(gb)%items, stat, errmsg)
       if (stat /= STAT_OK) return
       associate (na => scn%mesh%ngroups(ga)%items, nb => scn%mesh%ngroups(gb)%items)
         allocate (pa(size(na)), pb(size(na)))
@@ -229,6 +238,8 @@ contains
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a pair needs one-node groups', tok))
         return
       end if
+      call check_modelled(scn, st, tok, scn%mesh%ngroups(g)%items, stat, errmsg)
+      if (stat /= STAT_OK) return
       node = scn%mesh%ngroups(g)%items(1)
     end subroutine one_node
   end subroutine do_gap
@@ -270,7 +281,11 @@ contains
     if (stat /= STAT_OK) return
     call node_group(scn, st, st%params(kn)%values(1), ga, stat, errmsg)
     if (stat /= STAT_OK) return
+    call check_modelled(scn, st, st%params(kn)%values(1), scn%mesh%ngroups(ga)%items, stat, errmsg)
+    if (stat /= STAT_OK) return
     call node_group(scn, st, st%params(ks)%values(1), gs, stat, errmsg)
+    if (stat /= STAT_OK) return
+    call check_modelled(scn, st, st%params(ks)%values(1), scn%mesh%ngroups(gs)%items, stat, errmsg)
     if (stat /= STAT_OK) return
     call group_segments(scn%mesh, scn%mesh%ngroups(gs)%items, segs, stat, errmsg)
     if (stat /= STAT_OK) then
@@ -341,6 +356,14 @@ contains
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(scn%mesh%node_tag(b)) // ' of ' // &
           scn%mesh%ngroups(gs)%name // ' touches its segment ' // str(segs%p(best)) // '-' // str(segs%q(best)) // &
           ' at rest (self-contact of a surface with itself)', st%params(ks)%values(1)))
+        return
+      end if
+      if (.not. segs%outward(best) .and. abs(g) <= tol) then
+        ! A line element has two sides: a node on it has none to keep (it would pass through).
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(scn%mesh%node_tag(b)) // ' of ' // &
+          scn%mesh%ngroups(ga)%name // ' starts on the line element ' // str(scn%mesh%node_tag(segs%p(best))) // '-' // &
+          str(scn%mesh%node_tag(segs%q(best))) // ' of ' // scn%mesh%ngroups(gs)%name // ' (gap 0): the side it must ' // &
+          'stay on is undetermined; start it at a gap', st%params(ks)%values(1)))
         return
       end if
       c%node_b = b

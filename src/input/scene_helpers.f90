@@ -9,7 +9,7 @@ module scene_helpers
   use scene, only: scene_t
   implicit none
   private
-  public :: get_etype, node_group, get_choice, get_pair, get_point, model_size, get_unit
+  public :: get_etype, node_group, get_choice, get_pair, get_point, model_size, get_unit, check_modelled
 
 contains
 
@@ -37,7 +37,8 @@ contains
       trim(names) // ')', st%params(k)%values(1)))
   end subroutine get_etype
 
-  !> Index of the node group named by a token, with an error naming it when unknown.
+  !> Index of the node group named by a token, with an error naming it when unknown and listing
+  !> the groups there are, the closest spellings first.
   subroutine node_group(scn, st, tok, ig, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(statement_t), intent(in) :: st
@@ -47,8 +48,83 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
     ig = scn%mesh%find_node_group(tok%text)
-    if (ig == 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown node group', tok))
+    if (ig == 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown node group (' // &
+      group_list(scn%mesh, tok%text) // ')', tok))
   end subroutine node_group
+
+  !> "existing groups: a, b, …": the node groups of the mesh, those closest to name (edit distance,
+  !> case ignored) first, at most 12 named.
+  function group_list(m, name) result(s)
+    type(mesh_t), intent(in) :: m
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: s
+    integer, allocatable :: d(:), order(:)
+    integer :: i, j, k, n
+    n = m%nngroup
+    if (n == 0) then
+      s = 'the mesh has no node group'
+      return
+    end if
+    allocate (d(n), order(n))
+    do i = 1, n
+      d(i) = edit_distance(upper(name), upper(m%ngroups(i)%name))
+      order(i) = i
+    end do
+    do i = 2, n                                   ! insertion sort, stable: file order among ties
+      k = order(i)
+      j = i - 1
+      do while (j >= 1)
+        if (d(order(j)) <= d(k)) exit
+        order(j + 1) = order(j)
+        j = j - 1
+      end do
+      order(j + 1) = k
+    end do
+    s = 'existing groups: ' // m%ngroups(order(1))%name
+    do i = 2, min(n, 12)
+      s = s // ', ' // m%ngroups(order(i))%name
+    end do
+    if (n > 12) s = s // ', … (' // str(n) // ' in all)'
+  end function group_list
+
+  !> Levenshtein distance between a and b (insertions, deletions, substitutions).
+  pure integer function edit_distance(a, b) result(dist)
+    character(len=*), intent(in) :: a, b
+    integer :: row(0:len(b)), prev, tmp, i, j
+    row = [(j, j = 0, len(b))]
+    do i = 1, len(a)
+      prev = row(0)
+      row(0) = i
+      do j = 1, len(b)
+        tmp = row(j)
+        row(j) = min(row(j) + 1, row(j - 1) + 1, prev + merge(0, 1, a(i:i) == b(j:j)))
+        prev = tmp
+      end do
+    end do
+    dist = row(len(b))
+  end function edit_distance
+
+  !> Every node of nodes must carry an element of some MODEL (scn%modelled, set after the models
+  !> are read): a node of no model has no degree of freedom, and as a contact or load node it
+  !> would silently be a fixed point. The error names the first such node and the group (tok).
+  subroutine check_modelled(scn, st, tok, nodes, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    type(token_t), intent(in) :: tok
+    integer, intent(in) :: nodes(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: i
+    stat = STAT_OK
+    if (.not. allocated(scn%modelled)) return
+    do i = 1, size(nodes)
+      if (scn%modelled(nodes(i))) cycle
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(scn%mesh%node_tag(nodes(i))) // &
+        ' of group ' // tok%text // ' carries no element of any MODEL (it has no degree of freedom: a contact or ' // &
+        'load there would act on a fixed point); give its elements a MODEL or leave it out', tok))
+      return
+    end do
+  end subroutine check_modelled
 
   !> Index in choices(:) of the word given to parameter key (default when absent).
   subroutine get_choice(st, key, choices, default, k, stat, errmsg)

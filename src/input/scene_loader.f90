@@ -13,7 +13,7 @@ module scene_loader
   use scene_mesh, only: mesh_schema, mesh_statement
   use scene_materials, only: materials_schema, materials_statement
   use scene_models, only: models_schema, models_statement, default_mass, check_tuned
-  use scene_conditions, only: conditions_schema, conditions_statement
+  use scene_conditions, only: conditions_schema, conditions_statement, loads_modelled
   use scene_contacts, only: contacts_schema, contacts_statement, resolve_impact
   use scene_run, only: run_schema, run_statement
   use scene_fingerprint, only: fingerprint_text
@@ -58,15 +58,16 @@ contains
     allocate (scn%materials(0), scn%sections(0), scn%models(0), scn%fixes(0), scn%initials(0), &
       scn%functions(0), scn%loads(0), scn%imposes(0), scn%probes(0), scn%conditions(0), scn%segsets(0))
     ! Pass 1: mesh and definitions, in file order.
-    allocate (scn%node_line(0))
+    allocate (scn%node_line(64))
     do i = 1, size(st)
       nn0 = scn%mesh%nnode
       if (st(i)%keyword == 'TITLE') scn%title = st(i)%lead(1)%text
       call mesh_statement(scn, st(i), path, stat, errmsg)
       if (stat == STAT_OK) call materials_statement(scn, st(i), path, stat, errmsg)
       if (stat /= STAT_OK) return
-      if (scn%mesh%nnode > nn0) scn%node_line = [scn%node_line, spread(st(i)%line, 1, scn%mesh%nnode - nn0)]
+      if (scn%mesh%nnode > nn0) call set_lines(scn%node_line, nn0, scn%mesh%nnode, st(i)%line)
     end do
+    scn%node_line = scn%node_line(1:scn%mesh%nnode)
     ! Pass 2: what refers to the mesh and the definitions.
     allocate (scn%elem_model(scn%mesh%nelem))
     scn%elem_model = 0
@@ -76,9 +77,12 @@ contains
       if (stat == STAT_OK) call run_statement(scn, st(i), path, stat, errmsg)
       if (stat /= STAT_OK) return
     end do
-    ! Pass 3: the contacts, which need every model's kinematics (GAP … SEGMENTS with LARGE).
+    ! Pass 3: the contacts, which need every model's kinematics (GAP … SEGMENTS with LARGE), and
+    ! the check that every contact and load node carries a modelled element.
+    call modelled_nodes(scn)
     do i = 1, size(st)
       call contacts_statement(scn, st(i), path, stat, errmsg)
+      if (stat == STAT_OK) call loads_modelled(scn, st(i), stat, errmsg)
       if (stat /= STAT_OK) return
     end do
     if (size(scn%models) == 0) then
@@ -100,6 +104,31 @@ contains
     end if
     if (stat == STAT_OK) scn%fingerprint = fingerprint_text(st, scn%mesh)
   end subroutine load_scene
+
+  !> lines(n0+1:n1) = line, lines grown by doubling (a scene of 1e5 NODE statements loads in
+  !> linear time).
+  pure subroutine set_lines(lines, n0, n1, line)
+    integer, allocatable, intent(inout) :: lines(:)
+    integer, intent(in) :: n0, n1, line
+    integer, allocatable :: tmp(:)
+    if (n1 > size(lines)) then
+      allocate (tmp(max(2 * size(lines), n1)))
+      tmp(1:n0) = lines(1:n0)
+      call move_alloc(tmp, lines)
+    end if
+    lines(n0 + 1:n1) = line
+  end subroutine set_lines
+
+  !> scn%modelled(node): the node carries an element of some MODEL.
+  subroutine modelled_nodes(scn)
+    type(scene_t), intent(inout) :: scn
+    integer :: e
+    allocate (scn%modelled(scn%mesh%nnode))
+    scn%modelled = .false.
+    do e = 1, scn%mesh%nelem
+      if (scn%elem_model(e) /= 0) scn%modelled(scn%mesh%conn(1:scn%mesh%nen(e), e)) = .true.
+    end do
+  end subroutine modelled_nodes
 
   !> HYPERELASTIC without KINEMATICS LARGE, and what KINEMATICS LARGE cannot be combined with, named:
   !> stiffness-proportional damping (BETA K0, the reference configuration's stiffness, would resist

@@ -20,6 +20,8 @@ module scene_models
   !> c h/dx above 1 by less than this is 1: the rounding of c, h and dx of a step meant as dx/c.
   real(dp), parameter :: COURANT_TOL = 1.0e-9_dp
 
+  real(dp), parameter :: MAX_DAMPING = 1.0e100_dp   !< DAMPING ALPHA and BETA at most
+
 contains
 
   subroutine models_schema(sch)
@@ -456,8 +458,17 @@ contains
         return
       end if
       do i = 1, size(vals), 2
-        call get_real(st, 'DAMPING', x, stat, errmsg, index=i + 1, lower=0.0_dp, lower_inclusive=.true.)
+        ! a, b within [0, 1e100] (C = a M + b K0 and its products with velocities stay finite)
+        call get_real(st, 'DAMPING', x, stat, errmsg, index=i + 1, lower=0.0_dp, lower_inclusive=.true., &
+          upper=MAX_DAMPING, upper_inclusive=.true.)
         if (stat /= STAT_OK) return
+        if (i > 1) then
+          if (upper(vals(i)%text) == upper(vals(1)%text)) then
+            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'DAMPING gives ' // upper(vals(i)%text) // &
+              ' twice', vals(i)))
+            return
+          end if
+        end if
         select case (upper(vals(i)%text))
         case ('ALPHA')
           md%alpha = x

@@ -13,7 +13,7 @@ module gmsh_binary
   use number_text, only: parse_int_text, NUM_OK
   use array_utils, only: grow
   use words, only: is_blank, word_end
-  use gmsh_state, only: gmsh_t, pname_t, node_of, element_kind, store_element, index_tags
+  use gmsh_state, only: gmsh_t, pname_t, node_of, element_kind, store_element, index_tags, repeated_name
   implicit none
   private
   public :: read_msh41_binary
@@ -139,6 +139,28 @@ contains
     c%pos = c%pos + 4
   end function int_at
 
+  !> A tag (a size_t): 1 to huge(1), else an error naming it "out of range", as the ASCII reader
+  !> says (a tag of 2^32 + 4 must not be read as 4).
+  subroutine tag_at(g, c, what, tag, stat, errmsg)
+    type(gmsh_t), intent(inout) :: g
+    type(cursor_t), intent(inout) :: c
+    character(len=*), intent(in) :: what
+    integer, intent(out) :: tag
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer(int64) :: v
+    character(len=24) :: txt
+    stat = STAT_OK
+    tag = 0
+    v = size_at(c)
+    if (v < 1_int64 .or. v > int(huge(1), int64)) then
+      write (txt, '(i0)') v
+      call bad(g, c, 'a ' // what // ' tag out of range (1 to ' // str(huge(1)) // '): ' // trim(txt), stat, errmsg)
+      return
+    end if
+    tag = int(v)
+  end subroutine tag_at
+
   integer(int64) function size_at(c) result(v)
     type(cursor_t), intent(inout) :: c
     v = transfer(c%b(c%pos:c%pos + 7), 0_int64)
@@ -191,7 +213,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     character(len=:), allocatable :: line
     type(pname_t), allocatable :: tmp(:)
-    integer :: n, i, q1, q2, ierr, d, t
+    integer :: n, i, q1, q2, ierr, d, t, k
     stat = STAT_OK
     d = 0
     t = 0
@@ -223,6 +245,13 @@ contains
       g%pn(g%npn)%dim = d
       g%pn(g%npn)%tag = t
       g%pn(g%npn)%name = line(q1 + 1:q2 - 1)
+      k = repeated_name(g)
+      if (k > 0) then
+        call bad(g, c, 'physical name "' // g%pn(g%npn)%name // '" given twice (dimension ' // str(d) // ' tag ' // &
+          str(t) // ', and dimension ' // str(g%pn(k)%dim) // ' tag ' // str(g%pn(k)%tag) // &
+          '): rebond would merge the two groups; give each its own name', stat, errmsg)
+        return
+      end if
     end do
     call text_line(c, line)
     if (trim(line) /= '$EndPhysicalNames') call bad(g, c, 'expected $EndPhysicalNames', stat, errmsg)
@@ -354,7 +383,8 @@ contains
       end if
       i0 = g%nnode
       do k = 1, nb
-        tags(i0 + k) = int(size_at(c))
+        call tag_at(g, c, 'node', tags(i0 + k), stat, errmsg)
+        if (stat /= STAT_OK) return
       end do
       do k = 1, nb
         xyz = [real_at(c), real_at(c), real_at(c)]
@@ -442,7 +472,8 @@ contains
       do k = 1, nb
         c%pos = c%pos + 8                                     ! the element tag
         do j = 1, nen
-          tag = int(size_at(c))
+          call tag_at(g, c, 'node', tag, stat, errmsg)
+          if (stat /= STAT_OK) return
           nd(j) = node_of(g, tag)
           if (nd(j) == 0) then
             call bad(g, c, 'unknown node tag ' // str(tag), stat, errmsg)

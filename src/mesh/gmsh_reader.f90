@@ -22,7 +22,7 @@ module gmsh_reader
   use line_reader, only: open_reader, close_reader, next_line, get_int, get_real_tok, fail, tok, clip
   use os_utils, only: is_directory
   use gmsh_state, only: pname_t, gmsh_t, LINE3, node_of, too_many, node_coordinates, gmsh_type_name, data_line, &
-    next_line_or_eof, header_ints, end_section, element_kind, store_element, alloc_elements, begin_elements
+    next_line_or_eof, header_ints, end_section, element_kind, store_element, alloc_elements, begin_elements, repeated_name
   use gmsh_msh2, only: read_nodes_msh2, read_elements_msh2
   use gmsh_binary, only: read_msh41_binary
   implicit none
@@ -180,7 +180,7 @@ contains
     type(gmsh_t), intent(inout) :: g
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: n, i, q1, q2
+    integer :: n, i, q1, q2, k
     type(pname_t), allocatable :: tmp(:)
 
     call header_ints(g, 1, 'the number of physical names', stat, errmsg)
@@ -215,6 +215,13 @@ contains
         return
       end if
       g%pn(g%npn)%name = g%line(q1 + 1:q2 - 1)
+      k = repeated_name(g)
+      if (k > 0) then
+        call fail(g, stat, errmsg, 'physical name "' // g%pn(g%npn)%name // '" given twice (dimension ' // &
+          tok(g, 1) // ' tag ' // tok(g, 2) // ', and dimension ' // str(g%pn(k)%dim) // ' tag ' // str(g%pn(k)%tag) // &
+          '): rebond would merge the two groups; give each its own name')
+        return
+      end if
     end do
     call end_section(g, '$EndPhysicalNames', stat, errmsg)
   end subroutine read_physical_names

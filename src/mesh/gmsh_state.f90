@@ -14,7 +14,7 @@ module gmsh_state
   private
   public :: pname_t, gmsh_t, LINE3, node_of, too_many, node_coordinates, orient_surface, gmsh_type_name
   public :: data_line, next_line_or_eof, header_ints, end_section, element_kind, store_element, index_tags
-  public :: alloc_elements, begin_elements
+  public :: alloc_elements, begin_elements, repeated_name
 
   !> The element kind of a 3-node line (Gmsh type 8, the boundary curves of second-order meshes):
   !> no rebond element, its nodes join its physical groups (node groups for FIX, PRESSURE ...).
@@ -53,6 +53,16 @@ module gmsh_state
 
 
 contains
+
+  !> The index of an earlier physical name equal to the last one read (g%pn(g%npn)), 0 if none:
+  !> two physical groups of one name would be merged into one node group without a word.
+  pure integer function repeated_name(g) result(k)
+    type(gmsh_t), intent(in) :: g
+    do k = 1, g%npn - 1
+      if (g%pn(k)%name == g%pn(g%npn)%name) return
+    end do
+    k = 0
+  end function repeated_name
 
   !> The rebond kind et of Gmsh element type gtype (LINE3 for a 3-node line), its node count and
   !> dimension; stat /= STAT_OK (a message naming the type) for the others (QUAD9, volumes ...).

@@ -24,6 +24,13 @@ module mesh
     integer, allocatable :: items(:)
   end type group_t
 
+  !> Groups by name: an open-addressing hash table of group indices (0: empty slot), its size a
+  !> power of two at least twice the count, so that a scene of 1e5 named nodes and groups loads
+  !> in linear time (a linear search made it quadratic).
+  type :: group_index_t
+    integer, allocatable :: slot(:)
+  end type group_index_t
+
   type :: mesh_t
     integer :: nnode = 0
     integer :: nelem = 0
@@ -35,6 +42,7 @@ module mesh
     integer :: negroup = 0
     type(group_t), allocatable :: ngroups(:)  !< node groups
     type(group_t), allocatable :: egroups(:)  !< element groups
+    type(group_index_t) :: nindex, eindex     !< the groups by name
   contains
     procedure :: add_node
     procedure :: add_element
@@ -144,7 +152,7 @@ contains
     class(mesh_t), intent(inout) :: self
     character(len=*), intent(in) :: name
     integer, intent(in) :: items(:)
-    call add_group(self%ngroups, self%nngroup, name, items)
+    call add_group(self%ngroups, self%nngroup, self%nindex, name, items)
   end subroutine add_node_group
 
   !> Add (or replace) an element group.
@@ -152,23 +160,23 @@ contains
     class(mesh_t), intent(inout) :: self
     character(len=*), intent(in) :: name
     integer, intent(in) :: items(:)
-    call add_group(self%egroups, self%negroup, name, items)
+    call add_group(self%egroups, self%negroup, self%eindex, name, items)
   end subroutine add_elem_group
 
-  subroutine add_group(groups, n, name, items)
+  subroutine add_group(groups, n, index, name, items)
     type(group_t), allocatable, intent(inout) :: groups(:)
     integer, intent(inout) :: n
+    type(group_index_t), intent(inout) :: index
     character(len=*), intent(in) :: name
     integer, intent(in) :: items(:)
     type(group_t), allocatable :: tmp(:)
     integer :: i
     if (.not. allocated(groups)) allocate (groups(16))
-    do i = 1, n
-      if (groups(i)%name == name) then
-        groups(i)%items = items
-        return
-      end if
-    end do
+    i = lookup(groups, n, index, name)
+    if (i > 0) then
+      groups(i)%items = items
+      return
+    end if
     if (n == size(groups)) then
       allocate (tmp(2 * n))
       tmp(1:n) = groups(1:n)
@@ -177,25 +185,95 @@ contains
     n = n + 1
     groups(n)%name = name
     groups(n)%items = items
+    call insert(groups, n, index)
   end subroutine add_group
+
+  !> FNV-1a hash of a name.
+  pure integer(8) function name_hash(name) result(h)
+    character(len=*), intent(in) :: name
+    integer :: k
+    h = -3750763034362895579_8
+    do k = 1, len(name)
+      h = ieor(h, int(iachar(name(k:k)), 8)) * 1099511628211_8
+    end do
+  end function name_hash
+
+  !> The index of the group called name, 0 if none (the hash table, or none yet: a search).
+  pure integer function lookup(groups, n, index, name) result(ig)
+    type(group_t), intent(in) :: groups(:)
+    integer, intent(in) :: n
+    type(group_index_t), intent(in) :: index
+    character(len=*), intent(in) :: name
+    integer :: m, k
+    ig = 0
+    if (n == 0) return
+    if (.not. allocated(index%slot)) then
+      do ig = 1, n
+        if (groups(ig)%name == name) return
+      end do
+      ig = 0
+      return
+    end if
+    m = size(index%slot)
+    k = int(iand(name_hash(name), int(m - 1, 8))) + 1
+    do
+      ig = index%slot(k)
+      if (ig == 0) return
+      if (groups(ig)%name == name) return
+      k = mod(k, m) + 1
+    end do
+  end function lookup
+
+  !> Group n into the table, which doubles (rebuilt) when half full.
+  pure subroutine insert(groups, n, index)
+    type(group_t), intent(in) :: groups(:)
+    integer, intent(in) :: n
+    type(group_index_t), intent(inout) :: index
+    integer :: m, i
+    if (allocated(index%slot)) then
+      if (2 * n <= size(index%slot)) then
+        call place(index, groups(n)%name, n)
+        return
+      end if
+    end if
+    m = 64
+    do while (m < 4 * n)
+      m = 2 * m
+    end do
+    if (allocated(index%slot)) deallocate (index%slot)
+    allocate (index%slot(m))
+    index%slot = 0
+    do i = 1, n
+      call place(index, groups(i)%name, i)
+    end do
+  end subroutine insert
+
+  pure subroutine place(index, name, ig)
+    type(group_index_t), intent(inout) :: index
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: ig
+    integer :: m, k
+    m = size(index%slot)
+    k = int(iand(name_hash(name), int(m - 1, 8))) + 1
+    do while (index%slot(k) /= 0)
+      k = mod(k, m) + 1
+    end do
+    index%slot(k) = ig
+  end subroutine place
 
   !> Index of the node group called name (case-sensitive as stored), 0 if none.
   pure integer function find_node_group(self, name) result(ig)
     class(mesh_t), intent(in) :: self
     character(len=*), intent(in) :: name
-    do ig = 1, self%nngroup
-      if (self%ngroups(ig)%name == name) return
-    end do
     ig = 0
+    if (allocated(self%ngroups)) ig = lookup(self%ngroups, self%nngroup, self%nindex, name)
   end function find_node_group
 
   !> Index of the element group called name, 0 if none.
   pure integer function find_elem_group(self, name) result(ig)
     class(mesh_t), intent(in) :: self
     character(len=*), intent(in) :: name
-    do ig = 1, self%negroup
-      if (self%egroups(ig)%name == name) return
-    end do
     ig = 0
+    if (allocated(self%egroups)) ig = lookup(self%egroups, self%negroup, self%eindex, name)
   end function find_elem_group
 end module mesh

@@ -113,13 +113,14 @@ contains
   !> more integers.
   !> Built in the buffer by text_format (the characters of I0 and ES24.16E3 without blanks),
   !> not by internal WRITEs, which allocate in the Fortran runtime at every statement.
-  subroutine write_row(self, step, reals, ints, stat, errmsg, tail, tail_ints)
+  subroutine write_row(self, step, reals, ints, stat, errmsg, tail, tail_ints, tail2)
     class(csv_file_t), intent(inout) :: self
     integer, intent(in) :: step
     real(dp), intent(in) :: reals(:)
     integer, intent(in) :: ints(:)
     real(dp), intent(in), optional :: tail(:)
     integer, intent(in), optional :: tail_ints(:)
+    real(dp), intent(in), optional :: tail2(:)     !< reals after tail_ints (columns added later)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: pos, i, need
@@ -127,6 +128,7 @@ contains
     need = 12 * (1 + size(ints)) + (ES_MAX_LEN + 1) * size(reals)
     if (present(tail)) need = need + (ES_MAX_LEN + 1) * size(tail)
     if (present(tail_ints)) need = need + 12 * size(tail_ints)
+    if (present(tail2)) need = need + (ES_MAX_LEN + 1) * size(tail2)
     if (len(self%buf) < need) then
       ! More values than the header has columns: grow once.
       deallocate (self%buf)
@@ -134,28 +136,33 @@ contains
     end if
     pos = 0
     call put_int(self%buf, pos, step)
-    do i = 1, size(reals)
-      call put_text(self%buf, pos, ',')
-      call put_es(self%buf, pos, reals(i))
-    end do
+    call put_reals(self%buf, pos, reals)
     do i = 1, size(ints)
       call put_text(self%buf, pos, ',')
       call put_int(self%buf, pos, ints(i))
     end do
-    if (present(tail)) then
-      do i = 1, size(tail)
-        call put_text(self%buf, pos, ',')
-        call put_es(self%buf, pos, tail(i))
-      end do
-    end if
+    if (present(tail)) call put_reals(self%buf, pos, tail)
     if (present(tail_ints)) then
       do i = 1, size(tail_ints)
         call put_text(self%buf, pos, ',')
         call put_int(self%buf, pos, tail_ints(i))
       end do
     end if
+    if (present(tail2)) call put_reals(self%buf, pos, tail2)
     call self%f%write_line(self%buf(1:pos), stat, errmsg)
   end subroutine write_row
+
+  !> ",x1,x2,…" appended to buf at pos.
+  subroutine put_reals(buf, pos, x)
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: pos
+    real(dp), intent(in) :: x(:)
+    integer :: i
+    do i = 1, size(x)
+      call put_text(buf, pos, ',')
+      call put_es(buf, pos, x(i))
+    end do
+  end subroutine put_reals
 
   !> A line built by the caller (events.csv, contacts.csv).
   subroutine csv_write_line(self, line, stat, errmsg)

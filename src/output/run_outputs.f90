@@ -13,7 +13,7 @@ module run_outputs
   use contact, only: contact_set_t, contact_event_t, EVENT_ESTABLISH, row_geometry_t
   use history_writer, only: csv_file_t
   use fields_hdf5, only: fields_writer_t
-  use text_format, only: put_es, put_int, put_text
+  use text_format, only: put_es, put_int, put_text, put_csv, csv_field
   use os_utils, only: remove_file
   implicit none
   private
@@ -21,10 +21,11 @@ module run_outputs
 
   character(len=*), parameter :: HISTORY_HEADER = &
     'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored,' // &
-    'impact_dissipated,momentum_x,momentum_y,angular_momentum,damping,substeps'
+    'impact_dissipated,momentum_x,momentum_y,angular_momentum,damping,substeps,contact_held'
   character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored,' &
     // 'contact'
-  character(len=*), parameter :: CONTACTS_HEADER = 'step,time,contact,active,force_x,force_y,impulse_x,impulse_y,min_gap'
+  character(len=*), parameter :: CONTACTS_HEADER = 'step,time,contact,active,force_x,force_y,impulse_x,impulse_y,' // &
+    'min_gap,moment,impulse_moment'
 
   type :: output_set_t
     private
@@ -86,7 +87,7 @@ contains
     self%with_fields = scn%fields_every /= 0
     header = 'step,time'
     do i = 1, size(scn%probes)
-      header = header // ',' // scn%probes(i)%label
+      header = header // ',' // csv_field(scn%probes(i)%label)
     end do
     allocate (self%escalar(scn%mesh%nelem, 2))
     allocate (self%nodal_u(3, scn%mesh%nnode), self%nodal_v(3, scn%mesh%nnode), self%estress(4, scn%mesh%nelem), &
@@ -198,7 +199,7 @@ contains
       ! KINEMATICS LARGE: the angular momentum about the origin of the current configuration.
       if (any(scn%models%large)) self%htail(6) = current_angular_momentum(scn, sys, u, mv)
       self%htail(7) = en%damping()
-      call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail, [nsub])
+      call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail, [nsub], [en%contact_held()])
       if (stat /= STAT_OK) return
       self%preals(1) = t
       r = 0
@@ -312,6 +313,26 @@ contains
     step_impulse = 0.5_dp * self%h * cs%multiplier(j) + cs%correction_impulse(j)
   end function step_impulse
 
+  !> The moment about the origin of the force f (x, y) on node n: (x_n + u_n - back du_n) × f where
+  !> the node is in a KINEMATICS LARGE model (history.csv's angular momentum is about the current
+  !> configuration; back = ½: the step's midpoint), the reference position x_n × f otherwise.
+  pure real(dp) function moment_at(scn, sys, u, du, back, n, f) result(mz)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: u(:), du(:), back
+    integer, intent(in) :: n
+    real(dp), intent(in) :: f(2)
+    real(dp) :: p(2)
+    integer :: d
+    p = scn%mesh%x(:, n)
+    if (any(scn%models%large)) then
+      do d = 1, 2
+        if (sys%dofs%eqn(d, n) > 0) p(d) = p(d) + u(sys%dofs%eqn(d, n)) - back * du(sys%dofs%eqn(d, n))
+      end do
+    end if
+    mz = p(1) * f(2) - p(2) * f(1)
+  end function moment_at
+
   !> The contact statements (OBSTACLE, GAP names) in order of appearance, and each condition's.
   subroutine contact_statements(self, scn)
     type(output_set_t), intent(inout) :: self
@@ -323,7 +344,7 @@ contains
       w = max(w, len(scn%conditions(j)%source))
     end do
     allocate (character(len=w) :: self%cnames(n))
-    allocate (character(len=w + 400) :: self%row)
+    allocate (character(len=2 * w + 400) :: self%row)
     allocate (self%cstat(n))
     k = 0
     do j = 1, n
@@ -338,30 +359,42 @@ contains
       end if
     end do
     self%cnames = self%cnames(1:k)
-    allocate (self%cimp(2, k), self%cforce(2, k))
+    allocate (self%cimp(3, k), self%cforce(3, k))
     self%cimp = 0.0_dp
   end subroutine contact_statements
 
   !> After each step: the impulse each contact statement gave its NODES group (for a GAP the
-  !> nodes a, opposite to the normal; PERSIST's scaling of the body counted where it is booked).
-  subroutine outputs_add_contact_impulses(self, scn, cs)
+  !> nodes a, opposite to the normal; a scaling's momentum counted where it is booked), and its
+  !> moment about the origin (third entry): at the nodes' positions, in the configuration of the
+  !> step's end for KINEMATICS LARGE models (u: the displacement then), the reference otherwise.
+  subroutine outputs_add_contact_impulses(self, scn, sys, u, du, cs)
     class(output_set_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: u(:), du(:)
     type(contact_set_t), intent(in) :: cs
     type(row_geometry_t) :: gs, ge
-    integer :: j
+    real(dp) :: istep(2), icorr(2), sgn
+    integer :: j, node
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j), s => self%cstat(j))
         if (cs%follows(j)) then                ! on b, along the step's normal, then the end's
           gs = cs%step_geometry(j)
           ge = cs%end_geometry(j)
-          self%cimp(:, s) = self%cimp(:, s) + 0.5_dp * self%h * cs%multiplier(j) * gs%normal + &
-            cs%correction_impulse(j) * ge%normal + cs%body_impulse(j)
-          cycle
+          istep = 0.5_dp * self%h * cs%multiplier(j) * gs%normal
+          icorr = cs%correction_impulse(j) * ge%normal + cs%body_impulse(j)
+          node = c%node_b
+        else
+          ! on the NODES group: node b of an OBSTACLE or GAP … SEGMENTS, node a of GAP … WITH or PAIRS
+          sgn = merge(-1.0_dp, 1.0_dp, c%node_a > 0 .and. c%node_c == 0)
+          istep = sgn * 0.5_dp * self%h * cs%multiplier(j) * c%normal
+          icorr = sgn * cs%correction_impulse(j) * c%normal + cs%body_impulse(j)
+          node = merge(c%node_a, c%node_b, c%node_a > 0 .and. c%node_c == 0)
         end if
-        ! on the NODES group: node b of an OBSTACLE or GAP … SEGMENTS, node a of GAP … WITH or PAIRS
-        self%cimp(:, s) = self%cimp(:, s) + merge(-1.0_dp, 1.0_dp, c%node_a > 0 .and. c%node_c == 0) * &
-          step_impulse(self, cs, j) * c%normal + cs%body_impulse(j)
+        self%cimp(1:2, s) = self%cimp(1:2, s) + istep + icorr
+        ! The step's impulse acts at the step's midpoint configuration, the correction's at its end.
+        self%cimp(3, s) = self%cimp(3, s) + moment_at(scn, sys, u, du, 0.5_dp, node, istep) + &
+          moment_at(scn, sys, u, du, 0.0_dp, node, icorr)
       end associate
     end do
   end subroutine outputs_add_contact_impulses
@@ -392,7 +425,7 @@ contains
       call put_text(self%row, pos, ',')
       call put_es(self%row, pos, t)
       call put_text(self%row, pos, ',')
-      call put_text(self%row, pos, trim(self%cnames(k)))
+      call put_csv(self%row, pos, trim(self%cnames(k)))
       call put_text(self%row, pos, ',')
       call put_int(self%row, pos, nact)
       call put_text(self%row, pos, ',')
@@ -405,6 +438,10 @@ contains
       call put_es(self%row, pos, self%cimp(2, k))
       call put_text(self%row, pos, ',')
       call put_es(self%row, pos, gmin)
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, self%cforce(3, k))
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, self%cimp(3, k))
       call self%contacts%write_line(self%row(1:pos), stat, errmsg)
       if (stat /= STAT_OK) return
     end do
@@ -458,7 +495,7 @@ contains
       call put_text(self%row, pos, ',')
       call put_es(self%row, pos, merge(event%energy, 0.0_dp, event%kind == EVENT_ESTABLISH))
       call put_text(self%row, pos, ',')
-      call put_text(self%row, pos, scn%conditions(j)%source)
+      call put_csv(self%row, pos, scn%conditions(j)%source)
       call self%ev%write_line(self%row(1:pos), stat, errmsg)
       if (stat /= STAT_OK) return
     end do

@@ -21,6 +21,7 @@ module energy
     type(sum_t) :: dissipated_sum      !< plastic work since t = 0
     type(sum_t) :: impact_sum          !< kinetic energy removed by impacts (RESTITUTION e < 1)
     type(sum_t) :: damping_sum         !< energy removed by Rayleigh damping (MODEL DAMPING)
+    type(sum_t) :: held_sum            !< energy a contact holds and gives back at its release (IMPACT SYMMETRIC)
     real(dp) :: initial = 0.0_dp       !< kinetic + internal at t = 0
     real(dp) :: max_balance = 0.0_dp   !< max |balance| so far
     real(dp) :: max_scale = 0.0_dp     !< max (kinetic + internal) so far
@@ -36,6 +37,8 @@ module energy
     procedure :: add_impact
     procedure :: damping
     procedure :: add_damping
+    procedure :: contact_held
+    procedure :: add_held
     procedure :: relative_balance
     procedure :: pack_state
     procedure :: unpack_state
@@ -43,7 +46,7 @@ module energy
     procedure :: load
   end type energy_t
 
-  integer, parameter, public :: ENERGY_STATE_SIZE = 17
+  integer, parameter, public :: ENERGY_STATE_SIZE = 19
 
 contains
 
@@ -82,6 +85,7 @@ contains
     self%dissipated_sum = sum_t()
     self%impact_sum = sum_t()
     self%damping_sum = sum_t()
+    self%held_sum = sum_t()
     call add(self%internal_sum, internal0)
     self%initial = kinetic0 + self%internal()
     self%max_balance = 0.0_dp
@@ -156,6 +160,20 @@ contains
     call add(self%damping_sum, e)
   end subroutine add_damping
 
+  !> Energy the contacts hold now (IMPACT SYMMETRIC: taken at an establishment, given back at
+  !> the release): it rises and falls, and is 0 when no contact holds any.
+  pure real(dp) function contact_held(self)
+    class(energy_t), intent(in) :: self
+    contact_held = value(self%held_sum)
+  end function contact_held
+
+  !> A contact took (e > 0) or gave back (e < 0) held energy: booked so that the balance holds.
+  pure subroutine add_held(self, e)
+    class(energy_t), intent(inout) :: self
+    real(dp), intent(in) :: e
+    call add(self%held_sum, e)
+  end subroutine add_held
+
   pure real(dp) function correction(self)
     class(energy_t), intent(in) :: self
     correction = value(self%correction_sum)
@@ -164,12 +182,13 @@ contains
   !> Energy the scheme created: kinetic + internal + impact dissipation - external - (kinetic +
   !> internal at t = 0). Corrections are not subtracted: they give back what the scheme lost,
   !> and the balance is what remains wrong after them. The energy an inelastic impact removes
-  !> (RESTITUTION e < 1) and the work of the damping (MODEL DAMPING) are physics, not errors:
-  !> they are counted with the internal work.
+  !> (RESTITUTION e < 1), the work of the damping (MODEL DAMPING) and the energy a contact holds
+  !> until its release (IMPACT SYMMETRIC) are physics, not errors: they are counted with the
+  !> internal work.
   pure real(dp) function balance(self)
     class(energy_t), intent(in) :: self
     real(dp) :: lost
-    lost = value(self%impact_sum) + value(self%damping_sum)
+    lost = value(self%impact_sum) + value(self%damping_sum) + value(self%held_sum)
     if (lost == 0.0_dp) then
       balance = ((self%kinetic + self%internal()) - value(self%external_sum)) - self%initial
     else
@@ -184,7 +203,7 @@ contains
     x = [self%kinetic, self%internal_sum%s, self%internal_sum%c, self%elastic, self%external_sum%s, &
       self%external_sum%c, self%correction_sum%s, self%correction_sum%c, self%dissipated_sum%s, &
       self%dissipated_sum%c, self%initial, self%max_balance, self%max_scale, self%impact_sum%s, self%impact_sum%c, &
-      self%damping_sum%s, self%damping_sum%c]
+      self%damping_sum%s, self%damping_sum%c, self%held_sum%s, self%held_sum%c]
   end function pack_state
 
   pure subroutine unpack_state(self, x)
@@ -201,6 +220,7 @@ contains
     self%max_scale = x(13)
     self%impact_sum = sum_t(x(14), x(15))
     self%damping_sum = sum_t(x(16), x(17))
+    self%held_sum = sum_t(x(18), x(19))
   end subroutine unpack_state
 
   !> The accounts into an open checkpoint (sticky stat, as ckpt_file_t).

@@ -8,7 +8,7 @@ module newmark
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use scene, only: scene_t, condition_nodes, condition_keyword
   use contact_modes, only: IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC
-  use dof_map, only: equation_bodies
+  use dof_map, only: equation_bodies, body_rigid_freedom
   use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions
   use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
     contact_prepare, contact_set_rigid_modes, contact_gaps, contact_step_gaps, contact_shortfall
@@ -167,6 +167,7 @@ contains
     integer, allocatable :: sptr(:), star(:)
     real(dp) :: coefs(6), w(3), lscale
     character(len=:), allocatable :: msg
+    logical, allocatable :: free(:, :)
     rs%has_contact = .true.
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j))
@@ -219,14 +220,16 @@ contains
     end if
     call contact_prepare(rs%cs, rs%mat%factor, stat, errmsg, sys%ops%pat, rs%mat%sval)
     if (stat /= STAT_OK) return
-    ! The rigid modes, for the momentum-keeping scaling of PERSIST and MASSLESS.
-    call contact_set_rigid_modes(rs%cs, rs%rig, rs%mrig, stat, errmsg)
+    ! The rigid modes and the bodies they are free on, for the momentum-keeping scaling of
+    ! PERSIST, MASSLESS and SYMMETRIC.
+    call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, rs%body)
+    call body_rigid_freedom(scn, sys%dofs%eqn, free)
+    call contact_set_rigid_modes(rs%cs, rs%rig, rs%mrig, stat, errmsg, free)
     if (stat /= STAT_OK) return
-    if (rs%follow%count() > 0) then          ! end_geometry turns their rotation with the bodies
+    if (rs%follow%count() > 0 .or. any(scn%models%large)) then   ! end_geometry turns their rotation
       rs%crig = rs%rig
       rs%cmrig = rs%mrig
     end if
-    call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, rs%body)
     allocate (rs%lam(rs%cs%n_conditions()), rs%act0(rs%cs%n_conditions()))
     allocate (rs%vtry(sys%dofs%neq), rs%mvtry(sys%dofs%neq))
     rs%lam = 0.0_dp
@@ -600,7 +603,7 @@ contains
     type(contact_report_t) :: crep
     real(dp) :: dw_ext, dw_corr, e_rest
     logical :: sampled
-    if (rs%follow%count() > 0) then
+    if (rs%has_contact .and. (rs%follow%count() > 0 .or. any(scn%models%large))) then
       call end_geometry(scn, sys, rs, stat, errmsg)
       if (stat /= STAT_OK) return
     end if
@@ -619,6 +622,11 @@ contains
         e_rest = e_rest + crep%impact_dissipated
       end if
       if (crep%snap_dissipated /= 0.0_dp) call rs%en%add_impact(crep%snap_dissipated)
+      ! SYMMETRIC: the energy the contacts hold until their release, in its own account.
+      if (crep%held /= 0.0_dp) then
+        call rs%en%add_held(crep%held)
+        e_rest = e_rest + crep%held
+      end if
       if (crep%unrestored > unrestored_floor(rs%en)) &
         write (0, '(a)') 'rebond: warning: ' // at_step(step, t) // 'the impact correction could not restore ' // &
         str(crep%unrestored) // ' J (more than the body''s kinetic energy can give: a step about as long as the ' // &
@@ -628,7 +636,7 @@ contains
         'the lost energy exactly'
       call outs%write_events(scn, step, t, rs%cs, stat, errmsg)
       if (stat /= STAT_OK) return
-      call outs%add_contact_impulses(scn, rs%cs)
+      call outs%add_contact_impulses(scn, sys, rs%st%u, rs%st%du, rs%cs)
     else
       call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg)
       if (stat /= STAT_OK) return
@@ -647,18 +655,22 @@ contains
   end subroutine finish_step
 
   !> Before the impact corrections of a step with contacts that follow the geometry: the step's
-  !> gaps kept, their rows at the end configuration, and the rotation mode about the origin in it
-  !> (-y, x on the translations, 1 on RZ) with M times it, so that PERSIST's scaling keeps the
-  !> angular momentum (a node-to-segment row at its own configuration is invariant under it).
+  !> gaps kept, their rows at the end configuration; and in every contact scene with a KINEMATICS
+  !> LARGE model the rotation mode about the origin at the step's end (-y, x on the translations,
+  !> 1 on RZ) with M times it, so that a scaling keeps the angular momentum history.csv reports
+  !> (about the origin of the current configuration) where the contact cannot change it.
   subroutine end_geometry(scn, sys, rs, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
     type(run_state_t), intent(inout) :: rs
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    call contact_step_gaps(rs%cs, rs%st%u, rs%st%du)
-    call rs%follow%update(scn%mesh%x, sys%dofs%eqn, rs%st%u, rs%cs, stat, errmsg, rs%st%du, at_end=.true.)
-    if (stat /= STAT_OK) return
+    stat = STAT_OK
+    if (rs%follow%count() > 0) then
+      call contact_step_gaps(rs%cs, rs%st%u, rs%st%du)
+      call rs%follow%update(scn%mesh%x, sys%dofs%eqn, rs%st%u, rs%cs, stat, errmsg, rs%st%du, at_end=.true.)
+      if (stat /= STAT_OK) return
+    end if
     call rotation_mode(scn, sys, rs%crig(:, 3), rs%st%u, rs%st%du)
     call mass_times(sys, rs%crig(:, 3), rs%cmrig(:, 3))
     call contact_set_rigid_modes(rs%cs, rs%crig, rs%cmrig, stat, errmsg)

@@ -304,6 +304,10 @@ contains
     call check_error('bad_sparse_duplicate.msh', 15, 'duplicate node tag 5')
     ! The shared number reader: an overflowing coordinate is an input error, never a trap.
     call check_error('bad_overflow.msh', 13, 'out of range')
+    ! Issue 37: two physical groups of one name (merged silently before); a binary element naming
+    ! node tag 2^32 + 4 (read as node 4 before), refused as out of range like the ASCII reader.
+    call check_error('bad_physical_twice.msh', 7, 'physical name "edge" given twice')
+    call check_binary_error('bad_binary_tag.msh', 'tag out of range')
     call check_error('no_such_file.msh', 0, 'cannot open')
     call check_endless()
   end subroutine test_errors

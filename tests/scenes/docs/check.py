@@ -105,5 +105,31 @@ def commands():
     sc.report('README commands found (%d)' % n, n >= 3, str(n))
 
 
+def reference_tables():
+    """docs/input.md is a reference a newcomer scans (issue 37, item 9): its tables hold syntax,
+    defaults and the Cast3M equivalent, no cell over 600 characters (explanations live in
+    subsections linked from the row), and every in-page link names an existing heading."""
+    text = open(os.path.join(sc.ROOT, 'docs', 'input.md')).read()
+    worst, where = 0, ''
+    for i, ln in enumerate(text.split('\n'), 1):
+        if not ln.startswith('|'):
+            continue
+        for cell in re.split(r'(?<!\\)\|', ln)[1:-1]:
+            if len(cell) > worst:
+                worst, where = len(cell), 'line %d' % i
+    sc.report('docs/input.md: no table cell over 600 characters', worst <= 600, 'longest %d at %s' % (worst, where))
+
+    def anchor(h):
+        h = h.strip().lower()
+        h = re.sub(r'[^\w\- ]', '', h)
+        return h.replace(' ', '-')
+    anchors = {anchor(m.group(1)) for m in re.finditer(r'^#+ (.*)$', text, re.M)}
+    links = re.findall(r'\]\(#([^)]+)\)', text)
+    bad = [a for a in links if a not in anchors]
+    sc.report('docs/input.md: in-page links name existing headings (%d links)' % len(links), links and not bad,
+              'missing: %s' % ', '.join(bad))
+
+
 fragments()
 commands()
+reference_tables()

@@ -169,7 +169,25 @@ def tmpfs_sweep():
         subprocess.run(['umount', mnt], capture_output=True)
 
 
+def stdout_full():
+    """Standard output on /dev/full (issue 37): the report cannot be written, so exit 1 with a
+    message on stderr, and the results are complete (history.csv as a run to a good stdout)."""
+    if not os.path.exists('/dev/full'):
+        print('# /dev/full missing: skipped')
+        return
+    ref = sc.run_ok('inputs/spring_plastic.dat')
+    out = sc.new_dir('devfull')
+    with open('/dev/full', 'w') as full:
+        p = subprocess.run([sc.REBOND, 'inputs/spring_plastic.dat', '-o', out], stdout=full, stderr=subprocess.PIPE,
+                           text=True, cwd=sc.ROOT, preexec_fn=limited(1 << 40))
+    sc.report('stdout on /dev/full: exit 1 with a message', p.returncode == 1 and 'standard output' in p.stderr,
+              'exit %d: %s' % (p.returncode, p.stderr.strip()[-200:]))
+    sc.report('stdout on /dev/full: the results complete', read(os.path.join(out, 'history.csv')) ==
+              read(os.path.join(ref, 'history.csv')))
+
+
 csv_limits()
+stdout_full()
 restart_keeps_history()
 checkpoint_limit()
 fields_limits()
