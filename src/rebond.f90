@@ -16,6 +16,7 @@ program rebond
   use os_utils, only: path_stem, exit_with
   use hdf5_file, only: hdf5_failed
   use text_file, only: say, stdout_error
+  use scene_report, only: report_t, measure_scene, report_lines, report_warnings
   implicit none
 
   character(len=*), parameter :: VERSION = '0.1.0'
@@ -142,6 +143,7 @@ contains
       if (sys%ops%k0u%active()) call say('  internal forces: K0 u (linear elastic model; SCHEME FORCES POINTS for the ' // &
         'element loop)')
     end if
+    call scene_report_out()
     call run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
     if (stat /= STAT_OK) then
       ! Interrupted (SIGINT/SIGTERM) or failed: the summary of what was done, then the cause.
@@ -151,6 +153,28 @@ contains
     if (.not. quiet) call print_summary()
     call check_stdout()
   end subroutine run_scene
+
+  !> The report of the scene (scene_report): its lines on stdout, its warnings on stderr (also
+  !> with --quiet).
+  subroutine scene_report_out()
+    type(report_t) :: rep
+    character(len=:), allocatable :: lines(:), w
+    integer :: k, p
+    call measure_scene(scn, sys, rs%mat%factor, rs%nsteps, rs%rig, rep, stat, errmsg)
+    if (stat /= STAT_OK) call fail(stat, errmsg)
+    if (.not. quiet) then
+      lines = report_lines(scn, rep)
+      do k = 1, size(lines)
+        call say(trim(lines(k)))
+      end do
+    end if
+    w = report_warnings(scn, rep)
+    do while (len(w) > 0)
+      p = index(w, new_line('a'))
+      write (error_unit, '(a)') 'rebond: warning: ' // scene_path // ': ' // w(1:p - 1)
+      w = w(p + 1:)
+    end do
+  end subroutine scene_report_out
 
   !> The run's report reached standard output, or the run says so and exits 1 (its results are
   !> written and kept): a full disk or a closed pipe there is no success.

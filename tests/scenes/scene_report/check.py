@@ -1,0 +1,84 @@
+"""The report of the scene before its first step (issue 37, item 5): the total mass and each
+model's, estimates of the highest and lowest natural frequencies, each model's wave speed and
+c h/dx, and warnings where the step exceeds the lowest period or a wave speed is implausible.
+
+Asserted against closed forms:
+- two masses on two springs (k = 8 N/m, m = 2 kg, fixed at one end): omega^2 = (k/m)(3 -+ sqrt 5)/2,
+  the highest and the lowest to 5e-4 (the report prints 4 digits);
+- the cantilever of inputs/ (BEAM2, 20 elements): the lowest 8.38 Hz (Euler-Bernoulli
+  1.875^2/(2 pi L^2) sqrt(EI/rho A) = 8.3816 Hz) to 0.1 %, its mass rho A L = 0.78 kg;
+- the free beam of inputs/beam_flying.dat (no support: its rigid motions taken out): the free-free
+  first mode 4.730^2/(2 pi L^2) sqrt(EI/rho A) = 0.79630 Hz to 0.2 %;
+- a scene of two models lists both masses, and their sum;
+- a step of 1 s on the cantilever (period 0.119 s) warns, naming the step and the period; YOUNG in
+  MPa where Pa is meant (c = 5.2 m/s) warns "check the units"; the default step warns of nothing.
+"""
+import math
+import os
+import re
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import scenecheck as sc  # noqa: E402
+
+
+def run(scene, sets=()):
+    out = sc.new_dir('report')
+    cmd = [sc.REBOND, scene, '-o', out]
+    for s in sets:
+        cmd += ['--set', s]
+    p = sc.run_limited(cmd, 120, cwd=sc.ROOT, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(p.stderr)
+    return p.stdout, p.stderr
+
+
+def freq(out, which):
+    m = re.search(which + r' ([0-9.eE+-]+) Hz', out)
+    return float(m.group(1)) if m else float('nan')
+
+
+SPRINGS = sc.write_scene('springs.dat', '''NODE a AT 0 0
+NODE b AT 1 0
+NODE c AT 2 0
+ELEMENT s TYPE SPRING NODES a b b c
+ELEMENT m TYPE MASS NODES b c
+MATERIAL k ELASTIC YOUNG 8
+SECTION pm MASS 2
+MODEL s MATERIAL k
+MODEL m SECTION pm
+FIX a ALL
+FIX b UY
+FIX c UY
+INITIAL c DISPLACEMENT 0.1 0
+TIME STEP 0.01 END 0.1
+''')
+out, err = run(SPRINGS)
+lo, hi = [math.sqrt(4.0 * (3 + s * math.sqrt(5)) / 2) / (2 * math.pi) for s in (-1, 1)]
+sc.report_measured('two springs and masses: the highest frequency (5e-4)', abs(freq(out, 'highest') / hi - 1) <= 5e-4,
+                   '%.7g Hz vs %.7g Hz' % (freq(out, 'highest'), hi))
+sc.report_measured('two springs and masses: the lowest frequency (5e-4)', abs(freq(out, 'lowest') / lo - 1) <= 5e-4,
+                   '%.7g Hz vs %.7g Hz' % (freq(out, 'lowest'), lo))
+sc.report('two models: each mass listed and their sum (4 kg)',
+          re.search(r'mass 4\.000 kg: s 0, m 4\.000', out) is not None, out[:400])
+
+CANT = os.path.join('inputs', 'cantilever_release.dat')
+out, err = run(CANT, ['TIME.END=1e-3'])
+ex = 1.875104 ** 2 / (2 * math.pi) * math.sqrt(2.1e11 * 8.333333333e-10 / (7800 * 1e-4))
+sc.report_measured('cantilever: the lowest frequency = Euler-Bernoulli (0.1 %)', abs(freq(out, 'lowest') / ex - 1) <= 1e-3,
+                   '%.5g Hz vs %.5g Hz' % (freq(out, 'lowest'), ex))
+sc.report('cantilever: mass rho A L = 0.78 kg', 'mass 0.7800 kg' in out, out[:300])
+sc.report('cantilever: wave speed and c h/dx per model', 'MODEL beam: wave speed 5189 m/s, c h/dx 10.38 to 10.38' in out,
+          out[:600])
+sc.report('cantilever at its step: no warning', 'warning' not in err, err)
+out, err = run(CANT, ['TIME.STEP=1', 'TIME.END=2'])
+sc.report('a 1 s step on a 0.119 s period: a warning naming both',
+          'warning' in err and 'TIME STEP 1.000 s' in err and 'period, 0.1193 s' in err, err.strip())
+out, err = run(CANT, ['MATERIAL.steel.YOUNG=2.1e5', 'TIME.END=1e-3'])
+sc.report('YOUNG in MPa: "check the units"', 'wave speed 5.189 m/s' in err and 'check the units' in err, err.strip())
+
+FLY = os.path.join('inputs', 'beam_flying.dat')
+out, err = run(FLY, ['TIME.END=0.01'])
+ex = 4.730041 ** 2 / (2 * math.pi * 100.0) * math.sqrt(1e4 * 0.05 / 1.0)
+sc.report_measured('free beam: the lowest = the free-free first mode, rigid motions out (0.2 %)',
+                   abs(freq(out, 'lowest') / ex - 1) <= 2e-3, '%.5g Hz vs %.5g Hz' % (freq(out, 'lowest'), ex))
