@@ -55,6 +55,7 @@ help:
 	@echo "make zone    SCHEME ZONE: eq (9) on the nonlinear elements' equations (docs/nonlinear-performance.md)"
 	@echo "make peers   rebond and CalculiX on the same bar impacts (docs/peers.md)"
 	@echo "make restitution  RESTITUTION e against the bodies' coefficient (docs/contact.md)"
+	@echo "make paraview-check  fields.xmf in ParaView's two XDMF readers, pictures in docs/figures/ (installs paraview)"
 
 # Dependencies: installed once by `make deps`, checked by every build.
 deps:
@@ -118,6 +119,13 @@ validation: bin/rebond
 	@bash tools/make_validation.sh
 	@/usr/bin/python3 tools/contact_table.py
 	@/usr/bin/python3 tools/contact_table.py --trade
+
+# fields.xmf in ParaView's default reader (Xdmf3ReaderS) and the legacy XDMF Reader, under
+# xvfb-run: every array of fields.h5 in both, a picture of each case (docs/figures/paraview_*.png).
+# Installs Debian's paraview and xvfb when pvpython is missing (as root).
+.PHONY: paraview-check
+paraview-check: bin/rebond
+	@/usr/bin/python3 tools/paraview_check.py
 
 # RESTITUTION e on deformable bodies: the body-level coefficient and the energy dissipated, two
 # blocks and a ring (docs/contact.md, "What RESTITUTION means on a deformable body"; ~1 min).

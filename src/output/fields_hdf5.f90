@@ -29,7 +29,7 @@ module fields_hdf5
   use element_traits, only: NUM_ETYPES, etype_nen, etype_xdmf_cell, etype_name, etype_stress_names, &
     XDMF_POLYVERTEX, XDMF_POLYLINE, &
     XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
-  use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic
+  use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic, SIGMA_NAMES
   use os_utils, only: make_directory, room_for
   use hdf5_file, only: h5_file_t
   use text_file, only: text_file_t
@@ -56,6 +56,7 @@ module fields_hdf5
     character(len=:), allocatable :: xtail
     ! Work arrays for splitting (UX, UY, RZ) fields, sized in open and reused by every step.
     real(dp), allocatable :: vec(:, :), rz(:)
+    real(dp), allocatable :: col(:)          !< one stress column (sigma_xx ...), nelem
   contains
     procedure :: open => fw_open
     procedure :: write_step => fw_write_step
@@ -248,7 +249,8 @@ contains
     self%nsteps = 0
     if (allocated(self%vec)) deallocate (self%vec)
     if (allocated(self%rz)) deallocate (self%rz)
-    allocate (self%vec(3, self%nnode), self%rz(self%nnode))
+    if (allocated(self%col)) deallocate (self%col)
+    allocate (self%vec(3, self%nnode), self%rz(self%nnode), self%col(self%nelem))
 
     ! No lock, so that a viewer can read the completed steps while the run goes on.
     call self%h5%create(self%h5path, 'field output', stat, errmsg, unlocked=.true.)
@@ -287,6 +289,7 @@ contains
     real(dp), intent(in), optional :: reaction(:, :)
     real(dp), intent(in), optional :: escalar(:, :)   !< (nelem, 2): von Mises stress, equivalent plastic strain
     real(dp), intent(in), optional :: support(:, :)   !< (3, nnode): the supports' mean reaction of the step
+    integer :: k
     character(len=:), allocatable :: grp
 
     stat = STAT_OK
@@ -332,6 +335,12 @@ contains
     call self%h5%write(grp // '/stress', stress, stat, errmsg)
     call describe(self, grp // '/stress', 'per element type: /mesh/stress_components', &
       'per element type: /mesh/stress_components', stat, errmsg)
+    ! Each column also as its own dataset, which both of ParaView's XDMF readers show by name
+    ! (Xdmf3ReaderS, the default, skips a hyperslab of /stress: "unrecognized array type").
+    do k = 1, 4
+      self%col = stress(k, :)
+      call self%h5%write(grp // '/' // trim(SIGMA_NAMES(k)), self%col, stat, errmsg)   ! (described by stress's)
+    end do
     if (present(escalar)) then
       call self%h5%write(grp // '/von_mises', escalar(:, 1), stat, errmsg)
       call describe(self, grp // '/von_mises', 'von Mises stress of the element-mean stress (surface elements; ' // &

@@ -19,7 +19,6 @@ module hdf5_file
     h5dcreate_f, h5dopen_f, h5dclose_f, h5dwrite_f, h5dread_f, h5dset_extent_f, h5dget_space_f, &
     h5acreate_f, h5awrite_f, h5aclose_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, &
     h5pcreate_f, h5pclose_f, h5pset_chunk_f, h5pset_file_locking_f, h5pset_fapl_core_f, h5fget_file_image_f, &
-    h5pset_libver_bounds_f, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, &
     H5P_FILE_ACCESS_F, H5P_DATASET_CREATE_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, H5T_NATIVE_CHARACTER, &
     H5T_STR_NULLPAD_F
   implicit none
@@ -134,13 +133,6 @@ contains
     if (stat /= STAT_OK) return
     call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, hdferr)
     call check(self, hdferr, 'create file access properties', stat, errmsg)
-    ! The 1.8 file format and later: a group's links in compact or dense storage instead of the
-    ! original symbol table, whose local heap HDF5 kept growing in memory by ~0.45 kB per step
-    ! group of fields.h5 (60 000 writes: 42 -> 80 MB resident; docs/reliability.md).
-    if (stat == STAT_OK) then
-      call h5pset_libver_bounds_f(fapl, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, hdferr)
-      call check(self, hdferr, 'set the file format (1.8 and later)', stat, errmsg)
-    end if
     if (stat == STAT_OK .and. present(unlocked)) then
       if (unlocked) then
         call h5pset_file_locking_f(fapl, .false., .true., hdferr)

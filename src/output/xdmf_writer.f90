@@ -7,7 +7,7 @@
 !>   /mesh/coordinates (nnode, 3) float64, /mesh/topology (ntopo) int32 (XDMF Mixed array),
 !>   /step_NNNNNN/{displacement, velocity, reaction} (nnode, 3) float64: (x, y, 0) Vector,
 !>   /step_NNNNNN/{rotation, angular_velocity, reaction_moment} (nnode) float64: Scalar (RZ),
-!>   /step_NNNNNN/stress (nelem, 4) float64.
+!>   /step_NNNNNN/stress (nelem, 4) float64, and its columns /step_NNNNNN/sigma_xx … sigma_xy (nelem).
 !> reaction and reaction_moment are listed only for steps that have them (has_reaction).
 !> The 4-component cell stress uses AttributeType="Matrix": XDMF has no 4-vector type, and
 !> VTK's Xdmf3 reader then takes the component count from the array size (nelem x 4).
@@ -19,7 +19,7 @@ module xdmf_writer
   implicit none
   private
   public :: xdmf_step_t, xdmf_document, step_group_name, write_text_atomic, xml_escape, xdmf_real
-  public :: xdmf_head, xdmf_tail, xdmf_step_grid
+  public :: xdmf_head, xdmf_tail, xdmf_step_grid, SIGMA_NAMES
 
   !> What the XML needs to know about one written step.
   type :: xdmf_step_t
@@ -182,16 +182,11 @@ contains
     call put(tb, I3 // '<Attribute Name="stress" AttributeType="Matrix" Center="Cell">' // NL)
     call put(tb, data_item(I4, cdims, 'Float', '8', h5 // ':/' // grp // '/stress'))
     call put(tb, I3 // '</Attribute>' // NL)
-    ! Each stress column also as a named scalar (a hyperslab of the same data): ParaView shows
-    ! sigma_xx, not "stress 0" (for BAR2 the first column is the axial stress, for BEAM2 N, M).
+    ! Each stress column also as a named scalar, its own dataset: ParaView shows sigma_xx, not
+    ! "stress 0" (for BAR2 the first column is the axial stress, for BEAM2 N, M), in both of its
+    ! XDMF readers (Xdmf3ReaderS skipped a hyperslab of /stress).
     do k = 1, 4
-      call put(tb, I3 // '<Attribute Name="' // trim(SIGMA_NAMES(k)) // '" AttributeType="Scalar" Center="Cell">' // NL)
-      call put(tb, I4 // '<DataItem ItemType="HyperSlab" Dimensions="' // str(nelem) // ' 1">' // NL)
-      call put(tb, I4 // '  <DataItem Dimensions="3 2" Format="XML">0 ' // str(k - 1) // ' 1 1 ' // str(nelem) // &
-        ' 1</DataItem>' // NL)
-      call put(tb, data_item(I4 // '  ', cdims, 'Float', '8', h5 // ':/' // grp // '/stress'))
-      call put(tb, I4 // '</DataItem>' // NL)
-      call put(tb, I3 // '</Attribute>' // NL)
+      call cell_scalar(tb, trim(SIGMA_NAMES(k)), str(nelem), h5, grp)
     end do
     if (st%has_scalars) then
       call cell_scalar(tb, 'von_mises', str(nelem), h5, grp)
