@@ -65,6 +65,9 @@ module fields_hdf5
     final :: fw_final
   end type fields_writer_t
 
+  !> fields.h5 is closed and opened again every this many written steps (fw_write_step).
+  integer, parameter :: REOPEN_EVERY = 1000
+
 contains
 
   !> The XDMF Mixed topology array of a mesh (0-based node ids), checking element types and
@@ -351,8 +354,14 @@ contains
     end if
     call self%h5%append_series('times', self%nsteps + 1, stat, errmsg, x=time)
     call self%h5%append_series('steps', self%nsteps + 1, stat, errmsg, i=step)
-    ! Everything of this step reaches the disk before the .xmf announces it.
-    call self%h5%flush(stat, errmsg)
+    ! Everything of this step reaches the disk before the .xmf announces it; every REOPEN_EVERY
+    ! steps the file is closed and opened again instead, which also makes HDF5 let go of the
+    ! memory it keeps for the objects written (the resident set stays flat).
+    if (mod(self%nsteps + 1, REOPEN_EVERY) == 0) then
+      call self%h5%reopen(stat, errmsg)
+    else
+      call self%h5%flush(stat, errmsg)
+    end if
     if (stat /= STAT_OK) return
 
     self%nsteps = self%nsteps + 1
