@@ -116,6 +116,60 @@ def check(name, text, tangent, mode, large=False, exact=None):
     return out
 
 
+def ring8_mesh():
+    """The ring of the issue's report as a Gmsh 4.1 file: QUAD8, Ro 0.1 m, Ri 0.08 m, 4 x 64 = 256
+    elements, physical groups "ring" (the surface) and "outer" (its outer boundary, 3-node lines)."""
+    nr, nt, ri, ro = 4, 64, 0.08, 0.1
+    ids = {}
+    coords = []
+
+    def node(i2, j2):                              # half-grid indices: radius i2/2 layer, angle j2/2
+        key = (i2, j2 % (2 * nt))
+        if key not in ids:
+            r = ri + (ro - ri) * key[0] / (2.0 * nr)
+            t = 2 * math.pi * key[1] / (2.0 * nt)
+            coords.append((r * math.cos(t), r * math.sin(t)))
+            ids[key] = len(coords)
+        return ids[key]
+    quads = []
+    for i in range(nr):
+        for j in range(nt):
+            a, b, c, d = (2 * i, 2 * j), (2 * i + 2, 2 * j), (2 * i + 2, 2 * j + 2), (2 * i, 2 * j + 2)
+            corners = [node(*a), node(*b), node(*c), node(*d)]
+            mids = [node(2 * i + 1, 2 * j), node(2 * i + 2, 2 * j + 1), node(2 * i + 1, 2 * j + 2), node(2 * i, 2 * j + 1)]
+            quads.append(corners + mids)
+    lines = [[node(2 * nr, 2 * j), node(2 * nr, 2 * j + 2), node(2 * nr, 2 * j + 1)] for j in range(nt)]
+    n = len(coords)
+    out = ['$MeshFormat', '4.1 0 8', '$EndMeshFormat', '$PhysicalNames', '2', '1 1 "outer"', '2 2 "ring"',
+           '$EndPhysicalNames', '$Entities', '0 1 1 0', '1 -0.1 -0.1 0 0.1 0.1 0 1 1 0',
+           '1 -0.1 -0.1 0 0.1 0.1 0 1 2 1 1', '$EndEntities', '$Nodes', '1 %d 1 %d' % (n, n), '2 1 0 %d' % n]
+    out += [str(k) for k in range(1, n + 1)]
+    out += ['%.17g %.17g 0' % xy for xy in coords]
+    out += ['$EndNodes', '$Elements', '2 %d 1 %d' % (len(lines) + len(quads), len(lines) + len(quads)),
+            '1 1 8 %d' % len(lines)]
+    out += ['%d %s' % (k + 1, ' '.join(map(str, ln))) for k, ln in enumerate(lines)]
+    out += ['2 1 16 %d' % len(quads)]
+    out += ['%d %s' % (len(lines) + k + 1, ' '.join(map(str, q))) for k, q in enumerate(quads)]
+    out += ['$EndElements']
+    return sc.write_scene('ring8.msh', '\n'.join(out) + '\n')
+
+
+# The issue's own case: the QUAD8 ring, KINEMATICS LARGE, thrown at (5, 1) m/s at the wall x = 0.105,
+# h = 2e-4 s, to 0.04 s, defaults (AUTO takes PERSIST): momentum_y went from 0.113097 to 0.121767.
+RING8 = ring8_mesh()
+text = ('GMSH rg FILE %s\nMATERIAL rubber ELASTIC YOUNG 1e7 POISSON 0.3 DENSITY 1000\nSECTION t THICKNESS 0.01\n'
+        'MODEL rg.ring MATERIAL rubber SECTION t KINEMATICS LARGE\nINITIAL rg.ring VELOCITY 5 1\n'
+        'OBSTACLE wall NODES rg.outer POINT 0.105 0 NORMAL -1 0\nTIME STEP 2e-4 END 0.04\n'
+        'OUTPUT HISTORY EVERY 1 FIELDS EVERY 0\n' % RING8)
+for mode in MODES:
+    out = check('ring_quad8_issue', text, (0.0, 1.0), mode, large=True)
+    if out is not None and mode == 'AUTO':
+        h = sc.history(out)
+        sc.report_measured('the issue\'s QUAD8 ring, defaults: momentum_y kept at 0.113097 (was 0.121767)',
+                           abs(h['momentum_y'][0] - 0.113097) <= 1e-6 and
+                           abs(h['momentum_y'][-1] - h['momentum_y'][0]) <= 1e-12 * h['momentum_y'][0] * 5.1,
+                           'momentum_y %.9f -> %.9f' % (h['momentum_y'][0], h['momentum_y'][-1]))
+
 for theta in ANGLES:
     c, s = math.cos(math.radians(theta)), math.sin(math.radians(theta))
     for mode in MODES:
