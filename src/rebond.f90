@@ -16,7 +16,7 @@ program rebond
   use os_utils, only: path_stem, exit_with
   use hdf5_file, only: hdf5_failed
   use text_file, only: say, stdout_error
-  use scene_report, only: report_t, measure_scene, report_lines, report_warnings
+  use scene_report, only: report_t, measure_scene, say_report, report_warnings
   implicit none
 
   character(len=*), parameter :: VERSION = '0.1.0'
@@ -158,16 +158,11 @@ contains
   !> with --quiet).
   subroutine scene_report_out()
     type(report_t) :: rep
-    character(len=:), allocatable :: lines(:), w
-    integer :: k, p
+    character(len=:), allocatable :: w
+    integer :: p
     call measure_scene(scn, sys, rs%mat%factor, rs%nsteps, rs%rig, rep, stat, errmsg)
     if (stat /= STAT_OK) call fail(stat, errmsg)
-    if (.not. quiet) then
-      lines = report_lines(scn, rep)
-      do k = 1, size(lines)
-        call say(trim(lines(k)))
-      end do
-    end if
+    if (.not. quiet) call say_report(scn, rep)
     w = report_warnings(scn, rep)
     do while (len(w) > 0)
       p = index(w, new_line('a'))

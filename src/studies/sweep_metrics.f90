@@ -151,7 +151,8 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     character(len=:), allocatable :: text
     integer, allocatable :: col(:)
-    integer :: nlines, p, q, e, row, c, j, ncomma, f0
+    integer :: nlines, p, q, e, row, c, j, nparts
+    type(text_t), allocatable :: parts(:)
     character(len=1), parameter :: LF = achar(10)
     call read_text(path, text, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -171,16 +172,11 @@ contains
     if (e == 0) e = len(text) + 1
     allocate (col(size(names)))
     col = 0
-    f0 = 1
-    c = 0
-    do p = 1, e
-      if (p == e .or. text(min(p, len(text)):min(p, len(text))) == ',') then
-        c = c + 1
-        do j = 1, size(names)
-          if (trim(text(f0:p - 1)) == names(j)%s) col(j) = c
-        end do
-        f0 = p + 1
-      end if
+    call split_csv(text(1:e - 1), parts, nparts)
+    do c = 1, nparts
+      do j = 1, size(names)
+        if (trim(parts(c)%s) == names(j)%s) col(j) = c
+      end do
     end do
     do j = 1, size(names)
       if (col(j) == 0) then
@@ -200,28 +196,78 @@ contains
       end if
       if (q > p) then
         row = row + 1
-        ncomma = 0
-        f0 = p
-        do e = p, q
-          if (e == q .or. text(min(e, len(text)):min(e, len(text))) == ',') then
-            ncomma = ncomma + 1
-            do j = 1, size(names)
-              if (col(j) == ncomma) fields(row, j)%s = text(f0:e - 1)
-            end do
-            f0 = e + 1
-          end if
-        end do
+        call split_csv(text(p:q - 1), parts, nparts)
         do j = 1, size(names)
-          if (.not. allocated(fields(row, j)%s)) then
+          if (col(j) > nparts) then
             call set_error(stat, errmsg, STAT_RUN, path // ': short line ' // text(p:q - 1))
             return
           end if
+          fields(row, j)%s = parts(col(j))%s
         end do
       end if
       p = q + 1
     end do
     if (row < size(fields, 1)) fields = fields(1:row, :)
   end subroutine read_csv_columns
+
+  !> The fields of one CSV line (RFC 4180: a field between double quotes may hold commas, and ""
+  !> stands for a quote), unquoted, in parts(1:n); parts grows as needed.
+  subroutine split_csv(line, parts, n)
+    character(len=*), intent(in) :: line
+    type(text_t), allocatable, intent(inout) :: parts(:)
+    integer, intent(out) :: n
+    type(text_t), allocatable :: tmp(:)
+    character(len=len(line)) :: buf
+    integer :: i, k
+    logical :: quoted
+    if (.not. allocated(parts)) allocate (parts(16))
+    n = 0
+    k = 0
+    quoted = .false.
+    i = 1
+    do while (i <= len(line) + 1)
+      if (i <= len(line)) then
+        if (quoted) then
+          if (line(i:i) == '"') then
+            if (i < len(line)) then
+              if (line(i + 1:i + 1) == '"') then
+                k = k + 1
+                buf(k:k) = '"'
+                i = i + 2
+                cycle
+              end if
+            end if
+            quoted = .false.
+          else
+            k = k + 1
+            buf(k:k) = line(i:i)
+          end if
+          i = i + 1
+          cycle
+        end if
+        if (line(i:i) == '"' .and. k == 0) then
+          quoted = .true.
+          i = i + 1
+          cycle
+        end if
+        if (line(i:i) /= ',') then
+          k = k + 1
+          buf(k:k) = line(i:i)
+          i = i + 1
+          cycle
+        end if
+      end if
+      n = n + 1                                    ! a comma, or the end of the line
+      if (n > size(parts)) then
+        allocate (tmp(2 * size(parts)))
+        tmp(1:size(parts)) = parts
+        call move_alloc(tmp, parts)
+      end if
+      parts(n)%s = buf(1:k)
+      k = 0
+      i = i + 1
+    end do
+  end subroutine split_csv
 
   !> Numeric column j of fields (NaN where a field is not a number).
   function numeric(fields, j) result(x)

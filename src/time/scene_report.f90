@@ -14,6 +14,7 @@
 module scene_report
   use kinds, only: dp
   use errors, only: STAT_OK, str
+  use text_file, only: say
   use scene, only: scene_t
   use assembly, only: system_t, mass_times
   use cholmod_binding, only: cholmod_factor_t
@@ -23,7 +24,7 @@ module scene_report
   use lapack_pure, only: dsyev
   implicit none
   private
-  public :: report_t, measure_scene, report_lines, report_warnings
+  public :: report_t, measure_scene, say_report, report_warnings
 
   real(dp), parameter :: PI = 3.141592653589793_dp
   integer, parameter :: HIGH_ITER = 12, LOW_ITER = 25, LOW_ITER_S = 12
@@ -349,22 +350,13 @@ contains
     end do
   end subroutine start_vector
 
-  !> The report as lines for stdout.
-  function report_lines(scn, rep) result(lines)
+  !> The report on stdout, a line at a time (say: checked writes).
+  subroutine say_report(scn, rep)
     type(scene_t), intent(in) :: scn
     type(report_t), intent(in) :: rep
-    character(len=:), allocatable :: lines(:)
     character(len=:), allocatable :: txt
     integer :: im
-    txt = '  mass ' // fmt(rep%total_mass) // ' kg'
-    if (size(scn%models) > 1) then
-      txt = txt // ':'
-      do im = 1, size(scn%models)
-        if (im > 1) txt = txt // ','
-        txt = txt // ' ' // scn%models(im)%group // ' ' // fmt(rep%model_mass(im))
-      end do
-    end if
-    call push(txt)
+    call say('  mass ' // fmt(rep%total_mass) // ' kg')
     txt = '  natural frequencies (estimates): highest '
     if (rep%f_high > 0.0_dp) then
       txt = txt // fmt(rep%f_high) // ' Hz (ω h = ' // fmt(2.0_dp * PI * rep%f_high * rep%h) // ')'
@@ -381,32 +373,14 @@ contains
     else
       txt = txt // 'none (rigid motion only)'
     end if
-    call push(txt // '; report ' // fmt(rep%cpu) // ' s CPU')
-    do im = 1, size(scn%models)
-      if (.not. (rep%wave(im) > 0.0_dp)) cycle
-      if (rep%chdx(2, im) <= 0.0_dp) cycle
-      call push('  MODEL ' // scn%models(im)%group // ': wave speed ' // fmt(rep%wave(im)) // ' m/s, c h/dx ' // &
-        fmt(rep%chdx(1, im)) // ' to ' // fmt(rep%chdx(2, im)))
+    call say(txt // '; report ' // fmt(rep%cpu) // ' s CPU')
+    do im = 1, size(scn%models)                  ! (one line a model: nothing cut)
+      txt = '  MODEL ' // scn%models(im)%group // ': mass ' // fmt(rep%model_mass(im)) // ' kg'
+      if (rep%wave(im) > 0.0_dp .and. rep%chdx(2, im) > 0.0_dp) txt = txt // ', wave speed ' // fmt(rep%wave(im)) // &
+        ' m/s, c h/dx ' // fmt(rep%chdx(1, im)) // ' to ' // fmt(rep%chdx(2, im))
+      call say(txt)
     end do
-  contains
-    subroutine push(t)
-      character(len=*), intent(in) :: t
-      character(len=:), allocatable :: tmp(:)
-      integer :: w, k
-      if (.not. allocated(lines)) then
-        allocate (character(len=len(t)) :: lines(1))
-        lines(1) = t
-        return
-      end if
-      w = max(len(lines), len(t))
-      allocate (character(len=w) :: tmp(size(lines) + 1))
-      do k = 1, size(lines)
-        tmp(k) = lines(k)
-      end do
-      tmp(size(lines) + 1) = t
-      call move_alloc(tmp, lines)
-    end subroutine push
-  end function report_lines
+  end subroutine say_report
 
   !> The warnings of the report ('' entries are none): a step longer than the lowest period, a
   !> wave speed outside WAVE_MIN .. WAVE_MAX m/s.
