@@ -8,6 +8,7 @@ module assembly
   use element_traits, only: ET_BEAM2, etype_needs_material
   use contact_modes, only: IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use loads, only: load_nodal_forces
+  use follower_loads, only: follower_set_t
   use scene, only: scene_t, function_value, model_point_kind, tuned_mix, contact_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, &
     INIT_STATIC
   use dof_map, only: build_dof_map, cayley_rotations, imposed_dofs, equation_bodies, DOF_ABSENT, DOF_FIXED
@@ -67,10 +68,11 @@ module assembly
     type(k0_product_t) :: k0u                !< Bσ = K0 u for a linear elastic small-strain model
   end type operators_t
 
-  !> The external forces: M g, and the LOAD statements' nodal vectors.
+  !> The external forces: M g, the LOAD statements' nodal vectors, the follower pressures.
   type :: load_set_t
     real(dp), allocatable :: fgrav(:)        !< M g on the free DOFs
     type(load_vector_t), allocatable :: vectors(:)
+    type(follower_set_t), public :: fol      !< PRESSURE on KINEMATICS LARGE sides (follower_loads)
   end type load_set_t
 
   !> The discrete system of a scene, by role.
@@ -131,6 +133,7 @@ contains
     call model_data(scn, sys)
     call build_element_table(scn, sys%dofs%eqn, sys%elems, stat, errmsg)
     if (stat /= STAT_OK) return
+    call sys%loads%fol%build(scn, sys%dofs%eqn)             ! (before reaction_map, which adds to it)
     call reaction_map(scn, sys)
     call assemble_operators(scn, sys, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -641,6 +644,20 @@ contains
         end do
       end do
     end do
+    ! The follower pressures' forces on those DOFs, evaluated on the configuration (reaction_update).
+    associate (fol => sys%loads%fol)
+      do k = 1, fol%n
+        do a = 1, 2 * fol%nsn(k)
+          if (fol%eq(a, k) /= DOF_FIXED) cycle
+          n = fol%node((a + 1) / 2, k)
+          d = 2 - mod(a, 2)
+          if (fslot(d, n) > 0) call fol%add_reaction_entry(k, a, fslot(d, n))
+          do s = 1, sys%react%nprobe
+            if (scn%probes(slot_of(s))%dof == d .and. member(n, s)) call fol%add_reaction_entry(k, a, s)
+          end do
+        end do
+      end do
+    end associate
   end subroutine reaction_map
 
   !> After the initial state (first) or a step ending at time t: the mean support reaction of
@@ -678,17 +695,20 @@ contains
       do il = 1, size(r%load, 1)
         r%f_w = r%f_w + function_value(scn%functions, sys%loads%vectors(il)%func, t) * r%load(il, :)
       end do
+      call sys%loads%fol%add_reaction(scn, t, u, r%f_w)
       call r%step_mean(r%fint_w, r%f_w, u, v, h, first)
       r%fc_t = 0.0_dp
     end associate
   end subroutine reaction_update
 
-  !> External forces at time t: gravity and the LOAD statements, times their functions.
-  subroutine external_force(scn, sys, t, f)
+  !> External forces at time t: gravity and the LOAD statements, times their functions; with u,
+  !> the follower pressures on the configuration X + u.
+  subroutine external_force(scn, sys, t, f, u)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
     real(dp), intent(in) :: t
     real(dp), intent(out) :: f(:)
+    real(dp), intent(in), optional :: u(:)   !< the configuration of the follower pressures (absent: none)
     integer :: il, k
     real(dp) :: s
     f = function_value(scn%functions, scn%gravity_func, t) * sys%loads%fgrav
@@ -699,6 +719,7 @@ contains
         f(sys%loads%vectors(il)%eq(k)) = f(sys%loads%vectors(il)%eq(k)) + s * sys%loads%vectors(il)%f(k)
       end do
     end do
+    if (present(u)) call sys%loads%fol%add_force(scn, t, u, f)
   end subroutine external_force
 
   !> y = M x.

@@ -4,18 +4,21 @@
 !>   PRESSURE  p on the free sides of the group's surface elements (mesh_segments' group_sides),
 !>             positive into the body: consistent nodal forces -p t ∫ N_i n ds;
 !>   TRACTION  (tx, ty) per unit area on those sides: t ∫ N_i (tx, ty) ds.
-!> t is the thickness of the side's element (its MODEL's SECTION THICKNESS).
+!> t is the thickness of the side's element (its MODEL's SECTION THICKNESS). A PRESSURE on the
+!> sides of a KINEMATICS LARGE model follows them (follower_loads) unless said DEAD: those sides
+!> are left out here.
 module loads
   use kinds, only: dp
   use scene, only: scene_t, load_t, LOAD_NODAL, LOAD_PRESSURE, LOAD_TRACTION
   use mesh_segments, only: side_set_t, group_sides
   implicit none
   private
-  public :: load_nodal_forces, side_forces
+  public :: load_nodal_forces, side_forces, side_pressure_stiffness
 
 contains
 
-  !> fn(1:3, node): the forces (and moment) the load ld puts on every node, at f(t) = 1.
+  !> fn(1:3, node): the forces (and moment) the load ld puts on every node, at f(t) = 1, but for
+  !> the sides that follow the deformation (follower_loads' side_follows).
   subroutine load_nodal_forces(scn, ld, fn)
     type(scene_t), intent(in) :: scn
     type(load_t), intent(in) :: ld
@@ -37,6 +40,9 @@ contains
     do k = 1, sides%n
       e = sides%elem(k)
       if (scn%elem_model(e) == 0) cycle                     ! no model: no DOFs to load
+      if (ld%kind == LOAD_PRESSURE .and. .not. ld%dead) then
+        if (scn%models(scn%elem_model(e))%large) cycle      ! a follower side (follower_loads)
+      end if
       t = scn%models(scn%elem_model(e))%sec%thickness
       x(:, 1:sides%nsn(k)) = scn%mesh%x(:, sides%node(1:sides%nsn(k), k))
       if (ld%kind == LOAD_PRESSURE) then
@@ -82,4 +88,43 @@ contains
       end do
     end do
   end subroutine side_forces
+
+  !> The load stiffness of a pressure P (thickness included) following a side of nsn nodes,
+  !> ke = -sym(∂f/∂x) in the order (x1, y1, x2, y2, …). f of side_forces is linear in the nodes:
+  !> ∂f_ix/∂y_j = -P c_ij, ∂f_iy/∂x_j = P c_ij, c_ij = ∫ N_i N_j' ds (3-point Gauss: exact), so
+  !>     ke(ix, jy) = ½ P (c_ij - c_ji) = -ke(iy, jx),  ke(ix, jx) = ke(iy, jy) = 0,
+  !> independent of the configuration. The skew part left out, ½ P [N_i N_j] at the side's ends,
+  !> cancels between the sides of a closed or held contour (the load then has the potential P A).
+  pure subroutine side_pressure_stiffness(nsn, p, ke)
+    integer, intent(in) :: nsn
+    real(dp), intent(in) :: p
+    real(dp), intent(out) :: ke(6, 6)
+    real(dp), parameter :: gs(3) = [-sqrt(0.6_dp), 0.0_dp, sqrt(0.6_dp)]
+    real(dp), parameter :: gw(3) = [5.0_dp / 9.0_dp, 8.0_dp / 9.0_dp, 5.0_dp / 9.0_dp]
+    real(dp) :: c(3, 3), nn(3), dn(3), q
+    integer :: g, i, j
+    c = 0.0_dp
+    do g = 1, 3
+      if (nsn == 2) then
+        nn(1:2) = [0.5_dp * (1.0_dp - gs(g)), 0.5_dp * (1.0_dp + gs(g))]
+        dn(1:2) = [-0.5_dp, 0.5_dp]
+      else
+        nn = [0.5_dp * gs(g) * (gs(g) - 1.0_dp), 1.0_dp - gs(g)**2, 0.5_dp * gs(g) * (gs(g) + 1.0_dp)]
+        dn = [gs(g) - 0.5_dp, -2.0_dp * gs(g), gs(g) + 0.5_dp]
+      end if
+      do j = 1, nsn
+        do i = 1, nsn
+          c(i, j) = c(i, j) + gw(g) * nn(i) * dn(j)
+        end do
+      end do
+    end do
+    ke = 0.0_dp
+    do j = 1, nsn
+      do i = 1, nsn
+        q = 0.5_dp * p * (c(i, j) - c(j, i))
+        ke(2 * i - 1, 2 * j) = q
+        ke(2 * i, 2 * j - 1) = -q
+      end do
+    end do
+  end subroutine side_pressure_stiffness
 end module loads

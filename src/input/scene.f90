@@ -98,6 +98,7 @@ module scene
     integer :: ngroup = 0
     real(dp) :: force(3) = 0.0_dp
     integer :: func = 0          !< 0: constant 1
+    logical :: dead = .false.    !< PRESSURE … DEAD: a dead load on a KINEMATICS LARGE model too
   end type load_t
 
   !> IMPOSE: the displacement value x f(t) on DOF dof (1 UX, 2 UY, 3 RZ) of every node of a group.

@@ -47,6 +47,7 @@ contains
     call sch%add_keyword('PRESSURE', 1, 1)
     call sch%add_param('PRESSURE', 'VALUE', 1, 1)
     call sch%add_param('PRESSURE', 'FUNCTION', 1, 1)
+    call sch%add_param('PRESSURE', 'DEAD', 0, 0)
     call sch%add_keyword('TRACTION', 1, 1)
     call sch%add_param('TRACTION', 'VALUE', 2, 2)
     call sch%add_param('TRACTION', 'FUNCTION', 1, 1)
@@ -323,7 +324,7 @@ contains
     scn%loads = [scn%loads, ld]
   end subroutine do_load
 
-  !> PRESSURE group VALUE p [FUNCTION f] | TRACTION group VALUE tx ty [FUNCTION f]: a load on the
+  !> PRESSURE group VALUE p [FUNCTION f] [DEAD] | TRACTION group VALUE tx ty [FUNCTION f]: a load on the
   !> free element sides of a node group (src/assembly/loads.f90); a group that is not a set of
   !> sides (a node on none of them) is refused, naming the node.
   subroutine do_side_load(scn, st, stat, errmsg)
@@ -344,6 +345,7 @@ contains
     end if
     ld%kind = LOAD_PRESSURE
     if (st%keyword == 'TRACTION') ld%kind = LOAD_TRACTION
+    ld%dead = find_param(st, 'DEAD') > 0                  ! (a PRESSURE on a SMALL model is dead anyway)
     if (find_param(st, 'VALUE') == 0) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter VALUE', st%lead(1)))
       return

@@ -152,7 +152,7 @@ contains
     call rs%en%start(rs%st%kinetic, rs%st%inc%work, rs%st%inc%elastic)
     call refresh_points(scn, sys, rs%st%u, .true.)
     call reaction_update(scn, sys, rs%st%u, rs%st%v, scn%t_start, rs%h, .true.)
-    call external_force(scn, sys, scn%t_start, rs%st%f_n)
+    call external_force(scn, sys, scn%t_start, rs%st%f_n, rs%st%u)
   end subroutine prepare_run
 
   !> The contact conditions as constraint rows on the free equations: g = g0 + n.(u_b - u_a);
@@ -471,7 +471,7 @@ contains
     real(dp) :: tm
     logical :: short
     tfail = t1
-    call external_force(scn, sys, t1, rs%st%f_np1)
+    call rs%st%set_load(scn, sys, t1)
     if (size(scn%imposes) > 0) call imposed_targets(scn, rs%cs, t1)
     if (rs%has_contact) call rs%cs%last_active_set(rs%act0)
     if (level == 0) then

@@ -101,6 +101,10 @@ contains
     else if (scn%extended) then
       self%why = 'off (PRECISION EXTENDED)'
       return
+    else if (sys%loads%fol%n > 0) then
+      ! (A follower pressure changes F(n+1) with the iterate: the zone's residual is not written for it.)
+      self%why = 'off (a PRESSURE follows a KINEMATICS LARGE model)'
+      return
     end if
     allocate (inz(n), inp(n), touch(scn%mesh%nelem))
     inz = .false.

@@ -6,7 +6,7 @@
 module step_state
   use kinds, only: dp, qp
   use scene, only: scene_t
-  use assembly, only: system_t, commit_state, mass_times, mass_times_q, damping_times, is_damped
+  use assembly, only: system_t, commit_state, mass_times, mass_times_q, damping_times, is_damped, external_force
   use internal_forces, only: internal_force, work_increment_t
   use checkpoint, only: ckpt_file_t
   use newmark_scheme, only: rhs_eq9, residual_eq9, velocity_eq3, massless_rows_eq9, momentum_eq2
@@ -27,6 +27,10 @@ module step_state
     real(dp), allocatable :: f_np1(:), rhs(:), du(:), ddu(:), r(:), utrial(:), fint(:), fcorr(:), mdu(:), v_eq3(:)
     real(dp), allocatable :: cdu(:)          !< C du (MODEL DAMPING)
     real(dp), allocatable :: res_hist(:)     !< residual norm of each iteration of the step
+    ! Follower pressures (KINEMATICS LARGE): F(n+1) = the dead part f_fix + the sides' forces at the
+    ! trial configuration, at t(n+1); f_new the scratch of its update.
+    real(dp) :: t_np1 = 0.0_dp
+    real(dp), allocatable :: f_fix(:), f_new(:)
     real(dp) :: kinetic = 0.0_dp             !< ½ v'Mv at the end of the last step
     integer, allocatable :: massless(:)      !< IMPACT MASSLESS: the massless contact equations
     type(work_increment_t) :: inc            !< energies of the last trial (work, elastic, dissipated)
@@ -35,6 +39,7 @@ module step_state
   contains
     procedure :: init => state_init
     procedure :: set_initial => state_set_initial
+    procedure :: set_load => state_set_load
     procedure :: begin_step => state_begin_step
     procedure :: set_step => state_set_step
     procedure :: trial => state_trial
@@ -100,6 +105,38 @@ contains
     self%a = 2.0_qp / real(h, qp)
   end subroutine state_set_step
 
+  !> F(n+1) at t1: the loads on the start configuration (the first iterate's, du = 0); with
+  !> follower pressures, their dead part too (follower_update moves them with the iterate).
+  subroutine state_set_load(self, scn, sys, t1)
+    class(step_state_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: t1
+    self%t_np1 = t1
+    call external_force(scn, sys, t1, self%f_np1, self%u)
+    if (sys%loads%fol%n == 0) return
+    if (.not. allocated(self%f_fix)) allocate (self%f_fix(size(self%u)), self%f_new(size(self%u)))   ! once a run
+    call external_force(scn, sys, t1, self%f_fix)
+  end subroutine state_set_load
+
+  !> The follower pressures at the trial configuration: F(n+1) and the right-hand side of (9)
+  !> take the change; with tangent, the load stiffness -sym(∂F/∂u) joins the tangent.
+  subroutine follower_update(self, scn, sys, tangent)
+    class(step_state_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    logical, intent(in) :: tangent
+    integer :: i
+    self%f_new = self%f_fix
+    call sys%loads%fol%add_force(scn, self%t_np1, self%utrial, self%f_new)
+    do i = 1, size(self%f_new)
+      self%rhs(i) = self%rhs(i) + (self%f_new(i) - self%f_np1(i))
+      if (self%extended) self%rhs_q(i) = self%rhs_q(i) + (real(self%f_new(i), qp) - real(self%f_np1(i), qp))
+      self%f_np1(i) = self%f_new(i)
+    end do
+    if (tangent) call sys%loads%fol%add_tangent(scn, self%t_np1, sys%ops%pat, sys%ops%tval)
+  end subroutine follower_update
+
   !> Start a step (F(n+1) in f_np1): the right-hand side of (9) and the residual of the first
   !> iterate du = 0, where Bσ(n+1) = Bσ(n) and Bσc = 0.
   subroutine state_begin_step(self)
@@ -135,6 +172,7 @@ contains
       self%utrial = self%u + self%du
       call internal_force(scn, sys, self%utrial, self%fint, self%fcorr, correct, kt, self%inc, un=self%u)
     end if
+    if (sys%loads%fol%n > 0) call follower_update(self, scn, sys, kt)
   end subroutine state_trial
 
   !> KINEMATICS LARGE after a restart: the elements' current axes (kept in the element table for

@@ -6,7 +6,7 @@
 program test_loads
   use kinds, only: dp
   use testing, only: check, check_close, test_summary
-  use loads, only: side_forces
+  use loads, only: side_forces, side_pressure_stiffness
   implicit none
   real(dp) :: x(2, 3), f(2, 3), t, p, l, c, s, n(2)
   integer :: i
@@ -55,5 +55,100 @@ program test_loads
   call side_forces(3, x, t, 0.0_dp, [1.0e5_dp, -2.0e5_dp], f)
   call check_close(f(1, 2), 5.0_dp * t * 1.0e5_dp * 2 / 3, 1e-14_dp, 'traction, 3-node side: middle share')
   call check_close(sum(f(2, :)), -5.0_dp * t * 2.0e5_dp, 1e-14_dp, 'traction, 3-node side: total')
+  call test_follower_stiffness()
+  call test_closed_contour()
   call test_summary('test_loads')
+
+contains
+
+  !> side_pressure_stiffness is -sym(∂f/∂x) of side_forces: f is linear in the nodes, so a central
+  !> difference is exact to round-off; on a curved 3-node side and a straight 2-node one.
+  subroutine test_follower_stiffness()
+    real(dp) :: x0(2, 3), xp(2, 3), xm(2, 3), fp(2, 3), fm(2, 3), d(6, 6), ke(6, 6), pr, scale
+    integer :: m, a, b, nsn
+    character(len=40) :: tag
+    pr = 3.0e5_dp
+    x0 = reshape([0.0_dp, 0.0_dp, 0.52_dp, 0.31_dp, 1.0_dp, 0.2_dp], [2, 3])
+    do nsn = 2, 3
+      if (nsn == 2) x0(:, 2) = x0(:, 3)
+      do b = 1, 2 * nsn
+        xp = x0
+        xm = x0
+        xp(2 - mod(b, 2), (b + 1) / 2) = xp(2 - mod(b, 2), (b + 1) / 2) + 1.0e-3_dp
+        xm(2 - mod(b, 2), (b + 1) / 2) = xm(2 - mod(b, 2), (b + 1) / 2) - 1.0e-3_dp
+        call side_forces(nsn, xp, 1.0_dp, pr, [0.0_dp, 0.0_dp], fp)
+        call side_forces(nsn, xm, 1.0_dp, pr, [0.0_dp, 0.0_dp], fm)
+        do a = 1, 2 * nsn
+          d(a, b) = (fp(2 - mod(a, 2), (a + 1) / 2) - fm(2 - mod(a, 2), (a + 1) / 2)) / 2.0e-3_dp
+        end do
+      end do
+      call side_pressure_stiffness(nsn, pr, ke)
+      m = 2 * nsn
+      scale = maxval(abs(d(1:m, 1:m)))
+      write (tag, '(i0,a)') nsn, '-node side'
+      call check(maxval(abs(ke(1:m, 1:m) + 0.5_dp * (d(1:m, 1:m) + transpose(d(1:m, 1:m))))) <= 1e-12_dp * scale, &
+        'follower pressure stiffness = -sym(df/dx), ' // trim(tag))
+      call check(maxval(abs(ke(1:m, 1:m) - transpose(ke(1:m, 1:m)))) == 0.0_dp, 'follower stiffness symmetric, ' // trim(tag))
+    end do
+  end subroutine test_follower_stiffness
+
+  !> A closed contour (a quadrilateral, counter-clockwise, 2-node sides): the pressure has the
+  !> potential P A (A the shoelace area), so f = -P grad A, the assembled derivative is symmetric
+  !> (the sides' skew ends cancel) and the assembled ke is P times the Hessian of A.
+  subroutine test_closed_contour()
+    real(dp) :: xq(2, 4), f(2, 4), fs(2, 3), ke(6, 6), k(8, 8), h(8, 8), x(2, 3), pr, ga, xp(2, 4), xm(2, 4)
+    integer :: s, i, j, a, b, nd(2)
+    pr = 2.0e5_dp
+    xq = reshape([0.0_dp, 0.0_dp, 1.1_dp, 0.1_dp, 0.9_dp, 0.8_dp, -0.2_dp, 0.7_dp], [2, 4])
+    f = 0.0_dp
+    k = 0.0_dp
+    do s = 1, 4
+      nd = [s, mod(s, 4) + 1]
+      x = 0.0_dp
+      x(:, 1:2) = xq(:, nd)
+      call side_forces(2, x, 1.0_dp, pr, [0.0_dp, 0.0_dp], fs)
+      call side_pressure_stiffness(2, pr, ke)
+      do i = 1, 2
+        f(:, nd(i)) = f(:, nd(i)) + fs(:, i)
+        do j = 1, 2
+          k(2 * nd(i) - 1:2 * nd(i), 2 * nd(j) - 1:2 * nd(j)) = k(2 * nd(i) - 1:2 * nd(i), 2 * nd(j) - 1:2 * nd(j)) + &
+            ke(2 * i - 1:2 * i, 2 * j - 1:2 * j)
+        end do
+      end do
+    end do
+    do b = 1, 8
+      xp = xq
+      xm = xq
+      xp(2 - mod(b, 2), (b + 1) / 2) = xp(2 - mod(b, 2), (b + 1) / 2) + 1.0e-3_dp
+      xm(2 - mod(b, 2), (b + 1) / 2) = xm(2 - mod(b, 2), (b + 1) / 2) - 1.0e-3_dp
+      ga = (area(xp) - area(xm)) / 2.0e-3_dp                   ! exact: A is quadratic
+      call check_close(f(2 - mod(b, 2), (b + 1) / 2), -pr * ga, 1e-12_dp, 'closed contour: f = -P grad A', &
+        atol=1e-12_dp * pr)
+      do a = 1, 8
+        h(a, b) = (dga(xp, a) - dga(xm, a)) / 2.0e-3_dp
+      end do
+    end do
+    call check(maxval(abs(k - pr * h)) <= 1e-9_dp * pr, 'closed contour: assembled ke = P x Hessian of A')
+  end subroutine test_closed_contour
+
+  pure real(dp) function area(xq)
+    real(dp), intent(in) :: xq(2, 4)
+    integer :: i
+    area = 0.0_dp
+    do i = 1, 4
+      area = area + 0.5_dp * (xq(1, i) * xq(2, mod(i, 4) + 1) - xq(1, mod(i, 4) + 1) * xq(2, i))
+    end do
+  end function area
+
+  !> ∂A/∂(component a) by a central difference (exact: A is quadratic).
+  pure real(dp) function dga(xq, a)
+    real(dp), intent(in) :: xq(2, 4)
+    integer, intent(in) :: a
+    real(dp) :: xp(2, 4), xm(2, 4)
+    xp = xq
+    xm = xq
+    xp(2 - mod(a, 2), (a + 1) / 2) = xp(2 - mod(a, 2), (a + 1) / 2) + 1.0e-3_dp
+    xm(2 - mod(a, 2), (a + 1) / 2) = xm(2 - mod(a, 2), (a + 1) / 2) - 1.0e-3_dp
+    dga = (area(xp) - area(xm)) / 2.0e-3_dp
+  end function dga
 end program test_loads
