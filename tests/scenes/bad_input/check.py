@@ -250,7 +250,7 @@ CASES = [
      + ['PRESSURE cut VALUE 1e5'], None, [], 11, 'PRESSURE cut', 'cut'),
     ('PRESSURE without VALUE', BLOCKS + ['PRESSURE lo.top'], None, [], 10, 'PRESSURE lo.top', 'lo.top'),
     ('TRACTION with one value', BLOCKS + ['TRACTION lo.top VALUE 1e5'], None, [], 10, 'TRACTION', 'VALUE'),
-    ('PRESSURE DEAD with a value', BLOCKS + ['PRESSURE lo.top VALUE 1e5 DEAD 1'], None, [], 10, 'PRESSURE', "'1'"),
+    ('PRESSURE DEAD with a value', BLOCKS + ['PRESSURE lo.top VALUE 1e5 DEAD 1'], None, [], 10, 'PRESSURE', '1'),
     ('TRACTION DEAD (a traction keeps its direction anyway)', BLOCKS + ['TRACTION lo.top VALUE 1e5 0 DEAD'], None, [],
      10, 'TRACTION', 'DEAD'),
     ('PRESSURE with an unknown function', BLOCKS + ['PRESSURE lo.top VALUE 1 FUNCTION nope'], None, [], 10,
