@@ -6,15 +6,15 @@
 !>   contact_solve_step  (every iteration) g_free = g0 + C(u_n + du_free); LCP for the step
 !>                       multiplier Λ >= 0 with g = g_free + W Λ >= 0, Λ'g = 0; du = du_free + Z Λ
 !>                       where Z = S⁻¹C', W = C S⁻¹ C' (S the iteration matrix K0 + 4M/h²);
-!>   contact_end_step    (after eq (3)) events, E_j = ½ Λ_j g_j(n) (10), then IMPACT PAPER:
-!>                       impulses (12)-(15) (impulse_eq12_15) and the hzero reflection (16)
-!>                       (hzero_reflection), or IMPACT PERSIST: hzero_reflection with factor 1
-!>                       (the projection on zero normal velocity) and scaling of the body;
+!>   contact_end_step    (after eq (3)) events, E_j = ½ Λ_j g_j(n) (10), then the impact mode's
+!>                       correction, each mode in its own module (impact_paper: impulses (12)-(15)
+!>                       and the hzero reflection (16); impact_persist: the projection, (16) with
+!>                       gains 1, and scaling of the body; impact_massless; impact_symmetric);
 !>                       reactions R(n+1) = Λ - R(n), reported only.
 !> The pure kernels are in impact_kernels, the rows of C in constraint_rows, the state between
-!> steps (and its checkpoint) in contact_state; this module holds them together with the mass
-!> operator, the multiplier system and the workspaces, all private: the driver reads the set
-!> through its accessors.
+!> steps (and its checkpoint) in contact_state, M⁻¹ and the rigid modes in impact_space; this
+!> module holds them together with the multiplier system, the modes and the workspaces, all
+!> private: the driver reads the set through its accessors.
 !>
 !> Linear solves go through inverse_op_t (x = A⁻¹ b): CHOLMOD factors, a diagonal, or any test
 !> double; the multipliers of the LCP come from contact_multipliers (Schur columns of the active
@@ -29,15 +29,20 @@ module contact
   use cholmod_binding, only: cholmod_factor_t
   use inverse_ops, only: inverse_op_t, diag_inverse_t, chol_inverse_t, chol_ref_t
   use lcp, only: lcp_pivot
-  use dense_solve, only: spsd_solve_ws
-  use rigid_motion, only: invariant_rigid_motion, normal_impulses
   use checkpoint, only: ckpt_file_t
   use constraint_rows, only: constraint_rows_t, LABEL_LEN, MAX_REWRITE
   use contact_state, only: contact_state_t
   use contact_multipliers, only: multiplier_system_t
   use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC, SOLVER_AUTO, &
     SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
-  use impact_kernels, only: impact_energy_error, impulse_fixed_point, persist_scale
+  use impact_kernels, only: impact_energy_error
+  use impact_report, only: contact_report_t
+  use impact_space, only: impact_space_t
+  use impact_paper, only: paper_t
+  use impact_persist, only: persist_t
+  use impact_massless, only: massless_t
+  use impact_symmetric, only: symmetric_t
+  use impact_scaling, only: scaling_t
   implicit none
   private
   public :: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_SYMMETRIC, EVENT_ESTABLISH, EVENT_RELEASE, LABEL_LEN
@@ -110,7 +115,14 @@ module contact
     integer :: lcp_iter = 0                  !< pivots of the last LCP
     logical :: finalized = .false., prepared = .false., mass_set = .false.
     type(multiplier_system_t) :: ms          !< W = C S⁻¹C' for the LCP (Schur columns or augmented)
-    class(inverse_op_t), allocatable :: minv !< M⁻¹
+    ! M⁻¹ and the rigid modes, with what the impact modes share (impact_space), and the modes,
+    ! each with its own scratch: results leave them through their arguments.
+    type(impact_space_t) :: sp
+    type(paper_t) :: paper
+    type(persist_t) :: persist
+    type(massless_t) :: massless
+    type(symmetric_t) :: symmetric
+    type(scaling_t) :: following             !< the work of the rows that follow the geometry
     ! Impulses of the end-of-step correction in the last step (docs/contact.md, "Contact
     ! force"): cimp(j) along c_j (the impulse (12), the reflection (16), PERSIST's projection),
     ! bimp(:, j) the momentum PERSIST's scaling gave the group of condition j (x, y).
@@ -119,23 +131,15 @@ module contact
     ! Events of the last contact_end_step: ev(1:n_ev).
     type(contact_event_t), allocatable :: ev(:)
     integer :: n_ev = 0
-    ! Workspaces (sized at contact_finalize; the dense ones grow with the largest active set).
-    real(dp), allocatable :: wq(:), wdiag(:), gn(:), gend(:), e(:), y(:), r(:), mu(:), tolj(:), gain(:)
-    logical, allocatable :: viol(:), now(:), est(:), rel(:), fallback(:), rows(:)
-    logical, allocatable :: changing(:)      !< the conditions whose energy a PERSIST or MASSLESS scaling gives back
-    integer, allocatable :: idx(:), cgroup(:), parent(:)
-    real(dp), allocatable :: f(:), xw(:), vp(:), mvp(:), ct(:), vn(:), mvn(:)
-    real(dp), allocatable :: amat(:, :), gmat(:, :), sv(:), work2(:)
-    ! Rigid modes t_k (neq, 2 or 3: translations x, y, the rotation) on the free equations and
-    ! M t_k (contact_set_rigid_modes); body_free(k, b): mode k is free on body b (no support);
-    ! erig(j, k) = c_j't_k of a group's active rows (workspace). A scaling is about the group's
-    ! motion in the free modes its conditions leave invariant (rigid_motion).
-    logical :: has_rigid = .false.
+    ! The conditions of the last end of step (step_conditions): gaps g(n), g(n+1); active now,
+    ! established, released; E_j (10); y_j of (13)-(14); the reactions; the modes' fallbacks.
+    real(dp), allocatable :: gn(:), gend(:), e(:), y(:), r(:)
+    logical, allocatable :: now(:), est(:), rel(:), fallback(:)
+    logical, allocatable :: changing(:)      !< the rows that follow the geometry and are active
+    ! Workspaces of the step's LCP (contact_solve_step) and of hzero_reflection's ν (tests).
+    real(dp), allocatable :: wq(:), wdiag(:), nu(:), tolj(:), xw(:)
+    logical, allocatable :: viol(:)
     logical :: inelastic = .false.           !< a condition has RESTITUTION e < 1
-    real(dp), allocatable :: rig(:, :), mrig(:, :), erig(:, :), cnorm(:)
-    real(dp) :: rig_scale = 0.0_dp           !< max |t_k| over the last group's equations (group_rigid_motion)
-    logical, allocatable :: body_free(:, :)
-    integer, allocatable :: ipiv(:)
   contains
     procedure :: n_conditions => cs_n_conditions
     procedure :: n_active => cs_n_active
@@ -163,24 +167,6 @@ module contact
     procedure :: load => cs_load
   end type contact_set_t
 
-  !> Summary of one contact_end_step.
-  type :: contact_report_t
-    integer :: n_active = 0, n_establish = 0, n_release = 0
-    real(dp) :: energy_error = 0.0_dp        !< Σ E_j over the established conditions
-    real(dp) :: energy_restored = 0.0_dp     !< kinetic energy added, measured
-    real(dp) :: scheme_work = 0.0_dp         !< ½ Λ'C du: the work the scheme counts for the multiplier
-    real(dp) :: reaction_work = 0.0_dp       !< MASSLESS: ½ R(n)'C du, the start reactions' share of it
-    real(dp) :: imposed_work = 0.0_dp        !< ½ Λ'C du over the bilateral rows: the work of imposed motion
-    integer :: fp_iterations = 0             !< impulse fixed point (14)
-    real(dp) :: fp_change = 0.0_dp           !< its final relative change
-    integer :: fp_failures = 0               !< 1 if (14) had no all-negative solution (see impulse_fixed_point)
-    integer :: persist_groups = 0, persist_fallbacks = 0
-    integer :: reflection_rank = 0           !< rank of A M⁻¹A' in (16) (< rows: dependent rows)
-    real(dp) :: impact_dissipated = 0.0_dp   !< kinetic energy removed by RESTITUTION e < 1 (never negative)
-    real(dp) :: held = 0.0_dp                !< SYMMETRIC: energy taken into (> 0) or given back from (< 0) the contacts' hold
-    real(dp) :: snap_dissipated = 0.0_dp     !< MASSLESS: lost by massless nodes snapping to equilibrium (driver's)
-    real(dp) :: unrestored = 0.0_dp          !< energy a scaling could not give back or take off (left in the balance)
-  end type contact_report_t
 
   interface
     !> End of a converged step, after eq (3) gave v = v(n+1) and mv = M v(n+1) (contact_impact).
@@ -538,6 +524,11 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: nc, g0j, j
     real(dp), allocatable :: g0(:)
+    type(paper_t) :: fresh_paper
+    type(persist_t) :: fresh_persist
+    type(massless_t) :: fresh_massless
+    type(symmetric_t) :: fresh_symmetric
+    type(scaling_t) :: fresh_following
     call cs%c%finalize(neq, stat, errmsg)
     if (stat /= STAT_OK) return
     if (.not. (length_scale > 0.0_dp)) then
@@ -560,25 +551,19 @@ contains
     allocate (cs%follow(nc), cs%xg(nc), cs%geo_now(nc), cs%geo_step(nc))
     cs%follow = .false.
     cs%st%active_iter = cs%bilat                  ! (st%active: the contacts only, none yet)
-    if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%mu, cs%viol, cs%now, &
-      cs%est, cs%rel, cs%fallback, cs%idx, cs%cgroup, cs%f, cs%xw, cs%vp, cs%mvp, cs%rows, cs%ev, cs%sv, cs%ct, &
-      cs%work2, cs%ipiv, cs%tolj, cs%cimp, cs%bimp, cs%gain, cs%lam_step, cs%changing)
-    allocate (cs%lam_step(nc), cs%changing(nc), cs%gain(nc), cs%cimp(nc), cs%bimp(2, nc), cs%tolj(nc), cs%wq(nc), cs%wdiag(nc), &
-      cs%gn(nc), cs%gend(nc), cs%e(nc), cs%y(nc), cs%r(nc), cs%mu(nc), cs%viol(nc), &
-      cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%idx(nc), cs%cgroup(nc), cs%ev(nc), cs%sv(nc), &
-      cs%ct(nc), cs%work2(2 * nc), cs%ipiv(nc))
-    if (allocated(cs%erig)) deallocate (cs%erig, cs%cnorm)
-    allocate (cs%erig(nc, 3), cs%cnorm(nc))
+    if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%nu, cs%viol, cs%now, &
+      cs%est, cs%rel, cs%fallback, cs%xw, cs%ev, cs%tolj, cs%cimp, cs%bimp, cs%lam_step, cs%changing)
+    allocate (cs%lam_step(nc), cs%changing(nc), cs%cimp(nc), cs%bimp(2, nc), cs%tolj(nc), cs%wq(nc), cs%wdiag(nc), &
+      cs%gn(nc), cs%gend(nc), cs%e(nc), cs%y(nc), cs%r(nc), cs%nu(nc), cs%viol(nc), &
+      cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%ev(nc), cs%xw(neq))
     cs%fallback = .false.
-    if (allocated(cs%parent)) deallocate (cs%parent)
-    cs%has_rigid = .false.
-    if (allocated(cs%vn)) deallocate (cs%vn, cs%mvn)
-    allocate (cs%f(neq), cs%xw(neq), cs%vp(neq), cs%mvp(neq), cs%rows(neq), cs%parent(neq))  ! bodies <= neq
-    allocate (cs%vn(neq), cs%mvn(neq))             ! (RESTITUTION e < 1; SYMMETRIC's velocity before projecting)
     cs%inelastic = any([(cs%c%restitution(j) < 1.0_dp, j = 1, nc)])
-    if (allocated(cs%amat)) deallocate (cs%amat, cs%gmat)
-    ! Dense blocks for up to 64 conditions established together; they grow beyond (rarely).
-    allocate (cs%amat(min(nc, 64), min(nc, 64)), cs%gmat(min(nc, 64), min(nc, 64)))
+    call cs%sp%init(neq, nc)                       ! (the rigid modes go; M⁻¹ stays)
+    cs%paper = fresh_paper                         ! (the modes size their scratch at first use)
+    cs%persist = fresh_persist
+    cs%massless = fresh_massless
+    cs%symmetric = fresh_symmetric
+    cs%following = fresh_following
     cs%wdiag = 1.0_dp
     cs%cimp = 0.0_dp
     cs%bimp = 0.0_dp
@@ -597,7 +582,7 @@ contains
   !> Free the caches and the factors.
   subroutine contact_destroy(cs)
     type(contact_set_t), intent(inout) :: cs
-    if (allocated(cs%minv)) call contact_destroy_mass(cs)
+    call contact_destroy_mass(cs)
     call cs%ms%destroy()
     cs%prepared = .false.
     cs%mass_set = .false.
@@ -667,21 +652,9 @@ contains
     real(dp), intent(in), contiguous :: mval(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: minor
-    character(len=:), allocatable :: msg
-    if (allocated(cs%minv)) call contact_destroy_mass(cs)
-    allocate (chol_inverse_t :: cs%minv)
-    select type (op => cs%minv)
-    type is (chol_inverse_t)
-      call op%f%factorize(pat, mval, stat, msg, minor)
-      if (stat /= STAT_OK) then
-        call set_error(stat, errmsg, STAT_INPUT, 'contact with a consistent mass needs M positive definite: ' // &
-          'zero or negative mass pivot at equation ' // str(minor) // ' (' // msg // ')')
-        return
-      end if
-      allocate (op%dloc(pat%n))
-      call pat%isolated_diagonal(mval, op%dloc)
-    end select
+    cs%mass_set = .false.
+    call cs%sp%set_mass_chol(pat, mval, stat, errmsg)
+    if (stat /= STAT_OK) return
     call finish_mass(cs, stat, errmsg)
   end subroutine set_mass_chol
 
@@ -691,18 +664,14 @@ contains
     class(inverse_op_t), intent(in) :: op
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    if (allocated(cs%minv)) call contact_destroy_mass(cs)
-    allocate (cs%minv, source=op)
+    cs%mass_set = .false.
+    call cs%sp%set_mass_op(op)
     call finish_mass(cs, stat, errmsg)
   end subroutine set_mass_op
 
   subroutine contact_destroy_mass(cs)
     type(contact_set_t), intent(inout) :: cs
-    select type (op => cs%minv)
-    type is (chol_inverse_t)
-      call op%f%destroy()
-    end select
-    deallocate (cs%minv)
+    call cs%sp%destroy_mass()
     cs%mass_set = .false.
   end subroutine contact_destroy_mass
 
@@ -719,14 +688,13 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, 'contact_set_mass: call contact_finalize first')
       return
     end if
-    select type (op => cs%minv)
-    type is (diag_inverse_t)
+    if (cs%sp%mass_diagonal()) then
       do j = 1, cs%nc
         if (cs%bilat(j)) cycle                  ! (no impact correction on an IMPOSE row)
-        call contact_am_block(cs, [j], 1, a, stat, errmsg)
+        call cs%sp%am_block(cs%c, [j], 1, a, stat, errmsg)
         if (stat /= STAT_OK) return
       end do
-    end select
+    end if
     cs%mass_set = .true.
   end subroutine finish_mass
 
@@ -787,16 +755,13 @@ contains
         'must be (neq, 2) or (neq, 3)')
       return
     end if
-    cs%rig = t
-    cs%mrig = mt
     if (present(free)) then
       if (size(free, 1) /= 3) then
         call set_error(stat, errmsg, STAT_INPUT, 'contact_set_rigid_modes: free must be (3, bodies)')
         return
       end if
-      cs%body_free = free
     end if
-    cs%has_rigid = .true.
+    call cs%sp%set_rigid_modes(t, mt, free)
   end subroutine contact_set_rigid_modes
 
   ! ---------------------------------------------------------------------------------------
