@@ -516,10 +516,11 @@ contains
   !> e.g. the bounding-box diagonal; tolerances are relative to it) and allocate the state and
   !> the workspaces: nothing active, no reaction. The initial gaps are the driver's (scene)
   !> business. cs%settings%solver and %switch_size are read here.
-  subroutine contact_finalize(cs, neq, length_scale, stat, errmsg)
+  subroutine contact_finalize(cs, neq, length_scale, stat, errmsg, mode)
     type(contact_set_t), intent(inout), target :: cs
     integer, intent(in) :: neq
     real(dp), intent(in) :: length_scale
+    integer, intent(in), optional :: mode         !< the run's IMPACT: its scratch sized here, not in the time loop
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: nc, g0j, j
@@ -564,6 +565,18 @@ contains
     cs%massless = fresh_massless
     cs%symmetric = fresh_symmetric
     cs%following = fresh_following
+    call cs%paper%init(nc)                         ! (PAPER, and the fallback of PERSIST and SYMMETRIC)
+    if (present(mode)) then
+      select case (mode)
+      case (IMPACT_PERSIST)
+        call cs%persist%init(neq, nc)
+      case (IMPACT_MASSLESS)
+        call cs%massless%init(neq, nc)
+      case (IMPACT_SYMMETRIC)
+        call cs%symmetric%init(neq, nc)
+      end select
+      if (mode /= IMPACT_OFF) call cs%following%init(neq, nc)
+    end if
     cs%wdiag = 1.0_dp
     cs%cimp = 0.0_dp
     cs%bimp = 0.0_dp

@@ -14,6 +14,7 @@ module impact_groups
     integer, allocatable :: parent(:)        !< union-find forest over the bodies
     integer, allocatable :: cgroup(:)        !< representative body of condition j's group (0: none, -1: no body)
   contains
+    procedure :: init => groups_init
     procedure :: build => groups_build
     procedure :: n_bodies => groups_n_bodies
     procedure :: is_root => groups_is_root
@@ -23,6 +24,14 @@ module impact_groups
   end type impact_groups_t
 
 contains
+
+  !> Room for neq equations (at most neq bodies) and nc conditions.
+  pure subroutine groups_init(self, neq, nc)
+    class(impact_groups_t), intent(inout) :: self
+    integer, intent(in) :: neq, nc
+    if (allocated(self%parent)) deallocate (self%parent, self%cgroup)
+    allocate (self%parent(neq), self%cgroup(nc))
+  end subroutine groups_init
 
   !> The groups of the conditions of c that are active (now) or change the energy (changing);
   !> body(i) the body of equation i (0: none).
@@ -42,7 +51,7 @@ contains
       return
     end if
     if (size(body) > 0) self%nb = max(maxval(body), 0)
-    if (.not. allocated(self%parent)) allocate (self%parent(size(body)), self%cgroup(nc))   ! bodies <= neq: once
+    if (.not. allocated(self%parent)) call self%init(size(body), nc)        ! (init: before the time loop)
     if (size(self%parent) < self%nb) then
       deallocate (self%parent)
       allocate (self%parent(self%nb))

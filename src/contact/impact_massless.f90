@@ -18,10 +18,20 @@ module impact_massless
     type(scaling_t) :: scaling
     logical, allocatable :: changing(:)
   contains
+    procedure :: init => massless_init
     procedure :: correct => massless_correction
   end type massless_t
 
 contains
+
+  !> Scratch for neq equations and nc conditions (before the time loop).
+  subroutine massless_init(self, neq, nc)
+    class(massless_t), intent(inout) :: self
+    integer, intent(in) :: neq, nc
+    if (allocated(self%changing)) deallocate (self%changing)
+    allocate (self%changing(nc))
+    call self%scaling%init(neq, nc)
+  end subroutine massless_init
 
   !> est, rel: the conditions established and released in the step; now: active at its end; e:
   !> their energies (E_j, or minus the release's). Out: v, mv (= M v), cimp, bimp, fallback (the
@@ -39,7 +49,7 @@ contains
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    if (.not. allocated(self%changing)) allocate (self%changing(size(est)))
+    if (.not. allocated(self%changing)) call self%init(size(v), size(est))
     self%changing = est .or. rel
     call self%scaling%correct(sp, c, body, self%changing, now, e, min_fraction, v, mv, cimp, bimp, fallback, rep, &
       stat, errmsg)

@@ -18,20 +18,27 @@ module impact_paper
     integer, allocatable :: idx(:)
     real(dp), allocatable :: gain(:), nu(:), sv(:), ct(:), wq(:), work2(:), gmat(:, :)
   contains
+    procedure :: init => paper_init
     procedure :: correct => paper_correction
   end type paper_t
 
 contains
 
-  !> Scratch for nc conditions (once a run; gmat grows with the largest set).
+  !> Scratch for nc conditions (before the time loop; gmat grows with the largest set).
+  subroutine paper_init(self, nc)
+    class(paper_t), intent(inout) :: self
+    integer, intent(in) :: nc
+    if (allocated(self%idx)) deallocate (self%idx, self%gain, self%nu, self%sv, self%ct, self%wq, self%work2, self%gmat)
+    allocate (self%idx(nc), self%gain(nc), self%nu(nc), self%sv(nc), self%ct(nc), self%wq(nc), self%work2(2 * nc), &
+      self%gmat(min(nc, 64), min(nc, 64)))
+  end subroutine paper_init
+
+  !> Dense room for n conditions together (it only grows).
   subroutine reserve(self, nc, n)
     type(paper_t), intent(inout) :: self
     integer, intent(in) :: nc, n
     integer :: m
-    if (.not. allocated(self%idx)) then
-      allocate (self%idx(nc), self%gain(nc), self%nu(nc), self%sv(nc), self%ct(nc), self%wq(nc), self%work2(2 * nc), &
-        self%gmat(min(nc, 64), min(nc, 64)))
-    end if
+    if (.not. allocated(self%idx)) call self%init(nc)
     if (size(self%gmat, 1) >= n) return
     m = max(n, 2 * size(self%gmat, 1))
     deallocate (self%gmat)

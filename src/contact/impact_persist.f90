@@ -22,10 +22,22 @@ module impact_persist
     logical, allocatable :: mem(:), rows(:)
     real(dp), allocatable :: gain(:), nu(:), z(:), vp(:), mvp(:), vn(:), mvn(:)
   contains
+    procedure :: init => persist_init
     procedure :: correct => persist_correction
   end type persist_t
 
 contains
+
+  !> Scratch for neq equations and nc conditions (before the time loop).
+  subroutine persist_init(self, neq, nc)
+    class(persist_t), intent(inout) :: self
+    integer, intent(in) :: neq, nc
+    if (allocated(self%idx)) deallocate (self%idx, self%mem, self%gain, self%nu, self%z, self%rows, self%vp, self%mvp, &
+      self%vn, self%mvn)
+    allocate (self%idx(nc), self%mem(nc), self%gain(nc), self%nu(nc), self%z(nc), self%rows(neq), self%vp(neq), &
+      self%mvp(neq), self%vn(neq), self%mvn(neq))
+    call self%groups%init(neq, nc)
+  end subroutine persist_init
 
   !> Section 6 for the conditions est established in the step (now: active at its end; e: E_j of
   !> (10); body(i): the body of equation i). RESTITUTION e < 1 on an established condition: Newton's
@@ -52,9 +64,7 @@ contains
     real(dp) :: t1, tp, tstar, s, acm(3), tcm, dis, dm(3), pb(2)
     stat = STAT_OK
     fallback = .false.
-    if (.not. allocated(self%idx)) allocate (self%idx(size(est)), self%mem(size(est)), self%gain(size(est)), &
-      self%nu(size(est)), self%z(size(est)), self%rows(size(v)), self%vp(size(v)), self%mvp(size(v)), self%vn(size(v)), &
-      self%mvn(size(v)))
+    if (.not. allocated(self%idx)) call self%init(size(v), size(est))
     call self%groups%build(c, body, now, est, stat, errmsg)
     if (stat /= STAT_OK) return
     do j = 1, size(est)

@@ -22,10 +22,20 @@ module impact_scaling
     logical, allocatable :: mem(:), rows(:)
     real(dp), allocatable :: z(:), vp(:), mvp(:)    !< vp, mvp: the velocity before the scaling, M vp
   contains
+    procedure :: init => scaling_init
     procedure :: correct => scaling_correction
   end type scaling_t
 
 contains
+
+  !> Scratch for neq equations and nc conditions (before the time loop).
+  subroutine scaling_init(self, neq, nc)
+    class(scaling_t), intent(inout) :: self
+    integer, intent(in) :: neq, nc
+    if (allocated(self%idx)) deallocate (self%idx, self%mem, self%z, self%rows, self%vp, self%mvp)
+    allocate (self%idx(nc), self%mem(nc), self%z(nc), self%rows(neq), self%vp(neq), self%mvp(neq))
+    call self%groups%init(neq, nc)
+  end subroutine scaling_init
 
   !> Scale each group holding a condition of changing (now: active at the step's end) to T1 +
   !> Σ w_j over its changing conditions. Groups whose kinetic energy, less their rigid motion's,
@@ -50,8 +60,7 @@ contains
     real(dp) :: t1, tstar, s, acm(3), tcm, dm(3), pb(2)
     stat = STAT_OK
     fallback = .false.
-    if (.not. allocated(self%idx)) allocate (self%idx(size(now)), self%mem(size(now)), self%z(size(now)), &
-      self%rows(size(v)), self%vp(size(v)), self%mvp(size(v)))
+    if (.not. allocated(self%idx)) call self%init(size(v), size(now))
     call self%groups%build(c, body, now, changing, stat, errmsg)
     if (stat /= STAT_OK) return
     do j = 1, size(now)

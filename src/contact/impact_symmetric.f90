@@ -21,10 +21,22 @@ module impact_symmetric
     logical, allocatable :: mem(:), rows(:)
     real(dp), allocatable :: ct(:), gain(:), nu(:), share(:), vn(:), mvn(:)
   contains
+    procedure :: init => symmetric_init
     procedure :: correct => symmetric_correction
   end type symmetric_t
 
 contains
+
+  !> Scratch for neq equations and nc conditions (before the time loop).
+  subroutine symmetric_init(self, neq, nc)
+    class(symmetric_t), intent(inout) :: self
+    integer, intent(in) :: neq, nc
+    if (allocated(self%idx)) deallocate (self%idx, self%mem, self%ct, self%gain, self%nu, self%share, self%rows, self%vn, &
+      self%mvn)
+    allocate (self%idx(nc), self%mem(nc), self%ct(nc), self%gain(nc), self%nu(nc), self%share(nc), self%rows(neq), &
+      self%vn(neq), self%mvn(neq))
+    call self%groups%init(neq, nc)
+  end subroutine symmetric_init
 
   !> Released conditions (rel) first: each gives back the energy it held, held_j, as an impulse x
   !> along c_j on its nodes, v <- v + x M⁻¹c_j' with ½ s x² + (c_j v) x = held_j, s = c_j M⁻¹c_j',
@@ -52,9 +64,7 @@ contains
     real(dp) :: b, q, x, dt, wsum, held_now, a1(1, 1)
     stat = STAT_OK
     fallback = .false.
-    if (.not. allocated(self%idx)) allocate (self%idx(size(est)), self%mem(size(est)), self%ct(size(est)), &
-      self%gain(size(est)), self%nu(size(est)), self%share(size(est)), self%rows(size(v)), self%vn(size(v)), &
-      self%mvn(size(v)))
+    if (.not. allocated(self%idx)) call self%init(size(v), size(est))
     do j = 1, size(est)
       if (.not. (rel(j) .and. held(j) > 0.0_dp)) cycle
       self%idx(1) = j

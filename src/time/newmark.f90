@@ -189,7 +189,7 @@ contains
     if (lscale <= 0.0_dp) lscale = 1.0_dp
     rs%cs%settings%solver = scn%multipliers
     rs%cs%settings%switch_size = scn%augmented_above
-    call contact_finalize(rs%cs, sys%dofs%neq, lscale, stat, errmsg)
+    call contact_finalize(rs%cs, sys%dofs%neq, lscale, stat, errmsg, scn%impact)
     if (stat /= STAT_OK) return
     associate (c => scn%conditions)
       call node_stars(scn%mesh, pack(c%node_b, c%follow), sptr, star)
