@@ -108,6 +108,7 @@ bench: bin/rebond
 	@/usr/bin/python3 tools/bench_load.py --write
 	@bash tools/bench_nonlinear.sh
 	@BENCH_CONTACT_OUT=docs/performance-contact.md bash tools/bench_contact.sh
+	@/usr/bin/python3 tools/bench_taylor.py
 
 clean:
 	rm -rf $(BUILD) bin/rebond

@@ -398,7 +398,13 @@ contains
       deps(1:nstr) = sys%pts%eps_t(1:nstr, igp) - sys%pts%eps(1:nstr, igp)
       call point_update(scn, sys, mv, igp, sys%pts%eps(1:nstr, igp), deps(1:nstr), r)
       sys%pts%sig_t(1:nstr, igp) = r%sig(1:nstr)
-      if (tangent) call add_btdb(nstr, ndof, sys%elems%bmat(p), r%dtan, w, ke)
+      if (tangent) then                     ! (with the correction: the tangent of 2Bσ̄ - Bσ(n), law_step_t's dbar)
+        if (correct .and. r%has_dbar) then
+          call add_btdb(nstr, ndof, sys%elems%bmat(p), r%dbar, w, ke)
+        else
+          call add_btdb(nstr, ndof, sys%elems%bmat(p), r%dtan, w, ke)
+        end if
+      end if
       if (mv%linear) then
         esum = esum + 0.5_dp * w * dot_product(sys%pts%sig_t(1:nstr, igp), sys%pts%eps_t(1:nstr, igp))
       else

@@ -36,5 +36,9 @@ module law_types
     real(dp) :: work = 0.0_dp
     real(dp) :: dissip = 0.0_dp
     integer :: nused = 0
+    !> With has_dbar: dbar = d(2 sigbar)/d(deps), the tangent of the force eq (9) carries with the
+    !> correction (Bσ(n+1) + Bσc = 2 Bσ̄ - Bσ(n)); otherwise dtan stands for it.
+    real(dp) :: dbar(MAX_COMPONENTS, MAX_COMPONENTS) = 0.0_dp
+    logical :: has_dbar = .false.
   end type law_step_t
 end module law_types

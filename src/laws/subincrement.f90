@@ -44,13 +44,21 @@ contains
 
   !> The path of one step in n >= 1 sub-increments: end stress sig, internal variables q, the
   !> path-mean stress sigbar (trapezoid rule over σ0 = sig_n … σN = sig), the plastic work
-  !> dissip = Σ_k ½ (σ(k-1) + σk)·Δεp_k and the tangent of the last sub-increment.
-  pure subroutine subincrement_path(map, n, eps_n, deps, sig_n, q_n, sig, sigbar, q, dissip, dtan)
+  !> dissip = Σ_k ½ (σ(k-1) + σk)·Δεp_k and the tangent of the last sub-increment. dmean:
+  !> d(2σ̄)/dΔε, the tangent of the forces eq (9) carries with its correction, from the chain of
+  !> the sub-increments X_k = dσ_k/dΔε: with cel, the law's elastic compliance (a return map whose
+  !> trial is σ(k-1) + D_e Δε/N), X_k = D_k (cel X_(k-1) + I/N) (the hardening variables' share
+  !> left out); without, X_k = (k/N) D_k. dmean = (2/N) (Σ_{k<N} X_k + X_N/2).
+  pure subroutine subincrement_path(map, n, eps_n, deps, sig_n, q_n, sig, sigbar, q, dissip, dtan, dmean, cel)
     class(return_map_t), intent(in) :: map
     integer, intent(in) :: n
     real(dp), intent(in), contiguous :: eps_n(:), deps(:), sig_n(:), q_n(:)
     real(dp), intent(out), contiguous :: sig(:), sigbar(:), q(:), dtan(:, :)
     real(dp), intent(out) :: dissip
+    real(dp), intent(out), optional :: dmean(:, :)
+    real(dp), intent(in), optional :: cel(:, :)
+    real(dp) :: x(MAX_COMPONENTS, MAX_COMPONENTS), y(MAX_COMPONENTS, MAX_COMPONENTS)
+    integer :: i
     real(dp) :: s0(MAX_COMPONENTS), acc(MAX_COMPONENTS), dep(MAX_COMPONENTS), de(MAX_COMPONENTS), qk(MAX_STATE)
     integer :: k, ns, nq
     ns = size(sig)
@@ -60,10 +68,24 @@ contains
     qk(1:nq) = q_n(1:nq)
     acc(1:ns) = 0.5_dp * sig_n
     dissip = 0.0_dp
+    if (present(dmean)) dmean = 0.0_dp
+    x(1:ns, 1:ns) = 0.0_dp
     do k = 1, n
       call map%step(ns, nq, k, n, eps_n, deps, de, s0, qk, sig, q, dep, dtan)
       dissip = dissip + 0.5_dp * dot_product(s0(1:ns) + sig, dep(1:ns))
       if (k < n) acc(1:ns) = acc(1:ns) + sig
+      if (present(dmean)) then
+        if (present(cel)) then
+          y(1:ns, 1:ns) = matmul(cel(1:ns, 1:ns), x(1:ns, 1:ns))
+          do i = 1, ns
+            y(i, i) = y(i, i) + 1.0_dp / real(n, dp)
+          end do
+          x(1:ns, 1:ns) = matmul(dtan(1:ns, 1:ns), y(1:ns, 1:ns))
+        else
+          x(1:ns, 1:ns) = (real(k, dp) / real(n, dp)) * dtan(1:ns, 1:ns)
+        end if
+        dmean = dmean + merge(1.0_dp, 0.5_dp, k < n) * (2.0_dp / real(n, dp)) * x(1:ns, 1:ns)
+      end if
       s0(1:ns) = sig
       qk(1:nq) = q
     end do
