@@ -9,7 +9,7 @@ module large_kinematics
   use element_beam2, only: gauss_legendre, BEAM2_MAX_GAUSS
   use material_law, only: law_step_t
   use element_points, only: model_view_t, point_update
-  use law_hyperelastic, only: nh_stress, nh_tangent, nh_discrete_stress, gonzalez_stress
+  use law_hyperelastic, only: nh_stress, nh_tangent, nh_discrete_stress
   use log_strain, only: hencky_strain, log_tangent
   implicit none
   private
@@ -128,7 +128,7 @@ contains
   !> is 2 f̄ - f(n) - f(n+1). The tangent: w B_NL' D B_NL + the geometric part with the tensile
   !> part of S (positive definite however far an iterate goes). bmat keeps B_NL(F(n+1)) for the
   !> support reactions; the points report E and S. STRAIN_MEASURE LOG: the law on the Hencky strain
-  !> and S̄ by Gonzalez's term (plane_point); bmat then keeps P B_NL and the points report (ℓ, T).
+  !> and S̄ = G'T̄, G a secant of the log map (secant_stress); bmat then keeps P B_NL and the points report (ℓ, T).
   subroutine large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
@@ -261,7 +261,7 @@ contains
   !> keeps (and reports) its own pair: (E, S), or with STRAIN_MEASURE LOG (ℓ, T), T conjugate to the
   !> Hencky strain ℓ (log_strain): the law runs on ℓ along the segment [ℓ(n), ℓ(n+1)] (ELASTIC:
   !> the Hencky material, T = D ℓ, path work = Δψ exactly; VON_MISES: J2 additive in ℓ), S = P'T,
-  !> and sbar is Gonzalez's stress doing that path work on ΔE. pl: P = dℓ/dE (set for the log strain only).
+  !> and sbar = G'T̄ does that path work on ΔE (secant_stress). pl: P = dℓ/dE (set for the log strain only).
   subroutine plane_point(scn, sys, mv, igp, en, e1, tangent, correct, sn, s1, sbar, dm, pl, wpt, dpt, snoise)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys

@@ -216,7 +216,10 @@ contains
     if (iter >= 2) stagnant = res(iter) >= 0.5_dp * res(iter - 1)
     converged = .false.
     if (res(iter) <= scn%tolerance * fscale) converged = rwork <= budget .or. stagnant
-    if (res(iter) <= limit .and. stagnant) converged = .true.
+    ! Past the force test, a stagnating iterate below the attainable residual (round_floor) ends the
+    ! step only if its residual's work passes the energy test: the balance stays within TOLERANCE.
+    if (res(iter) <= limit .and. stagnant .and. (res(iter) <= scn%tolerance * fscale .or. rwork <= budget)) &
+      converged = .true.
     target = min(limit, budget / max(dunorm, tiny(1.0_dp)))
   end function converged
 
