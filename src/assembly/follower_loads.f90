@@ -11,13 +11,13 @@
 !> A dead PRESSURE (the word DEAD, or a SMALL model) stays in the load vectors (assembly).
 module follower_loads
   use kinds, only: dp
-  use scene, only: scene_t, load_t, function_value, LOAD_PRESSURE
+  use scene, only: scene_t, function_value, LOAD_PRESSURE
   use mesh_segments, only: side_set_t, group_sides
-  use loads, only: side_forces, side_pressure_stiffness
+  use loads, only: side_forces, side_pressure_stiffness, side_follows
   use sparse_matrix, only: sym_csc_t
   implicit none
   private
-  public :: follower_set_t, side_follows
+  public :: follower_set_t
 
   !> The sides of every follower PRESSURE, with the equations of their nodes.
   type, public :: follower_set_t
@@ -38,18 +38,6 @@ module follower_loads
   end type follower_set_t
 
 contains
-
-  !> True when the side of element e under load ld follows the deformation: a PRESSURE not said
-  !> DEAD on an element of a KINEMATICS LARGE model.
-  pure logical function side_follows(scn, ld, e)
-    type(scene_t), intent(in) :: scn
-    type(load_t), intent(in) :: ld
-    integer, intent(in) :: e
-    side_follows = .false.
-    if (ld%kind /= LOAD_PRESSURE .or. ld%dead) return
-    if (scn%elem_model(e) == 0) return
-    side_follows = scn%models(scn%elem_model(e))%large
-  end function side_follows
 
   !> Collect the following sides of every load; eqn(3, nnode) the equation of each node DOF.
   subroutine follower_build(self, scn, eqn)

@@ -13,12 +13,12 @@ module loads
   use mesh_segments, only: side_set_t, group_sides
   implicit none
   private
-  public :: load_nodal_forces, side_forces, side_pressure_stiffness
+  public :: load_nodal_forces, side_forces, side_pressure_stiffness, side_follows
 
 contains
 
   !> fn(1:3, node): the forces (and moment) the load ld puts on every node, at f(t) = 1, but for
-  !> the sides that follow the deformation (follower_loads' side_follows).
+  !> the sides that follow the deformation (side_follows).
   subroutine load_nodal_forces(scn, ld, fn)
     type(scene_t), intent(in) :: scn
     type(load_t), intent(in) :: ld
@@ -40,9 +40,7 @@ contains
     do k = 1, sides%n
       e = sides%elem(k)
       if (scn%elem_model(e) == 0) cycle                     ! no model: no DOFs to load
-      if (ld%kind == LOAD_PRESSURE .and. .not. ld%dead) then
-        if (scn%models(scn%elem_model(e))%large) cycle      ! a follower side (follower_loads)
-      end if
+      if (side_follows(scn, ld, e)) cycle                   ! a follower side (follower_loads)
       t = scn%models(scn%elem_model(e))%sec%thickness
       x(:, 1:sides%nsn(k)) = scn%mesh%x(:, sides%node(1:sides%nsn(k), k))
       if (ld%kind == LOAD_PRESSURE) then
@@ -55,6 +53,18 @@ contains
       end do
     end do
   end subroutine load_nodal_forces
+
+  !> True when the side of element e under load ld follows the deformation: a PRESSURE not said
+  !> DEAD on an element of a KINEMATICS LARGE model (follower_loads takes it).
+  pure logical function side_follows(scn, ld, e)
+    type(scene_t), intent(in) :: scn
+    type(load_t), intent(in) :: ld
+    integer, intent(in) :: e
+    side_follows = .false.
+    if (ld%kind /= LOAD_PRESSURE .or. ld%dead) return
+    if (scn%elem_model(e) == 0) return
+    side_follows = scn%models(scn%elem_model(e))%large
+  end function side_follows
 
   !> Consistent nodal forces f(:, 1:nsn) of a side with nodes x(:, 1:nsn) (2: straight; 3: end,
   !> mid-side, end: quadratic), thickness t, under a pressure p (into the body: the side runs

@@ -37,7 +37,6 @@ module impact_space
     procedure :: set_mass_op => space_set_mass_op
     procedure :: set_mass_chol => space_set_mass_chol
     procedure :: destroy_mass => space_destroy_mass
-    procedure :: has_mass => space_has_mass
     procedure :: mass_diagonal => space_mass_diagonal
     procedure :: set_rigid_modes => space_set_rigid_modes
     procedure :: am_block => space_am_block
@@ -103,11 +102,6 @@ contains
     end select
     deallocate (self%minv)
   end subroutine space_destroy_mass
-
-  pure logical function space_has_mass(self)
-    class(impact_space_t), intent(in) :: self
-    space_has_mass = allocated(self%minv)
-  end function space_has_mass
 
   !> True when M⁻¹ is a diagonal (a lumped mass).
   logical function space_mass_diagonal(self)

@@ -113,10 +113,14 @@ contains
     type(system_t), intent(in) :: sys
     real(dp), intent(in) :: t1
     self%t_np1 = t1
-    call external_force(scn, sys, t1, self%f_np1, self%u)
-    if (sys%loads%fol%n == 0) return
+    if (sys%loads%fol%n == 0) then
+      call external_force(scn, sys, t1, self%f_np1, self%u)
+      return
+    end if
     if (.not. allocated(self%f_fix)) allocate (self%f_fix(size(self%u)), self%f_new(size(self%u)))   ! once a run
     call external_force(scn, sys, t1, self%f_fix)
+    self%f_np1 = self%f_fix
+    call sys%loads%fol%add_force(scn, t1, self%u, self%f_np1)
   end subroutine state_set_load
 
   !> The follower pressures at the trial configuration: F(n+1) and the right-hand side of (9)
