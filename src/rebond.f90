@@ -111,7 +111,7 @@ contains
 
   !> The single-scene mode.
   subroutine run_scene()
-    integer :: im
+    integer :: im, nmod
     if (len(scene_path) == 0) call fail_usage('no scene file given')
     if (len(outdir) == 0) outdir = 'results/' // path_stem(scene_path)
 
@@ -131,8 +131,15 @@ contains
       else
         call say('rebond ' // VERSION // ': ' // scene_path)
       end if
-      call say('  ' // str(scn%mesh%nnode) // ' nodes, ' // str(scn%mesh%nelem) // ' elements, ' // str(sys%dofs%neq) // &
-        ' equations')
+      ! The elements of the models (a Gmsh mesh also brings its boundary lines and points, which no
+      ! MODEL takes: counted apart).
+      nmod = count(scn%elem_model > 0)
+      if (nmod == scn%mesh%nelem) then
+        call say('  ' // str(scn%mesh%nnode) // ' nodes, ' // str(nmod) // ' elements, ' // str(sys%dofs%neq) // ' equations')
+      else
+        call say('  ' // str(scn%mesh%nnode) // ' nodes, ' // str(nmod) // ' elements, ' // str(sys%dofs%neq) // &
+          ' equations (and ' // str(scn%mesh%nelem - nmod) // ' mesh elements in no MODEL, not modelled)')
+      end if
       if (size(scn%conditions) > 0) call say('  contact conditions: ' // str(size(scn%conditions)) // ', IMPACT ' // &
         trim(IMPACT_NAMES(scn%impact)) // trim(merge(' (AUTO)', '       ', scn%impact_auto)))
       do im = 1, size(scn%models)
@@ -197,6 +204,8 @@ contains
     end if
     if (summary%factorizations > 1) call say('  iteration matrix factorized ' // str8(int(summary%factorizations, 8)) // &
       ' times (ITERATION TANGENT or AUTO, SCHEME RETRY)')
+    if (summary%geometric_dropped > 0) call say('  ' // str8(summary%geometric_dropped) // ' of them again without ' // &
+      'the compressive geometric stiffness (the tangent with it was not positive definite)')
     if (summary%retried > summary%impact_retried) call say('  ' // str(summary%retried - summary%impact_retried) // &
       ' steps did not converge and were taken again as sub-steps (SCHEME RETRY; up to ' // str(summary%max_substeps) // &
       ' per step)')

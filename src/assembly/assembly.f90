@@ -5,7 +5,7 @@ module assembly
   use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, check_alloc
   use mesh, only: DOF_NAMES
-  use element_traits, only: ET_BEAM2, etype_needs_material
+  use element_traits, only: ET_BEAM2, etype_needs_material, etype_family, FAMILY_SURFACE
   use contact_modes, only: IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use loads, only: load_nodal_forces
   use follower_loads, only: follower_set_t
@@ -64,6 +64,9 @@ module assembly
     type(pair_block_t) :: mblk               !< M by node blocks, where they pay (mass_times; pair_blocks)
     real(dp), allocatable :: mcomp(:)
     real(dp), allocatable :: tval(:)         !< tangent stiffness on the pattern (ITERATION TANGENT)
+    !> The compressive part of the LARGE surface elements' geometric stiffness (negative semi-
+    !> definite), apart from tval: the iteration matrix adds it where S stays positive definite.
+    real(dp), allocatable :: gval(:)
     real(dp), allocatable :: cval(:)         !< Rayleigh damping C = Σ (alpha M_e + beta K0_e) (MODEL DAMPING)
     type(k0_product_t) :: k0u                !< Bσ = K0 u for a linear elastic small-strain model
   end type operators_t
@@ -119,7 +122,7 @@ contains
     type(system_t), intent(out) :: sys
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: ast
+    integer :: ast, k
     integer, allocatable :: body(:)
     stat = STAT_OK
     call build_dof_map(scn, sys%dofs%eqn, sys%dofs%neq)
@@ -174,6 +177,10 @@ contains
     if (scn%tangent .and. .not. sys%elems%linear) then
       allocate (sys%ops%tval(sys%ops%pat%nnz))
       sys%ops%tval = sys%ops%kval
+      if (any([(scn%models(k)%large .and. etype_family(scn%models(k)%etype) == FAMILY_SURFACE, k = 1, size(scn%models))])) then
+        allocate (sys%ops%gval(sys%ops%pat%nnz))
+        sys%ops%gval = 0.0_dp
+      end if
     end if
   end subroutine build_system
 

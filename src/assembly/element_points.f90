@@ -23,6 +23,7 @@ module element_points
     logical :: von_mises = .false.   !< VON_MISES (with large: on the Green-Lagrange strain, PK2 stress)
     logical :: log_strain = .false.  !< STRAIN_MEASURE LOG: the points' pair is the Hencky strain and its stress
     logical :: pstress = .false.     !< plane stress (surface elements)
+    logical :: bbar = .false.        !< FORMULATION BBAR: the element's mean dilatation at its points
     logical :: per_length = .false.  !< the strain is an elongation over the length (BAR2), not an elongation (SPRING)
   end type model_view_t
 
@@ -50,6 +51,7 @@ contains
     if (mv%mat > 0) mv%von_mises = scn%materials(mv%mat)%law == LAW_VON_MISES
     mv%pstress = sys%elems%pk(im) == PK_PSTRESS
     mv%log_strain = scn%models(im)%log_strain
+    mv%bbar = scn%models(im)%bbar
   end subroutine view_model
 
   !> One point through its law (material_law's law_update, sub-incremented along the step from

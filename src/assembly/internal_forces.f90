@@ -11,7 +11,8 @@ module internal_forces
   use material_law, only: law_step_t
   use element_points, only: model_view_t, view_model, point_update
   use element_table, only: element_table_t, add_btdb
-  use large_kinematics, only: large_axial_element, large_plane_element, large_beam_element
+  use large_kinematics, only: large_axial_element, large_beam_element
+  use large_plane, only: large_plane_element
   use subincrement, only: correction_stress
   implicit none
   private
@@ -51,7 +52,8 @@ contains
     integer, intent(in), optional :: elist(:)
     type(model_view_t) :: mv
     integer :: e, ndof, nstr, ng, g0, k, j, e0, ie, nel
-    real(dp) :: ue(MAX_EDOF), une(MAX_EDOF), fe(MAX_EDOF), fc(MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), wsum, dsum, esum
+    real(dp) :: ue(MAX_EDOF), une(MAX_EDOF), fe(MAX_EDOF), fc(MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), kg(MAX_EDOF, MAX_EDOF), &
+      wsum, dsum, esum
     real(qp) :: esumq
     logical :: any_c
     if (sys%ops%k0u%active() .and. .not. (tangent .or. present(elist) .or. sys%extended)) then
@@ -79,6 +81,7 @@ contains
       if (sys%extended) sys%fint_q = 0.0_qp
       fcorr = 0.0_dp
       if (tangent) sys%ops%tval = 0.0_dp
+      if (tangent .and. allocated(sys%ops%gval)) sys%ops%gval = 0.0_dp
       if (sys%react%nslot > 0) sys%react%fc_t = 0.0_dp
     end if
     sys%elems%inverted = 0
@@ -116,8 +119,11 @@ contains
         else if (mv%per_length .or. nstr == 1) then
           call large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
         else
-          call large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, &
-            dsum)
+          if (tangent) kg(1:ndof, 1:ndof) = 0.0_dp
+          call large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, any_c, &
+            wsum, dsum)
+          if (tangent .and. allocated(sys%ops%gval)) call sys%ops%pat%add_element(sys%ops%gval, &
+            sys%elems%edof(e0:e0 + ndof - 1), kg(1:ndof, 1:ndof))
         end if
       else if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1)) then
         call linear_element(sys%elems, sys%pts%eps_t, sys%pts%sig_t, g0, ng, ndof, nstr, mv%im, ue, tangent, fe, ke, esum)

@@ -14,7 +14,7 @@ module log_strain
   use lapack_pure, only: dsyev
   implicit none
   private
-  public :: hencky_strain, log_tangent
+  public :: hencky_strain, log_tangent, log_curvature, positive_inplane
 
 contains
 
@@ -76,11 +76,22 @@ contains
   pure subroutine log_tangent(e, t, p, dm)
     real(dp), intent(in) :: e(4), t(4), p(4, 4)
     real(dp), intent(inout) :: dm(4, 4)
-    real(dp) :: dl, l(4), pp(4, 4), pm(4, 4), ep(4), g(4, 4), a(3, 3), w(3), work(16), smin
-    integer :: k, info, i
-    logical :: okp, okm
+    real(dp) :: g(4, 4), a(3, 3)
     integer, parameter :: ip(3) = [1, 2, 4]
     dm = matmul(transpose(p), matmul(dm, p))
+    call log_curvature(e, t, g)
+    a = dm(ip, ip) + 0.5_dp * (g(ip, ip) + transpose(g(ip, ip)))
+    call positive_inplane(a, dm)
+  end subroutine log_tangent
+
+  !> g = T : d²ℓ/dE² (4 x 4 on E, not yet symmetric), by central differences of P at fixed T (step
+  !> 1e-5 of the smallest stretch²): the part of dS/dE that the log map's curvature gives.
+  pure subroutine log_curvature(e, t, g)
+    real(dp), intent(in) :: e(4), t(4)
+    real(dp), intent(out) :: g(4, 4)
+    real(dp) :: dl, l(4), pp(4, 4), pm(4, 4), ep(4), smin
+    integer :: k
+    logical :: okp, okm
     g = 0.0_dp
     smin = 1.0_dp + (e(1) + e(2)) - hypot(e(1) - e(2), e(4))      ! 1 + 2 (smallest eigenvalue of E)
     dl = 1.0e-5_dp * min(1.0_dp, max(smin, 0.0_dp))
@@ -93,7 +104,16 @@ contains
       call hencky_strain(ep, l, pm, okm)
       if (okp .and. okm) g(:, k) = matmul(t, pp - pm) / (2.0_dp * dl)
     end do
-    a = dm(ip, ip) + 0.5_dp * (g(ip, ip) + transpose(g(ip, ip)))
+  end subroutine log_curvature
+
+  !> The in-plane block a (xx, yy, xy rows of a 4 x 4 on E) symmetrized and kept to its positive
+  !> part, into dm(ip, ip) (the rest of dm untouched); a failed eigensolve leaves dm as it was.
+  pure subroutine positive_inplane(a, dm)
+    real(dp), intent(inout) :: a(3, 3)
+    real(dp), intent(inout) :: dm(4, 4)
+    real(dp) :: w(3), work(16)
+    integer :: info, i
+    integer, parameter :: ip(3) = [1, 2, 4]
     a = 0.5_dp * (a + transpose(a))
     call dsyev('V', 'U', 3, a, 3, w, work, size(work), info)
     if (info /= 0) return
@@ -101,7 +121,7 @@ contains
     do i = 1, 3
       if (w(i) > 0.0_dp) dm(ip, ip) = dm(ip, ip) + w(i) * spread(a(:, i), 2, 3) * spread(a(:, i), 1, 3)
     end do
-  end subroutine log_tangent
+  end subroutine positive_inplane
 
   !> Voigt (xx, yy, 2xy) strain components in the frame turned by the angle (c, s).
   pure function strain_rotation(c, s) result(q)

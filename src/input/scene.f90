@@ -59,6 +59,7 @@ module scene
     integer :: substeps = 0       !< sub-increments of the laws (Cast3M SOUS_INCREMENT); 0 = AUTO, NSUB_EXACT = EXACT
     logical :: large = .false.    !< KINEMATICS LARGE: strains from the current configuration
     logical :: log_strain = .false. !< STRAIN_MEASURE LOG: a LARGE surface element on the Hencky strain
+    logical :: bbar = .false.     !< FORMULATION BBAR: the element's mean dilatation at its points (B-bar, F-bar)
     real(dp) :: alpha = 0.0_dp    !< DAMPING ALPHA: Rayleigh C = alpha M + beta K0 of the model (1/s)
     real(dp) :: beta = 0.0_dp     !< DAMPING BETA (s)
     integer :: line = 0

@@ -3,7 +3,8 @@
 module scene_models
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
-  use material_law, only: material_t, law_check, law_is_linear, LAW_ELASTOPLASTIC, LAW_VON_MISES, LAW_ELASTIC
+  use material_law, only: material_t, law_check, law_is_linear, LAW_ELASTOPLASTIC, LAW_VON_MISES, LAW_ELASTIC, &
+    LAW_HYPERELASTIC
   use law_types, only: NSUB_EXACT
   use statement, only: statement_t, stmt_error, find_param, get_int, get_word, get_real
   use statement_schema, only: schema_t
@@ -12,7 +13,7 @@ module scene_models
   use scene_helpers, only: get_etype, model_size
   use number_text, only: real_text
   use element_traits, only: FAMILY_LINE, etype_family, etypes_of_family, etype_needs_material, etype_section_needs, &
-    etype_name, etype_nen, ET_MASS, ET_BAR2
+    etype_name, etype_nen, ET_MASS, ET_BAR2, ET_QUAD4, ET_TRI3, FAMILY_SURFACE
   implicit none
   private
   public :: models_schema, models_statement, default_mass, check_tuned
@@ -21,6 +22,9 @@ module scene_models
   real(dp), parameter :: COURANT_TOL = 1.0e-9_dp
 
   real(dp), parameter :: MAX_DAMPING = 1.0e100_dp   !< DAMPING ALPHA and BETA at most
+
+  !> An ELASTIC POISSON from which FORMULATION AUTO takes BBAR (bulk over shear modulus >= 50).
+  real(dp), parameter :: NEARLY_INCOMPRESSIBLE = 0.49_dp
 
 contains
 
@@ -36,6 +40,7 @@ contains
     call sch%add_param('MODEL', 'KINEMATICS', 1, 1)
     call sch%add_param('MODEL', 'STRAIN_MEASURE', 1, 1)
     call sch%add_param('MODEL', 'DAMPING', 2, 4)
+    call sch%add_param('MODEL', 'FORMULATION', 1, 1)
   end subroutine models_schema
 
   !> One models statement (pass 2 of load_scene).
@@ -162,6 +167,7 @@ contains
     if (stat /= STAT_OK) return
     if (md%material > 0) call check_model_law(st, md, scn%materials(md%material), stat, errmsg)
     if (stat == STAT_OK) call get_strain(st, md, scn, stat, errmsg)
+    if (stat == STAT_OK) call get_formulation(st, md, scn, stat, errmsg)
     if (stat /= STAT_OK) return
     imodel = size(scn%models) + 1
     associate (items => scn%mesh%egroups(ig)%items)
@@ -438,6 +444,63 @@ contains
       md%log_strain = upper(w) == 'LOG'
     end if
   end subroutine get_strain
+
+  !> FORMULATION AUTO | BBAR | STANDARD (default AUTO): BBAR gives every point of a plane-strain
+  !> surface element the element's mean dilatation (docs/locking.md): in small strain B-bar, the
+  !> in-plane trace of B replaced by its volume mean over the element's points; in KINEMATICS LARGE
+  !> the same on the strain the law sees (with STRAIN_MEASURE LOG the in-plane trace of the Hencky
+  !> strain is ln J: F-bar, J replaced by the element's geometric mean), the points' in-plane
+  !> pressure by the element's mean in the forces. The strain stays linear in the points' strains,
+  !> so eq (9)'s discrete gradients and the energy identity are unchanged. AUTO: BBAR for QUAD4 in
+  !> plane strain with VON_MISES (isochoric flow: standard QUAD4 locks) or ELASTIC with POISSON >=
+  !> 0.49 (a ν = 0.4999 cantilever deflects 6 % of its due at 80 x 8: tests/scenes/locking),
+  !> STANDARD otherwise. TRI3 has one point (nothing to average: use QUAD4 or TRI6); plane stress
+  !> has no volumetric constraint to relieve (the thickness is free).
+  subroutine get_formulation(st, md, scn, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(model_t), intent(inout) :: md
+    type(scene_t), intent(in) :: scn
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: w
+    integer :: k, law
+    logical :: auto
+    stat = STAT_OK
+    law = 0
+    if (md%material > 0) law = scn%materials(md%material)%law
+    auto = md%etype == ET_QUAD4 .and. .not. md%sec%plane_stress .and. law == LAW_VON_MISES
+    if (law == LAW_ELASTIC) auto = md%etype == ET_QUAD4 .and. .not. md%sec%plane_stress .and. &
+      scn%materials(md%material)%poisson >= NEARLY_INCOMPRESSIBLE
+    md%bbar = auto
+    k = find_param(st, 'FORMULATION')
+    if (k == 0) return
+    call get_word(st, 'FORMULATION', w, stat, errmsg)
+    if (stat /= STAT_OK) return
+    select case (upper(w))
+    case ('STANDARD')
+      md%bbar = .false.
+    case ('AUTO')
+      md%bbar = auto
+    case ('BBAR')
+      if (etype_family(md%etype) /= FAMILY_SURFACE .or. md%material == 0) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORMULATION BBAR is for surface elements (QUAD4, ' // &
+          'QUAD8, TRI6) with a material', st%params(k)%values(1)))
+      else if (md%etype == ET_TRI3) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORMULATION BBAR on TRI3: its one point is its ' // &
+          'mean already (TRI3 locks under isochoric flow: use QUAD4, which takes BBAR, or TRI6)', st%params(k)%values(1)))
+      else if (law == LAW_HYPERELASTIC) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORMULATION BBAR is not offered for HYPERELASTIC ' // &
+          '(its volumetric energy is in ln J, not in the strain the mean dilatation acts on)', st%params(k)%values(1)))
+      else if (md%sec%plane_stress) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORMULATION BBAR in plane stress: the thickness is ' // &
+          'free, there is no volumetric locking to relieve (PLANE STRAIN takes it)', st%params(k)%values(1)))
+      else
+        md%bbar = .true.
+      end if
+    case default
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected AUTO, BBAR or STANDARD', st%params(k)%values(1)))
+    end select
+  end subroutine get_formulation
 
   subroutine get_damping(st, md, stat, errmsg)
     type(statement_t), intent(in) :: st

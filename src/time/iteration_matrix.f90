@@ -34,6 +34,7 @@ module iteration_matrix
     logical :: switched = .false.                !< AUTO: S became a tangent in this step
     real(dp) :: ratio = 0.0_dp                   !< AUTO: a factorization's cost in solves
     integer(8), public :: n_factor = 0           !< factorizations made (setup included)
+    integer(8), public :: n_geometric_dropped = 0 !< tangents factorized again without their compressive geometric part
   contains
     procedure :: setup => mat_setup
     procedure :: begin_step => mat_begin_step
@@ -81,15 +82,17 @@ contains
 
   !> S = K + 4M/h² + 2C/h on the shared pattern (K: K0 or the tangent; C: Rayleigh damping, whose
   !> trapezoid term ½C (v(n) + v(n+1)) = C du/h enters eq (9), multiplied by 2, as 2C du/h).
-  subroutine step_matrix(self, sys, kvals)
+  subroutine step_matrix(self, sys, kvals, gvals)
     type(iteration_matrix_t), intent(inout) :: self
     type(system_t), intent(in) :: sys
     real(dp), intent(in) :: kvals(:)
+    real(dp), intent(in), optional :: gvals(:)    !< added to K (the compressive geometric stiffness)
     if (allocated(sys%ops%cval)) then
       self%sval = kvals + self%c4 * sys%ops%mval + (2.0_dp / self%h) * sys%ops%cval
     else
       self%sval = kvals + self%c4 * sys%ops%mval
     end if
+    if (present(gvals)) self%sval = self%sval + gvals
   end subroutine step_matrix
 
   pure subroutine mat_begin_step(self)
@@ -157,9 +160,17 @@ contains
     stat = STAT_OK
     refactored = (self%tangent .and. .not. self%fallback) .or. self%refactor_next
     if (.not. refactored) return
-    call step_matrix(self, sys, sys%ops%tval)
+    call step_matrix(self, sys, sys%ops%tval, sys%ops%gval)
     call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg)
     self%n_factor = self%n_factor + 1
+    if (stat /= STAT_OK .and. allocated(sys%ops%gval)) then
+      ! The compressive geometric stiffness made S indefinite (a far iterate, a buckling member):
+      ! the tangent without it, positive definite.
+      self%n_geometric_dropped = self%n_geometric_dropped + 1
+      call step_matrix(self, sys, sys%ops%tval)
+      call self%factor%factorize(sys%ops%pat, self%sval, stat, errmsg)
+      self%n_factor = self%n_factor + 1
+    end if
     if (self%refactor_next) then
       self%refactor_next = .false.
       self%on_tangent = .true.

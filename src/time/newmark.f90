@@ -50,6 +50,7 @@ module newmark
     integer :: impact_retried = 0            !< of which for their impact correction (impact_short)
     integer :: max_substeps = 1              !< the most sub-steps one step took
     integer(8) :: factorizations = 0         !< of the iteration matrix S (setup, TANGENT, AUTO, RETRY)
+    integer(8) :: geometric_dropped = 0      !< of them, tangents factorized again without their compressive geometric part
     type(factor_stats_t) :: factor           !< the factor of S as CHOLMOD's analysis made it
     ! Contact multipliers (contact_multipliers): Schur columns computed (solves with S), trial
     ! active sets solved by Schur / by the augmented system, its LU factorizations.
@@ -748,6 +749,7 @@ contains
     summary%retried = rs%retried
     summary%impact_retried = rs%impact_retried
     summary%factorizations = rs%mat%n_factor + rs%mat_sub%n_factor
+    summary%geometric_dropped = rs%mat%n_geometric_dropped + rs%mat_sub%n_geometric_dropped
     summary%factor = rs%mat%factor%stats()
     summary%max_substeps = rs%max_sub
     summary%max_rel_balance = rs%en%relative_balance()
@@ -807,6 +809,7 @@ contains
     ! ITERATION TANGENT and AUTO start a step from the tangent of the last iterate: kept, so that
     ! a restart iterates with the same matrix (bit for bit).
     if (allocated(sys%ops%tval)) call ck%put('tangent', sys%ops%tval, stat, errmsg)
+    if (allocated(sys%ops%gval)) call ck%put('tangent_geometric', sys%ops%gval, stat, errmsg)
     call refresh_points(scn, sys, rs%st%u, .false.)
     call save_points(sys, ck, stat, errmsg)
     call rs%en%save(ck, stat, errmsg)
@@ -850,6 +853,7 @@ contains
     call rs%st%load(ck, stat, errmsg)
     call rs%mat%load(sys, ck, stat, errmsg)
     if (allocated(sys%ops%tval)) call ck%get('tangent', sys%ops%tval, stat, errmsg)
+    if (allocated(sys%ops%gval)) call ck%get('tangent_geometric', sys%ops%gval, stat, errmsg)
     call load_points(sys, ck, stat, errmsg)
     call rs%en%load(ck, stat, errmsg)
     if (rs%has_contact) call rs%cs%load(ck, stat, errmsg)

@@ -1,0 +1,470 @@
+!> KINEMATICS LARGE surface elements (QUAD4, QUAD8, TRI3, TRI6; docs/large-displacements.md):
+!> total Lagrangian, the strains of the current configuration at each point, the forces Bσ(n+1)
+!> and the correction force of eq (9) from a discrete gradient, so that the step's internal work is
+!> the laws' exact path work. FORMULATION BBAR (docs/locking.md): the points' strains take the
+!> element's mean dilatation, and their forces the element's mean pressure.
+module large_plane
+  use kinds, only: dp
+  use scene, only: scene_t
+  use assembly, only: system_t
+  use elements, only: MAX_EDOF, MAX_GAUSS
+  use material_law, only: law_step_t
+  use element_points, only: model_view_t, point_update
+  use law_hyperelastic, only: nh_stress, nh_tangent, nh_discrete_stress
+  use log_strain, only: hencky_strain, log_tangent, log_curvature, positive_inplane
+  implicit none
+  private
+  public :: large_plane_element
+
+  integer, parameter :: MAX_NEN = MAX_EDOF / 2
+  real(dp), parameter :: EYE(2, 2) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 2])
+  real(dp), parameter :: I2(4) = [1.0_dp, 1.0_dp, 0.0_dp, 0.0_dp]   !< the in-plane identity (Voigt)
+
+  !> One point of the element during a trial: kinematics, the law's strains and stresses.
+  type :: plane_pt_t
+    real(dp) :: dn(2, MAX_NEN)       !< ∇N (reference)
+    real(dp) :: fn(2, 2), f1(2, 2)   !< F(n), F(n+1)
+    real(dp) :: en(4), e1(4)         !< Green-Lagrange strains
+    real(dp) :: ln(4), l1(4)         !< the strains the law sees (E, or ℓ; with BBAR ℓ̄)
+    real(dp) :: lon(4), lo1(4)       !< the point's own ℓ (the secant of its log map; = ln, l1 without BBAR)
+    real(dp) :: pn(4, 4), pl(4, 4)   !< dℓ/dE at n and n+1 (log strain)
+    real(dp) :: tn(4), t1(4), tbar(4)  !< stresses on ℓ (with BBAR: the element's mean pressure)
+    real(dp) :: dm(4, 4)             !< the law's tangent on ℓ
+    real(dp) :: wpt, dpt    !< path work and its dissipated part
+  end type plane_pt_t
+
+contains
+
+  !> KINEMATICS LARGE, QUAD4/QUAD8/TRI3/TRI6 with the ELASTIC law: total Lagrangian, St Venant-
+  !> Kirchhoff (docs/large-displacements.md); with HYPERELASTIC, neo-Hookean: S = S(E) of
+  !> law_hyperelastic and S̄ its discrete stress (S̄·ΔE = Δψ exactly, symmetric), the rest alike;
+  !> with VON_MISES, the small-strain J2 law on the pair (E, S) (large rotations, small strains:
+  !> code_aster's GROT_GDEP), sub-incremented along the segment [E(n), E(n+1)] by point_update,
+  !> S̄ its path-mean stress: S̄·ΔE is the law's path work (stored + dissipated), exactly.
+  !> At each point F = I + Σ u_a ⊗ ∇N_a (∇N from the reference B, bref), the Green-Lagrange
+  !> strain E = ½(F'F - I) (as xx, yy, zz = 0, 2xy) and the
+  !> second Piola-Kirchhoff stress S = D E. Bσ(n+1) = w B_NL(F(n+1))' S(n+1), B_NL(F) the
+  !> derivative of E. E is quadratic in u, so B_NL(F_mid) Δu = ΔE exactly (F_mid = (F(n) + F(n+1))/2),
+  !> and with S̄ = D (E(n) + E(n+1))/2 the step force f̄ = w B_NL(F_mid)' S̄ does the work
+  !> S̄ ΔE = Δψ exactly (Simo and Tarnow's energy-momentum step for this material): Bσc of eq (9)
+  !> is 2 f̄ - f(n) - f(n+1). The tangent: w B_NL' D B_NL + the geometric part with the tensile
+  !> part of S (positive definite however far an iterate goes). bmat keeps B_NL(F(n+1)) for the
+  !> support reactions; the points report E and S. STRAIN_MEASURE LOG: the law on the Hencky strain
+  !> and S̄ = G'T̄, G a secant of the log map (secant_stress); bmat then keeps P B_NL and the points report (ℓ, T).
+  !> FORMULATION BBAR (mean_dilatation): the law sees ℓ̄ = ℓ + ½(<tr ℓ> - tr ℓ) I₂ (tr the in-plane
+  !> trace, <> the element's volume mean), which is linear in the points' ℓ: the forces take
+  !> T̃ = T + ½(<tr T> - tr T) I₂ at every point (mean_pressure), the step's work Σ w T̄·Δℓ̄ stays
+  !> exact through the same secants, and bmat keeps the B of ℓ̄ (the support reactions' Σ w B'T).
+  subroutine large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, any_c, wsum, &
+                                 dsum)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(model_view_t), intent(in) :: mv
+    integer, intent(in) :: e, g0, ng, ndof
+    real(dp), intent(in) :: ue(:), une(:)
+    logical, intent(in) :: correct, tangent
+    real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum, dsum
+    real(dp), intent(inout) :: kg(:, :)   !< with tangent: += the compressive part of the geometric stiffness
+    logical, intent(inout) :: any_c
+    type(plane_pt_t) :: pt(MAX_GAUSS)
+    real(dp) :: mrow(MAX_EDOF), b1(4, MAX_EDOF)
+    integer :: k
+    fc(1:ndof) = 0.0_dp
+    do k = 1, ng
+      call point_kinematics(sys, mv, e, g0 + k - 1, ndof / 2, ue, une, pt(k))
+    end do
+    if (mv%bbar) call mean_dilatation(sys%elems%wt(g0:g0 + ng - 1), pt(1:ng))
+    do k = 1, ng
+      call point_law(scn, sys, mv, g0 + k - 1, tangent, correct, pt(k))
+    end do
+    if (mv%bbar) then
+      call mean_pressure(sys%elems%wt(g0:g0 + ng - 1), sys%pts%sig(1:4, g0:g0 + ng - 1), pt(1:ng))
+      mrow(1:ndof) = 0.0_dp
+      do k = 1, ng                ! <b_v>: the mean of the in-plane trace rows of P B_NL(F(n+1))
+        call bnl(pt(k)%f1, pt(k)%dn, ndof / 2, b1)
+        call add_trace_row(sys%elems%wt(g0 + k - 1) / sum(sys%elems%wt(g0:g0 + ng - 1)), pt(k), b1, ndof, mrow)
+      end do
+    end if
+    do k = 1, ng
+      call point_forces(sys, mv, g0 + k - 1, ndof, correct, tangent, pt(k), mrow, fe, fc, ke, kg, wsum, dsum)
+    end do
+    any_c = any_c .or. correct
+  end subroutine large_plane_element
+
+  !> Point igp's ∇N, F and E at n and n+1, and the strains its law will see (E, or ℓ and P).
+  subroutine point_kinematics(sys, mv, e, igp, nen, ue, une, q)
+    type(system_t), intent(inout) :: sys
+    type(model_view_t), intent(in) :: mv
+    integer, intent(in) :: e, igp, nen
+    real(dp), intent(in) :: ue(:), une(:)
+    type(plane_pt_t), intent(inout) :: q
+    real(dp) :: hn(2, 2), h1(2, 2)
+    integer :: a, p
+    logical :: okn, ok1
+    p = sys%elems%b_ptr(igp)
+    do a = 1, nen
+      q%dn(1, a) = sys%elems%bref(p + (2 * a - 2) * 4)          ! B(1, 2a-1) = dN_a/dX
+      q%dn(2, a) = sys%elems%bref(p + (2 * a - 1) * 4 + 1)      ! B(2, 2a)   = dN_a/dY
+    end do
+    hn = grad(une)
+    h1 = grad(ue)
+    q%fn = hn + EYE
+    q%f1 = h1 + EYE
+    ! An element turned inside out (det F <= 0) has no strain energy of its own to show it:
+    ! reported to the step (iterate_eq9), as for the axial members.
+    if (sys%elems%inverted == 0 .and. q%f1(1, 1) * q%f1(2, 2) - q%f1(1, 2) * q%f1(2, 1) <= 0.0_dp) sys%elems%inverted = e
+    q%en = green(hn)
+    q%e1 = green(h1)
+    if (mv%log_strain) then
+      call hencky_strain(q%en, q%ln, q%pn, okn)
+      call hencky_strain(q%e1, q%l1, q%pl, ok1)
+      ! C singular: det F = 0, which is reported as an inversion.
+      if (.not. (okn .and. ok1)) q%l1 = q%ln
+    else
+      q%ln = q%en
+      q%l1 = q%e1
+      q%pn = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, &
+        0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [4, 4])
+      q%pl = q%pn
+    end if
+    q%lon = q%ln
+    q%lo1 = q%l1
+  contains
+    !> The displacement gradient H = Σ u_a ⊗ ∇N_a (F = I + H).
+    pure function grad(u) result(f)
+      real(dp), intent(in) :: u(:)
+      real(dp) :: f(2, 2)
+      integer :: k
+      f = 0.0_dp
+      do k = 1, nen
+        f(1, :) = f(1, :) + u(2 * k - 1) * q%dn(:, k)
+        f(2, :) = f(2, :) + u(2 * k) * q%dn(:, k)
+      end do
+    end function grad
+    !> E = ½(H + H' + H'H) as [Exx, Eyy, 0, 2 Exy] (the engineering shear, as the small strain's
+    !> γ), from H: ½(F'F - I) would lose a small strain to round-off.
+    pure function green(h) result(eg)
+      real(dp), intent(in) :: h(2, 2)
+      real(dp) :: eg(4), c(2, 2)
+      c = matmul(transpose(h), h)
+      eg = [h(1, 1) + 0.5_dp * c(1, 1), h(2, 2) + 0.5_dp * c(2, 2), 0.0_dp, h(1, 2) + h(2, 1) + c(1, 2)]
+    end function green
+  end subroutine point_kinematics
+
+  !> FORMULATION BBAR, the strains: at every point the in-plane trace of the strain the law sees
+  !> replaced by the element's volume mean (weights w), at n and at n+1:
+  !>     ℓ̄ = ℓ + ½ (<tr ℓ> - tr ℓ) I₂,   <tr ℓ> = Σ w tr ℓ / Σ w.
+  !> On the Hencky strain tr ℓ = ln J (plane strain), so J̄ is the element's geometric mean of J at
+  !> every point (F-bar); in small strain it is B-bar. ℓ̄ is linear in the points' ℓ.
+  pure subroutine mean_dilatation(w, pt)
+    real(dp), intent(in) :: w(:)
+    type(plane_pt_t), intent(inout) :: pt(:)
+    real(dp) :: mn, m1
+    integer :: k
+    mn = 0.0_dp
+    m1 = 0.0_dp
+    do k = 1, size(pt)
+      mn = mn + w(k) * (pt(k)%ln(1) + pt(k)%ln(2))
+      m1 = m1 + w(k) * (pt(k)%l1(1) + pt(k)%l1(2))
+    end do
+    mn = mn / sum(w)
+    m1 = m1 / sum(w)
+    do k = 1, size(pt)
+      pt(k)%ln = pt(k)%ln + 0.5_dp * (mn - (pt(k)%ln(1) + pt(k)%ln(2))) * I2
+      pt(k)%l1 = pt(k)%l1 + 0.5_dp * (m1 - (pt(k)%l1(1) + pt(k)%l1(2))) * I2
+    end do
+  end subroutine mean_dilatation
+
+  !> FORMULATION BBAR, the stresses: the virtual work Σ w T·δℓ̄ = Σ w T̃·δℓ with
+  !>     T̃ = T + ½ (<tr T> - tr T) I₂,
+  !> each point's in-plane deviator and the element's mean in-plane pressure; for T(n) (sn, the
+  !> committed stresses), T(n+1) and the step's T̄ alike (so Σ w T̃̄·Δℓ = Σ w T̄·Δℓ̄, the laws' work).
+  pure subroutine mean_pressure(w, sn, pt)
+    real(dp), intent(in) :: w(:), sn(:, :)
+    type(plane_pt_t), intent(inout) :: pt(:)
+    real(dp) :: mn, m1, mb
+    integer :: k
+    mn = 0.0_dp
+    m1 = 0.0_dp
+    mb = 0.0_dp
+    do k = 1, size(pt)
+      mn = mn + w(k) * (sn(1, k) + sn(2, k))
+      m1 = m1 + w(k) * (pt(k)%t1(1) + pt(k)%t1(2))
+      mb = mb + w(k) * (pt(k)%tbar(1) + pt(k)%tbar(2))
+    end do
+    mn = mn / sum(w)
+    m1 = m1 / sum(w)
+    mb = mb / sum(w)
+    do k = 1, size(pt)
+      pt(k)%tn = sn(1:4, k) + 0.5_dp * (mn - (sn(1, k) + sn(2, k))) * I2
+      pt(k)%t1 = pt(k)%t1 + 0.5_dp * (m1 - (pt(k)%t1(1) + pt(k)%t1(2))) * I2
+      pt(k)%tbar = pt(k)%tbar + 0.5_dp * (mb - (pt(k)%tbar(1) + pt(k)%tbar(2))) * I2
+    end do
+  end subroutine mean_pressure
+
+  !> mrow += wr (I₂' P(n+1) B_NL(F(n+1))): a point's share of the mean in-plane trace row of dℓ/du.
+  pure subroutine add_trace_row(wr, q, b1, ndof, mrow)
+    real(dp), intent(in) :: wr, b1(:, :)
+    type(plane_pt_t), intent(in) :: q
+    integer, intent(in) :: ndof
+    real(dp), intent(inout) :: mrow(:)
+    integer :: a
+    do a = 1, ndof
+      mrow(a) = mrow(a) + wr * dot_product(q%pl(1, :) + q%pl(2, :), b1(:, a))
+    end do
+  end subroutine add_trace_row
+
+  !> Point igp through its law from the strains q%ln to q%l1 (the law's committed state at n): the
+  !> stresses T(n), T(n+1), the step's T̄ (T̄·Δℓ is the law's path work, wpt; dissipated part
+  !> dpt) and the law's tangent dm on ℓ (the tangent of 2T̄ with the correction, where the law has
+  !> it). ELASTIC: the Hencky material on ℓ, T = D ℓ (St Venant-Kirchhoff on E); HYPERELASTIC:
+  !> neo-Hookean on E; VON_MISES: J2 additive in ℓ (or on E), sub-incremented by point_update.
+  !> The point keeps (and reports) its pair (ℓ, T) in eps_t, sig_t.
+  subroutine point_law(scn, sys, mv, igp, tangent, correct, q)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(model_view_t), intent(in) :: mv
+    integer, intent(in) :: igp
+    logical, intent(in) :: tangent, correct
+    type(plane_pt_t), intent(inout) :: q
+    type(law_step_t) :: r
+    q%dpt = 0.0_dp
+    q%tn = sys%pts%sig(1:4, igp)
+    if (mv%hyper) then
+      q%t1 = nh_stress(mv%lame, q%e1, mv%pstress)
+      q%tbar = nh_discrete_stress(mv%lame, q%en, q%e1, mv%pstress)
+      if (tangent) q%dm = nh_tangent(mv%lame, q%e1, mv%pstress)
+    else if (mv%von_mises) then
+      call point_update(scn, sys, mv, igp, q%ln, q%l1 - q%ln, r)
+      q%t1 = r%sig(1:4)
+      q%tbar = r%sigbar(1:4)
+      q%dpt = r%dissip
+      if (tangent) q%dm = r%dtan(1:4, 1:4)
+      if (tangent .and. correct .and. r%has_dbar) q%dm = r%dbar(1:4, 1:4)
+    else
+      q%t1 = matmul(sys%elems%dmat(1:4, 1:4, mv%im), q%l1)
+      q%tbar = 0.5_dp * (q%tn + q%t1)
+      if (tangent) q%dm = sys%elems%dmat(1:4, 1:4, mv%im)
+    end if
+    sys%pts%eps_t(1:4, igp) = q%l1
+    sys%pts%sig_t(1:4, igp) = q%t1
+    q%wpt = dot_product(q%tbar, q%l1 - q%ln)
+  end subroutine point_law
+
+  !> Point igp's share of the element's forces: f(n+1) += w B_NL(F(n+1))' S(n+1), the correction
+  !> fc += w (2 B_NL(F_mid)' S̄ - B_NL(F(n))' S(n) - f(n+1)'s), S = P'T (S = T on E) and S̄ = G'T̄
+  !> (secant_stress); the work and dissipation sums; bmat; with tangent, ke += the point's tangent:
+  !> w B' (P'DP + T:d²ℓ/dE², positive part) B + the geometric part with the tensile part of S.
+  !> With BBAR the material part is w B̄'D B̄ (B̄ the B of ℓ̄: mrow, the mean trace row) and the log
+  !> map's curvature keeps its positive part alone.
+  subroutine point_forces(sys, mv, igp, ndof, correct, tangent, q, mrow, fe, fc, ke, kg, wsum, dsum)
+    type(system_t), intent(inout) :: sys
+    type(model_view_t), intent(in) :: mv
+    integer, intent(in) :: igp, ndof
+    logical, intent(in) :: correct, tangent
+    type(plane_pt_t), intent(in) :: q
+    real(dp), intent(in) :: mrow(:)
+    real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), kg(:, :), wsum, dsum
+    real(dp) :: sn(4), s1(4), sbar(4), snoise, b1(4, MAX_EDOF), bn(4, MAX_EDOF), bm(4, MAX_EDOF), bb(4, MAX_EDOF), &
+      dm(4, 4), gc(4, 4), st(2, 2), sc(2, 2), w, g, gcm, tr
+    integer :: p, nen, a, b, i
+    p = sys%elems%b_ptr(igp)
+    w = sys%elems%wt(igp)
+    nen = ndof / 2
+    snoise = 0.0_dp
+    if (tangent) dm = q%dm
+    if (mv%log_strain) then
+      sn = matmul(q%tn, q%pn)
+      s1 = matmul(q%t1, q%pl)
+      call secant_stress(q%tbar, q%lon, q%lo1, q%en, q%e1, q%pn, q%pl, sbar, snoise)
+      if (tangent .and. .not. mv%bbar) call log_tangent(q%e1, q%t1, q%pl, dm)
+    else
+      sn = q%tn
+      s1 = q%t1
+      sbar = q%tbar
+    end if
+    ! The attainable residual (iterate_eq9's floor): that stress noise through the point's ∇N.
+    if (snoise > 0.0_dp) sys%elems%round_floor = sys%elems%round_floor + (w * snoise)**2 * sum(q%dn(:, 1:nen)**2)
+    call bnl(q%f1, q%dn, nen, b1)
+    call bnl(q%fn, q%dn, nen, bn)
+    call bnl(0.5_dp * (q%fn + q%f1), q%dn, nen, bm)
+    do a = 1, ndof                          ! (loops, not reshape/matmul: no temporaries)
+      if (mv%bbar) then                     ! the B of ℓ̄: Q P B_NL + ½ I₂ <b_v>
+        do i = 1, 4
+          bb(i, a) = dot_product(q%pl(i, :), b1(:, a))
+        end do
+        tr = 0.5_dp * (mrow(a) - (bb(1, a) + bb(2, a)))
+        bb(1:2, a) = bb(1:2, a) + tr
+        sys%elems%bmat(p + 4 * a - 4:p + 4 * a - 1) = bb(:, a)
+      else if (mv%log_strain) then          ! the B of the point's strain: P B_NL for ℓ
+        do i = 1, 4
+          sys%elems%bmat(p + 4 * a - 5 + i) = dot_product(q%pl(i, :), b1(:, a))
+        end do
+      else
+        sys%elems%bmat(p + 4 * a - 4:p + 4 * a - 1) = b1(:, a)
+      end if
+      fe(a) = fe(a) + w * s_dot_b(s1, b1, a)
+    end do
+    wsum = wsum + w * q%wpt
+    dsum = dsum + w * q%dpt
+    if (correct) then
+      do a = 1, ndof
+        fc(a) = fc(a) + w * (2.0_dp * s_dot_b(sbar, bm, a) - s_dot_b(sn, bn, a) - s_dot_b(s1, b1, a))
+      end do
+    end if
+    if (.not. tangent) return
+    if (mv%bbar) then
+      ! The law's tangent (that of 2T̄ with the correction: not always positive) through B̄, the log
+      ! map's curvature T̃ : d²ℓ/dE² through B_NL: each split into ke and kg.
+      call add_split(ke, kg, w, bb, dm, ndof)
+      if (mv%log_strain) then
+        call log_curvature(q%e1, q%t1, gc)
+        call add_split(ke, kg, w, b1, gc, ndof)
+      end if
+    else
+      call add_btdb(ke, w, b1, dm, ndof)
+    end if
+    ! Geometric part ∇N_a' S ∇N_b on both directions: the tensile part of S in ke, the compressive
+    ! part in kg (the iteration matrix takes it where S stays positive definite: iteration_matrix).
+    st = reshape([s1(1), s1(4), s1(4), s1(2)], [2, 2])
+    sc = st
+    call tensile_part(st)
+    sc = sc - st
+    do a = 1, nen
+      do b = 1, nen
+        g = w * dot_product(q%dn(:, a), matmul(st, q%dn(:, b)))
+        gcm = w * dot_product(q%dn(:, a), matmul(sc, q%dn(:, b)))
+        do i = 1, 2
+          ke(2 * a - 2 + i, 2 * b - 2 + i) = ke(2 * a - 2 + i, 2 * b - 2 + i) + g
+          kg(2 * a - 2 + i, 2 * b - 2 + i) = kg(2 * a - 2 + i, 2 * b - 2 + i) + gcm
+        end do
+      end do
+    end do
+  end subroutine point_forces
+
+  !> The step's second Piola-Kirchhoff stress of a STRAIN_MEASURE LOG point: S̄ = G'T̄, T̄ the law's
+  !> step stress on the Hencky strain (its path mean: T̄·Δℓ is the law's path work) and G a secant
+  !> of the map E -> ℓ, G ΔE = Δℓ:
+  !>     G = P_m + φ r ⊗ d / (d·ΔE),  P_m = ½(P(n) + P(n+1)),  r = Δℓ - P_m ΔE,  d = ΔE (shear halved),
+  !> so that S̄·ΔE = T̄·Δℓ: the step's work is the law's. r is the trapezoid rule's error on the
+  !> smooth log map, O(|ΔE|³): the material part stays in T̄ (as σ̄ in small strain) and the term
+  !> vanishes with the increment. Its round-off, ν ≈ 64 ε (|ℓ| + |E|), divided by |ΔE| would put
+  !> noise in S̄ at small increments of a strained point (Newton then stagnates: the 8 x 40 Taylor
+  !> bar at 69 µs); φ, a smooth step of |ΔE|/δ from 0 at δ = ν^(1/3) to 1 at 2δ, leaves it out
+  !> there, where it is below |T̄| δ³ in work. snoise = |T̄| δ²: the stress noise left either way,
+  !> for the attainable residual (round_floor).
+  pure subroutine secant_stress(tbar, ln, l1, en, e1, pn, p1, sbar, snoise)
+    real(dp), intent(in) :: tbar(4), ln(4), l1(4), en(4), e1(4), pn(4, 4), p1(4, 4)
+    real(dp), intent(out) :: sbar(4), snoise
+    real(dp) :: pm(4, 4), de(4), dd(4), r(4), den, delta, x, phi
+    integer :: i
+    pm = 0.5_dp * (pn + p1)
+    de = e1 - en
+    dd = [de(1), de(2), de(3), 0.5_dp * de(4)]
+    den = dot_product(dd, de)
+    sbar = matmul(tbar, pm)
+    delta = (64.0_dp * epsilon(1.0_dp) * (sum(abs(l1) + abs(ln)) + sum(abs(e1) + abs(en))))**(1.0_dp / 3.0_dp)
+    snoise = norm2(tbar) * delta**2
+    x = sqrt(den) / max(delta, tiny(1.0_dp)) - 1.0_dp
+    if (x <= 0.0_dp) return
+    phi = 1.0_dp
+    if (x < 1.0_dp) phi = x * x * (3.0_dp - 2.0_dp * x)
+    do i = 1, 4
+      r(i) = (l1(i) - ln(i)) - dot_product(pm(i, :), de)
+    end do
+    sbar = sbar + (phi * dot_product(tbar, r) / den) * dd
+  end subroutine secant_stress
+
+  !> The in-plane block of m (4 x 4 on the strain b maps du to; xx, yy, xy) symmetrized and split:
+  !> ke += w b' m⁺ b with m⁺ its positive part, kg += w b' (m - m⁺) b (m's zz row and column are
+  !> zero through b in plane strain).
+  pure subroutine add_split(ke, kg, w, b, m, ndof)
+    real(dp), intent(inout) :: ke(:, :), kg(:, :)
+    real(dp), intent(in) :: w, b(:, :), m(4, 4)
+    integer, intent(in) :: ndof
+    integer, parameter :: ip(3) = [1, 2, 4]
+    real(dp) :: a3(3, 3), mp(4, 4), mn(4, 4)
+    a3 = 0.5_dp * (m(ip, ip) + transpose(m(ip, ip)))
+    mn = 0.0_dp
+    mn(ip, ip) = a3
+    mp = 0.0_dp
+    call positive_inplane(a3, mp)
+    call add_btdb(ke, w, b, mp, ndof)
+    mn = mn - mp
+    call add_btdb(kg, w, b, mn, ndof)
+  end subroutine add_split
+
+  !> dE = B_NL(F) du (rows as green's; columns u_x, u_y of each node), ∇N in dn.
+  pure subroutine bnl(f, dn, nen, bb)
+    real(dp), intent(in) :: f(2, 2), dn(:, :)
+    integer, intent(in) :: nen
+    real(dp), intent(out) :: bb(:, :)
+    integer :: k
+    bb = 0.0_dp
+    do k = 1, nen
+      bb(1, 2 * k - 1) = f(1, 1) * dn(1, k)
+      bb(1, 2 * k) = f(2, 1) * dn(1, k)
+      bb(2, 2 * k - 1) = f(1, 2) * dn(2, k)
+      bb(2, 2 * k) = f(2, 2) * dn(2, k)
+      bb(4, 2 * k - 1) = f(1, 1) * dn(2, k) + f(1, 2) * dn(1, k)
+      bb(4, 2 * k) = f(2, 1) * dn(2, k) + f(2, 2) * dn(1, k)
+    end do
+  end subroutine bnl
+
+  !> The symmetric 2 x 2 s replaced by its positive part (eigenvalues below 0 set to 0).
+  pure subroutine tensile_part(s)
+    real(dp), intent(inout) :: s(2, 2)
+    real(dp) :: m, r, v(2), v2(2), l(2)
+    m = 0.5_dp * (s(1, 1) + s(2, 2))
+    r = sqrt((0.5_dp * (s(1, 1) - s(2, 2)))**2 + s(1, 2)**2)
+    l = [m + r, m - r]
+    if (r == 0.0_dp) then
+      v = [1.0_dp, 0.0_dp]
+    else if (abs(s(1, 2)) > 0.0_dp) then
+      v = [l(1) - s(2, 2), s(1, 2)]
+      v = v / norm2(v)
+    else
+      v = merge([1.0_dp, 0.0_dp], [0.0_dp, 1.0_dp], s(1, 1) >= s(2, 2))
+    end if
+    v2 = [-v(2), v(1)]
+    s = max(l(1), 0.0_dp) * spread(v, 2, 2) * spread(v, 1, 2) + max(l(2), 0.0_dp) * spread(v2, 2, 2) * spread(v2, 1, 2)
+  end subroutine tensile_part
+
+  !> s'b(:, k), summed in the order of the components (as matmul(s, b) does).
+  pure real(dp) function s_dot_b(s, b, k) result(r)
+    real(dp), intent(in) :: s(4), b(:, :)
+    integer, intent(in) :: k
+    integer :: i
+    r = 0.0_dp
+    do i = 1, 4
+      r = r + s(i) * b(i, k)
+    end do
+  end function s_dot_b
+
+  !> ke(1:ndof, 1:ndof) += w b'D b with b = b(1:4, 1:ndof) (loops on fixed-size work: no temporaries).
+  pure subroutine add_btdb(ke, w, b, d, ndof)
+    real(dp), intent(inout) :: ke(:, :)
+    real(dp), intent(in) :: w, b(:, :), d(4, 4)
+    integer, intent(in) :: ndof
+    real(dp) :: db(4, MAX_EDOF), t
+    integer :: i, j, k, l
+    do l = 1, ndof
+      do i = 1, 4
+        t = 0.0_dp
+        do j = 1, 4
+          t = t + d(i, j) * b(j, l)
+        end do
+        db(i, l) = t
+      end do
+    end do
+    do l = 1, ndof
+      do k = 1, ndof
+        t = 0.0_dp
+        do i = 1, 4
+          t = t + b(i, k) * db(i, l)
+        end do
+        ke(k, l) = ke(k, l) + w * t
+      end do
+    end do
+  end subroutine add_btdb
+end module large_plane
