@@ -18,7 +18,8 @@ module assembly
   use pair_blocks, only: pair_block_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
-  use material_law, only: law_is_linear, law_nstate, law_stored, law_elastic_matrix
+  use material_law, only: law_is_linear, law_nstate, law_stored, law_elastic_matrix, LAW_HYPERELASTIC
+  use law_hyperelastic, only: nh_lame, nh_mean_energy
   use checkpoint, only: ckpt_file_t
   use reactions, only: reaction_set_t
   use element_table, only: element_table_t, build_element_table, add_btdb
@@ -789,6 +790,12 @@ contains
       if (sys%elems%gp_ptr(e + 1) == sys%elems%gp_ptr(e)) cycle
       nstr = elem_nstrain(scn%mesh%etype(e))
       nq = law_nstate(scn%materials(scn%models(im)%material), sys%elems%pk(im), scn%models(im)%sec)
+      if (scn%models(im)%bbar .and. scn%materials(scn%models(im)%material)%law == LAW_HYPERELASTIC) then
+        associate (g0 => sys%elems%gp_ptr(e), g1 => sys%elems%gp_ptr(e + 1) - 1, mat => scn%materials(scn%models(im)%material))
+          w = w + nh_mean_energy(nh_lame(mat%young, mat%poisson), sys%elems%wt(g0:g1), sys%pts%eps(1:4, g0:g1))
+        end associate
+        cycle
+      end if
       do igp = sys%elems%gp_ptr(e), sys%elems%gp_ptr(e + 1) - 1
         w = w + sys%elems%wt(igp) * law_stored(scn%materials(scn%models(im)%material), scn%models(im)%sec, sys%elems%pk(im), &
           sys%elems%dmat(1:nstr, 1:nstr, im), sys%pts%eps(1:nstr, igp), sys%pts%sig(1:nstr, igp), sys%pts%q(1:nq, igp))

@@ -31,6 +31,7 @@ module large_plane
     real(dp) :: tn(4), t1(4), tbar(4)  !< stresses on ℓ (with BBAR: the element's mean pressure)
     real(dp) :: dm(4, 4)             !< the law's tangent on ℓ
     real(dp) :: wpt, dpt    !< path work and its dissipated part
+    real(dp) :: snoise      !< HYPERELASTIC with BBAR: the noise of its volumetric S̄ (secant_stress)
   end type plane_pt_t
 
 contains
@@ -67,18 +68,23 @@ contains
     real(dp), intent(inout) :: kg(:, :)   !< with tangent: += the compressive part of the geometric stiffness
     logical, intent(inout) :: any_c
     type(plane_pt_t) :: pt(MAX_GAUSS)
-    real(dp) :: mrow(MAX_EDOF), b1(4, MAX_EDOF)
+    real(dp) :: mrow(MAX_EDOF), b1(4, MAX_EDOF), jmean, wtot, gcurv(4, 4)
     integer :: k
     fc(1:ndof) = 0.0_dp
     do k = 1, ng
       call point_kinematics(sys, mv, e, g0 + k - 1, ndof / 2, ue, une, pt(k))
     end do
-    if (mv%bbar) call mean_dilatation(sys%elems%wt(g0:g0 + ng - 1), pt(1:ng))
+    if (mv%bbar .and. .not. mv%hyper) call mean_dilatation(sys%elems%wt(g0:g0 + ng - 1), pt(1:ng))
     do k = 1, ng
       call point_law(scn, sys, mv, g0 + k - 1, tangent, correct, pt(k))
     end do
     if (mv%bbar) then
-      call mean_pressure(sys%elems%wt(g0:g0 + ng - 1), sys%pts%sig(1:4, g0:g0 + ng - 1), pt(1:ng))
+      if (mv%hyper) then
+        call mean_volume(mv%lame(1), sys%elems%wt(g0:g0 + ng - 1), pt(1:ng), jmean)
+        sys%pts%sig_t(1:4, g0:g0 + ng - 1) = reshape([(pt(k)%t1, k = 1, ng)], [4, ng])
+      else
+        call mean_pressure(sys%elems%wt(g0:g0 + ng - 1), sys%pts%sig(1:4, g0:g0 + ng - 1), pt(1:ng))
+      end if
       mrow(1:ndof) = 0.0_dp
       do k = 1, ng                ! <b_v>: the mean of the in-plane trace rows of P B_NL(F(n+1))
         call bnl(pt(k)%f1, pt(k)%dn, ndof / 2, b1)
@@ -88,6 +94,19 @@ contains
     do k = 1, ng
       call point_forces(sys, mv, g0 + k - 1, ndof, correct, tangent, pt(k), mrow, fe, fc, ke, kg, wsum, dsum)
     end do
+    if (tangent .and. mv%bbar .and. mv%hyper) then
+      ! HYPERELASTIC's volumetric energy W λ/2 <ln J>²: its Hessian W λ m m' (m = d<ln J>/du, mrow)
+      ! and the log map's curvature λ <ln J> I₂ : d²ℓ/dE² at each point (split: ke, kg).
+      wtot = sum(sys%elems%wt(g0:g0 + ng - 1))
+      do k = 1, ndof
+        ke(1:ndof, k) = ke(1:ndof, k) + mv%lame(1) * wtot * mrow(1:ndof) * mrow(k)
+      end do
+      do k = 1, ng
+        call bnl(pt(k)%f1, pt(k)%dn, ndof / 2, b1)
+        call log_curvature(pt(k)%e1, mv%lame(1) * jmean * I2, gcurv)
+        call add_split(ke, kg, sys%elems%wt(g0 + k - 1), b1, gcurv, ndof)
+      end do
+    end if
     any_c = any_c .or. correct
   end subroutine large_plane_element
 
@@ -115,20 +134,26 @@ contains
     if (sys%elems%inverted == 0 .and. q%f1(1, 1) * q%f1(2, 2) - q%f1(1, 2) * q%f1(2, 1) <= 0.0_dp) sys%elems%inverted = e
     q%en = green(hn)
     q%e1 = green(h1)
-    if (mv%log_strain) then
-      call hencky_strain(q%en, q%ln, q%pn, okn)
-      call hencky_strain(q%e1, q%l1, q%pl, ok1)
+    ! The Hencky strain: the law's with STRAIN_MEASURE LOG; HYPERELASTIC with BBAR takes its ln J.
+    if (mv%log_strain .or. (mv%hyper .and. mv%bbar)) then
+      call hencky_strain(q%en, q%lon, q%pn, okn)
+      call hencky_strain(q%e1, q%lo1, q%pl, ok1)
       ! C singular: det F = 0, which is reported as an inversion.
-      if (.not. (okn .and. ok1)) q%l1 = q%ln
+      if (.not. (okn .and. ok1)) q%lo1 = q%lon
     else
-      q%ln = q%en
-      q%l1 = q%e1
+      q%lon = q%en
+      q%lo1 = q%e1
       q%pn = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, &
         0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [4, 4])
       q%pl = q%pn
     end if
-    q%lon = q%ln
-    q%lo1 = q%l1
+    q%ln = q%lon
+    q%l1 = q%lo1
+    if (mv%hyper) then
+      q%ln = q%en
+      q%l1 = q%e1
+    end if
+    q%snoise = 0.0_dp
   contains
     !> The displacement gradient H = Σ u_a ⊗ ∇N_a (F = I + H).
     pure function grad(u) result(f)
@@ -202,6 +227,37 @@ contains
     end do
   end subroutine mean_pressure
 
+  !> FORMULATION BBAR with HYPERELASTIC: the volumetric energy λ/2 ln² J of each point taken on the
+  !> element's mean <ln J> = Σ w tr ℓ / Σ w (tr ℓ = ln J in plane strain; the rest of ψ is each
+  !> point's: point_law), so the element stores Σ w ψ_dev + W λ/2 <ln J>² (nh_mean_energy). Its
+  !> stress at each point, on E: λ <ln J> Pᵀ I₂ at n+1 (added to t1; tn is the committed total), and
+  !> the step's λ <ln J>_mid Gᵀ I₂ (secant_stress: Σ w of its work on ΔE = W λ/2 Δ<ln J>², exactly).
+  subroutine mean_volume(lam, w, pt, j1)
+    real(dp), intent(in) :: lam, w(:)
+    type(plane_pt_t), intent(inout) :: pt(:)
+    real(dp), intent(out) :: j1          !< <ln J> at n+1
+    real(dp) :: jn, pb, sv(4), noise
+    integer :: k
+    jn = 0.0_dp
+    j1 = 0.0_dp
+    do k = 1, size(pt)
+      jn = jn + w(k) * (pt(k)%lon(1) + pt(k)%lon(2))
+      j1 = j1 + w(k) * (pt(k)%lo1(1) + pt(k)%lo1(2))
+    end do
+    jn = jn / sum(w)
+    j1 = j1 / sum(w)
+    pb = 0.5_dp * lam * (jn + j1)
+    do k = 1, size(pt)
+      associate (q => pt(k))
+        q%t1 = q%t1 + lam * j1 * (q%pl(1, :) + q%pl(2, :))
+        call secant_stress(pb * I2, q%lon, q%lo1, q%en, q%e1, q%pn, q%pl, sv, noise)
+        q%tbar = q%tbar + sv
+        q%wpt = q%wpt + pb * ((q%lo1(1) + q%lo1(2)) - (q%lon(1) + q%lon(2)))
+        q%snoise = noise
+      end associate
+    end do
+  end subroutine mean_volume
+
   !> mrow += wr (I₂' P(n+1) B_NL(F(n+1))): a point's share of the mean in-plane trace row of dℓ/du.
   pure subroutine add_trace_row(wr, q, b1, ndof, mrow)
     real(dp), intent(in) :: wr, b1(:, :)
@@ -228,12 +284,16 @@ contains
     logical, intent(in) :: tangent, correct
     type(plane_pt_t), intent(inout) :: q
     type(law_step_t) :: r
+    real(dp) :: lm(2)
     q%dpt = 0.0_dp
     q%tn = sys%pts%sig(1:4, igp)
     if (mv%hyper) then
-      q%t1 = nh_stress(mv%lame, q%e1, mv%pstress)
-      q%tbar = nh_discrete_stress(mv%lame, q%en, q%e1, mv%pstress)
-      if (tangent) q%dm = nh_tangent(mv%lame, q%e1, mv%pstress)
+      ! (With BBAR the volumetric term λ/2 ln² J is the element's: mean_volume.)
+      lm = mv%lame
+      if (mv%bbar) lm(1) = 0.0_dp
+      q%t1 = nh_stress(lm, q%e1, mv%pstress)
+      q%tbar = nh_discrete_stress(lm, q%en, q%e1, mv%pstress)
+      if (tangent) q%dm = nh_tangent(lm, q%e1, mv%pstress)
     else if (mv%von_mises) then
       call point_update(scn, sys, mv, igp, q%ln, q%l1 - q%ln, r)
       q%t1 = r%sig(1:4)
@@ -273,6 +333,7 @@ contains
     nen = ndof / 2
     snoise = 0.0_dp
     if (tangent) dm = q%dm
+    snoise = q%snoise
     if (mv%log_strain) then
       sn = matmul(q%tn, q%pn)
       s1 = matmul(q%t1, q%pl)
@@ -283,13 +344,16 @@ contains
       s1 = q%t1
       sbar = q%tbar
     end if
-    ! The attainable residual (iterate_eq9's floor): that stress noise through the point's ∇N.
+    ! The attainable residual (iterate_eq9's floor): that stress noise, and the strain's own round-off
+    ! (4 ulps) through the point's stiffness λ + 2μ (a nearly incompressible material: λ/μ = 5000 at
+    ! ν = 0.4999 puts it above TOLERANCE x the force scale), through the point's ∇N.
+    snoise = hypot(snoise, sys%elems%dmat(1, 1, mv%im) * 4.0_dp * epsilon(1.0_dp) * (1.0_dp + maxval(abs(q%l1))))
     if (snoise > 0.0_dp) sys%elems%round_floor = sys%elems%round_floor + (w * snoise)**2 * sum(q%dn(:, 1:nen)**2)
     call bnl(q%f1, q%dn, nen, b1)
     call bnl(q%fn, q%dn, nen, bn)
     call bnl(0.5_dp * (q%fn + q%f1), q%dn, nen, bm)
     do a = 1, ndof                          ! (loops, not reshape/matmul: no temporaries)
-      if (mv%bbar) then                     ! the B of ℓ̄: Q P B_NL + ½ I₂ <b_v>
+      if (mv%bbar .and. .not. mv%hyper) then  ! the B of ℓ̄: Q P B_NL + ½ I₂ <b_v>
         do i = 1, 4
           bb(i, a) = dot_product(q%pl(i, :), b1(:, a))
         end do
@@ -313,7 +377,7 @@ contains
       end do
     end if
     if (.not. tangent) return
-    if (mv%bbar) then
+    if (mv%bbar .and. .not. mv%hyper) then
       ! The law's tangent (that of 2T̄ with the correction: not always positive) through B̄, the log
       ! map's curvature T̃ : d²ℓ/dE² through B_NL: each split into ke and kg.
       call add_split(ke, kg, w, bb, dm, ndof)

@@ -452,8 +452,9 @@ contains
   !> strain is ln J: F-bar, J replaced by the element's geometric mean), the points' in-plane
   !> pressure by the element's mean in the forces. The strain stays linear in the points' strains,
   !> so eq (9)'s discrete gradients and the energy identity are unchanged. AUTO: BBAR for QUAD4 in
-  !> plane strain with VON_MISES (isochoric flow: standard QUAD4 locks) or ELASTIC with POISSON >=
-  !> 0.49 (a ν = 0.4999 cantilever deflects 6 % of its due at 80 x 8: tests/scenes/locking),
+  !> plane strain with VON_MISES (isochoric flow: standard QUAD4 locks) or ELASTIC or HYPERELASTIC with
+  !> POISSON >= 0.49 (a ν = 0.4999 cantilever deflects 6 % of its due at 80 x 8: tests/scenes/locking;
+  !> HYPERELASTIC then keeps its volumetric energy λ/2 ln² J on the element's mean ln J),
   !> STANDARD otherwise. TRI3 has one point (nothing to average: use QUAD4 or TRI6); plane stress
   !> has no volumetric constraint to relieve (the thickness is free).
   subroutine get_formulation(st, md, scn, stat, errmsg)
@@ -469,7 +470,7 @@ contains
     law = 0
     if (md%material > 0) law = scn%materials(md%material)%law
     auto = md%etype == ET_QUAD4 .and. .not. md%sec%plane_stress .and. law == LAW_VON_MISES
-    if (law == LAW_ELASTIC) auto = md%etype == ET_QUAD4 .and. .not. md%sec%plane_stress .and. &
+    if (law == LAW_ELASTIC .or. law == LAW_HYPERELASTIC) auto = md%etype == ET_QUAD4 .and. .not. md%sec%plane_stress .and. &
       scn%materials(md%material)%poisson >= NEARLY_INCOMPRESSIBLE
     md%bbar = auto
     k = find_param(st, 'FORMULATION')
@@ -488,9 +489,6 @@ contains
       else if (md%etype == ET_TRI3) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORMULATION BBAR on TRI3: its one point is its ' // &
           'mean already (TRI3 locks under isochoric flow: use QUAD4, which takes BBAR, or TRI6)', st%params(k)%values(1)))
-      else if (law == LAW_HYPERELASTIC) then
-        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORMULATION BBAR is not offered for HYPERELASTIC ' // &
-          '(its volumetric energy is in ln J, not in the strain the mean dilatation acts on)', st%params(k)%values(1)))
       else if (md%sec%plane_stress) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORMULATION BBAR in plane stress: the thickness is ' // &
           'free, there is no volumetric locking to relieve (PLANE STRAIN takes it)', st%params(k)%values(1)))

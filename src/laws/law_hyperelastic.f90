@@ -15,7 +15,7 @@ module law_hyperelastic
   use kinds, only: dp
   implicit none
   private
-  public :: nh_lame, nh_energy, nh_stress, nh_tangent, nh_discrete_stress, nh_c33, log1p_, gonzalez_stress
+  public :: nh_lame, nh_energy, nh_stress, nh_tangent, nh_discrete_stress, nh_c33, log1p_, gonzalez_stress, nh_mean_energy
 
 contains
 
@@ -176,6 +176,22 @@ contains
     sbar = sa
     if (den > 0.0_dp .and. abs(gap) > noise) sbar = sa + (gap / den) * dd
   end function gonzalez_stress
+
+  !> The energy of a plane-strain element under FORMULATION BBAR (docs/locking.md): its points' ψ
+  !> with the volumetric term on the element's mean ln J, Σ w [μ/2 (tr C - 3) - μ ln J] + Σ w λ/2 <ln J>²,
+  !> <ln J> = Σ w ln J / Σ w (weights w, Green-Lagrange strains e(1:4, :)).
+  pure real(dp) function nh_mean_energy(lm, w, e) result(psi)
+    real(dp), intent(in) :: lm(2), w(:), e(:, :)
+    real(dp) :: lnj
+    integer :: k
+    psi = 0.0_dp
+    lnj = 0.0_dp
+    do k = 1, size(w)
+      psi = psi + w(k) * nh_energy([0.0_dp, lm(2)], e(1:4, k), .false.)
+      lnj = lnj + w(k) * 0.5_dp * log1p_(2.0_dp * (e(1, k) + e(2, k)) + 4.0_dp * e(1, k) * e(2, k) - e(4, k)**2)
+    end do
+    psi = psi + 0.5_dp * lm(1) * lnj**2 / sum(w)
+  end function nh_mean_energy
 
   !> Plane stress: C33 - 1 of a strain e, the root of mu (c - 1) + lambda/2 (ln det C + ln c) = 0
   !> (increasing in c: one root), by Newton on d = c - 1 from 0 (quadratic; converged to 4 ulps).

@@ -23,7 +23,7 @@ module newmark
   use cholmod_binding, only: factor_stats_t
   use newmark_step, only: step_report_t, iterate_eq9, iterate_eq9_zone, end_step, following_rows, STEP_CONVERGED, &
     STEP_DIVERGED, STEP_NOT_CONVERGED, &
-    STEP_NONFINITE, STEP_INVERTED
+    STEP_NONFINITE, STEP_INVERTED, STEP_INDEFINITE
   use run_outputs, only: output_set_t, HISTORY_HEADER, EVENTS_HEADER
   use contact_geometry, only: following_t
   use mesh_segments, only: node_stars
@@ -703,7 +703,8 @@ contains
     where = ''
     if (scn%retry > 0) where = '; retried as sub-steps down to h/' // str(2**scn%retry) // ' (SCHEME RETRY ' // &
       str(scn%retry) // ')'
-    if (rep%outcome == STEP_DIVERGED .or. rep%outcome == STEP_NONFINITE .or. rep%outcome == STEP_INVERTED) then
+    if (rep%outcome == STEP_DIVERGED .or. rep%outcome == STEP_NONFINITE .or. rep%outcome == STEP_INVERTED .or. &
+      rep%outcome == STEP_INDEFINITE) then
       if (nsub == 0) then
         call save_checkpoint(scn, outdir, sys, rs, step - 1, scn%t_start + (step - 1) * rs%h, total_iter, stat, errmsg)
         where = where // '; the state of step ' // str(step - 1) // ' is in ' // outdir // '/checkpoint.h5'
@@ -730,6 +731,12 @@ contains
     case (STEP_NONFINITE)
       call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'non-finite displacement or internal force at ' // &
         dof_label(scn, sys, rep%bad_equation) // where)
+    case (STEP_INDEFINITE)
+      nodes = ''
+      if (rep%element > 0) nodes = ' (element ' // str(rep%element) // ' turned inside out)'
+      call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'the KINEMATICS LARGE tangent at iteration ' // &
+        str(rep%iterations) // ' is not positive definite' // nodes // ': ' // rep%message // '; residual norms: ' // &
+        history_text(rs%st%res_hist(1:max(rep%iterations - 1, 0))) // where)
     case default
       call set_error(stat, errmsg, STAT_RUN, 'step ' // str(step) // ' (t = ' // str(t) // ') did not converge in ' &
         // str(rep%iterations) // ' iterations (tolerance ' // str(scn%tolerance) // ' x force scale ' // &

@@ -18,7 +18,7 @@ module newmark_step
   public :: step_report_t, iterate_eq9, iterate_eq9_zone, end_step, following_rows, STEP_CONVERGED, STEP_DIVERGED, &
     STEP_NOT_CONVERGED, &
     STEP_NONFINITE, &
-    STEP_INVERTED
+    STEP_INVERTED, STEP_INDEFINITE
 
   !> How the iteration of a step ended.
   integer, parameter :: STEP_CONVERGED = 0       !< converged (or a linear step refined to round-off)
@@ -26,6 +26,7 @@ module newmark_step
   integer, parameter :: STEP_NOT_CONVERGED = 2   !< MAX_ITERATIONS reached
   integer, parameter :: STEP_NONFINITE = 3       !< converged on a non-finite du or Bσ
   integer, parameter :: STEP_INVERTED = 4        !< converged on a KINEMATICS LARGE member turned inside out
+  integer, parameter :: STEP_INDEFINITE = 5      !< a KINEMATICS LARGE tangent that is not positive definite
 
   type :: step_report_t
     integer :: outcome = STEP_CONVERGED
@@ -33,6 +34,7 @@ module newmark_step
     integer :: bad_equation = 0              !< first non-finite entry (STEP_DIVERGED, STEP_NONFINITE)
     integer :: element = 0                   !< the inverted element (STEP_INVERTED)
     real(dp) :: force_scale = 0.0_dp         !< of the convergence test (STEP_NOT_CONVERGED)
+    character(len=:), allocatable :: message !< the factorization's (STEP_INDEFINITE)
   end type step_report_t
 
 contains
@@ -62,6 +64,16 @@ contains
     do iter = 1, scn%max_iterations
       rep%iterations = iter
       call mat%update(sys, refactored, stat, errmsg)
+      if (stat /= STAT_OK .and. sys%elems%any_large) then
+        ! A LARGE tangent that does not factorize even without its compressive part: the iterate has
+        ! gone where no element should (an element inverted, a point past its law's range). A step
+        ! failure, which SCHEME RETRY takes again as sub-steps, not the end of the run.
+        rep%outcome = STEP_INDEFINITE
+        rep%element = sys%elems%inverted
+        rep%message = errmsg
+        stat = STAT_OK
+        return
+      end if
       if (stat /= STAT_OK) errmsg = 'tangent matrix: ' // errmsg
       if (stat == STAT_OK .and. refactored .and. present(cs)) &
         call contact_prepare(cs, mat%factor, stat, errmsg, sys%ops%pat, mat%sval)
