@@ -326,7 +326,7 @@ contains
     real(dp), intent(in) :: mrow(:)
     real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), kg(:, :), wsum, dsum
     real(dp) :: sn(4), s1(4), sbar(4), snoise, b1(4, MAX_EDOF), bn(4, MAX_EDOF), bm(4, MAX_EDOF), bb(4, MAX_EDOF), &
-      dm(4, 4), gc(4, 4), st(2, 2), sc(2, 2), w, g, gcm, tr
+      dm(4, 4), gc(4, 4), st(2, 2), sc(2, 2), w, g, gcm, tr, pmax
     integer :: p, nen, a, b, i
     p = sys%elems%b_ptr(igp)
     w = sys%elems%wt(igp)
@@ -345,10 +345,15 @@ contains
       sbar = q%tbar
     end if
     ! The attainable residual (iterate_eq9's floor): that stress noise, and the strain's own round-off
-    ! (4 ulps) through the point's stiffness λ + 2μ (a nearly incompressible material: λ/μ = 5000 at
-    ! ν = 0.4999 puts it above TOLERANCE x the force scale), through the point's ∇N.
-    snoise = hypot(snoise, sys%elems%dmat(1, 1, mv%im) * 4.0_dp * epsilon(1.0_dp) * (1.0_dp + maxval(abs(q%l1))))
-    if (snoise > 0.0_dp) sys%elems%round_floor = sys%elems%round_floor + (w * snoise)**2 * sum(q%dn(:, 1:nen)**2)
+    ! through the point's stiffness λ + 2μ (a nearly incompressible material: λ/μ = 5000 at ν = 0.4999
+    ! puts it above TOLERANCE x the force scale) and the log map: ℓ = ½ log1p(2e) of a stretch λ
+    ! carries ε (|ℓ| + |e| P), P = dℓ/dE up to 1/λ² (4000 at the axis-wall corner of the crushed 16 x 80
+    ! Taylor bar), and S = PᵀT multiplies it by P again; the force by F and the point's ∇N.
+    pmax = max(1.0_dp, maxval(abs(q%pl)))
+    snoise = hypot(snoise, pmax * sys%elems%dmat(1, 1, mv%im) * 4.0_dp * epsilon(1.0_dp) * &
+      (1.0_dp + maxval(abs(q%l1)) + pmax * maxval(abs(q%e1))))
+    if (snoise > 0.0_dp) sys%elems%round_floor = sys%elems%round_floor + &
+      (w * snoise * max(1.0_dp, maxval(abs(q%f1))))**2 * sum(q%dn(:, 1:nen)**2)
     call bnl(q%f1, q%dn, nen, b1)
     call bnl(q%fn, q%dn, nen, bn)
     call bnl(0.5_dp * (q%fn + q%f1), q%dn, nen, bm)

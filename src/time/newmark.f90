@@ -405,6 +405,7 @@ contains
       iters = 0
       nsub = 0
       rs%step_short = .false.
+      rs%st%energy_share = scn%tolerance * max(rs%en%max_scale, rs%en%initial) / real(rs%nsteps, dp)
       call advance(scn, sys, rs, outs, step, scn%t_start + (step - 1) * rs%h, t, rs%h, 0, iters, nsub, nactive, rep, &
         tfail, stat, errmsg)
       total_iter = total_iter + iters
@@ -503,6 +504,7 @@ contains
     ! Nothing was committed: the same interval again as two half steps (a failed iteration, or
     ! an impact correction that would leave energy in the balance: impact_short).
     if (rs%has_contact) call rs%cs%warm_start(rs%act0)
+    if (rep%outcome == STEP_INDEFINITE) call rs%st%refresh_geometry(scn, sys, tangent=.true.)
     call use_step(scn, sys, rs, outs, 0.5_dp * h, level + 1, stat, errmsg)
     if (stat /= STAT_OK) return
     tm = t0 + 0.5_dp * (t1 - t0)

@@ -32,6 +32,9 @@ module step_state
     real(dp) :: t_np1 = 0.0_dp
     real(dp), allocatable :: f_fix(:), f_new(:)
     real(dp) :: kinetic = 0.0_dp             !< ½ v'Mv at the end of the last step
+    !> The run's share per step of TOLERANCE x its energy scale (max kinetic + internal so far over
+    !> the steps of the run): the residual work a step left at the attainable residual may keep.
+    real(dp) :: energy_share = 0.0_dp
     integer, allocatable :: massless(:)      !< IMPACT MASSLESS: the massless contact equations
     type(work_increment_t) :: inc            !< energies of the last trial (work, elastic, dissipated)
     ! Extended-precision shadow.
@@ -180,12 +183,18 @@ contains
   end subroutine state_trial
 
   !> KINEMATICS LARGE after a restart: the elements' current axes (kept in the element table for
-  !> the support reactions) from the loaded u, through a trial of no increment.
-  subroutine state_refresh_geometry(self, scn, sys)
+  !> the support reactions) from the loaded u, through a trial of no increment; with tangent, the
+  !> tangent there too (before the SCHEME RETRY sub-steps of a step whose tangent did not
+  !> factorize: its last tangent, of an iterate that may have inverted an element, is no start).
+  subroutine state_refresh_geometry(self, scn, sys, tangent)
     class(step_state_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
-    call internal_force(scn, sys, self%u, self%fint, self%fcorr, .false., .false., self%inc, un=self%u)
+    logical, intent(in), optional :: tangent
+    logical :: kt
+    kt = .false.
+    if (present(tangent)) kt = tangent .and. allocated(sys%ops%tval)
+    call internal_force(scn, sys, self%u, self%fint, self%fcorr, .false., kt, self%inc, un=self%u)
   end subroutine state_refresh_geometry
 
   !> r = the residual of eq (9) at the trial state (without the contact forces).
