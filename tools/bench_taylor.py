@@ -17,6 +17,7 @@ import tempfile
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+NOTES = '<!-- notes: kept by tools/bench_taylor.py -->'
 
 
 def run(binary, mesh, h, work):
@@ -70,8 +71,14 @@ def main():
         lines.append('| %s | %g | %d | %.1f | %d | %.2f (%d) | %.1e | %.1f | %.3f | %.3f | %.1f |' % (
             r['mesh'].replace('x', ' × '), r['h'], r['rc'], 1e6 * r['t'], r['retried'], r['it_mean'], r['it_max'],
             r['bal'], r['cpu'], 1e3 * r['length'], 1e3 * r['foot'], r['wp']))
+    # The notes after the table (from the NOTES marker on) are the reader's: kept across runs.
+    notes = ''
+    if os.path.exists(a.out):
+        old = open(a.out).read()
+        if NOTES in old:
+            notes = '\n' + old[old.index(NOTES):]
     with open(a.out, 'w') as f:
-        f.write('\n'.join(lines) + '\n')
+        f.write('\n'.join(lines) + '\n' + notes)
     print('bench_taylor: %s' % a.out)
     return 0 if all(r['rc'] == 0 for r in rows) else 1
 

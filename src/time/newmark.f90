@@ -449,7 +449,6 @@ contains
     call outs%close(stat, errmsg)
     call fill_summary(rs, done, total_iter, c0, crate, summary)
     if (stat == STAT_OK .and. .not. opts%quiet) write (0, '(a)') ''
-
   end subroutine run_newmark
 
   !> The step from t0 to t1 = t0 + h (level 0: a time step; level k: one of its 2^k sub-steps):
@@ -705,8 +704,7 @@ contains
     where = ''
     if (scn%retry > 0) where = '; retried as sub-steps down to h/' // str(2**scn%retry) // ' (SCHEME RETRY ' // &
       str(scn%retry) // ')'
-    if (rep%outcome == STEP_DIVERGED .or. rep%outcome == STEP_NONFINITE .or. rep%outcome == STEP_INVERTED .or. &
-      rep%outcome == STEP_INDEFINITE) then
+    if (any(rep%outcome == [STEP_DIVERGED, STEP_NONFINITE, STEP_INVERTED, STEP_INDEFINITE])) then
       if (nsub == 0) then
         call save_checkpoint(scn, outdir, sys, rs, step - 1, scn%t_start + (step - 1) * rs%h, total_iter, stat, errmsg)
         where = where // '; the state of step ' // str(step - 1) // ' is in ' // outdir // '/checkpoint.h5'
