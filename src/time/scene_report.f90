@@ -22,6 +22,7 @@ module scene_report
   use element_traits, only: ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6
   use dof_map, only: equation_bodies, body_rigid_freedom
   use lapack_pure, only: dsyev
+  use material_law, only: LAW_VON_MISES, LAW_ELASTIC, LAW_HYPERELASTIC
   implicit none
   private
   public :: report_t, measure_scene, say_report, report_warnings
@@ -400,8 +401,24 @@ contains
       if (rep%wave(im) < WAVE_MIN .or. rep%wave(im) > WAVE_MAX) w = w // 'MODEL ' // scn%models(im)%group // &
         ': wave speed ' // fmt(rep%wave(im)) // ' m/s, outside 10 to 20 000 m/s: check the units (YOUNG in Pa, ' // &
         'DENSITY in kg/m3)' // new_line('a')
+      if (tri3_locks(scn, im)) w = w // 'MODEL ' // scn%models(im)%group // ': TRI3 in plane strain locks under ' // &
+        'isochoric flow or a nearly incompressible law (its one point must keep its volume; FORMULATION BBAR has ' // &
+        'nothing to average there): mesh with QUAD4, which takes BBAR, or TRI6 (docs/locking.md)' // new_line('a')
     end do
   end function report_warnings
+
+  !> Model im is TRI3 in plane strain with VON_MISES, or ELASTIC or HYPERELASTIC at POISSON >= 0.49.
+  logical function tri3_locks(scn, im)
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: im
+    integer :: law
+    tri3_locks = .false.
+    if (scn%models(im)%etype /= ET_TRI3 .or. scn%models(im)%material == 0) return
+    if (scn%models(im)%sec%plane_stress) return
+    law = scn%materials(scn%models(im)%material)%law
+    tri3_locks = law == LAW_VON_MISES .or. ((law == LAW_ELASTIC .or. law == LAW_HYPERELASTIC) .and. &
+      scn%materials(scn%models(im)%material)%poisson >= 0.49_dp)
+  end function tri3_locks
 
   !> x with 4 significant digits: 12.35, 0.01235, 1235, 1.235e+07.
   function fmt(x) result(s)

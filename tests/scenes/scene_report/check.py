@@ -89,3 +89,25 @@ sc.report_measured('free beam: the lowest = the free-free first mode, rigid moti
 out, err = run(os.path.join('inputs', 'ring_plastic.dat'), ['TIME.END=4e-4'])
 sc.report('ring_plastic: the summary counts the 144 modelled elements, the 48 Gmsh lines apart',
           '192 nodes, 144 elements, 384 equations (and 48 mesh elements in no MODEL, not modelled)' in out, out[:300])
+
+# TRI3 in plane strain with VON_MISES locks (one point; BBAR has nothing to average): a warning naming
+# the model and what to mesh with; none in plane stress, none for QUAD4 (which takes BBAR).
+TRI = """NODE p1 AT 0 0
+NODE p2 AT 1 0
+NODE p3 AT 1 1
+NODE p4 AT 0 1
+ELEMENT t TYPE %s NODES %s
+MATERIAL st VON_MISES YOUNG 2e11 POISSON 0.3 DENSITY 7800 YIELD 2e8
+SECTION sl THICKNESS 0.1
+MODEL t MATERIAL st SECTION sl PLANE %s
+FIX p1 ALL
+FIX p2 ALL
+TIME STEP 1e-5 END 2e-5
+"""
+_, err = run(sc.write_scene('tri3_strain.dat', TRI % ('TRI3', 'p1 p2 p3', 'STRAIN')))
+sc.report('TRI3 VON_MISES in plane strain: a warning that it locks, naming the model, QUAD4 and TRI6',
+          'MODEL t: TRI3 in plane strain locks' in err and 'QUAD4' in err and 'TRI6' in err, err.strip())
+_, err = run(sc.write_scene('tri3_stress.dat', TRI % ('TRI3', 'p1 p2 p3', 'STRESS')))
+sc.report('TRI3 VON_MISES in plane stress: no locking warning', 'locks' not in err, err.strip())
+_, err = run(sc.write_scene('quad4_strain.dat', TRI % ('QUAD4', 'p1 p2 p3 p4', 'STRAIN')))
+sc.report('QUAD4 VON_MISES in plane strain (BBAR): no locking warning', 'locks' not in err, err.strip())
