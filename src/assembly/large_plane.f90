@@ -24,6 +24,7 @@ module large_plane
   type :: plane_pt_t
     real(dp) :: dn(2, MAX_NEN)       !< ∇N (reference)
     real(dp) :: fn(2, 2), f1(2, 2)   !< F(n), F(n+1)
+    real(dp) :: b1(4, MAX_EDOF)      !< B_NL(F(n+1)) (dE = B_NL du; columns u_x, u_y of each node)
     real(dp) :: en(4), e1(4)         !< Green-Lagrange strains
     real(dp) :: ln(4), l1(4)         !< the strains the law sees (E, or ℓ; with BBAR ℓ̄)
     real(dp) :: lon(4), lo1(4)       !< the point's own ℓ (the secant of its log map; = ln, l1 without BBAR)
@@ -68,9 +69,11 @@ contains
     real(dp), intent(inout) :: kg(:, :)   !< with tangent: += the compressive part of the geometric stiffness
     logical, intent(inout) :: any_c
     type(plane_pt_t) :: pt(MAX_GAUSS)
-    real(dp) :: mrow(MAX_EDOF), b1(4, MAX_EDOF), jmean, wtot, gcurv(4, 4)
+    real(dp) :: mrow(MAX_EDOF), jmean, wtot, gcurv(4, 4)
     integer :: k
     fc(1:ndof) = 0.0_dp
+    jmean = 0.0_dp
+    wtot = sum(sys%elems%wt(g0:g0 + ng - 1))
     do k = 1, ng
       call point_kinematics(sys, mv, e, g0 + k - 1, ndof / 2, ue, une, pt(k))
     end do
@@ -87,8 +90,7 @@ contains
       end if
       mrow(1:ndof) = 0.0_dp
       do k = 1, ng                ! <b_v>: the mean of the in-plane trace rows of P B_NL(F(n+1))
-        call bnl(pt(k)%f1, pt(k)%dn, ndof / 2, b1)
-        call add_trace_row(sys%elems%wt(g0 + k - 1) / sum(sys%elems%wt(g0:g0 + ng - 1)), pt(k), b1, ndof, mrow)
+        call add_trace_row(sys%elems%wt(g0 + k - 1) / wtot, pt(k), ndof, mrow)
       end do
     end if
     do k = 1, ng
@@ -97,14 +99,12 @@ contains
     if (tangent .and. mv%bbar .and. mv%hyper) then
       ! HYPERELASTIC's volumetric energy W λ/2 <ln J>²: its Hessian W λ m m' (m = d<ln J>/du, mrow)
       ! and the log map's curvature λ <ln J> I₂ : d²ℓ/dE² at each point (split: ke, kg).
-      wtot = sum(sys%elems%wt(g0:g0 + ng - 1))
       do k = 1, ndof
         ke(1:ndof, k) = ke(1:ndof, k) + mv%lame(1) * wtot * mrow(1:ndof) * mrow(k)
       end do
       do k = 1, ng
-        call bnl(pt(k)%f1, pt(k)%dn, ndof / 2, b1)
         call log_curvature(pt(k)%e1, mv%lame(1) * jmean * I2, gcurv)
-        call add_split(ke, kg, sys%elems%wt(g0 + k - 1), b1, gcurv, ndof)
+        call add_split(ke, kg, sys%elems%wt(g0 + k - 1), pt(k)%b1, gcurv, ndof)
       end do
     end if
     any_c = any_c .or. correct
@@ -134,6 +134,7 @@ contains
     if (sys%elems%inverted == 0 .and. q%f1(1, 1) * q%f1(2, 2) - q%f1(1, 2) * q%f1(2, 1) <= 0.0_dp) sys%elems%inverted = e
     q%en = green(hn)
     q%e1 = green(h1)
+    call bnl(q%f1, q%dn, nen, q%b1)
     ! The Hencky strain: the law's with STRAIN_MEASURE LOG; HYPERELASTIC with BBAR takes its ln J.
     if (mv%log_strain .or. (mv%hyper .and. mv%bbar)) then
       call hencky_strain(q%en, q%lon, q%pn, okn)
@@ -186,19 +187,31 @@ contains
     type(plane_pt_t), intent(inout) :: pt(:)
     real(dp) :: mn, m1
     integer :: k
-    mn = 0.0_dp
-    m1 = 0.0_dp
+    mn = trace_mean(w, pt%ln(1), pt%ln(2))
+    m1 = trace_mean(w, pt%l1(1), pt%l1(2))
     do k = 1, size(pt)
-      mn = mn + w(k) * (pt(k)%ln(1) + pt(k)%ln(2))
-      m1 = m1 + w(k) * (pt(k)%l1(1) + pt(k)%l1(2))
-    end do
-    mn = mn / sum(w)
-    m1 = m1 / sum(w)
-    do k = 1, size(pt)
-      pt(k)%ln = pt(k)%ln + 0.5_dp * (mn - (pt(k)%ln(1) + pt(k)%ln(2))) * I2
-      pt(k)%l1 = pt(k)%l1 + 0.5_dp * (m1 - (pt(k)%l1(1) + pt(k)%l1(2))) * I2
+      pt(k)%ln = with_trace(pt(k)%ln, mn)
+      pt(k)%l1 = with_trace(pt(k)%l1, m1)
     end do
   end subroutine mean_dilatation
+
+  !> <tr v> = Σ w (v_xx + v_yy) / Σ w over the element's points (a, b: their xx and yy components).
+  pure real(dp) function trace_mean(w, a, b) result(m)
+    real(dp), intent(in) :: w(:), a(:), b(:)
+    integer :: k
+    m = 0.0_dp
+    do k = 1, size(w)
+      m = m + w(k) * (a(k) + b(k))
+    end do
+    m = m / sum(w)
+  end function trace_mean
+
+  !> v with its in-plane trace replaced by m: v + ½ (m - tr v) I₂.
+  pure function with_trace(v, m) result(r)
+    real(dp), intent(in) :: v(4), m
+    real(dp) :: r(4)
+    r = v + 0.5_dp * (m - (v(1) + v(2))) * I2
+  end function with_trace
 
   !> FORMULATION BBAR, the stresses: the virtual work Σ w T·δℓ̄ = Σ w T̃·δℓ with
   !>     T̃ = T + ½ (<tr T> - tr T) I₂,
@@ -209,21 +222,13 @@ contains
     type(plane_pt_t), intent(inout) :: pt(:)
     real(dp) :: mn, m1, mb
     integer :: k
-    mn = 0.0_dp
-    m1 = 0.0_dp
-    mb = 0.0_dp
+    mn = trace_mean(w, sn(1, :), sn(2, :))
+    m1 = trace_mean(w, pt%t1(1), pt%t1(2))
+    mb = trace_mean(w, pt%tbar(1), pt%tbar(2))
     do k = 1, size(pt)
-      mn = mn + w(k) * (sn(1, k) + sn(2, k))
-      m1 = m1 + w(k) * (pt(k)%t1(1) + pt(k)%t1(2))
-      mb = mb + w(k) * (pt(k)%tbar(1) + pt(k)%tbar(2))
-    end do
-    mn = mn / sum(w)
-    m1 = m1 / sum(w)
-    mb = mb / sum(w)
-    do k = 1, size(pt)
-      pt(k)%tn = sn(1:4, k) + 0.5_dp * (mn - (sn(1, k) + sn(2, k))) * I2
-      pt(k)%t1 = pt(k)%t1 + 0.5_dp * (m1 - (pt(k)%t1(1) + pt(k)%t1(2))) * I2
-      pt(k)%tbar = pt(k)%tbar + 0.5_dp * (mb - (pt(k)%tbar(1) + pt(k)%tbar(2))) * I2
+      pt(k)%tn = with_trace(sn(1:4, k), mn)
+      pt(k)%t1 = with_trace(pt(k)%t1, m1)
+      pt(k)%tbar = with_trace(pt(k)%tbar, mb)
     end do
   end subroutine mean_pressure
 
@@ -238,14 +243,8 @@ contains
     real(dp), intent(out) :: j1          !< <ln J> at n+1
     real(dp) :: jn, pb, sv(4), noise
     integer :: k
-    jn = 0.0_dp
-    j1 = 0.0_dp
-    do k = 1, size(pt)
-      jn = jn + w(k) * (pt(k)%lon(1) + pt(k)%lon(2))
-      j1 = j1 + w(k) * (pt(k)%lo1(1) + pt(k)%lo1(2))
-    end do
-    jn = jn / sum(w)
-    j1 = j1 / sum(w)
+    jn = trace_mean(w, pt%lon(1), pt%lon(2))
+    j1 = trace_mean(w, pt%lo1(1), pt%lo1(2))
     pb = 0.5_dp * lam * (jn + j1)
     do k = 1, size(pt)
       associate (q => pt(k))
@@ -259,14 +258,14 @@ contains
   end subroutine mean_volume
 
   !> mrow += wr (I₂' P(n+1) B_NL(F(n+1))): a point's share of the mean in-plane trace row of dℓ/du.
-  pure subroutine add_trace_row(wr, q, b1, ndof, mrow)
-    real(dp), intent(in) :: wr, b1(:, :)
+  pure subroutine add_trace_row(wr, q, ndof, mrow)
+    real(dp), intent(in) :: wr
     type(plane_pt_t), intent(in) :: q
     integer, intent(in) :: ndof
     real(dp), intent(inout) :: mrow(:)
     integer :: a
     do a = 1, ndof
-      mrow(a) = mrow(a) + wr * dot_product(q%pl(1, :) + q%pl(2, :), b1(:, a))
+      mrow(a) = mrow(a) + wr * dot_product(q%pl(1, :) + q%pl(2, :), q%b1(:, a))
     end do
   end subroutine add_trace_row
 
@@ -325,7 +324,7 @@ contains
     type(plane_pt_t), intent(in) :: q
     real(dp), intent(in) :: mrow(:)
     real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), kg(:, :), wsum, dsum
-    real(dp) :: sn(4), s1(4), sbar(4), snoise, b1(4, MAX_EDOF), bn(4, MAX_EDOF), bm(4, MAX_EDOF), bb(4, MAX_EDOF), &
+    real(dp) :: sn(4), s1(4), sbar(4), snoise, bn(4, MAX_EDOF), bm(4, MAX_EDOF), bb(4, MAX_EDOF), &
       dm(4, 4), gc(4, 4), st(2, 2), sc(2, 2), w, g, gcm, tr, pmax
     integer :: p, nen, a, b, i
     p = sys%elems%b_ptr(igp)
@@ -354,31 +353,30 @@ contains
       (1.0_dp + maxval(abs(q%l1)) + pmax * maxval(abs(q%e1))))
     if (snoise > 0.0_dp) sys%elems%round_floor = sys%elems%round_floor + &
       (w * snoise * max(1.0_dp, maxval(abs(q%f1))))**2 * sum(q%dn(:, 1:nen)**2)
-    call bnl(q%f1, q%dn, nen, b1)
     call bnl(q%fn, q%dn, nen, bn)
     call bnl(0.5_dp * (q%fn + q%f1), q%dn, nen, bm)
     do a = 1, ndof                          ! (loops, not reshape/matmul: no temporaries)
       if (mv%bbar .and. .not. mv%hyper) then  ! the B of ℓ̄: Q P B_NL + ½ I₂ <b_v>
         do i = 1, 4
-          bb(i, a) = dot_product(q%pl(i, :), b1(:, a))
+          bb(i, a) = dot_product(q%pl(i, :), q%b1(:, a))
         end do
         tr = 0.5_dp * (mrow(a) - (bb(1, a) + bb(2, a)))
         bb(1:2, a) = bb(1:2, a) + tr
         sys%elems%bmat(p + 4 * a - 4:p + 4 * a - 1) = bb(:, a)
       else if (mv%log_strain) then          ! the B of the point's strain: P B_NL for ℓ
         do i = 1, 4
-          sys%elems%bmat(p + 4 * a - 5 + i) = dot_product(q%pl(i, :), b1(:, a))
+          sys%elems%bmat(p + 4 * a - 5 + i) = dot_product(q%pl(i, :), q%b1(:, a))
         end do
       else
-        sys%elems%bmat(p + 4 * a - 4:p + 4 * a - 1) = b1(:, a)
+        sys%elems%bmat(p + 4 * a - 4:p + 4 * a - 1) = q%b1(:, a)
       end if
-      fe(a) = fe(a) + w * s_dot_b(s1, b1, a)
+      fe(a) = fe(a) + w * s_dot_b(s1, q%b1, a)
     end do
     wsum = wsum + w * q%wpt
     dsum = dsum + w * q%dpt
     if (correct) then
       do a = 1, ndof
-        fc(a) = fc(a) + w * (2.0_dp * s_dot_b(sbar, bm, a) - s_dot_b(sn, bn, a) - s_dot_b(s1, b1, a))
+        fc(a) = fc(a) + w * (2.0_dp * s_dot_b(sbar, bm, a) - s_dot_b(sn, bn, a) - s_dot_b(s1, q%b1, a))
       end do
     end if
     if (.not. tangent) return
@@ -388,10 +386,10 @@ contains
       call add_split(ke, kg, w, bb, dm, ndof)
       if (mv%log_strain) then
         call log_curvature(q%e1, q%t1, gc)
-        call add_split(ke, kg, w, b1, gc, ndof)
+        call add_split(ke, kg, w, q%b1, gc, ndof)
       end if
     else
-      call add_btdb(ke, w, b1, dm, ndof)
+      call add_btdb(ke, w, q%b1, dm, ndof)
     end if
     ! Geometric part ∇N_a' S ∇N_b on both directions: the tensile part of S in ke, the compressive
     ! part in kg (the iteration matrix takes it where S stays positive definite: iteration_matrix).

@@ -4,7 +4,7 @@ module scene_models
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
   use material_law, only: material_t, law_check, law_is_linear, LAW_ELASTOPLASTIC, LAW_VON_MISES, LAW_ELASTIC, &
-    LAW_HYPERELASTIC
+    law_nearly_isochoric
   use law_types, only: NSUB_EXACT
   use statement, only: statement_t, stmt_error, find_param, get_int, get_word, get_real
   use statement_schema, only: schema_t
@@ -22,9 +22,6 @@ module scene_models
   real(dp), parameter :: COURANT_TOL = 1.0e-9_dp
 
   real(dp), parameter :: MAX_DAMPING = 1.0e100_dp   !< DAMPING ALPHA and BETA at most
-
-  !> An ELASTIC POISSON from which FORMULATION AUTO takes BBAR (bulk over shear modulus >= 50).
-  real(dp), parameter :: NEARLY_INCOMPRESSIBLE = 0.49_dp
 
 contains
 
@@ -464,14 +461,11 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     character(len=:), allocatable :: w
-    integer :: k, law
+    integer :: k
     logical :: auto
     stat = STAT_OK
-    law = 0
-    if (md%material > 0) law = scn%materials(md%material)%law
-    auto = md%etype == ET_QUAD4 .and. .not. md%sec%plane_stress .and. law == LAW_VON_MISES
-    if (law == LAW_ELASTIC .or. law == LAW_HYPERELASTIC) auto = md%etype == ET_QUAD4 .and. .not. md%sec%plane_stress .and. &
-      scn%materials(md%material)%poisson >= NEARLY_INCOMPRESSIBLE
+    auto = md%etype == ET_QUAD4 .and. .not. md%sec%plane_stress .and. md%material > 0
+    if (auto) auto = law_nearly_isochoric(scn%materials(md%material))
     md%bbar = auto
     k = find_param(st, 'FORMULATION')
     if (k == 0) return

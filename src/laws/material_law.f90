@@ -28,7 +28,7 @@ module material_law
   implicit none
   private
   public :: material_t, law_step_t, law_update, law_is_linear, law_nstate, law_name, law_code, law_check
-  public :: law_stored, law_elastic_matrix
+  public :: law_stored, law_elastic_matrix, law_nearly_isochoric
   public :: LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES, LAW_HYPERELASTIC
   public :: PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS, pk_nstrain
 
@@ -90,6 +90,15 @@ contains
   end function pk_nstrain
 
   !> True when the stress is a linear function of the strain (no iteration, no correction).
+  !> The law keeps (nearly) the volume of a point: VON_MISES (isochoric flow), ELASTIC or
+  !> HYPERELASTIC from POISSON 0.49 (bulk over shear modulus >= 50). Low-order plane-strain elements
+  !> lock under it: FORMULATION AUTO takes BBAR for QUAD4 (scene_models), a TRI3 is warned (scene_report).
+  pure logical function law_nearly_isochoric(mat)
+    type(material_t), intent(in) :: mat
+    law_nearly_isochoric = mat%law == LAW_VON_MISES .or. &
+      ((mat%law == LAW_ELASTIC .or. mat%law == LAW_HYPERELASTIC) .and. mat%poisson >= 0.49_dp)
+  end function law_nearly_isochoric
+
   pure logical function law_is_linear(mat)
     type(material_t), intent(in) :: mat
     law_is_linear = mat%law == LAW_ELASTIC

@@ -22,7 +22,7 @@ module scene_report
   use element_traits, only: ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6
   use dof_map, only: equation_bodies, body_rigid_freedom
   use lapack_pure, only: dsyev
-  use material_law, only: LAW_VON_MISES, LAW_ELASTIC, LAW_HYPERELASTIC
+  use material_law, only: law_nearly_isochoric
   implicit none
   private
   public :: report_t, measure_scene, say_report, report_warnings
@@ -407,17 +407,14 @@ contains
     end do
   end function report_warnings
 
-  !> Model im is TRI3 in plane strain with VON_MISES, or ELASTIC or HYPERELASTIC at POISSON >= 0.49.
+  !> Model im is TRI3 in plane strain with a law that keeps the volume (law_nearly_isochoric).
   logical function tri3_locks(scn, im)
     type(scene_t), intent(in) :: scn
     integer, intent(in) :: im
-    integer :: law
     tri3_locks = .false.
     if (scn%models(im)%etype /= ET_TRI3 .or. scn%models(im)%material == 0) return
     if (scn%models(im)%sec%plane_stress) return
-    law = scn%materials(scn%models(im)%material)%law
-    tri3_locks = law == LAW_VON_MISES .or. ((law == LAW_ELASTIC .or. law == LAW_HYPERELASTIC) .and. &
-      scn%materials(scn%models(im)%material)%poisson >= 0.49_dp)
+    tri3_locks = law_nearly_isochoric(scn%materials(scn%models(im)%material))
   end function tri3_locks
 
   !> x with 4 significant digits: 12.35, 0.01235, 1235, 1.235e+07.
