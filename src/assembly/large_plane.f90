@@ -84,7 +84,9 @@ contains
     if (mv%bbar) then
       if (mv%hyper) then
         call mean_volume(mv%lame(1), sys%elems%wt(g0:g0 + ng - 1), pt(1:ng), jmean)
-        sys%pts%sig_t(1:4, g0:g0 + ng - 1) = reshape([(pt(k)%t1, k = 1, ng)], [4, ng])
+        do k = 1, ng                ! (a loop, not an array constructor: no temporary)
+          sys%pts%sig_t(1:4, g0 + k - 1) = pt(k)%t1
+        end do
       else
         call mean_pressure(sys%elems%wt(g0:g0 + ng - 1), sys%pts%sig(1:4, g0:g0 + ng - 1), pt(1:ng))
       end if
@@ -187,24 +189,19 @@ contains
     type(plane_pt_t), intent(inout) :: pt(:)
     real(dp) :: mn, m1
     integer :: k
-    mn = trace_mean(w, pt%ln(1), pt%ln(2))
-    m1 = trace_mean(w, pt%l1(1), pt%l1(2))
+    mn = 0.0_dp                     ! (loops: sections of pt's components would be copied to the heap)
+    m1 = 0.0_dp
+    do k = 1, size(pt)
+      mn = mn + w(k) * (pt(k)%ln(1) + pt(k)%ln(2))
+      m1 = m1 + w(k) * (pt(k)%l1(1) + pt(k)%l1(2))
+    end do
+    mn = mn / sum(w)
+    m1 = m1 / sum(w)
     do k = 1, size(pt)
       pt(k)%ln = with_trace(pt(k)%ln, mn)
       pt(k)%l1 = with_trace(pt(k)%l1, m1)
     end do
   end subroutine mean_dilatation
-
-  !> <tr v> = Σ w (v_xx + v_yy) / Σ w over the element's points (a, b: their xx and yy components).
-  pure real(dp) function trace_mean(w, a, b) result(m)
-    real(dp), intent(in) :: w(:), a(:), b(:)
-    integer :: k
-    m = 0.0_dp
-    do k = 1, size(w)
-      m = m + w(k) * (a(k) + b(k))
-    end do
-    m = m / sum(w)
-  end function trace_mean
 
   !> v with its in-plane trace replaced by m: v + ½ (m - tr v) I₂.
   pure function with_trace(v, m) result(r)
@@ -222,9 +219,17 @@ contains
     type(plane_pt_t), intent(inout) :: pt(:)
     real(dp) :: mn, m1, mb
     integer :: k
-    mn = trace_mean(w, sn(1, :), sn(2, :))
-    m1 = trace_mean(w, pt%t1(1), pt%t1(2))
-    mb = trace_mean(w, pt%tbar(1), pt%tbar(2))
+    mn = 0.0_dp
+    m1 = 0.0_dp
+    mb = 0.0_dp
+    do k = 1, size(pt)
+      mn = mn + w(k) * (sn(1, k) + sn(2, k))
+      m1 = m1 + w(k) * (pt(k)%t1(1) + pt(k)%t1(2))
+      mb = mb + w(k) * (pt(k)%tbar(1) + pt(k)%tbar(2))
+    end do
+    mn = mn / sum(w)
+    m1 = m1 / sum(w)
+    mb = mb / sum(w)
     do k = 1, size(pt)
       pt(k)%tn = with_trace(sn(1:4, k), mn)
       pt(k)%t1 = with_trace(pt(k)%t1, m1)
@@ -243,8 +248,14 @@ contains
     real(dp), intent(out) :: j1          !< <ln J> at n+1
     real(dp) :: jn, pb, sv(4), noise
     integer :: k
-    jn = trace_mean(w, pt%lon(1), pt%lon(2))
-    j1 = trace_mean(w, pt%lo1(1), pt%lo1(2))
+    jn = 0.0_dp
+    j1 = 0.0_dp
+    do k = 1, size(pt)
+      jn = jn + w(k) * (pt(k)%lon(1) + pt(k)%lon(2))
+      j1 = j1 + w(k) * (pt(k)%lo1(1) + pt(k)%lo1(2))
+    end do
+    jn = jn / sum(w)
+    j1 = j1 / sum(w)
     pb = 0.5_dp * lam * (jn + j1)
     do k = 1, size(pt)
       associate (q => pt(k))
