@@ -19,7 +19,7 @@ CFLAGS  += -Wall -Wextra -I/usr/include/suitesparse
 MPI_FFLAGS = $(shell mpifort --showme:compile 2>/dev/null)
 MPI_LIBS   = $(shell mpifort --showme:link 2>/dev/null)
 override FFLAGS += $(MPI_FFLAGS)
-LDLIBS  = $(HDF5_LIB) -lumfpack -lcholmod -lamd -lsuitesparseconfig -llapack -lblas $(MPI_LIBS)
+LDLIBS  = $(HDF5_LIB) -lumfpack -lcholmod -lamd -lsuitesparseconfig -larpack -llapack -lblas $(MPI_LIBS)
 PY      := /usr/bin/python3
 
 # Sources live in src/<concern>/ (README: the module tour); objects and .mod files go flat
@@ -109,6 +109,7 @@ bench: bin/rebond
 	@bash tools/bench_nonlinear.sh
 	@BENCH_CONTACT_OUT=docs/performance-contact.md bash tools/bench_contact.sh
 	@/usr/bin/python3 tools/bench_taylor.py
+	@/usr/bin/python3 tools/bench_taylor.py bin/rebond docs/taylor-axisymmetric.md --scene inputs/taylor_bar.dat
 
 clean:
 	rm -rf $(BUILD) bin/rebond

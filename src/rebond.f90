@@ -5,6 +5,7 @@
 !> the run (sweep: some case failed; the table is written all the same).
 program rebond
   use, intrinsic :: iso_fortran_env, only: error_unit
+  use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, STAT_RUN, str
   use scene, only: scene_t
   use contact_modes, only: IMPACT_NAMES
@@ -13,10 +14,11 @@ program rebond
   use assembly, only: system_t, build_system
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
   use sweep, only: run_sweep
-  use os_utils, only: path_stem, exit_with
+  use os_utils, only: path_stem, exit_with, make_directory
   use hdf5_file, only: hdf5_failed
   use text_file, only: say, stdout_error
   use scene_report, only: report_t, measure_scene, say_report, report_warnings
+  use modes, only: modes_t, compute_modes, write_modes
   implicit none
 
   character(len=*), parameter :: VERSION = '0.1.0'
@@ -27,6 +29,7 @@ program rebond
   type(run_state_t) :: rs
   type(run_options_t) :: opts
   type(run_summary_t) :: summary
+  type(modes_t) :: md
   integer :: i, n, stat, first, w, l, nset
   logical :: quiet, sweep_mode
   ! Static storage, as the standard implies for main-program variables: gfortran keeps these
@@ -150,7 +153,13 @@ contains
       if (sys%ops%k0u%active()) call say('  internal forces: K0 u (linear elastic model; SCHEME FORCES POINTS for the ' // &
         'element loop)')
     end if
+    if (scn%modes > 0) call run_modes()
     call scene_report_out()
+    if (scn%time_zero_line > 0) then             ! MODES alone (TIME END = START)
+      if (.not. quiet) call say('  no time steps (TIME END = START): the modes only; results in ' // outdir // '/')
+      call check_stdout()
+      return
+    end if
     call run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
     if (stat /= STAT_OK) then
       ! Interrupted (SIGINT/SIGTERM) or failed: the summary of what was done, then the cause.
@@ -161,14 +170,46 @@ contains
     call check_stdout()
   end subroutine run_scene
 
+  !> MODES (modes): computed, written to OUTDIR/modes.csv and modes.h5, the first ten on stdout.
+  subroutine run_modes()
+    character(len=64) :: line
+    integer :: k
+    real(dp) :: c0, c1
+    call cpu_time(c0)
+    call compute_modes(scn, sys, md, stat, errmsg)
+    call cpu_time(c1)
+    if (stat /= STAT_OK) call fail(stat, errmsg)
+    call make_directory(outdir, stat, errmsg)
+    if (stat == STAT_OK) call write_modes(scn, sys, md, outdir, stat, errmsg)
+    if (stat /= STAT_OK) call fail(stat, errmsg)
+    if (md%n < scn%modes) write (error_unit, '(a)') 'rebond: warning: ' // scene_path // ': MODES: ' // str(md%n) // &
+      ' of the ' // str(scn%modes) // ' modes asked for converged (modes.csv has those)'
+    if (quiet) return
+    write (line, '(f0.3,a,es8.1)') c1 - c0, ' s CPU, largest relative residual ', md%residual
+    call say('  modes: ' // str(md%n) // ' by ' // md%method // ' in ' // trim(line) // '; ' // outdir // '/modes.csv')
+    do k = 1, min(md%n, 10)
+      write (line, '(a,i0,a,es12.5,a)') '    mode ', k, ': ', md%frequency(k), ' Hz'
+      call say(trim(line))
+    end do
+    if (md%n > 10) call say('    …')
+  end subroutine run_modes
+
   !> The report of the scene (scene_report): its lines on stdout, its warnings on stderr (also
-  !> with --quiet).
+  !> with --quiet). With MODES, the lowest natural frequency is the first mode's that is not rigid.
   subroutine scene_report_out()
     type(report_t) :: rep
     character(len=:), allocatable :: w
-    integer :: p
+    integer :: p, k
     call measure_scene(scn, sys, rs%mat%factor, rs%nsteps, rs%rig, rep, stat, errmsg)
     if (stat /= STAT_OK) call fail(stat, errmsg)
+    if (scn%modes > 0 .and. scn%modes_above <= 0.0_dp) then
+      do k = 1, md%n
+        if (md%frequency(k) <= 1.0e-6_dp * md%frequency(md%n)) cycle
+        rep%f_low = md%frequency(k)
+        rep%low_converged = .true.
+        exit
+      end do
+    end if
     if (.not. quiet) call say_report(scn, rep)
     w = report_warnings(scn, rep)
     do while (len(w) > 0)

@@ -1,11 +1,13 @@
 #!/usr/bin/python3
-"""Issue 38's targets at the defaults: the Taylor bar of inputs/taylor_bar.dat on 4 x 20, 8 x 40 and
-16 x 80 meshes at h = 5e-7, 2.5e-7 and 1.25e-7 s, nothing else changed. For each run: exit code, the
-time reached, steps retried as sub-steps, Newton iterations per step (mean, max), |balance| / E, CPU
-seconds (user + sys of the child), length and foot half-width at 80 us, plastic work. Writes a
-Markdown table (default docs/taylor-defaults.md). `make bench` runs it; 16 x 80 takes minutes.
+"""Issue 38's targets at the defaults: a Taylor bar scene (inputs/taylor_plane.dat, the plane-strain
+slab, or inputs/taylor_bar.dat, the axisymmetric cylinder) on 4 x 20, 8 x 40 and 16 x 80 meshes at
+h = 5e-7, 2.5e-7 and 1.25e-7 s, nothing else changed. For each run: exit code, the time reached,
+steps retried as sub-steps, Newton iterations per step (mean, max), |balance| / E, CPU seconds
+(user + sys of the child), length and foot half-width (radius) at 80 us, plastic work. Writes a
+Markdown table. `make bench` runs both; 16 x 80 takes minutes.
 
-usage: bench_taylor.py [BIN] [OUT] [--meshes 4x20,8x40,16x80] [--steps 5e-7,2.5e-7,1.25e-7]
+usage: bench_taylor.py [BIN] [OUT] [--scene inputs/taylor_plane.dat] [--meshes 4x20,8x40,16x80]
+                       [--steps 5e-7,2.5e-7,1.25e-7]
 """
 import argparse
 import os
@@ -20,10 +22,10 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 NOTES = '<!-- notes: kept by tools/bench_taylor.py -->'
 
 
-def run(binary, mesh, h, work):
+def run(binary, scene, mesh, h, work):
     out = os.path.join(work, 'taylor_%s_%g' % (mesh, h))
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    p = subprocess.run([binary, os.path.join(ROOT, 'inputs', 'taylor_bar.dat'), '-o', out,
+    p = subprocess.run([binary, os.path.join(ROOT, scene), '-o', out,
                         '--set', 'RECTANGLE.ELEMENTS=' + mesh.replace('x', ' '), '--set', 'TIME.STEP=%g' % h,
                         '--set', 'OUTPUT.FIELDS=EVERY 0'], capture_output=True, text=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -38,7 +40,8 @@ def run(binary, mesh, h, work):
     ux = [n for n in names if n.endswith('UX')][0]
     uy = [n for n in names if n.endswith('UY')][0]
     row['foot'] = 3.2e-3 + probes[ux][-1]
-    row['length'] = 32.4e-3 + probes[uy][-1]
+    # the top's height: the bar spans y = 0.1 to 32.5 mm (ORIGIN 0 0.0001) and its foot ends on the wall
+    row['length'] = 32.5e-3 + probes[uy][-1]
     return row
 
 
@@ -46,6 +49,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument('binary', nargs='?', default=os.path.join(ROOT, 'bin', 'rebond'))
     ap.add_argument('out', nargs='?', default=os.path.join(ROOT, 'docs', 'taylor-defaults.md'))
+    ap.add_argument('--scene', default=os.path.join('inputs', 'taylor_plane.dat'))
     ap.add_argument('--meshes', default='4x20,8x40,16x80')
     ap.add_argument('--steps', default='5e-7,2.5e-7,1.25e-7')
     a = ap.parse_args()
@@ -53,19 +57,21 @@ def main():
     rows = []
     for mesh in a.meshes.split(','):
         for h in (float(s) for s in a.steps.split(',')):
-            r = run(a.binary, mesh, h, work)
+            r = run(a.binary, a.scene, mesh, h, work)
             rows.append(r)
             print('%s h=%g: exit %d, t %.3g, retried %d, iterations %.2f (max %d), balance %.1e, CPU %.1f s, '
                   'length %.3f mm, foot %.3f mm, plastic work %.1f J' % (
                       mesh, h, r['rc'], r['t'], r['retried'], r['it_mean'], r['it_max'], r['bal'], r['cpu'],
                       1e3 * r['length'], 1e3 * r['foot'], r['wp']), flush=True)
-    lines = ['# Taylor bar at the defaults (issue 38)', '',
-             'Written by `tools/bench_taylor.py` (`make bench`): `inputs/taylor_bar.dat` with only the mesh',
-             '(`RECTANGLE.ELEMENTS`) and the step changed, every other setting the default. Length and foot',
-             'half-width at 80 µs from the probes (top-left UY, bottom-right UX), plastic work from',
-             'history.csv; CPU is user + system time of the run on this machine.', '',
+    axi = 'AXISYMMETRIC' in open(os.path.join(ROOT, a.scene)).read()
+    foot = 'foot radius' if axi else 'foot half-width'
+    lines = ['# Taylor bar at the defaults (issue 38%s)' % (', axisymmetric' if axi else ''), '',
+             'Written by `tools/bench_taylor.py` (`make bench`): `%s` with only the mesh' % a.scene,
+             '(`RECTANGLE.ELEMENTS`) and the step changed, every other setting the default. Length (the top\'s',
+             'height, from y = 32.5 mm) and %s at 80 µs from the probes (top-left UY, bottom-right UX),' % foot,
+             'plastic work from history.csv; CPU is user + system time of the run on this machine.', '',
              '| mesh | h (s) | exit | t reached (µs) | retried steps | iterations mean (max) | \\|balance\\|/E | CPU (s) '
-             '| length (mm) | foot half-width (mm) | plastic work (J) |',
+             '| length (mm) | %s (mm) | plastic work (J) |' % foot,
              '|---|---|---|---|---|---|---|---|---|---|---|']
     for r in rows:
         lines.append('| %s | %g | %d | %.1f | %d | %.2f (%d) | %.1e | %.1f | %.3f | %.3f | %.1f |' % (

@@ -460,12 +460,12 @@ def large_beam_rows(new):
                   'first contact at sqrt(2 x 0.02/g) = 0.0639 s.',
         measured='min gap %.1e m; max |balance|/E = %.2e.' % (np.min(c['min_gap']), rb),
         reading='A tumble at 45 degrees the SMALL model cannot represent (docs/large-displacements.md, figure).'))
-    d, rc, err, wall = new('taylor_bar', [])
+    d, rc, err, wall = new('taylor_plane', [])
     rb, h = balance(d)
     c = np.genfromtxt(os.path.join(d, 'contacts.csv'), delimiter=',', names=True, dtype=None, encoding=None)
     p = np.genfromtxt(os.path.join(d, 'probes.csv'), delimiter=',', names=True)
     rows.append(dict(
-        scene='taylor_bar', run='as given (80 LARGE QUAD4, STRAIN_MEASURE LOG, h = 2.5e-7 s, 80 us)', rc=rc, wall=wall, rb=rb,
+        scene='taylor_plane', run='as given (80 LARGE QUAD4, STRAIN_MEASURE LOG, h = 2.5e-7 s, 80 us)', rc=rc, wall=wall, rb=rb,
         reference='No closed form (plane-strain Taylor test). Exact: kinetic + stored + plastic work constant, the wall '
                   'never crossed; the model at a point is J2 at the logarithmic strain (tests/scenes/large_log: the '
                   'closed form of uniaxial strain to 1e-12).',

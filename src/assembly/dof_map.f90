@@ -4,7 +4,7 @@
 module dof_map
   use kinds, only: dp
   use mesh, only: mesh_t
-  use scene, only: scene_t
+  use scene, only: scene_t, scene_axisymmetric
   use elements, only: elem_dof_mask
   use element_traits, only: ET_BEAM2
   implicit none
@@ -102,6 +102,12 @@ contains
       if ((held(1) .and. abs(scn%mesh%x(2, n)) > tol) .or. (held(2) .and. abs(scn%mesh%x(1, n)) > tol) .or. held(3)) &
         free(3, label(n)) = .false.
     end do
+    ! Axisymmetric: a rigid radial translation or an in-plane rotation would stretch the hoops; the
+    ! one rigid motion of a ring is along the axis (y).
+    if (scene_axisymmetric(scn)) then
+      free(1, :) = .false.
+      free(3, :) = .false.
+    end if
   end subroutine body_rigid_freedom
 
   !> label(node): the mesh-connected component (through modelled elements) of each node, from 1

@@ -24,6 +24,7 @@ module element_points
     logical :: log_strain = .false.  !< STRAIN_MEASURE LOG: the points' pair is the Hencky strain and its stress
     logical :: pstress = .false.     !< plane stress (surface elements)
     logical :: bbar = .false.        !< FORMULATION BBAR: the element's mean dilatation at its points
+    logical :: axi = .false.         !< AXISYMMETRIC: the hoop stretch F_θθ = 1 + u_r/R (surface elements)
     logical :: per_length = .false.  !< the strain is an elongation over the length (BAR2), not an elongation (SPRING)
   end type model_view_t
 
@@ -52,6 +53,7 @@ contains
     mv%pstress = sys%elems%pk(im) == PK_PSTRESS
     mv%log_strain = scn%models(im)%log_strain
     mv%bbar = scn%models(im)%bbar
+    mv%axi = scn%models(im)%sec%axisymmetric
   end subroutine view_model
 
   !> One point through its law (material_law's law_update, sub-incremented along the step from

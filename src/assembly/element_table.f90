@@ -145,25 +145,31 @@ contains
       im = scn%elem_model(e)
       if (im == 0) cycle
       if (.not. scn%models(im)%bbar) cycle
-      call mean_dilatation_b(elems, elems%gp_ptr(e), elems%gp_ptr(e + 1) - elems%gp_ptr(e), elem_ndof(scn%mesh%etype(e)))
+      call mean_dilatation_b(elems, elems%gp_ptr(e), elems%gp_ptr(e + 1) - elems%gp_ptr(e), elem_ndof(scn%mesh%etype(e)), &
+        merge(3, 2, scn%models(im)%sec%axisymmetric))
     end do
   end subroutine build_element_table
 
   !> B-bar (FORMULATION BBAR): at each of the element's ng points (from g0; B 4 x ndof in bmat) the
-  !> in-plane volumetric row b_v = B(1, :) + B(2, :) replaced by its volume mean over the element,
-  !> <b_v> = Σ w b_v / Σ w: B̄ = B + ½ [1, 1, 0, 0]' (<b_v> - b_v). The strain B̄ u keeps each point's
-  !> in-plane deviator and takes the element's mean dilatation (Hughes' B-bar; docs/locking.md).
-  pure subroutine mean_dilatation_b(elems, g0, ng, ndof)
+  !> volumetric row b_v = B(1, :) + … + B(ntr, :) (ntr = 2 in plane strain, 3 with the hoop row of
+  !> an axisymmetric model) replaced by its volume mean over the element, <b_v> = Σ w b_v / Σ w:
+  !> B̄ = B + (1/ntr) [1 … 1, 0]' (<b_v> - b_v). The strain B̄ u keeps each point's deviator and takes
+  !> the element's mean dilatation (Hughes' B-bar; docs/locking.md).
+  pure subroutine mean_dilatation_b(elems, g0, ng, ndof, ntr)
     type(element_table_t), intent(inout) :: elems
-    integer, intent(in) :: g0, ng, ndof
-    real(dp) :: m(MAX_EDOF), wsum, dv
-    integer :: igp, a, p
+    integer, intent(in) :: g0, ng, ndof, ntr
+    real(dp) :: m(MAX_EDOF), wsum, dv, bv
+    integer :: igp, a, p, r
     m(1:ndof) = 0.0_dp
     wsum = 0.0_dp
     do igp = g0, g0 + ng - 1
       p = elems%b_ptr(igp) - 1
       do a = 1, ndof
-        m(a) = m(a) + elems%wt(igp) * (elems%bmat(p + 4 * a - 3) + elems%bmat(p + 4 * a - 2))
+        bv = 0.0_dp
+        do r = 1, ntr
+          bv = bv + elems%bmat(p + 4 * a - 4 + r)
+        end do
+        m(a) = m(a) + elems%wt(igp) * bv
       end do
       wsum = wsum + elems%wt(igp)
     end do
@@ -171,9 +177,14 @@ contains
     do igp = g0, g0 + ng - 1
       p = elems%b_ptr(igp) - 1
       do a = 1, ndof
-        dv = 0.5_dp * (m(a) - (elems%bmat(p + 4 * a - 3) + elems%bmat(p + 4 * a - 2)))
-        elems%bmat(p + 4 * a - 3) = elems%bmat(p + 4 * a - 3) + dv
-        elems%bmat(p + 4 * a - 2) = elems%bmat(p + 4 * a - 2) + dv
+        bv = 0.0_dp
+        do r = 1, ntr
+          bv = bv + elems%bmat(p + 4 * a - 4 + r)
+        end do
+        dv = (m(a) - bv) / ntr
+        do r = 1, ntr
+          elems%bmat(p + 4 * a - 4 + r) = elems%bmat(p + 4 * a - 4 + r) + dv
+        end do
       end do
     end do
   end subroutine mean_dilatation_b
@@ -202,13 +213,14 @@ contains
   end subroutine point_b
 
   !> Whether the points of model im's elements of type et keep their gradients (gr_ptr): linear
-  !> elastic surface elements in small strain (not B-bar), the ones the element loop's plane kernel serves.
+  !> elastic surface elements in small strain (not B-bar, not axisymmetric: the hoop row is not made
+  !> of gradients), the ones the element loop's plane kernel serves.
   pure logical function plane_gradients(scn, elems, im, et)
     type(scene_t), intent(in) :: scn
     type(element_table_t), intent(in) :: elems
     integer, intent(in) :: im, et
     plane_gradients = etype_family(et) == FAMILY_SURFACE .and. elems%model_linear(im) .and. &
-      .not. scn%models(im)%large .and. .not. scn%models(im)%bbar
+      .not. scn%models(im)%large .and. .not. scn%models(im)%bbar .and. .not. scn%models(im)%sec%axisymmetric
   end function plane_gradients
 
   !> ke(1:ndof, 1:ndof) += w B' D B, B nstr x ndof, D the leading nstr x nstr block of d.

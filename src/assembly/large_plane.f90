@@ -11,7 +11,7 @@ module large_plane
   use material_law, only: law_step_t
   use element_points, only: model_view_t, point_update
   use law_hyperelastic, only: nh_stress, nh_tangent, nh_discrete_stress
-  use log_strain, only: hencky_strain, log_tangent, log_curvature, positive_inplane
+  use log_strain, only: hencky_strain, log_tangent, log_curvature, positive_inplane, positive_all
   implicit none
   private
   public :: large_plane_element
@@ -19,11 +19,14 @@ module large_plane
   integer, parameter :: MAX_NEN = MAX_EDOF / 2
   real(dp), parameter :: EYE(2, 2) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 2])
   real(dp), parameter :: I2(4) = [1.0_dp, 1.0_dp, 0.0_dp, 0.0_dp]   !< the in-plane identity (Voigt)
+  real(dp), parameter :: I3(4) = [1.0_dp, 1.0_dp, 1.0_dp, 0.0_dp]   !< the identity of the normal strains
 
   !> One point of the element during a trial: kinematics, the law's strains and stresses.
   type :: plane_pt_t
     real(dp) :: dn(2, MAX_NEN)       !< ∇N (reference)
-    real(dp) :: fn(2, 2), f1(2, 2)   !< F(n), F(n+1)
+    real(dp) :: nr(MAX_NEN)          !< AXISYMMETRIC: N_a / R (the reference B's hoop row; 0 otherwise)
+    real(dp) :: fn(2, 2), f1(2, 2)   !< F(n), F(n+1) in the plane
+    real(dp) :: zn, z1               !< F_θθ = 1 + u_r/R at n and n+1 (1 unless AXISYMMETRIC)
     real(dp) :: b1(4, MAX_EDOF)      !< B_NL(F(n+1)) (dE = B_NL du; columns u_x, u_y of each node)
     real(dp) :: en(4), e1(4)         !< Green-Lagrange strains
     real(dp) :: ln(4), l1(4)         !< the strains the law sees (E, or ℓ; with BBAR ℓ̄)
@@ -70,14 +73,15 @@ contains
     logical, intent(inout) :: any_c
     type(plane_pt_t) :: pt(MAX_GAUSS)
     real(dp) :: mrow(MAX_EDOF), jmean, wtot, gcurv(4, 4)
-    integer :: k
+    integer :: k, ntr
     fc(1:ndof) = 0.0_dp
     jmean = 0.0_dp
     wtot = sum(sys%elems%wt(g0:g0 + ng - 1))
     do k = 1, ng
       call point_kinematics(sys, mv, e, g0 + k - 1, ndof / 2, ue, une, pt(k))
     end do
-    if (mv%bbar .and. .not. mv%hyper) call mean_dilatation(sys%elems%wt(g0:g0 + ng - 1), pt(1:ng))
+    ntr = merge(3, 2, mv%axi)             ! the normal strains of the volume change
+    if (mv%bbar .and. .not. mv%hyper) call mean_dilatation(sys%elems%wt(g0:g0 + ng - 1), ntr, pt(1:ng))
     do k = 1, ng
       call point_law(scn, sys, mv, g0 + k - 1, tangent, correct, pt(k))
     end do
@@ -88,11 +92,11 @@ contains
           sys%pts%sig_t(1:4, g0 + k - 1) = pt(k)%t1
         end do
       else
-        call mean_pressure(sys%elems%wt(g0:g0 + ng - 1), sys%pts%sig(1:4, g0:g0 + ng - 1), pt(1:ng))
+        call mean_pressure(sys%elems%wt(g0:g0 + ng - 1), ntr, sys%pts%sig(1:4, g0:g0 + ng - 1), pt(1:ng))
       end if
       mrow(1:ndof) = 0.0_dp
       do k = 1, ng                ! <b_v>: the mean of the in-plane trace rows of P B_NL(F(n+1))
-        call add_trace_row(sys%elems%wt(g0 + k - 1) / wtot, pt(k), ndof, mrow)
+        call add_trace_row(sys%elems%wt(g0 + k - 1) / wtot, ntr, pt(k), ndof, mrow)
       end do
     end if
     do k = 1, ng
@@ -106,7 +110,7 @@ contains
       end do
       do k = 1, ng
         call log_curvature(pt(k)%e1, mv%lame(1) * jmean * I2, gcurv)
-        call add_split(ke, kg, sys%elems%wt(g0 + k - 1), pt(k)%b1, gcurv, ndof)
+        call add_split(ke, kg, sys%elems%wt(g0 + k - 1), pt(k)%b1, gcurv, ndof, mv%axi)
       end do
     end if
     any_c = any_c .or. correct
@@ -119,24 +123,31 @@ contains
     integer, intent(in) :: e, igp, nen
     real(dp), intent(in) :: ue(:), une(:)
     type(plane_pt_t), intent(inout) :: q
-    real(dp) :: hn(2, 2), h1(2, 2)
+    real(dp) :: hn(2, 2), h1(2, 2), hzn, hz1
     integer :: a, p
     logical :: okn, ok1
     p = sys%elems%b_ptr(igp)
     do a = 1, nen
       q%dn(1, a) = sys%elems%bref(p + (2 * a - 2) * 4)          ! B(1, 2a-1) = dN_a/dX
       q%dn(2, a) = sys%elems%bref(p + (2 * a - 1) * 4 + 1)      ! B(2, 2a)   = dN_a/dY
+      q%nr(a) = 0.0_dp
+      if (mv%axi) q%nr(a) = sys%elems%bref(p + (2 * a - 2) * 4 + 2)   ! B(3, 2a-1) = N_a/R
     end do
     hn = grad(une)
     h1 = grad(ue)
     q%fn = hn + EYE
     q%f1 = h1 + EYE
+    hzn = hoop(une)
+    hz1 = hoop(ue)
+    q%zn = 1.0_dp + hzn
+    q%z1 = 1.0_dp + hz1
     ! An element turned inside out (det F <= 0) has no strain energy of its own to show it:
     ! reported to the step (iterate_eq9), as for the axial members.
-    if (sys%elems%inverted == 0 .and. q%f1(1, 1) * q%f1(2, 2) - q%f1(1, 2) * q%f1(2, 1) <= 0.0_dp) sys%elems%inverted = e
-    q%en = green(hn)
-    q%e1 = green(h1)
-    call bnl(q%f1, q%dn, nen, q%b1)
+    if (sys%elems%inverted == 0 .and. (q%f1(1, 1) * q%f1(2, 2) - q%f1(1, 2) * q%f1(2, 1) <= 0.0_dp .or. &
+        q%z1 <= 0.0_dp)) sys%elems%inverted = e
+    q%en = green(hn, hzn)
+    q%e1 = green(h1, hz1)
+    call bnl(q%f1, q%z1, q%dn, q%nr, nen, q%b1)
     ! The Hencky strain: the law's with STRAIN_MEASURE LOG; HYPERELASTIC with BBAR takes its ln J.
     if (mv%log_strain .or. (mv%hyper .and. mv%bbar)) then
       call hencky_strain(q%en, q%lon, q%pn, okn)
@@ -169,13 +180,22 @@ contains
         f(2, :) = f(2, :) + u(2 * k) * q%dn(:, k)
       end do
     end function grad
-    !> E = ½(H + H' + H'H) as [Exx, Eyy, 0, 2 Exy] (the engineering shear, as the small strain's
-    !> γ), from H: ½(F'F - I) would lose a small strain to round-off.
-    pure function green(h) result(eg)
-      real(dp), intent(in) :: h(2, 2)
+    !> The hoop part of the gradient, u_r/R = Σ u_a N_a/R (F_θθ = 1 + it; 0 unless AXISYMMETRIC).
+    pure real(dp) function hoop(u) result(hz)
+      real(dp), intent(in) :: u(:)
+      integer :: k
+      hz = 0.0_dp
+      do k = 1, nen
+        hz = hz + u(2 * k - 1) * q%nr(k)
+      end do
+    end function hoop
+    !> E = ½(H + H' + H'H) as [Exx, Eyy, Eθθ, 2 Exy] (the engineering shear, as the small strain's
+    !> γ; Eθθ = hz + ½ hz², 0 in plane strain), from H: ½(F'F - I) would lose a small strain to round-off.
+    pure function green(h, hz) result(eg)
+      real(dp), intent(in) :: h(2, 2), hz
       real(dp) :: eg(4), c(2, 2)
       c = matmul(transpose(h), h)
-      eg = [h(1, 1) + 0.5_dp * c(1, 1), h(2, 2) + 0.5_dp * c(2, 2), 0.0_dp, h(1, 2) + h(2, 1) + c(1, 2)]
+      eg = [h(1, 1) + 0.5_dp * c(1, 1), h(2, 2) + 0.5_dp * c(2, 2), hz + 0.5_dp * hz * hz, h(1, 2) + h(2, 1) + c(1, 2)]
     end function green
   end subroutine point_kinematics
 
@@ -184,38 +204,54 @@ contains
   !>     ℓ̄ = ℓ + ½ (<tr ℓ> - tr ℓ) I₂,   <tr ℓ> = Σ w tr ℓ / Σ w.
   !> On the Hencky strain tr ℓ = ln J (plane strain), so J̄ is the element's geometric mean of J at
   !> every point (F-bar); in small strain it is B-bar. ℓ̄ is linear in the points' ℓ.
-  pure subroutine mean_dilatation(w, pt)
+  !> AXISYMMETRIC (ntr = 3): the trace over the three normal strains, ℓ̄ = ℓ + ⅓ (<tr ℓ> - tr ℓ) I₃.
+  pure subroutine mean_dilatation(w, ntr, pt)
     real(dp), intent(in) :: w(:)
+    integer, intent(in) :: ntr
     type(plane_pt_t), intent(inout) :: pt(:)
     real(dp) :: mn, m1
     integer :: k
     mn = 0.0_dp                     ! (loops: sections of pt's components would be copied to the heap)
     m1 = 0.0_dp
     do k = 1, size(pt)
-      mn = mn + w(k) * (pt(k)%ln(1) + pt(k)%ln(2))
-      m1 = m1 + w(k) * (pt(k)%l1(1) + pt(k)%l1(2))
+      mn = mn + w(k) * trace(pt(k)%ln, ntr)
+      m1 = m1 + w(k) * trace(pt(k)%l1, ntr)
     end do
     mn = mn / sum(w)
     m1 = m1 / sum(w)
     do k = 1, size(pt)
-      pt(k)%ln = with_trace(pt(k)%ln, mn)
-      pt(k)%l1 = with_trace(pt(k)%l1, m1)
+      pt(k)%ln = with_trace(pt(k)%ln, mn, ntr)
+      pt(k)%l1 = with_trace(pt(k)%l1, m1, ntr)
     end do
   end subroutine mean_dilatation
 
-  !> v with its in-plane trace replaced by m: v + ½ (m - tr v) I₂.
-  pure function with_trace(v, m) result(r)
+  !> The trace of a Voigt 4-vector: in-plane (ntr = 2), or of the three normal components (3).
+  pure real(dp) function trace(v, ntr)
+    real(dp), intent(in) :: v(4)
+    integer, intent(in) :: ntr
+    trace = v(1) + v(2)
+    if (ntr == 3) trace = trace + v(3)
+  end function trace
+
+  !> v with its trace replaced by m: v + ½ (m - tr v) I₂ (ntr = 2), v + ⅓ (m - tr v) I₃ (ntr = 3).
+  pure function with_trace(v, m, ntr) result(r)
     real(dp), intent(in) :: v(4), m
+    integer, intent(in) :: ntr
     real(dp) :: r(4)
-    r = v + 0.5_dp * (m - (v(1) + v(2))) * I2
+    if (ntr == 3) then
+      r = v + (m - trace(v, 3)) / 3.0_dp * I3
+    else
+      r = v + 0.5_dp * (m - (v(1) + v(2))) * I2
+    end if
   end function with_trace
 
   !> FORMULATION BBAR, the stresses: the virtual work Σ w T·δℓ̄ = Σ w T̃·δℓ with
   !>     T̃ = T + ½ (<tr T> - tr T) I₂,
   !> each point's in-plane deviator and the element's mean in-plane pressure; for T(n) (sn, the
   !> committed stresses), T(n+1) and the step's T̄ alike (so Σ w T̃̄·Δℓ = Σ w T̄·Δℓ̄, the laws' work).
-  pure subroutine mean_pressure(w, sn, pt)
+  pure subroutine mean_pressure(w, ntr, sn, pt)
     real(dp), intent(in) :: w(:), sn(:, :)
+    integer, intent(in) :: ntr
     type(plane_pt_t), intent(inout) :: pt(:)
     real(dp) :: mn, m1, mb
     integer :: k
@@ -223,17 +259,17 @@ contains
     m1 = 0.0_dp
     mb = 0.0_dp
     do k = 1, size(pt)
-      mn = mn + w(k) * (sn(1, k) + sn(2, k))
-      m1 = m1 + w(k) * (pt(k)%t1(1) + pt(k)%t1(2))
-      mb = mb + w(k) * (pt(k)%tbar(1) + pt(k)%tbar(2))
+      mn = mn + w(k) * trace(sn(1:4, k), ntr)
+      m1 = m1 + w(k) * trace(pt(k)%t1, ntr)
+      mb = mb + w(k) * trace(pt(k)%tbar, ntr)
     end do
     mn = mn / sum(w)
     m1 = m1 / sum(w)
     mb = mb / sum(w)
     do k = 1, size(pt)
-      pt(k)%tn = with_trace(sn(1:4, k), mn)
-      pt(k)%t1 = with_trace(pt(k)%t1, m1)
-      pt(k)%tbar = with_trace(pt(k)%tbar, mb)
+      pt(k)%tn = with_trace(sn(1:4, k), mn, ntr)
+      pt(k)%t1 = with_trace(pt(k)%t1, m1, ntr)
+      pt(k)%tbar = with_trace(pt(k)%tbar, mb, ntr)
     end do
   end subroutine mean_pressure
 
@@ -269,14 +305,19 @@ contains
   end subroutine mean_volume
 
   !> mrow += wr (I₂' P(n+1) B_NL(F(n+1))): a point's share of the mean in-plane trace row of dℓ/du.
-  pure subroutine add_trace_row(wr, q, ndof, mrow)
+  pure subroutine add_trace_row(wr, ntr, q, ndof, mrow)
     real(dp), intent(in) :: wr
+    integer, intent(in) :: ntr
     type(plane_pt_t), intent(in) :: q
     integer, intent(in) :: ndof
     real(dp), intent(inout) :: mrow(:)
     integer :: a
     do a = 1, ndof
-      mrow(a) = mrow(a) + wr * dot_product(q%pl(1, :) + q%pl(2, :), q%b1(:, a))
+      if (ntr == 3) then
+        mrow(a) = mrow(a) + wr * dot_product(q%pl(1, :) + q%pl(2, :) + q%pl(3, :), q%b1(:, a))
+      else
+        mrow(a) = mrow(a) + wr * dot_product(q%pl(1, :) + q%pl(2, :), q%b1(:, a))
+      end if
     end do
   end subroutine add_trace_row
 
@@ -348,7 +389,7 @@ contains
       sn = matmul(q%tn, q%pn)
       s1 = matmul(q%t1, q%pl)
       call secant_stress(q%tbar, q%lon, q%lo1, q%en, q%e1, q%pn, q%pl, sbar, snoise)
-      if (tangent .and. .not. mv%bbar) call log_tangent(q%e1, q%t1, q%pl, dm)
+      if (tangent .and. .not. mv%bbar) call log_tangent(q%e1, q%t1, q%pl, dm, mv%axi)
     else
       sn = q%tn
       s1 = q%t1
@@ -364,15 +405,20 @@ contains
       (1.0_dp + maxval(abs(q%l1)) + pmax * maxval(abs(q%e1))))
     if (snoise > 0.0_dp) sys%elems%round_floor = sys%elems%round_floor + &
       (w * snoise * max(1.0_dp, maxval(abs(q%f1))))**2 * sum(q%dn(:, 1:nen)**2)
-    call bnl(q%fn, q%dn, nen, bn)
-    call bnl(0.5_dp * (q%fn + q%f1), q%dn, nen, bm)
+    call bnl(q%fn, q%zn, q%dn, q%nr, nen, bn)
+    call bnl(0.5_dp * (q%fn + q%f1), 0.5_dp * (q%zn + q%z1), q%dn, q%nr, nen, bm)
     do a = 1, ndof                          ! (loops, not reshape/matmul: no temporaries)
       if (mv%bbar .and. .not. mv%hyper) then  ! the B of ℓ̄: Q P B_NL + ½ I₂ <b_v>
         do i = 1, 4
           bb(i, a) = dot_product(q%pl(i, :), q%b1(:, a))
         end do
-        tr = 0.5_dp * (mrow(a) - (bb(1, a) + bb(2, a)))
-        bb(1:2, a) = bb(1:2, a) + tr
+        if (mv%axi) then
+          tr = (mrow(a) - (bb(1, a) + bb(2, a) + bb(3, a))) / 3.0_dp
+          bb(1:3, a) = bb(1:3, a) + tr
+        else
+          tr = 0.5_dp * (mrow(a) - (bb(1, a) + bb(2, a)))
+          bb(1:2, a) = bb(1:2, a) + tr
+        end if
         sys%elems%bmat(p + 4 * a - 4:p + 4 * a - 1) = bb(:, a)
       else if (mv%log_strain) then          ! the B of the point's strain: P B_NL for ℓ
         do i = 1, 4
@@ -394,10 +440,10 @@ contains
     if (mv%bbar .and. .not. mv%hyper) then
       ! The law's tangent (that of 2T̄ with the correction: not always positive) through B̄, the log
       ! map's curvature T̃ : d²ℓ/dE² through B_NL: each split into ke and kg.
-      call add_split(ke, kg, w, bb, dm, ndof)
+      call add_split(ke, kg, w, bb, dm, ndof, mv%axi)
       if (mv%log_strain) then
         call log_curvature(q%e1, q%t1, gc)
-        call add_split(ke, kg, w, q%b1, gc, ndof)
+        call add_split(ke, kg, w, q%b1, gc, ndof, mv%axi)
       end if
     else
       call add_btdb(ke, w, q%b1, dm, ndof)
@@ -416,6 +462,18 @@ contains
           ke(2 * a - 2 + i, 2 * b - 2 + i) = ke(2 * a - 2 + i, 2 * b - 2 + i) + g
           kg(2 * a - 2 + i, 2 * b - 2 + i) = kg(2 * a - 2 + i, 2 * b - 2 + i) + gcm
         end do
+      end do
+    end do
+    if (.not. mv%axi) return
+    ! The hoop part, d²Eθθ/du_ra du_rb = N_a N_b / R²: S_θθ (an eigenvalue of S) to ke or kg.
+    do a = 1, nen
+      do b = 1, nen
+        g = w * s1(3) * q%nr(a) * q%nr(b)
+        if (s1(3) > 0.0_dp) then
+          ke(2 * a - 1, 2 * b - 1) = ke(2 * a - 1, 2 * b - 1) + g
+        else
+          kg(2 * a - 1, 2 * b - 1) = kg(2 * a - 1, 2 * b - 1) + g
+        end if
       end do
     end do
   end subroutine point_forces
@@ -455,31 +513,40 @@ contains
 
   !> The in-plane block of m (4 x 4 on the strain b maps du to; xx, yy, xy) symmetrized and split:
   !> ke += w b' m⁺ b with m⁺ its positive part, kg += w b' (m - m⁺) b (m's zz row and column are
-  !> zero through b in plane strain).
-  pure subroutine add_split(ke, kg, w, b, m, ndof)
+  !> zero through b in plane strain). axi: the whole 4 x 4 (the hoop row of b is not zero).
+  pure subroutine add_split(ke, kg, w, b, m, ndof, axi)
     real(dp), intent(inout) :: ke(:, :), kg(:, :)
     real(dp), intent(in) :: w, b(:, :), m(4, 4)
     integer, intent(in) :: ndof
+    logical, intent(in) :: axi
     integer, parameter :: ip(3) = [1, 2, 4]
-    real(dp) :: a3(3, 3), mp(4, 4), mn(4, 4)
-    a3 = 0.5_dp * (m(ip, ip) + transpose(m(ip, ip)))
-    mn = 0.0_dp
-    mn(ip, ip) = a3
+    real(dp) :: a3(3, 3), a4(4, 4), mp(4, 4), mn(4, 4)
     mp = 0.0_dp
-    call positive_inplane(a3, mp)
+    if (axi) then
+      a4 = 0.5_dp * (m + transpose(m))
+      mn = a4
+      call positive_all(a4, mp)
+    else
+      a3 = 0.5_dp * (m(ip, ip) + transpose(m(ip, ip)))
+      mn = 0.0_dp
+      mn(ip, ip) = a3
+      call positive_inplane(a3, mp)
+    end if
     call add_btdb(ke, w, b, mp, ndof)
     mn = mn - mp
     call add_btdb(kg, w, b, mn, ndof)
   end subroutine add_split
 
-  !> dE = B_NL(F) du (rows as green's; columns u_x, u_y of each node), ∇N in dn.
-  pure subroutine bnl(f, dn, nen, bb)
-    real(dp), intent(in) :: f(2, 2), dn(:, :)
+  !> dE = B_NL(F) du (rows as green's; columns u_x, u_y of each node), ∇N in dn; the hoop row
+  !> dEθθ = F_θθ Σ N_a/R du_ra (fz = F_θθ, nr = N_a/R: zero unless AXISYMMETRIC).
+  pure subroutine bnl(f, fz, dn, nr, nen, bb)
+    real(dp), intent(in) :: f(2, 2), fz, dn(:, :), nr(:)
     integer, intent(in) :: nen
     real(dp), intent(out) :: bb(:, :)
     integer :: k
     bb = 0.0_dp
     do k = 1, nen
+      bb(3, 2 * k - 1) = fz * nr(k)
       bb(1, 2 * k - 1) = f(1, 1) * dn(1, k)
       bb(1, 2 * k) = f(2, 1) * dn(1, k)
       bb(2, 2 * k - 1) = f(1, 2) * dn(2, k)

@@ -4,13 +4,15 @@
 !>   PRESSURE  p on the free sides of the group's surface elements (mesh_segments' group_sides),
 !>             positive into the body: consistent nodal forces -p t ∫ N_i n ds;
 !>   TRACTION  (tx, ty) per unit area on those sides: t ∫ N_i (tx, ty) ds.
-!> t is the thickness of the side's element (its MODEL's SECTION THICKNESS). A PRESSURE on the
+!> t is the thickness of the side's element (its MODEL's SECTION THICKNESS), or in an axisymmetric
+!> model 2π r(s), the whole ring (r the side's radius at each point). A PRESSURE on the
 !> sides of a KINEMATICS LARGE model follows them (follower_loads) unless said DEAD: those sides
 !> are left out here.
 module loads
   use kinds, only: dp
   use scene, only: scene_t, load_t, LOAD_NODAL, LOAD_PRESSURE, LOAD_TRACTION
   use mesh_segments, only: side_set_t, group_sides
+  use element_iso, only: TWO_PI
   implicit none
   private
   public :: load_nodal_forces, side_forces, side_pressure_stiffness, side_follows
@@ -26,6 +28,7 @@ contains
     type(side_set_t) :: sides
     real(dp) :: fs(2, 3), x(2, 3), t
     integer :: i, k, e, stat
+    logical :: ring
     character(len=:), allocatable :: msg
     fn = 0.0_dp
     associate (nodes => scn%mesh%ngroups(ld%ngroup)%items)
@@ -42,11 +45,12 @@ contains
       if (scn%elem_model(e) == 0) cycle                     ! no model: no DOFs to load
       if (side_follows(scn, ld, e)) cycle                   ! a follower side (follower_loads)
       t = scn%models(scn%elem_model(e))%sec%thickness
+      ring = scn%models(scn%elem_model(e))%sec%axisymmetric
       x(:, 1:sides%nsn(k)) = scn%mesh%x(:, sides%node(1:sides%nsn(k), k))
       if (ld%kind == LOAD_PRESSURE) then
-        call side_forces(sides%nsn(k), x, t, ld%force(1), [0.0_dp, 0.0_dp], fs)
+        call side_forces(sides%nsn(k), x, t, ld%force(1), [0.0_dp, 0.0_dp], fs, ring)
       else
-        call side_forces(sides%nsn(k), x, t, 0.0_dp, ld%force(1:2), fs)
+        call side_forces(sides%nsn(k), x, t, 0.0_dp, ld%force(1:2), fs, ring)
       end if
       do i = 1, sides%nsn(k)
         fn(1:2, sides%node(i, k)) = fn(1:2, sides%node(i, k)) + fs(:, i)
@@ -74,14 +78,20 @@ contains
   !> by 3-point Gauss: exact for the pressure of any 2- or 3-node side (the integrand is a
   !> polynomial of degree <= 3), and for the traction of a straight side. The pressure's total
   !> is -p t times the chord's normal (Σ N_i = 1: ∫ x' ds is the chord), whatever the mesh.
-  pure subroutine side_forces(nsn, x, t, p, tr, f)
+  !> ring (axisymmetric): t = 2π x(s), the ring's circumference at each point (degree <= 5 for
+  !> the pressure: still exact).
+  pure subroutine side_forces(nsn, x, t, p, tr, f, ring)
     integer, intent(in) :: nsn
     real(dp), intent(in) :: x(2, 3), t, p, tr(2)
     real(dp), intent(out) :: f(2, 3)
+    logical, intent(in), optional :: ring
     real(dp), parameter :: gs(3) = [-sqrt(0.6_dp), 0.0_dp, sqrt(0.6_dp)]
     real(dp), parameter :: gw(3) = [5.0_dp / 9.0_dp, 8.0_dp / 9.0_dp, 5.0_dp / 9.0_dp]
-    real(dp) :: n(3), dn(3), dx(2), s
+    real(dp) :: n(3), dn(3), dx(2), s, tg
     integer :: g, i
+    logical :: axi
+    axi = .false.
+    if (present(ring)) axi = ring
     f = 0.0_dp
     do g = 1, 3
       s = gs(g)
@@ -93,8 +103,10 @@ contains
         dn = [s - 0.5_dp, -2.0_dp * s, s + 0.5_dp]
       end if
       dx = matmul(x(:, 1:nsn), dn(1:nsn))
+      tg = t
+      if (axi) tg = TWO_PI * dot_product(n(1:nsn), x(1, 1:nsn))
       do i = 1, nsn
-        f(:, i) = f(:, i) + gw(g) * t * n(i) * (-p * [dx(2), -dx(1)] + tr * norm2(dx))
+        f(:, i) = f(:, i) + gw(g) * tg * n(i) * (-p * [dx(2), -dx(1)] + tr * norm2(dx))
       end do
     end do
   end subroutine side_forces

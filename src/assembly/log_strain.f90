@@ -14,11 +14,12 @@ module log_strain
   use lapack_pure, only: dsyev
   implicit none
   private
-  public :: hencky_strain, log_tangent, log_curvature, positive_inplane
+  public :: hencky_strain, log_tangent, log_curvature, positive_inplane, positive_all
 
 contains
 
-  !> ℓ (Voigt) and P (4 x 4, dℓ = P dE) at the Green-Lagrange strain e (Voigt, e(3) = 0). ok is
+  !> ℓ (Voigt) and P (4 x 4, dℓ = P dE) at the Green-Lagrange strain e (Voigt; e(3) the hoop strain of
+  !> an axisymmetric point, 0 in plane strain). ok is
   !> false when C is singular or not positive (an element turned inside out: the caller reports it).
   pure subroutine hencky_strain(e, l, p, ok)
     real(dp), intent(in) :: e(4)
@@ -31,11 +32,14 @@ contains
     d = 0.5_dp * (e(1) - e(2))
     r = hypot(d, exy)
     ev = [m + r, m - r]
-    ok = all(1.0_dp + 2.0_dp * ev > 0.0_dp)
+    ok = all(1.0_dp + 2.0_dp * ev > 0.0_dp) .and. 1.0_dp + 2.0_dp * e(3) > 0.0_dp
     l = 0.0_dp
     p = 0.0_dp
     p(3, 3) = 1.0_dp
     if (.not. ok) return
+    ! The hoop (or thickness) stretch, an eigenvalue of its own: ℓ_zz = ½ ln(1 + 2 E_zz) (0 in plane strain).
+    l(3) = 0.5_dp * log1p_(2.0_dp * e(3))
+    p(3, 3) = 1.0_dp / (1.0_dp + 2.0_dp * e(3))
     if (r > 0.0_dp) then
       c = cos(0.5_dp * atan2(exy, d))
       s = sin(0.5_dp * atan2(exy, d))
@@ -73,16 +77,39 @@ contains
   !> square of tests/scenes/large_log left 1.2e-10 of E in the balance). The in-plane block is
   !> symmetrized and kept to its positive part: the iteration matrix must stay positive definite
   !> (as the geometric terms leave compression out).
-  pure subroutine log_tangent(e, t, p, dm)
+  !> axi (AXISYMMETRIC): the hoop row and column take part (the 4 x 4 is kept to its positive part).
+  pure subroutine log_tangent(e, t, p, dm, axi)
     real(dp), intent(in) :: e(4), t(4), p(4, 4)
     real(dp), intent(inout) :: dm(4, 4)
-    real(dp) :: g(4, 4), a(3, 3)
+    logical, intent(in) :: axi
+    real(dp) :: g(4, 4), a(3, 3), a4(4, 4)
     integer, parameter :: ip(3) = [1, 2, 4]
     dm = matmul(transpose(p), matmul(dm, p))
     call log_curvature(e, t, g)
+    if (axi) then
+      a4 = dm + 0.5_dp * (g + transpose(g))
+      call positive_all(a4, dm)
+      return
+    end if
     a = dm(ip, ip) + 0.5_dp * (g(ip, ip) + transpose(g(ip, ip)))
     call positive_inplane(a, dm)
   end subroutine log_tangent
+
+  !> The symmetric 4 x 4 a (on E, the hoop row included) kept to its positive part, into dm; a failed
+  !> eigensolve leaves dm as it was.
+  pure subroutine positive_all(a, dm)
+    real(dp), intent(inout) :: a(4, 4)
+    real(dp), intent(inout) :: dm(4, 4)
+    real(dp) :: w(4), work(24)
+    integer :: info, i
+    a = 0.5_dp * (a + transpose(a))
+    call dsyev('V', 'U', 4, a, 4, w, work, size(work), info)
+    if (info /= 0) return
+    dm = 0.0_dp
+    do i = 1, 4
+      if (w(i) > 0.0_dp) dm = dm + w(i) * spread(a(:, i), 2, 4) * spread(a(:, i), 1, 4)
+    end do
+  end subroutine positive_all
 
   !> g = T : d²ℓ/dE² (4 x 4 on E, not yet symmetric), by central differences of P at fixed T (step
   !> 1e-5 of the smallest stretch²): the part of dS/dE that the log map's curvature gives.
@@ -104,6 +131,9 @@ contains
       call hencky_strain(ep, l, pm, okm)
       if (okp .and. okm) g(:, k) = matmul(t, pp - pm) / (2.0_dp * dl)
     end do
+    ! The hoop (thickness) stretch: d²ℓ_zz/dE_zz² = -2/(1 + 2 E_zz)² (only an axisymmetric point's
+    ! B has a hoop row to carry it).
+    if (1.0_dp + 2.0_dp * e(3) > 0.0_dp) g(3, 3) = -2.0_dp * t(3) / (1.0_dp + 2.0_dp * e(3))**2
   end subroutine log_curvature
 
   !> The in-plane block a (xx, yy, xy rows of a 4 x 4 on E) symmetrized and kept to its positive

@@ -1,11 +1,11 @@
 !> Small array helpers shared by the readers: an in-place heap sort (of keys, or of keys with
-!> values carried along, O(n log n) without allocation) and the doubling growth of an integer
-!> array.
+!> values carried along, O(n log n) without allocation), a stable ordering of a few indices by a
+!> key, and the doubling growth of an integer array.
 module array_utils
   use kinds, only: dp
   implicit none
   private
-  public :: heap_sort, sort_by_key, grow
+  public :: heap_sort, sort_by_key, stable_order, grow
 
   !> Room for n entries (doubling), the content kept: integer or real arrays.
   interface grow
@@ -13,6 +13,24 @@ module array_utils
   end interface grow
 
 contains
+
+  !> idx reordered so that key(idx) ascends, equal keys in their given order (an insertion sort:
+  !> its callers order a few tens of entries, and stability keeps their file or run order).
+  pure subroutine stable_order(key, idx)
+    real(dp), intent(in) :: key(:)
+    integer, intent(inout) :: idx(:)
+    integer :: i, j, t
+    do i = 2, size(idx)
+      t = idx(i)
+      j = i - 1
+      do while (j >= 1)
+        if (key(idx(j)) <= key(t)) exit
+        idx(j + 1) = idx(j)
+        j = j - 1
+      end do
+      idx(j + 1) = t
+    end do
+  end subroutine stable_order
 
   !> In-place ascending heap sort.
   pure subroutine heap_sort(a)

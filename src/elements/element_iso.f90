@@ -7,7 +7,9 @@ module element_iso
   use kinds, only: dp
   implicit none
   private
-  public :: iso_cartesian, iso_b, iso_mass, iso_add_mass
+  public :: iso_cartesian, iso_b, iso_mass, iso_add_mass, iso_ring, TWO_PI
+
+  real(dp), parameter :: TWO_PI = 6.283185307179586476925286766559_dp   !< the axisymmetric ring
 
 contains
 
@@ -40,6 +42,25 @@ contains
       b(4, 2 * i) = dnx(1, i)
     end do
   end subroutine iso_b
+
+  !> An axisymmetric point (x = r, y the axis; section's axisymmetric): the hoop strain row
+  !> e_tt = u_r / r, B(3, 2a-1) = N_a / r at r = Σ N_a x_a, and the point's ring factor 2π r,
+  !> which takes the place of the thickness in its weight (the whole circumference: masses,
+  !> forces and energies are those of the full ring). A point on the axis (r = 0) never occurs:
+  !> the Gauss points are inside the element and the nodes are at r >= 0 (scene_models).
+  pure subroutine iso_ring(nen, n, x, b, ring)
+    integer, intent(in) :: nen
+    real(dp), intent(in) :: n(:), x(:, :)
+    real(dp), intent(inout) :: b(:, :)
+    real(dp), intent(out) :: ring
+    real(dp) :: r
+    integer :: i
+    r = dot_product(n(1:nen), x(1, 1:nen))
+    do i = 1, nen
+      b(3, 2 * i - 1) = n(i) / r
+    end do
+    ring = TWO_PI * r
+  end subroutine iso_ring
 
   !> One point of the mass rule: ms += dm n n', total += dm (dm = rho t w det J).
   pure subroutine iso_add_mass(nen, n, dm, ms, total)

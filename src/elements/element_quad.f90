@@ -3,12 +3,13 @@
 !> mid-side nodes of sides 1-2, 2-3, 3-4, 4-1. QUAD8 is the 8-node serendipity element.
 !> Strain vector (exx, eyy, ezz, gxy) with engineering shear gxy = du/dy + dv/dx. The ezz row of
 !> B is zero: plane strain keeps ezz = 0 and the law recovers szz, plane stress lets the law
-!> drop szz. Full Gauss integration: 2 x 2 (QUAD4), 3 x 3 (QUAD8); point ig = i + n (j - 1),
+!> drop szz; axisymmetric (x = r), it is the hoop strain u_r/r and 2 pi r takes the thickness's
+!> place. Full Gauss integration: 2 x 2 (QUAD4), 3 x 3 (QUAD8); point ig = i + n (j - 1),
 !> i along xi, j along eta. Weight wt = w_i w_j det J * thickness.
 module element_quad
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use element_iso, only: iso_cartesian, iso_b, iso_mass, iso_add_mass
+  use element_iso, only: iso_cartesian, iso_b, iso_mass, iso_add_mass, iso_ring, TWO_PI
   implicit none
   private
   public :: quad_ngauss, quad_shape, quad_b, quad_mass, quad_check, quad_elastic_d
@@ -92,27 +93,32 @@ contains
   end subroutine quad_shape
 
   !> B (4 x 2 nen) and weight at Gauss point ig; x(2, 1:nen) used.
-  pure subroutine quad_b(nen, x, thickness, ig, b, wt)
+  pure subroutine quad_b(nen, x, thickness, axisym, ig, b, wt)
     integer, intent(in) :: nen, ig
     real(dp), intent(in) :: x(2, 8), thickness
+    logical, intent(in) :: axisym
     real(dp), intent(out) :: b(4, 16), wt
-    real(dp) :: xi, eta, w, n(8), dn(2, 8), dnx(2, 8), detj
+    real(dp) :: xi, eta, w, n(8), dn(2, 8), dnx(2, 8), detj, ring
     call quad_gauss_point(nen, ig, xi, eta, w)
     call quad_shape(nen, xi, eta, n, dn)
     call iso_cartesian(nen, x, dn, dnx, detj)
     call iso_b(nen, dnx, b)
     wt = w * detj * thickness
+    if (axisym) then
+      call iso_ring(nen, n, x, b, ring)
+      wt = w * detj * ring
+    end if
   end subroutine quad_b
 
   !> Mass matrix (2 nen x 2 nen), same Gauss rule as the stiffness (exact for straight sides).
   !> Lumped: HRZ, the diagonal of the consistent matrix scaled to the element mass; every term
   !> is positive (row sums would give negative QUAD8 corner masses).
-  pure subroutine quad_mass(nen, x, thickness, rho, lumped, me)
+  pure subroutine quad_mass(nen, x, thickness, axisym, rho, lumped, me)
     integer, intent(in) :: nen
     real(dp), intent(in) :: x(2, 8), thickness, rho
-    logical, intent(in) :: lumped
+    logical, intent(in) :: axisym, lumped
     real(dp), intent(out) :: me(16, 16)
-    real(dp) :: ms(8, 8), xi, eta, w, n(8), dn(2, 8), dnx(2, 8), detj, total
+    real(dp) :: ms(8, 8), xi, eta, w, n(8), dn(2, 8), dnx(2, 8), detj, total, t
     integer :: ig
     ms = 0.0_dp
     total = 0.0_dp
@@ -120,7 +126,9 @@ contains
       call quad_gauss_point(nen, ig, xi, eta, w)
       call quad_shape(nen, xi, eta, n, dn)
       call iso_cartesian(nen, x, dn, dnx, detj)
-      call iso_add_mass(nen, n, rho * thickness * w * detj, ms, total)
+      t = thickness
+      if (axisym) t = TWO_PI * dot_product(n(1:nen), x(1, 1:nen))     ! the whole ring
+      call iso_add_mass(nen, n, rho * t * w * detj, ms, total)
     end do
     call iso_mass(nen, ms, total, lumped, me)
   end subroutine quad_mass

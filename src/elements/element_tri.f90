@@ -11,7 +11,7 @@
 module element_tri
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use element_iso, only: iso_cartesian, iso_b, iso_mass, iso_add_mass
+  use element_iso, only: iso_cartesian, iso_b, iso_mass, iso_add_mass, iso_ring, TWO_PI
   implicit none
   private
   public :: tri_ngauss, tri_shape, tri_b, tri_mass, tri_check
@@ -93,25 +93,30 @@ contains
   end subroutine tri_shape
 
   !> B (4 x 2 nen) and weight at stress point ig; x(2, 1:nen) used.
-  pure subroutine tri_b(nen, x, thickness, ig, b, wt)
+  pure subroutine tri_b(nen, x, thickness, axisym, ig, b, wt)
     integer, intent(in) :: nen, ig
     real(dp), intent(in) :: x(2, 6), thickness
+    logical, intent(in) :: axisym
     real(dp), intent(out) :: b(4, 12), wt
-    real(dp) :: xi, eta, w, n(6), dn(2, 6), dnx(2, 6), detj
+    real(dp) :: xi, eta, w, n(6), dn(2, 6), dnx(2, 6), detj, ring
     call tri_point(tri_ngauss(nen), ig, xi, eta, w)
     call tri_shape(nen, xi, eta, n, dn)
     call iso_cartesian(nen, x, dn, dnx, detj)
     call iso_b(nen, dnx, b)
     wt = w * detj * thickness
+    if (axisym) then
+      call iso_ring(nen, n, x, b, ring)
+      wt = w * detj * ring
+    end if
   end subroutine tri_b
 
   !> Mass matrix (2 nen x 2 nen), consistent (exact for straight sides) or HRZ-lumped.
-  pure subroutine tri_mass(nen, x, thickness, rho, lumped, me)
+  pure subroutine tri_mass(nen, x, thickness, axisym, rho, lumped, me)
     integer, intent(in) :: nen
     real(dp), intent(in) :: x(2, 6), thickness, rho
-    logical, intent(in) :: lumped
+    logical, intent(in) :: axisym, lumped
     real(dp), intent(out) :: me(12, 12)
-    real(dp) :: ms(6, 6), xi, eta, w, n(6), dn(2, 6), dnx(2, 6), detj, total
+    real(dp) :: ms(6, 6), xi, eta, w, n(6), dn(2, 6), dnx(2, 6), detj, total, t
     integer :: ig, npt
     ms = 0.0_dp
     total = 0.0_dp
@@ -120,7 +125,9 @@ contains
       call tri_point(npt, ig, xi, eta, w)
       call tri_shape(nen, xi, eta, n, dn)
       call iso_cartesian(nen, x, dn, dnx, detj)
-      call iso_add_mass(nen, n, rho * thickness * w * detj, ms, total)
+      t = thickness
+      if (axisym) t = TWO_PI * dot_product(n(1:nen), x(1, 1:nen))     ! the whole ring
+      call iso_add_mass(nen, n, rho * t * w * detj, ms, total)
     end do
     call iso_mass(nen, ms, total, lumped, me)
   end subroutine tri_mass

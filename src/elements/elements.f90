@@ -6,7 +6,8 @@
 !> path as elastic ones. Element DOFs are node-major, per node in the order of the element's
 !> mask (UX, UY[, RZ]). Strain measures are documented in each element module:
 !> MASS (none), SPRING (elongation, wt 1), BAR2 (axial strain, wt A L), BEAM2 (axial strain and
-!> curvature, wt w L/2), QUAD4/QUAD8/TRI3/TRI6 (exx, eyy, ezz = 0 row, gxy; wt w det J thickness).
+!> curvature, wt w L/2), QUAD4/QUAD8/TRI3/TRI6 (exx, eyy, ezz = 0 row, gxy; wt w det J thickness;
+!> axisymmetric: x = r, y the axis, ezz the hoop strain u_r/r, wt w det J 2 pi r: element_iso's iso_ring).
 !> Output arrays may be larger than needed: the leading block is filled, the rest zeroed.
 module elements
   use kinds, only: dp
@@ -123,13 +124,13 @@ contains
       call beam2_b(xl(:, 1:2), sec, ig, b2, wt)
       bl(1:2, 1:6) = b2
     case (ET_QUAD4)
-      call quad_b(4, xl, sec%thickness, ig, bl, wt)
+      call quad_b(4, xl, sec%thickness, sec%axisymmetric, ig, bl, wt)
     case (ET_QUAD8)
-      call quad_b(8, xl, sec%thickness, ig, bl, wt)
+      call quad_b(8, xl, sec%thickness, sec%axisymmetric, ig, bl, wt)
     case (ET_TRI3)
-      call tri_b(3, xl(:, 1:6), sec%thickness, ig, bl(1:4, 1:12), wt)
+      call tri_b(3, xl(:, 1:6), sec%thickness, sec%axisymmetric, ig, bl(1:4, 1:12), wt)
     case (ET_TRI6)
-      call tri_b(6, xl(:, 1:6), sec%thickness, ig, bl(1:4, 1:12), wt)
+      call tri_b(6, xl(:, 1:6), sec%thickness, sec%axisymmetric, ig, bl(1:4, 1:12), wt)
     end select
     ns = elem_nstrain(et)
     nd = elem_ndof(et)
@@ -162,13 +163,13 @@ contains
       call beam2_mass(xl(:, 1:2), sec%area, rho, lumped, m6, large)
       ml(1:6, 1:6) = m6
     case (ET_QUAD4)
-      call quad_mass(4, xl, sec%thickness, rho, lumped, ml)
+      call quad_mass(4, xl, sec%thickness, sec%axisymmetric, rho, lumped, ml)
     case (ET_QUAD8)
-      call quad_mass(8, xl, sec%thickness, rho, lumped, ml)
+      call quad_mass(8, xl, sec%thickness, sec%axisymmetric, rho, lumped, ml)
     case (ET_TRI3)
-      call tri_mass(3, xl(:, 1:6), sec%thickness, rho, lumped, ml(1:12, 1:12))
+      call tri_mass(3, xl(:, 1:6), sec%thickness, sec%axisymmetric, rho, lumped, ml(1:12, 1:12))
     case (ET_TRI6)
-      call tri_mass(6, xl(:, 1:6), sec%thickness, rho, lumped, ml(1:12, 1:12))
+      call tri_mass(6, xl(:, 1:6), sec%thickness, sec%axisymmetric, rho, lumped, ml(1:12, 1:12))
     end select
     nd = elem_ndof(et)
     me = 0.0_dp
@@ -259,7 +260,7 @@ contains
         call set_error(stat, errmsg, STAT_INPUT, 'BEAM2 section needs a positive inertia (got ' // str(sec%inertia) // ')')
       end if
     case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6)
-      if (sec%thickness <= 0.0_dp) then
+      if (sec%thickness <= 0.0_dp .and. .not. sec%axisymmetric) then
         call set_error(stat, errmsg, STAT_INPUT, etype_name(et) // ' needs a positive thickness (got ' // &
           str(sec%thickness) // ')')
       end if

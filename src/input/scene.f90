@@ -14,7 +14,7 @@ module scene
   implicit none
   private
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
-  public :: function_value, model_point_kind, tuned_mix
+  public :: function_value, model_point_kind, tuned_mix, scene_axisymmetric
   public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t, condition_nodes, contact_nodes, condition_keyword
   public :: impose_t, function_slope
 
@@ -153,6 +153,10 @@ module scene
     logical :: forces_points = .false.        !< SCHEME FORCES POINTS: linear models' Bσ by the element loop too
     logical :: iteration_given = .false.      !< SCHEME ITERATION was given (else TANGENT with KINEMATICS LARGE)
     logical :: extended = .false.             !< SCHEME PRECISION EXTENDED
+    integer :: modes = 0                      !< MODES n: the n lowest natural frequencies (0: none)
+    real(dp) :: modes_above = -1.0_dp         !< MODES … ABOVE f0 (Hz; < 0: from the lowest)
+    integer :: modes_line = 0                 !< the MODES statement's line
+    integer :: time_zero_line = 0             !< TIME END = START (a MODES-only run): its line
     integer :: history_every = 1
     integer :: fields_every = -1              !< -1: first and last step only; 0: never
     integer :: checkpoint_every = 0           !< OUTPUT CHECKPOINT EVERY k (0: none)
@@ -168,6 +172,18 @@ module scene
 
 
 contains
+
+  !> Whether the scene's surface models are axisymmetric (x = r, y the axis; all or none are:
+  !> scene_models): its forces, masses, momenta and energies are those of the whole ring.
+  pure logical function scene_axisymmetric(scn)
+    type(scene_t), intent(in) :: scn
+    integer :: im
+    scene_axisymmetric = .false.
+    if (.not. allocated(scn%models)) return
+    do im = 1, size(scn%models)
+      if (scn%models(im)%sec%axisymmetric) scene_axisymmetric = .true.
+    end do
+  end function scene_axisymmetric
 
   !> The nodes of a condition and their weights along its normal: g = g0 + n.Σ_k w(k) u(node(k))
   !> over the nodes(k) > 0 (b first, then a and c).

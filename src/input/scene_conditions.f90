@@ -94,6 +94,12 @@ contains
     case ('PRESSURE', 'TRACTION')
       call node_group(scn, st, st%lead(1), ig, stat, errmsg)
       if (stat == STAT_OK) call check_modelled(scn, st, st%lead(1), scn%mesh%ngroups(ig)%items, stat, errmsg)
+      if (stat /= STAT_OK .or. st%keyword /= 'PRESSURE' .or. find_param(st, 'DEAD') > 0) return
+      ! A follower pressure on a ring (2π r at the current radius) has the potential p V, which the
+      ! trapezoid's booking of its work does not keep exactly: not offered.
+      if (any(scn%models%large .and. scn%models%sec%axisymmetric)) call set_error(stat, errmsg, STAT_INPUT, &
+        stmt_error(st, 'a PRESSURE that follows the sides of an axisymmetric KINEMATICS LARGE model is not ' // &
+        'available: say DEAD (the pressure then keeps its reference direction and ring)', st%lead(1)))
     end select
   end subroutine loads_modelled
 

@@ -2,6 +2,7 @@
 !> type, a node group, a word among choices, a pair of reals, the model size.
 module scene_helpers
   use kinds, only: dp
+  use array_utils, only: stable_order
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
   use mesh, only: mesh_t, MAX_COORD
   use element_traits, only: etype_from_name, etype_name
@@ -58,8 +59,9 @@ contains
     type(mesh_t), intent(in) :: m
     character(len=*), intent(in) :: name
     character(len=:), allocatable :: s
-    integer, allocatable :: d(:), order(:)
-    integer :: i, j, k, n
+    real(dp), allocatable :: d(:)
+    integer, allocatable :: order(:)
+    integer :: i, n
     n = m%nngroup
     if (n == 0) then
       s = 'the mesh has no node group'
@@ -70,16 +72,7 @@ contains
       d(i) = edit_distance(upper(name), upper(m%ngroups(i)%name))
       order(i) = i
     end do
-    do i = 2, n                                   ! insertion sort, stable: file order among ties
-      k = order(i)
-      j = i - 1
-      do while (j >= 1)
-        if (d(order(j)) <= d(k)) exit
-        order(j + 1) = order(j)
-        j = j - 1
-      end do
-      order(j + 1) = k
-    end do
+    call stable_order(d, order)                   ! stable: file order among ties
     s = 'existing groups: ' // m%ngroups(order(1))%name
     do i = 2, min(n, 12)
       s = s // ', ' // m%ngroups(order(i))%name

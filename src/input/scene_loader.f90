@@ -90,6 +90,9 @@ contains
       return
     end if
     call check_required(st, sch, path, stat, errmsg)
+    if (stat == STAT_OK .and. scn%time_zero_line > 0 .and. scn%modes == 0) call set_error(stat, errmsg, STAT_INPUT, &
+      path // ':' // str(scn%time_zero_line) // ": TIME: END equals START: no step to compute (a scene of MODES alone " // &
+      "says MODES n), at 'END'")
     if (stat == STAT_OK) call default_mass(scn)
     if (stat == STAT_OK) call check_tuned(scn, stat, errmsg)
     if (stat == STAT_OK) call resolve_impact(scn, stat, errmsg)
@@ -154,6 +157,18 @@ contains
     end do
     k = findloc(scn%models%large, .true., 1)
     if (k == 0) return
+    do i = 1, size(scn%models)
+      associate (md => scn%models(i))
+        if (md%large .and. md%sec%axisymmetric .and. md%material > 0) then
+          if (scn%materials(md%material)%law == LAW_HYPERELASTIC) then
+            call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(md%line) // ': MODEL ' // md%group // &
+              ': HYPERELASTIC has no axisymmetric form yet (its thickness stretch is plane strain or plane ' // &
+              "stress); ELASTIC and VON_MISES have one, at 'AXISYMMETRIC'")
+            return
+          end if
+        end if
+      end associate
+    end do
     do i = 1, size(scn%models)
       associate (md => scn%models(i))
         if (md%large .and. md%beta > 0.0_dp) then

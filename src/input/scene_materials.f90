@@ -154,6 +154,7 @@ contains
     call get_real(st, 'THICKNESS', sec%thickness, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.false., &
       upper=MAX_MATERIAL, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
+    sec%has_thickness = find_param(st, 'THICKNESS') > 0
     call get_real(st, 'MASS', sec%mass, stat, errmsg, default=0.0_dp, lower=0.0_dp, lower_inclusive=.true., &
       upper=MAX_MATERIAL, upper_inclusive=.true.)
     if (stat /= STAT_OK) return

@@ -1,7 +1,7 @@
 !> Scene input: the models (MODEL): element group, formulation, material, section, mass, sub-increments.
 !> Their grammar (schema) and their handlers; scene_loader calls them.
 module scene_models
-  use kinds, only: dp
+  use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
   use material_law, only: material_t, law_check, law_is_linear, LAW_ELASTOPLASTIC, LAW_VON_MISES, LAW_ELASTIC, &
     law_nearly_isochoric
@@ -9,11 +9,11 @@ module scene_models
   use statement, only: statement_t, stmt_error, find_param, get_int, get_word, get_real
   use statement_schema, only: schema_t
   use elements, only: elem_check_geometry
-  use scene, only: scene_t, model_t, MAX_SUBSTEPS, model_point_kind
+  use scene, only: scene_t, model_t, fix_t, MAX_SUBSTEPS, model_point_kind
   use scene_helpers, only: get_etype, model_size
   use number_text, only: real_text
   use element_traits, only: FAMILY_LINE, etype_family, etypes_of_family, etype_needs_material, etype_section_needs, &
-    etype_name, etype_nen, ET_MASS, ET_BAR2, ET_QUAD4, ET_TRI3, FAMILY_SURFACE
+    etype_name, etype_nen, ET_MASS, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_TRI3, FAMILY_SURFACE
   implicit none
   private
   public :: models_schema, models_statement, default_mass, check_tuned
@@ -38,6 +38,7 @@ contains
     call sch%add_param('MODEL', 'STRAIN_MEASURE', 1, 1)
     call sch%add_param('MODEL', 'DAMPING', 2, 4)
     call sch%add_param('MODEL', 'FORMULATION', 1, 1)
+    call sch%add_param('MODEL', 'AXISYMMETRIC', 0, 0)
   end subroutine models_schema
 
   !> One models statement (pass 2 of load_scene).
@@ -159,7 +160,8 @@ contains
         st%params(find_param(st, 'PLANE'))%values(1)))
       return
     end select
-    call get_damping(st, md, stat, errmsg)
+    call get_axisymmetric(st, md, scn, stat, errmsg)
+    if (stat == STAT_OK) call get_damping(st, md, stat, errmsg)
     if (stat == STAT_OK) call get_kinematics(st, md, stat, errmsg)
     if (stat /= STAT_OK) return
     if (md%material > 0) call check_model_law(st, md, scn%materials(md%material), stat, errmsg)
@@ -189,8 +191,94 @@ contains
         scn%elem_model(e) = imodel
       end do
     end associate
+    if (md%sec%axisymmetric) call axis_support(scn, st, md, msize, stat, errmsg)
+    if (stat /= STAT_OK) return
     scn%models = [scn%models, md]
   end subroutine do_model
+
+  !> AXISYMMETRIC (docs/input.md, "Axisymmetric models"): surface elements only, not with PLANE,
+  !> and a scene whose surface models are all axisymmetric or all planar, without bars or beams
+  !> (a bar's or a beam's section has no meaning as a ring); springs and point masses are rings.
+  subroutine get_axisymmetric(st, md, scn, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(model_t), intent(inout) :: md
+    type(scene_t), intent(in) :: scn
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, im
+    stat = STAT_OK
+    k = find_param(st, 'AXISYMMETRIC')
+    md%sec%axisymmetric = k > 0
+    do im = 1, size(scn%models)
+      if (k > 0 .and. (scn%models(im)%etype == ET_BAR2 .or. scn%models(im)%etype == ET_BEAM2)) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'AXISYMMETRIC in a scene with ' // &
+          etype_name(scn%models(im)%etype) // ' elements (model of group ' // scn%models(im)%group // ', line ' // &
+          str(scn%models(im)%line) // '): a bar or a beam is not a ring', st%params(k)%keytok))
+      else if ((md%etype == ET_BAR2 .or. md%etype == ET_BEAM2) .and. scn%models(im)%sec%axisymmetric) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, etype_name(md%etype) // ' in an axisymmetric scene ' // &
+          '(model of group ' // scn%models(im)%group // ', line ' // str(scn%models(im)%line) // &
+          '): a bar or a beam is not a ring', st%lead(1)))
+      else if (etype_family(md%etype) == FAMILY_SURFACE .and. etype_family(scn%models(im)%etype) == FAMILY_SURFACE &
+               .and. (scn%models(im)%sec%axisymmetric .neqv. k > 0)) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a scene is axisymmetric or planar: the model of ' // &
+          'group ' // scn%models(im)%group // ' (line ' // str(scn%models(im)%line) // ') is ' // &
+          trim(merge('axisymmetric', 'planar      ', scn%models(im)%sec%axisymmetric)), st%lead(1)))
+      end if
+      if (stat /= STAT_OK) return
+    end do
+    if (k == 0) return
+    if (etype_family(md%etype) /= FAMILY_SURFACE) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'AXISYMMETRIC is for surface elements (QUAD4, QUAD8, ' // &
+        'TRI3, TRI6), not ' // etype_name(md%etype), st%params(k)%keytok))
+    else if (find_param(st, 'PLANE') > 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'AXISYMMETRIC with PLANE: a model is plane strain, ' // &
+        'plane stress or axisymmetric', st%params(find_param(st, 'PLANE'))%keytok))
+    else if (md%sec%has_thickness) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'AXISYMMETRIC with SECTION ' // md%sec%name // &
+        ' which gives a THICKNESS: an axisymmetric model is the whole ring (2 pi r), it has no thickness', &
+        st%params(find_param(st, 'SECTION'))%values(1)))
+    end if
+  end subroutine get_axisymmetric
+
+  !> An axisymmetric model's nodes: x = r >= 0 (a node at r < 0, beyond zero_tol of the model's
+  !> size, is refused, named by its tag), and the nodes on the axis (|r| within that tolerance)
+  !> held at u_r = 0 by a support of their own, the node group "(axis of GROUP)", which the run
+  !> announces (scene_report).
+  subroutine axis_support(scn, st, md, msize, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    type(model_t), intent(in) :: md
+    real(dp), intent(in) :: msize
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    logical, allocatable :: on_axis(:)
+    type(fix_t) :: fx
+    integer :: i, a, n, e
+    stat = STAT_OK
+    allocate (on_axis(scn%mesh%nnode))
+    on_axis = .false.
+    associate (items => scn%mesh%egroups(md%egroup)%items)
+      do i = 1, size(items)
+        e = items(i)
+        do a = 1, etype_nen(md%etype)
+          n = scn%mesh%conn(a, e)
+          if (scn%mesh%x(1, n) < -zero_tol * msize) then
+            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'AXISYMMETRIC: node ' // str(scn%mesh%node_tag(n)) // &
+              ' of group ' // md%group // ' is at r = x = ' // real_text(scn%mesh%x(1, n)) // ' < 0 (x is the radius, ' // &
+              'y the axis)', st%params(find_param(st, 'AXISYMMETRIC'))%keytok))
+            return
+          end if
+          on_axis(n) = scn%mesh%x(1, n) <= zero_tol * msize
+        end do
+      end do
+    end associate
+    if (.not. any(on_axis)) return
+    call scn%mesh%add_node_group('(axis of ' // md%group // ')', pack([(n, n = 1, scn%mesh%nnode)], on_axis))
+    fx%ngroup = scn%mesh%nngroup
+    fx%dofs = [.true., .false., .false.]
+    fx%line = st%line
+    scn%fixes = [scn%fixes, fx]
+  end subroutine axis_support
 
   !> MASS CONSISTENT | LUMPED | MIXED [alpha] | TUNED: the element mass alpha x consistent + (1 - alpha)
   !> x lumped (MIXED alone: alpha = 1/2). Above 1 the consistent part is extrapolated: allowed on BAR2

@@ -18,6 +18,7 @@ module scene_run
   integer, parameter :: IMPACT_MODES(6) = [IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_OFF, IMPACT_MASSLESS, &
     IMPACT_SYMMETRIC]
   integer, parameter :: SOLVERS(3) = [SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED]
+  integer, parameter :: MAX_MODES = 10000         !< MODES n at most (each mode a vector of the model's size)
 
 contains
 
@@ -46,6 +47,8 @@ contains
     call sch%add_param('OUTPUT', 'FIELDS', 1, 2)
     call sch%add_param('OUTPUT', 'PROBE', 2, -1, repeatable=.true.)
     call sch%add_param('OUTPUT', 'CHECKPOINT', 1, 2)
+    call sch%add_keyword('MODES', 1, 1, once=.true., hint='MODES n [ABOVE f0]')
+    call sch%add_param('MODES', 'ABOVE', 1, 1)
   end subroutine run_schema
 
   !> One run statement (pass 2 of load_scene).
@@ -63,8 +66,30 @@ contains
       call do_scheme(scn, st, stat, errmsg)
     case ('OUTPUT')
       call do_output(scn, st, stat, errmsg)
+    case ('MODES')
+      call do_modes(scn, st, stat, errmsg)
     end select
   end subroutine run_statement
+
+  !> MODES n [ABOVE f0] (docs/input.md, "Modes"): the n lowest natural frequencies of the supported
+  !> structure (above f0 Hz), computed before the dynamics (alone with TIME END equal to START).
+  subroutine do_modes(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call to_int(st%lead(1), st, scn%modes, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (scn%modes < 1 .or. scn%modes > MAX_MODES) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'the number of modes must be 1 to ' // str(MAX_MODES), &
+        st%lead(1)))
+      return
+    end if
+    scn%modes_line = st%line
+    scn%modes_above = -1.0_dp
+    if (find_param(st, 'ABOVE') > 0) call get_real(st, 'ABOVE', scn%modes_above, stat, errmsg, lower=0.0_dp, &
+      lower_inclusive=.true., upper=1.0e30_dp, upper_inclusive=.true.)
+  end subroutine do_modes
 
   subroutine do_time(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn
@@ -82,11 +107,13 @@ contains
     if (stat /= STAT_OK) return
     ! Halves and products that cannot overflow (END 1e308, START -1e308, STEP 4.9e-324).
     half_span = 0.5_dp * scn%t_end - 0.5_dp * scn%t_start
-    if (scn%t_end <= scn%t_start) then
+    if (scn%t_end < scn%t_start) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'END must be after START (' // str(scn%t_start) // ')', &
         st%params(find_param(st, 'END'))%values(1)))
       return
     end if
+    ! END = START: a run of MODES alone (scene_loader checks that there is a MODES statement).
+    if (scn%t_end == scn%t_start) scn%time_zero_line = st%line
     if (scn%dt >= huge(1.0_dp) / 2.0e9_dp) return
     if (half_span > 1.0e9_dp * scn%dt) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'more than 2e9 steps', &

@@ -234,7 +234,7 @@ contains
     ! The iteration's tangent: the consistent tangent of one return over the whole increment. The
     ! last sub-increment's, the tangent of a step N times smaller, misses how the flow direction turns
     ! with the increment (the 2 mu dgamma / |xi| part): with AUTO's sub-increments Newton took 30
-    ! iterations per step on inputs/taylor_bar.dat where one return needs 7 (nothing changes for N = 1).
+    ! iterations per step on inputs/taylor_plane.dat where one return needs 7 (nothing changes for N = 1).
     ! With the correction of eq (9) the forces are 2Bσ̄ - Bσ(n): their tangent dbar weighs each
     ! sub-increment's (k/N): an increment that yields half-way is stiffer than its end tangent
     ! (Newton contracted by 0.6 per iteration on the 8 x 40 Taylor bar with the end tangent alone).

@@ -29,7 +29,8 @@ module fields_hdf5
   use element_traits, only: NUM_ETYPES, etype_nen, etype_xdmf_cell, etype_name, etype_stress_names, &
     XDMF_POLYVERTEX, XDMF_POLYLINE, &
     XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
-  use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic, SIGMA_NAMES
+  use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic, SIGMA_NAMES, &
+    SIGMA_AXI
   use os_utils, only: make_directory, room_for
   use hdf5_file, only: h5_file_t
   use text_file, only: text_file_t
@@ -49,6 +50,7 @@ module fields_hdf5
     character(len=:), allocatable :: h5path, xmfpath, h5name
     integer :: nnode = 0, nelem = 0, ntopo = 0
     integer :: nsteps = 0
+    logical :: axisymmetric = .false.        !< the hoop stress is named sigma_tt (x = r, y the axis)
     ! fields.xmf stays open: each step's grid replaces the closing tail and is followed by it
     ! again, in one write (text_file replace_tail): the file is a complete document at every
     ! moment, and neither the file nor the memory is rewritten per step.
@@ -213,13 +215,14 @@ contains
 
   !> Create OUTDIR (if needed), OUTDIR/fields.h5 with the mesh, and an empty OUTDIR/fields.xmf.
   !> An existing fields.h5 is overwritten.
-  subroutine fw_open(self, outdir, mesh, stat, errmsg, basename)
+  subroutine fw_open(self, outdir, mesh, stat, errmsg, basename, axisymmetric)
     class(fields_writer_t), intent(inout) :: self
     character(len=*), intent(in) :: outdir
     type(mesh_t), intent(in) :: mesh
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     character(len=*), intent(in), optional :: basename
+    logical, intent(in), optional :: axisymmetric   !< the scene is axisymmetric (sigma_tt)
     integer, allocatable :: topo(:)
     real(dp), allocatable :: xyz(:, :)
     integer :: st2
@@ -240,6 +243,8 @@ contains
     if (stat /= STAT_OK) return
     self%h5name = H5_NAME
     self%xmfpath = join_path(outdir, XMF_NAME)
+    self%axisymmetric = .false.
+    if (present(axisymmetric)) self%axisymmetric = axisymmetric
     if (present(basename)) then
       ! A restarted run writes its fields beside the first part (basename.h5 / basename.xmf).
       self%h5name = basename // '.h5'
@@ -269,6 +274,8 @@ contains
     call self%h5%write_attr('mesh', 'nnode', stat, errmsg, i=mesh%nnode)
     call self%h5%write_attr('mesh', 'nelem', stat, errmsg, i=mesh%nelem)
     call write_mesh_meaning(self, mesh, stat, errmsg)
+    if (self%axisymmetric) call self%h5%write_text('mesh/axisymmetric', [character(len=96) :: &
+      'x = r, y the axis; sigma_zz of /stress is the hoop stress sigma_tt; whole ring'], stat, errmsg)
     call self%h5%create_series('times', .false., stat, errmsg)
     call self%h5%create_series('steps', .true., stat, errmsg)
     call self%h5%flush(stat, errmsg)
@@ -342,7 +349,11 @@ contains
     ! (Xdmf3ReaderS, the default, skips a hyperslab of /stress: "unrecognized array type").
     do k = 1, 4
       self%col = stress(k, :)
-      call self%h5%write(grp // '/' // trim(SIGMA_NAMES(k)), self%col, stat, errmsg)   ! (described by stress's)
+      if (self%axisymmetric) then
+        call self%h5%write(grp // '/' // trim(SIGMA_AXI(k)), self%col, stat, errmsg)   ! (described by stress's)
+      else
+        call self%h5%write(grp // '/' // trim(SIGMA_NAMES(k)), self%col, stat, errmsg)
+      end if
     end do
     if (present(escalar)) then
       call self%h5%write(grp // '/von_mises', escalar(:, 1), stat, errmsg)
@@ -367,7 +378,7 @@ contains
     self%nsteps = self%nsteps + 1
     call self%xmf%replace_tail(xdmf_step_grid(self%h5name, self%nnode, self%nelem, self%ntopo, &
       xdmf_step_t(step=step, time=time, has_reaction=present(reaction), has_scalars=present(escalar), &
-      has_support=present(support))) // &
+      has_support=present(support), axisymmetric=self%axisymmetric)) // &
       self%xtail, &
       len(self%xtail), stat, errmsg)
   end subroutine fw_write_step

@@ -19,7 +19,7 @@ module xdmf_writer
   implicit none
   private
   public :: xdmf_step_t, xdmf_document, step_group_name, write_text_atomic, xml_escape, xdmf_real
-  public :: xdmf_head, xdmf_tail, xdmf_step_grid, SIGMA_NAMES
+  public :: xdmf_head, xdmf_tail, xdmf_step_grid, SIGMA_NAMES, SIGMA_AXI
 
   !> What the XML needs to know about one written step.
   type :: xdmf_step_t
@@ -28,6 +28,7 @@ module xdmf_writer
     logical :: has_reaction = .false.
     logical :: has_scalars = .false.          !< von_mises and plastic_strain (cell scalars)
     logical :: has_support = .false.          !< support_reaction and support_moment (nodal)
+    logical :: axisymmetric = .false.         !< the third stress column is the hoop stress, sigma_tt
   end type xdmf_step_t
 
   !> Growable character buffer: appending is amortised O(1), so a document of many steps is
@@ -40,6 +41,8 @@ module xdmf_writer
   character(len=*), parameter :: NL = new_line('a')
   character(len=*), parameter :: I2 = '      ', I3 = '        ', I4 = '          '   ! indentation
   character(len=8), parameter :: SIGMA_NAMES(4) = [character(len=8) :: 'sigma_xx', 'sigma_yy', 'sigma_zz', 'sigma_xy']
+  !> An axisymmetric scene's (x = r, y the axis): the hoop stress sigma_tt in the place of sigma_zz.
+  character(len=8), parameter :: SIGMA_AXI(4) = [character(len=8) :: 'sigma_xx', 'sigma_yy', 'sigma_tt', 'sigma_xy']
 
 contains
 
@@ -186,7 +189,11 @@ contains
     ! "stress 0" (for BAR2 the first column is the axial stress, for BEAM2 N, M), in both of its
     ! XDMF readers (Xdmf3ReaderS skipped a hyperslab of /stress).
     do k = 1, 4
-      call cell_scalar(tb, trim(SIGMA_NAMES(k)), str(nelem), h5, grp)
+      if (st%axisymmetric) then
+        call cell_scalar(tb, trim(SIGMA_AXI(k)), str(nelem), h5, grp)
+      else
+        call cell_scalar(tb, trim(SIGMA_NAMES(k)), str(nelem), h5, grp)
+      end if
     end do
     if (st%has_scalars) then
       call cell_scalar(tb, 'von_mises', str(nelem), h5, grp)

@@ -16,6 +16,7 @@ module sweep
                      MPI_Send, MPI_Recv, MPI_Iprobe, MPI_Bcast, MPI_Status, MPI_ANY_SOURCE, &
                      MPI_INTEGER, MPI_DOUBLE_PRECISION, MPI_CHARACTER
   use kinds, only: dp
+  use array_utils, only: stable_order
   use errors, only: STAT_OK, STAT_INPUT, str
   use os_utils, only: make_directory
   use scene, only: scene_t
@@ -175,19 +176,9 @@ contains
     real(dp), intent(in) :: cost(:)
     logical, intent(in) :: run(:)
     integer, allocatable :: order(:)
-    integer :: i, j, n, key
+    integer :: i
     order = pack([(i, i = 1, size(cost))], run)
-    n = size(order)
-    do i = 2, n                       ! insertion sort: stable, and n is small
-      key = order(i)
-      j = i - 1
-      do while (j >= 1)
-        if (cost(order(j)) >= cost(key)) exit
-        order(j + 1) = order(j)
-        j = j - 1
-      end do
-      order(j + 1) = key
-    end do
+    call stable_order(-cost, order)          ! the dearest first, ties in their order
   end function case_cost_order
 
   !> The first metric probe that the scene does not write, '' if none.

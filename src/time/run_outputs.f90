@@ -5,7 +5,7 @@
 module run_outputs
   use kinds, only: dp
   use errors, only: STAT_OK
-  use scene, only: scene_t, condition_nodes
+  use scene, only: scene_t, condition_nodes, scene_axisymmetric
   use mesh, only: mesh_t
   use assembly, only: system_t, stored_energy
   use point_fields, only: element_stress, element_scalars, nodal_values
@@ -32,6 +32,7 @@ module run_outputs
     type(csv_file_t) :: hist, probes, ev, contacts
     type(fields_writer_t) :: fields
     logical :: with_events = .false., with_fields = .false.
+    logical :: axisymmetric = .false.   !< the scene is axisymmetric (momentum_x, angular_momentum: 0)
     integer :: last_step = 0                 !< the run's last step: always written
     ! contacts.csv: the contact statements (names, in order of appearance), the statement of
     ! each condition, the impulse each gave its NODES group since the last row, that row's time.
@@ -85,6 +86,7 @@ contains
     self%last_step = nsteps
     self%with_events = with_events
     self%with_fields = scn%fields_every /= 0
+    self%axisymmetric = scene_axisymmetric(scn)
     header = 'step,time'
     do i = 1, size(scn%probes)
       header = header // ',' // csv_field(scn%probes(i)%label)
@@ -127,9 +129,9 @@ contains
     subroutine open_fields(m)
       type(mesh_t), intent(in) :: m
       if (step0 > 0) then
-        call self%fields%open(outdir, m, stat, errmsg, basename=trim(part))
+        call self%fields%open(outdir, m, stat, errmsg, basename=trim(part), axisymmetric=self%axisymmetric)
       else
-        call self%fields%open(outdir, m, stat, errmsg)
+        call self%fields%open(outdir, m, stat, errmsg, axisymmetric=self%axisymmetric)
       end if
     end subroutine open_fields
   end subroutine outputs_open
@@ -198,6 +200,9 @@ contains
       end do
       ! KINEMATICS LARGE: the angular momentum about the origin of the current configuration.
       if (any(scn%models%large)) self%htail(6) = current_angular_momentum(scn, sys, u, mv)
+      ! Axisymmetric: the whole ring's radial momentum and its angular momentum about z are zero
+      ! (Σ M v_r over the nodes is not a momentum: each ring's points move in all radial directions).
+      if (self%axisymmetric) self%htail([4, 6]) = 0.0_dp
       self%htail(7) = en%damping()
       call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail, [nsub], [en%contact_held()])
       if (stat /= STAT_OK) return

@@ -379,7 +379,13 @@ contains
       txt = '  MODEL ' // scn%models(im)%group // ': mass ' // fmt(rep%model_mass(im)) // ' kg'
       if (rep%wave(im) > 0.0_dp .and. rep%chdx(2, im) > 0.0_dp) txt = txt // ', wave speed ' // fmt(rep%wave(im)) // &
         ' m/s, c h/dx ' // fmt(rep%chdx(1, im)) // ' to ' // fmt(rep%chdx(2, im))
+      if (scn%models(im)%sec%axisymmetric) txt = txt // ' (axisymmetric: the whole ring)'
       call say(txt)
+    end do
+    do im = 1, scn%mesh%nngroup              ! the supports AXISYMMETRIC put on the axis (scene_models)
+      if (index(scn%mesh%ngroups(im)%name, '(axis of ') /= 1) cycle
+      call say('  ' // str(size(scn%mesh%ngroups(im)%items)) // ' nodes on the axis (x = 0) of ' // &
+        scn%mesh%ngroups(im)%name(10:len(scn%mesh%ngroups(im)%name) - 1) // ': u_r = UX = 0 imposed')
     end do
   end subroutine say_report
 

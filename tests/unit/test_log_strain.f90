@@ -21,6 +21,7 @@ program test_log_strain
   call test_closed_forms()
   call test_derivative()
   call test_tangent()
+  call test_hoop()
   call test_gonzalez()
   call test_summary('log_strain')
 
@@ -92,7 +93,7 @@ contains
       e = green_of(merge(1.1_dp, 1.6_dp, m == 1), merge(0.95_dp, 1.2_dp, m == 1), 0.3_dp)
       call hencky_strain(e, l, p, ok)
       dm = d
-      call log_tangent(e, matmul(d, l), p, dm)
+      call log_tangent(e, matmul(d, l), p, dm, .false.)
       dfd = jacobian(e)
       if (m == 1) then
         call check(maxval(abs(dm([1, 2, 4], [1, 2, 4]) - dfd([1, 2, 4], [1, 2, 4]))) <= 1e-7_dp * maxval(abs(dfd)), &
@@ -104,6 +105,25 @@ contains
       end if
     end do
   end subroutine test_tangent
+
+  !> An axisymmetric point's hoop stretch λ_θ (E_θθ = (λ_θ² - 1)/2, its own eigenvalue): ℓ_θθ = ln λ_θ,
+  !> P_θθθθ = 1/λ_θ², and log_tangent with the hoop row (axi) = dS/dE over the four components.
+  subroutine test_hoop()
+    real(dp) :: e(4), l(4), p(4, 4), dm(4, 4), dfd(4, 4)
+    logical :: ok
+    e = green_of(1.1_dp, 0.95_dp, 0.3_dp)
+    e(3) = 0.5_dp * (1.3_dp**2 - 1.0_dp)
+    call hencky_strain(e, l, p, ok)
+    call check(ok .and. abs(l(3) - log(1.3_dp)) <= 1e-15_dp .and. abs(p(3, 3) - 1.0_dp / 1.69_dp) <= 1e-15_dp .and. &
+      all(p(3, [1, 2, 4]) == 0.0_dp), 'hencky: the hoop stretch 1.3, ℓ_θθ = ln 1.3 and P_θθθθ = 1/1.69, uncoupled')
+    e(3) = 0.5_dp * (1.05_dp**2 - 1.0_dp)
+    call hencky_strain(e, l, p, ok)
+    dm = d
+    call log_tangent(e, matmul(d, l), p, dm, .true.)
+    dfd = jacobian(e)
+    call check(maxval(abs(dm - dfd)) <= 1e-7_dp * maxval(abs(dfd)), 'log_tangent (axisymmetric) = dS/dE of the ' // &
+      'Hencky law over the four components, hoop stretch 1.05')
+  end subroutine test_hoop
 
   function jacobian(e) result(j)
     real(dp), intent(in) :: e(4)

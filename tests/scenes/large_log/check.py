@@ -16,7 +16,7 @@ VON_MISES J2 additive in l, for large plastic strains (issue 15 item 1). docs/la
   matters. At a stretch of 1e-6 LOG = GREEN to 1e-5.
 - The spinning square of tests/scenes/large_plastic yielding with STRAIN_MEASURE LOG, plane strain and
   plane stress: angular momentum, linear momentum and balance kept (1e-10).
-- inputs/taylor_bar.dat (copper bar on a wall at 227 m/s, plane strain): |balance| <= 1e-10 of E at
+- inputs/taylor_plane.dat (copper bar on a wall at 227 m/s, plane strain): |balance| <= 1e-10 of E at
   h = 5e-7, 2.5e-7 (the scene's, about dx/c) and 1.25e-7 s, the wall never crossed, > 90 % of the energy dissipated, plastic
   strains of order one at the foot, the plastic work converging monotonically as h halves and the
   foot's width within 0.1 % (see the assertion); STRAIN_MEASURE GREEN turns the foot inside out (exit 1, the element
@@ -32,7 +32,7 @@ import scenecheck as sc  # noqa: E402
 
 HERE = os.path.relpath(os.path.dirname(os.path.abspath(__file__)), sc.ROOT)
 UNI = os.path.join(HERE, 'uniaxial.dat')
-TAYLOR = 'inputs/taylor_bar.dat'
+TAYLOR = 'inputs/taylor_plane.dat'
 A, B = 1.0, -0.4                                   # the stretch diag(1 + A, 1 + B)
 LA, LB = np.log1p(A), np.log1p(B)                  # its logarithmic strain
 def fields(out, step='step_000000', keys=('stress', 'plastic_strain')):

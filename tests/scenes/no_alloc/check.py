@@ -30,8 +30,9 @@ TANGENT) under AUTO every allocation of the window is CHOLMOD's
 (tools/alloc_per_step.sh --where), and their number is a fixed count per factorization (8 with
 Debian's SuiteSparse; at most 16 asserted), the factorizations counted from rebond's run summary.
 The same for KINEMATICS LARGE (TANGENT): spinning_quad (a LARGE QUAD4), inputs/bead_rod
-(node-to-segment contact that follows the configuration, held over the window) and inputs/taylor_bar
-(STRAIN_MEASURE LOG: the log map's tangent through LAPACK's dsyev on fixed work arrays).
+(node-to-segment contact that follows the configuration, held over the window), inputs/taylor_plane
+(STRAIN_MEASURE LOG: the log map's tangent through LAPACK's dsyev on fixed work arrays) and
+inputs/taylor_bar (the same, axisymmetric: the hoop stretch, the 4 x 4 positive parts).
 
 Each window is also checked to contain what it is meant to exercise (plastic work growing,
 an impact), from a normal run of 2N steps, so that a shorter scene cannot make the test vacuous.
@@ -57,6 +58,7 @@ CASES = [  # scene, N, what the window must contain, --set arguments
     ('inputs/mass_bounce.dat', 200, 'impact', ['SCHEME.IMPACT=PERSIST']),
     ('inputs/bar_impact.dat', 100, 'impact', ['SCHEME.IMPACT=PERSIST']),
     ('inputs/beams_collide.dat', 400, 'impact', ['SCHEME.IMPACT=PERSIST']),
+    ('inputs/hertz_axi.dat', 40, 'impact', ['OUTPUT.FIELDS=EVERY 0']),   # axisymmetric (hoop row, ring weights)
 ]
 
 
@@ -131,6 +133,7 @@ for scene, n, sets in (('inputs/block_j2.dat', 60, ['SCHEME.ITERATION=AUTO']),
                        ('inputs/spring_plastic.dat', 10, ['SCHEME.ITERATION=AUTO']),
                        ('tests/scenes/large_bar/spinning_quad.dat', 20, []),
                        ('inputs/bead_rod.dat', 40, []),
+                       ('inputs/taylor_plane.dat', 15, []),
                        ('inputs/taylor_bar.dat', 15, [])):
     name = os.path.basename(scene) + (' AUTO' if sets else ' (LARGE: TANGENT)')
     if not sets:

@@ -1,6 +1,6 @@
 """Plastic impacts converge at the defaults on refined meshes (issue 38, item 1).
 
-The Taylor bar of inputs/taylor_bar.dat refined to 8 x 40 (nothing else changed) stopped at every step
+The Taylor bar of inputs/taylor_plane.dat refined to 8 x 40 (nothing else changed) stopped at every step
 size before: Newton contracted by 0.6 per iteration in the impact's first steps (the tangent was the
 end stress's, where eq (9) iterates 2 Bσ̄ - Bσ(n): law_step_t's dbar now) and stagnated at 69 µs at
 1e-2 against a tolerance of 3.7e-3 (the secant stress of STRAIN_MEASURE LOG divided round-off by |ΔE|²:
@@ -17,7 +17,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import scenecheck as sc  # noqa: E402
 
-TAYLOR = os.path.join('inputs', 'taylor_bar.dat')
+TAYLOR = os.path.join('inputs', 'taylor_plane.dat')
 out = sc.run_ok(TAYLOR, ['RECTANGLE.ELEMENTS=8 40', 'TIME.STEP=5e-7', 'OUTPUT.FIELDS=EVERY 0'])
 h = sc.history(out)
 sc.report_measured('Taylor bar 8 x 40, h = 5e-7, defaults: reaches 80 us', abs(h['time'][-1] - 8e-5) < 1e-12,
