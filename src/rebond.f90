@@ -149,6 +149,7 @@ contains
         if (scn%models(im)%tuned .and. .not. scn%models(im)%mass_said) call say('  MODEL ' // &
           scn%models(im)%group // ': mass tuned to the step (BAR2 default at c h/dx <= 1; MASS CONSISTENT for the classic)')
       end do
+      if (scn%static_steps > 0) call say_static()
       if (.not. sys%elems%linear) call say('  nonlinear zone: ' // rs%zone%why)
       if (sys%ops%k0u%active()) call say('  internal forces: K0 u (linear elastic model; SCHEME FORCES POINTS for the ' // &
         'element loop)')
@@ -169,6 +170,20 @@ contains
     if (.not. quiet) call print_summary()
     call check_stdout()
   end subroutine run_scene
+
+  !> STATIC (static_preload): what the preload did.
+  subroutine say_static()
+    character(len=200) :: line
+    write (line, '(a,i0,a,i0,a,i0,a,es9.2,a,es10.3,a,es10.3,a)') '  static preload: ', rs%pre%increments, &
+      ' increment(s), ', rs%pre%iterations, ' iterations, ', rs%pre%factorizations, ' factorizations; residual ', &
+      rs%pre%residual, ' of the force scale; loads'' work ', rs%pre%work_loads, ' J, laws'' work ', &
+      rs%pre%work_internal, ' J'
+    call say(trim(line))
+    if (rs%has_contact) then
+      write (line, '(a,es12.5,a)') '    contact conditions hold it with a total force of ', rs%pre%contact_force, ' N'
+      call say(trim(line))
+    end if
+  end subroutine say_static
 
   !> MODES (modes): computed, written to OUTDIR/modes.csv and modes.h5, the first ten on stdout.
   subroutine run_modes()

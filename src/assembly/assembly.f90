@@ -9,7 +9,8 @@ module assembly
   use contact_modes, only: IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use loads, only: load_nodal_forces
   use follower_loads, only: follower_set_t
-  use scene, only: scene_t, function_value, model_point_kind, tuned_mix, contact_nodes, INIT_DISPLACEMENT, INIT_VELOCITY, &
+  use scene, only: scene_t, probe_weight, function_value, model_point_kind, tuned_mix, contact_nodes, INIT_DISPLACEMENT, &
+    INIT_VELOCITY, &
     INIT_STATIC
   use dof_map, only: build_dof_map, cayley_rotations, imposed_dofs, equation_bodies, DOF_ABSENT, DOF_FIXED
   use stiffness_product, only: k0_product_t
@@ -22,6 +23,7 @@ module assembly
   use law_hyperelastic, only: nh_lame, nh_mean_energy
   use checkpoint, only: ckpt_file_t
   use reactions, only: reaction_set_t
+  use contact_mass, only: move_contact_mass, lump_contact_rows
   use element_table, only: element_table_t, build_element_table, add_btdb
   implicit none
   private
@@ -362,68 +364,6 @@ contains
     end do
   end subroutine assemble_operators
 
-  !> IMPACT MASSLESS (docs/contact.md): the translational mass of the element's contact nodes
-  !> moved to its other nodes (Khenous, Laborde and Renard's mass redistribution): rows and
-  !> columns of a contact node's UX, UY zeroed, the mass they held in each direction (2 r - m_cc,
-  !> r the row sum) added to the diagonal of the other nodes' same DOF in equal parts, so that
-  !> the element's total mass and its gravity load keep their values. An element whose nodes
-  !> are all contact nodes keeps its mass.
-  pure subroutine move_contact_mass(nodes, mask, massless, me)
-    integer, intent(in) :: nodes(:)
-    logical, intent(in) :: mask(3), massless(:)
-    real(dp), intent(inout) :: me(:, :)
-    integer :: a, b, d, ia, ib, nper, nfree
-    real(dp) :: moved
-    nper = count(mask)
-    nfree = count(.not. massless(nodes))
-    if (nfree == 0 .or. nfree == size(nodes)) return
-    do a = 1, size(nodes)
-      if (.not. massless(nodes(a))) cycle
-      do d = 1, 2
-        ia = (a - 1) * nper + d
-        moved = 2.0_dp * sum(me(ia, :)) - me(ia, ia)
-        me(ia, :) = 0.0_dp
-        me(:, ia) = 0.0_dp
-        do b = 1, size(nodes)
-          if (massless(nodes(b))) cycle
-          ib = (b - 1) * nper + d
-          me(ib, ib) = me(ib, ib) + moved / real(nfree, dp)
-        end do
-      end do
-    end do
-  end subroutine move_contact_mass
-
-  !> IMPACT SYMMETRIC (docs/contact.md): the positive couplings of the element's contact nodes' UX,
-  !> UY with the same DOF of its other nodes lumped on the two diagonals (row sums, the element's
-  !> total mass and gravity load kept; M stays positive definite, the change being c [1 -1; -1 1]
-  !> with c > 0; the negative couplings of quadratic elements are kept), so that stopping a contact
-  !> node's normal velocity (the projection at establishment) and the impulse at its release act on
-  !> that node alone (on linear elements).
-  pure subroutine lump_contact_rows(nodes, mask, contact, me)
-    integer, intent(in) :: nodes(:)
-    logical, intent(in) :: mask(3), contact(:)
-    real(dp), intent(inout) :: me(:, :)
-    integer :: a, b, d, ia, ib, nper
-    real(dp) :: c
-    nper = count(mask)
-    do a = 1, size(nodes)
-      if (.not. contact(nodes(a))) cycle
-      do d = 1, 2
-        ia = (a - 1) * nper + d
-        do b = 1, size(nodes)
-          if (b == a) cycle
-          ib = (b - 1) * nper + d
-          c = me(ia, ib)
-          if (c <= 0.0_dp) cycle                 ! (QUAD8, TRI6 corners: kept, M stays definite)
-          me(ia, ia) = me(ia, ia) + c
-          me(ib, ib) = me(ib, ib) + c
-          me(ia, ib) = 0.0_dp
-          me(ib, ia) = 0.0_dp
-        end do
-      end do
-    end do
-  end subroutine lump_contact_rows
-
   !> A DOF with neither mass nor stiffness makes K0 + 4M/h2 singular: refused, named. A mass
   !> matrix with no off-diagonal entry is kept as its diagonal (lumped).
   subroutine check_operators(scn, sys, stat, errmsg)
@@ -478,6 +418,8 @@ contains
           ! a fixed DOF, or an imposed one (IMPOSE), on a node of the group
           held = any(sys%dofs%eqn(p%dof, scn%mesh%ngroups(p%ngroup)%items) == DOF_FIXED) .or. &
             any(imposed(p%dof, scn%mesh%ngroups(p%ngroup)%items))
+          if (p%about) held = any(sys%dofs%eqn(:, scn%mesh%ngroups(p%ngroup)%items) == DOF_FIXED) .or. &
+            any(imposed(:, scn%mesh%ngroups(p%ngroup)%items))   ! (MZ ABOUT: any direction has an arm)
           if (held) cycle
           call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(p%line) // ': OUTPUT: PROBE ' // p%label // &
             ': no node of the group has this DOF fixed or imposed (a reaction is the force of a FIX or IMPOSE), at ''' // &
@@ -585,6 +527,7 @@ contains
     real(dp), allocatable :: fn(:, :)
     logical :: mask(3)
     integer :: k, s, e, a, d, n, loc, nfix
+    real(dp) :: w
     slot_of = pack([(k, k = 1, size(scn%probes))], [(scn%probes(k)%reaction, k = 1, size(scn%probes))])
     sys%react%nprobe = size(slot_of)
     ! With FIELDS output, one more slot per fixed DOF of a modelled node: the support_reaction field.
@@ -615,7 +558,7 @@ contains
     do s = 1, sys%react%nprobe
       member(scn%mesh%ngroups(scn%probes(slot_of(s))%ngroup)%items, s) = .true.
     end do
-    allocate (sys%react%ent_ptr(scn%mesh%nelem + 1), sys%react%ent_loc(16), sys%react%ent_slot(16))
+    allocate (sys%react%ent_ptr(scn%mesh%nelem + 1), sys%react%ent_loc(16), sys%react%ent_slot(16), sys%react%ent_w(16))
     sys%react%ent_ptr = 0
     do e = 1, scn%mesh%nelem
       sys%react%ent_ptr(e + 1) = sys%react%ent_ptr(e)
@@ -629,7 +572,8 @@ contains
           loc = loc + 1
           if (sys%dofs%eqn(d, n) /= DOF_FIXED) cycle
           do s = 1, sys%react%nprobe
-            if (scn%probes(slot_of(s))%dof == d .and. member(n, s)) call sys%react%add_entry(e, loc, s)
+            w = probe_weight(scn%probes(slot_of(s)), d, scn%mesh%x(:, n))
+            if (w /= 0.0_dp .and. member(n, s)) call sys%react%add_entry(e, loc, s, w)
           end do
           if (fslot(d, n) > 0) call sys%react%add_entry(e, loc, fslot(d, n))
         end do
@@ -645,10 +589,12 @@ contains
         end do
       end do
       do s = 1, sys%react%nprobe
-        d = scn%probes(slot_of(s))%dof
         do n = 1, scn%mesh%nnode
-          if (fn(d, n) /= 0.0_dp .and. sys%dofs%eqn(d, n) == DOF_FIXED .and. member(n, s)) &
-            sys%react%load(k, s) = sys%react%load(k, s) + fn(d, n)
+          do d = 1, 3
+            w = probe_weight(scn%probes(slot_of(s)), d, scn%mesh%x(:, n))
+            if (fn(d, n) /= 0.0_dp .and. w /= 0.0_dp .and. sys%dofs%eqn(d, n) == DOF_FIXED .and. member(n, s)) &
+              sys%react%load(k, s) = sys%react%load(k, s) + w * fn(d, n)
+          end do
         end do
       end do
     end do
@@ -661,7 +607,8 @@ contains
           d = 2 - mod(a, 2)
           if (fslot(d, n) > 0) call fol%add_reaction_entry(k, a, fslot(d, n))
           do s = 1, sys%react%nprobe
-            if (scn%probes(slot_of(s))%dof == d .and. member(n, s)) call fol%add_reaction_entry(k, a, s)
+            w = probe_weight(scn%probes(slot_of(s)), d, scn%mesh%x(:, n))
+            if (w /= 0.0_dp .and. member(n, s)) call fol%add_reaction_entry(k, a, s, w)
           end do
         end do
       end do
@@ -696,7 +643,7 @@ contains
           end do
         end do
         do p = r%ent_ptr(e) + 1, r%ent_ptr(e + 1)
-          r%fint_w(r%ent_slot(p)) = r%fint_w(r%ent_slot(p)) + fe(r%ent_loc(p))
+          r%fint_w(r%ent_slot(p)) = r%fint_w(r%ent_slot(p)) + r%ent_w(p) * fe(r%ent_loc(p))
         end do
       end do
       r%f_w = function_value(scn%functions, scn%gravity_func, t) * r%grav

@@ -29,6 +29,7 @@ module follower_loads
     real(dp), allocatable :: tp(:)            !< (n) thickness x pressure
     ! Support reactions: entry k puts component loc (2(i-1) + d) of side side(k) in slot slot(k).
     integer, allocatable :: r_side(:), r_loc(:), r_slot(:)
+    real(dp), allocatable :: r_w(:)
   contains
     procedure :: build => follower_build
     procedure :: add_force => follower_add_force
@@ -71,7 +72,7 @@ contains
       if (pass == 1) then
         self%n = m
         allocate (self%nsn(m), self%node(3, m), self%eq(6, m), self%func(m), self%tp(m))
-        allocate (self%r_side(0), self%r_loc(0), self%r_slot(0))
+        allocate (self%r_side(0), self%r_loc(0), self%r_slot(0), self%r_w(0))
       end if
     end do
   end subroutine follower_build
@@ -135,12 +136,18 @@ contains
   end subroutine follower_add_tangent
 
   !> Record that component loc of side k's forces lands in support-reaction slot s.
-  subroutine follower_add_reaction_entry(self, k, loc, s)
+  subroutine follower_add_reaction_entry(self, k, loc, s, w)
     class(follower_set_t), intent(inout) :: self
     integer, intent(in) :: k, loc, s
+    real(dp), intent(in), optional :: w     !< weight (default 1; a PROBE MZ ABOUT's arm)
     self%r_side = [self%r_side, k]
     self%r_loc = [self%r_loc, loc]
     self%r_slot = [self%r_slot, s]
+    if (present(w)) then
+      self%r_w = [self%r_w, w]
+    else
+      self%r_w = [self%r_w, 1.0_dp]
+    end if
   end subroutine follower_add_reaction_entry
 
   !> fw(slot) += the follower pressures' forces at time t on the fixed DOFs of the reaction
@@ -157,7 +164,7 @@ contains
       call side_nodes(self, scn, k, u, x)
       call side_forces(self%nsn(k), x, 1.0_dp, function_value(scn%functions, self%func(k), t) * self%tp(k), &
         [0.0_dp, 0.0_dp], fs)
-      fw(self%r_slot(e)) = fw(self%r_slot(e)) + fs(2 - mod(self%r_loc(e), 2), (self%r_loc(e) + 1) / 2)
+      fw(self%r_slot(e)) = fw(self%r_slot(e)) + self%r_w(e) * fs(2 - mod(self%r_loc(e), 2), (self%r_loc(e) + 1) / 2)
     end do
   end subroutine follower_add_reaction
 end module follower_loads

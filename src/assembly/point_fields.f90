@@ -9,7 +9,7 @@ module point_fields
   use material_law, only: LAW_VON_MISES, LAW_ELASTOPLASTIC, PK_1D
   implicit none
   private
-  public :: element_stress, element_scalars, nodal_values
+  public :: element_stress, element_scalars, nodal_values, von_mises
 
 contains
 
@@ -41,8 +41,7 @@ contains
     es = 0.0_dp
     do e = 1, size(es, 1)
       if (etype_family(scn%mesh%etype(e)) == FAMILY_SURFACE) then
-        es(e, 1) = sqrt(max(0.0_dp, s(1, e)**2 + s(2, e)**2 + s(3, e)**2 - s(1, e) * s(2, e) - s(2, e) * s(3, e) - &
-          s(3, e) * s(1, e) + 3.0_dp * s(4, e)**2))
+        es(e, 1) = von_mises(s(1:4, e))
       else if (scn%mesh%etype(e) == ET_BAR2) then
         es(e, 1) = abs(s(1, e))
       end if
@@ -58,6 +57,12 @@ contains
       if (k > 0) es(e, 2) = sum(sys%pts%q(k, g0:g1)) / (g1 - g0 + 1)
     end do
   end subroutine element_scalars
+
+  !> The von Mises stress of (sxx, syy, szz, sxy).
+  pure real(dp) function von_mises(s)
+    real(dp), intent(in) :: s(4)
+    von_mises = sqrt(max(0.0_dp, s(1)**2 + s(2)**2 + s(3)**2 - s(1) * s(2) - s(2) * s(3) - s(3) * s(1) + 3.0_dp * s(4)**2))
+  end function von_mises
 
   !> Free-DOF vector to nodal values (3, nnode); fixed and absent DOFs are zero.
   pure subroutine nodal_values(sys, u, out)

@@ -22,8 +22,10 @@ module reactions
     ! slot nprobe + k is DOF fdof(k) of node fnode(k) (fields.h5 support_reaction).
     integer :: nprobe = 0
     integer, allocatable :: fnode(:), fdof(:)
-    ! Entries: local DOF loc of element e belongs to slot; CSR over the elements.
+    ! Entries: local DOF loc of element e belongs to slot with weight ent_w (1; the arm of a
+    ! PROBE MZ ABOUT's moment); CSR over the elements.
     integer, allocatable :: ent_ptr(:), ent_loc(:), ent_slot(:)
+    real(dp), allocatable :: ent_w(:)
     ! Couplings of the slots' rows to the free equations: Σ M_fa(slot, eq) x(eq) (and C).
     integer, allocatable :: cp_slot(:), cp_eq(:)
     real(dp), allocatable :: cp_m(:), cp_c(:)
@@ -43,16 +45,22 @@ module reactions
 
 contains
 
-  !> During the map's construction (elements in order): local DOF loc of element e is in slot.
-  subroutine add_entry(self, e, loc, slot)
+  !> During the map's construction (elements in order): local DOF loc of element e is in slot,
+  !> with weight w (default 1).
+  subroutine add_entry(self, e, loc, slot, w)
     class(reaction_set_t), intent(inout) :: self
     integer, intent(in) :: e, loc, slot
+    real(dp), intent(in), optional :: w
     integer :: n
     n = self%ent_ptr(e + 1)
+    if (.not. allocated(self%ent_w)) allocate (self%ent_w(16))
     call grow(self%ent_loc, n + 1)
     call grow(self%ent_slot, n + 1)
+    call grow(self%ent_w, n + 1)
     self%ent_loc(n + 1) = loc
     self%ent_slot(n + 1) = slot
+    self%ent_w(n + 1) = 1.0_dp
+    if (present(w)) self%ent_w(n + 1) = w
     self%ent_ptr(e + 1) = n + 1
   end subroutine add_entry
 
@@ -66,7 +74,7 @@ contains
     do p = self%ent_ptr(e) + 1, self%ent_ptr(e + 1)
       k = self%ent_loc(p)
       s = self%ent_slot(p)
-      self%grav(s) = self%grav(s) + g(k)
+      self%grav(s) = self%grav(s) + self%ent_w(p) * g(k)
       do j = 1, size(dofs)
         if (dofs(j) <= 0 .or. (me(k, j) == 0.0_dp .and. ce(k, j) == 0.0_dp)) cycle
         self%ncp = self%ncp + 1
@@ -76,8 +84,8 @@ contains
         call grow(self%cp_c, self%ncp)
         self%cp_slot(self%ncp) = s
         self%cp_eq(self%ncp) = dofs(j)
-        self%cp_m(self%ncp) = me(k, j)
-        self%cp_c(self%ncp) = ce(k, j)
+        self%cp_m(self%ncp) = self%ent_w(p) * me(k, j)
+        self%cp_c(self%ncp) = self%ent_w(p) * ce(k, j)
       end do
     end do
   end subroutine add_couplings
@@ -104,7 +112,7 @@ contains
     real(dp), intent(in) :: fc(:)
     integer :: p
     do p = self%ent_ptr(e) + 1, self%ent_ptr(e + 1)
-      self%fc_t(self%ent_slot(p)) = self%fc_t(self%ent_slot(p)) + fc(self%ent_loc(p))
+      self%fc_t(self%ent_slot(p)) = self%fc_t(self%ent_slot(p)) + self%ent_w(p) * fc(self%ent_loc(p))
     end do
   end subroutine add_correction
 

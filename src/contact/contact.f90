@@ -50,7 +50,8 @@ module contact
   public :: SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   public :: contact_set_t, contact_settings_t, contact_event_t, contact_report_t, multiplier_counters_t, row_geometry_t
   public :: contact_set_bilateral, contact_set_gap0, contact_rewrite, contact_step_gaps
-  public :: contact_add, contact_finalize, contact_set_mass, contact_prepare, contact_solve_step, &
+  public :: contact_add, contact_finalize, contact_set_mass, contact_prepare, contact_solve_step, contact_set_resting, &
+    contact_schur_only, &
     contact_end_step, contact_shortfall, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, contact_am_block, &
     contact_set_rigid_modes, contact_events, hzero_reflection
 
@@ -622,6 +623,30 @@ contains
     call cs%c%add_transpose(cs%st%lambda, f)
   end subroutine contact_add_force
 
+
+  !> STATIC (static_preload): the conditions hold the structure at rest with the multipliers lam
+  !> of the static equilibrium, the reactions R(0) the first step starts from (its Λ = R(0) + R(1)
+  !> then keeps them), the conditions with lam > 0 active (their closing is no impact).
+  subroutine contact_set_resting(cs, lam)
+    type(contact_set_t), intent(inout) :: cs
+    real(dp), intent(in) :: lam(:)
+    if (cs%nc == 0) return
+    ! (IMPOSE's bilateral rows are no contacts: never active, no reaction kept; contact_impact.)
+    cs%st%active = lam > 0.0_dp .and. .not. cs%bilat
+    cs%st%r_prev = merge(lam, 0.0_dp, cs%st%active)
+    cs%st%lambda = lam
+    cs%st%active_iter = cs%st%active .or. cs%bilat
+  end subroutine contact_set_resting
+
+  !> MULTIPLIERS AUTO takes the Schur columns whatever the active set's size while schur_only
+  !> (STATIC: S = K + κ C_A'C_A is stiffness-dominated, where the augmented system's LU needs far
+  !> more refinement than in the dynamics); back to SCHEME AUGMENTED_ABOVE after.
+  subroutine contact_schur_only(cs, schur_only)
+    type(contact_set_t), intent(inout) :: cs
+    logical, intent(in) :: schur_only
+    cs%ms%switch_size = cs%settings%switch_size
+    if (schur_only) cs%ms%switch_size = huge(1)
+  end subroutine contact_schur_only
 
   !> W = C S⁻¹ C' over every candidate (nc solves; diagnostics and tests, not the run).
   subroutine contact_w_matrix(cs, s, w, stat, errmsg)

@@ -27,6 +27,7 @@ module contact_geometry
     integer, allocatable :: node(:)           !< its node b
     integer, allocatable :: set(:)            !< its segments, sets(set)
     integer, allocatable :: side(:)           !< its side of a chain of line elements (pair_segment)
+    real(dp), allocatable :: circle(:, :)     !< (4, n) a rigid circle (set 0): centre x, y, radius, +1 outside / -1 inside
     integer, allocatable :: sptr(:), star(:)  !< the nodes of b's elements, star(sptr(k):sptr(k+1)-1): no partners
     logical, allocatable :: skip(:)           !< workspace: one star marked (nnode)
     integer, allocatable :: seg(:)            !< the segment it is paired with now (0: none this step, -1: not yet)
@@ -47,12 +48,16 @@ contains
   !> Conditions rows(k), of nodes(k), on segment sets sets(set(k)), on side(k) of a chain of line
   !> elements, the nodes of their elements star(sptr(k):sptr(k+1)-1) (mesh_segments' node_stars: a
   !> node touches no side of its own elements); nnode nodes in the mesh.
-  subroutine fg_init(self, rows, nodes, set, side, sets, sptr, star, nnode)
+  subroutine fg_init(self, rows, nodes, set, side, sets, sptr, star, nnode, circle)
     class(following_t), intent(inout) :: self
     integer, intent(in) :: rows(:), nodes(:), set(:), side(:), sptr(:), star(:)
     type(segment_set_t), intent(in) :: sets(:)
     integer, intent(in) :: nnode
+    real(dp), intent(in), optional :: circle(:, :)   !< (4, n): the rigid circle of the conditions of set 0
     self%n = size(rows)
+    allocate (self%circle(4, self%n))
+    self%circle = 0.0_dp
+    if (present(circle)) self%circle = circle
     self%row = rows
     self%node = nodes
     self%set = set
@@ -104,7 +109,7 @@ contains
     logical, intent(in), optional :: at_end
     type(segment_pair_t) :: pr
     integer :: k, i, d, j, eqs(6)
-    real(dp) :: coefs(6), g0, f
+    real(dp) :: coefs(6), g0, f, delta(2)
     stat = STAT_OK
     if (self%n == 0) return
     f = 0.5_dp
@@ -121,7 +126,23 @@ contains
       end do
     end do
     do k = 1, self%n
-      if (present(du)) then                    ! the step's partner, at the midpoint
+      if (self%set(k) == 0) then               ! a rigid circle (OBSTACLE … SPHERE): always its partner
+        if (present(du) .and. f == 0.5_dp) then
+          ! during the iteration: the discrete gradient between x(n) and x(n) + du (pair_circle)
+          do d = 1, 2
+            j = eqn(d, self%node(k))
+            delta(d) = 0.0_dp
+            if (j > 0) delta(d) = du(j)
+          end do
+          call pair_circle(self%x(:, self%node(k)), self%circle(:, k), self%node(k), pr, delta)
+        else
+          call pair_circle(self%x(:, self%node(k)), self%circle(:, k), self%node(k), pr)
+        end if
+        if (.not. present(du)) then
+          self%seg(k) = 1
+          self%gstart(k) = pr%gap
+        end if
+      else if (present(du)) then               ! the step's partner, at the midpoint
         if (self%seg(k) == 0) cycle            ! (none: the row stays empty)
         call pair_on(self%x, self%sets(self%set(k)), self%node(k), self%seg(k), self%vnode(k), pr, self%side(k))
       else
@@ -163,4 +184,33 @@ contains
       if (stat /= STAT_OK) return
     end do
   end subroutine fg_update
+
+  !> Node b at x facing the rigid circle c = (centre x, y, radius, side): the normal through the
+  !> centre (outward for side +1, inward for -1), the gap side (|x - centre| - radius), the row
+  !> on b alone. At the centre (no normal) the last normal is kept: a node never gets there
+  !> from outside, nor from inside farther than the radius. With delta (x the midpoint of the
+  !> step's move delta of b): the discrete gradient of the gap between x - delta/2 and x + delta/2,
+  !>     n̄ = n(x) + (g(x + delta/2) - g(x - delta/2) - n(x).delta) delta / |delta|²,
+  !> so that n̄.delta is the gap's change exactly: a contact held along the circle does no work
+  !> (the multiplier's work Λ n̄.delta = Λ (g(n+1) - g(n)) = 0), and the energy stays exact.
+  pure subroutine pair_circle(x, c, b, pr, delta)
+    real(dp), intent(in) :: x(2), c(4)
+    integer, intent(in) :: b
+    type(segment_pair_t), intent(inout) :: pr
+    real(dp), intent(in), optional :: delta(2)
+    real(dp) :: d(2), r, dd
+    d = x - c(1:2)
+    r = norm2(d)
+    if (r > 0.0_dp) pr%normal = c(4) * d / r
+    pr%gap = c(4) * (r - c(3))
+    if (present(delta)) then
+      dd = dot_product(delta, delta)
+      if (dd > 0.0_dp) pr%normal = pr%normal + (c(4) * (norm2(x + 0.5_dp * delta - c(1:2)) - &
+        norm2(x - 0.5_dp * delta - c(1:2))) - dot_product(pr%normal, delta)) * delta / dd
+    end if
+    pr%nodes = [b, 0, 0]
+    pr%w = [1.0_dp, 0.0_dp, 0.0_dp]
+    pr%seg = 1
+    pr%vertex = .false.
+  end subroutine pair_circle
 end module contact_geometry

@@ -5,7 +5,7 @@ module array_utils
   use kinds, only: dp
   implicit none
   private
-  public :: heap_sort, sort_by_key, stable_order, grow
+  public :: heap_sort, sort_by_key, stable_order, bracket, grow
 
   !> Room for n entries (doubling), the content kept: integer or real arrays.
   interface grow
@@ -31,6 +31,27 @@ contains
       idx(j + 1) = t
     end do
   end subroutine stable_order
+
+  !> The interval of the increasing values tt that holds t, by bisection: i with tt(i) <= t < tt(i+1)
+  !> (0 before the first value, size(tt) from the last): the tables of FUNCTION and of the sweeps.
+  pure integer function bracket(tt, t) result(i)
+    real(dp), intent(in) :: tt(:), t
+    integer :: hi, mid
+    if (t < tt(1)) then
+      i = 0
+      return
+    end if
+    i = 1
+    hi = size(tt) + 1
+    do while (hi - i > 1)                       ! tt(i) <= t < tt(hi) (tt(n+1) = +inf)
+      mid = (i + hi) / 2
+      if (tt(mid) <= t) then
+        i = mid
+      else
+        hi = mid
+      end if
+    end do
+  end function bracket
 
   !> In-place ascending heap sort.
   pure subroutine heap_sort(a)

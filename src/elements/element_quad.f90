@@ -12,7 +12,7 @@ module element_quad
   use element_iso, only: iso_cartesian, iso_b, iso_mass, iso_add_mass, iso_ring, TWO_PI
   implicit none
   private
-  public :: quad_ngauss, quad_shape, quad_b, quad_mass, quad_check, quad_elastic_d
+  public :: quad_ngauss, quad_shape, quad_b, quad_mass, quad_check, quad_elastic_d, quad_point_shape
 
   ! Natural coordinates of the nodes.
   real(dp), parameter :: XI_NODE(8) = [-1.0_dp, 1.0_dp, 1.0_dp, -1.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, -1.0_dp]
@@ -91,6 +91,15 @@ contains
       dn(2, i) = -eta * (1.0_dp + a * xi)
     end do
   end subroutine quad_shape
+
+  !> The shape functions n(1:nen) at Gauss point ig (stress recovery).
+  pure subroutine quad_point_shape(nen, ig, n)
+    integer, intent(in) :: nen, ig
+    real(dp), intent(out) :: n(8)
+    real(dp) :: xi, eta, w, dn(2, 8)
+    call quad_gauss_point(nen, ig, xi, eta, w)
+    call quad_shape(nen, xi, eta, n, dn)
+  end subroutine quad_point_shape
 
   !> B (4 x 2 nen) and weight at Gauss point ig; x(2, 1:nen) used.
   pure subroutine quad_b(nen, x, thickness, axisym, ig, b, wt)

@@ -14,7 +14,7 @@ module element_tri
   use element_iso, only: iso_cartesian, iso_b, iso_mass, iso_add_mass, iso_ring, TWO_PI
   implicit none
   private
-  public :: tri_ngauss, tri_shape, tri_b, tri_mass, tri_check
+  public :: tri_ngauss, tri_shape, tri_b, tri_mass, tri_check, tri_point_shape
 
   real(dp), parameter :: XI_NODE(6) = [0.0_dp, 1.0_dp, 0.0_dp, 0.5_dp, 0.5_dp, 0.0_dp]
   real(dp), parameter :: ETA_NODE(6) = [0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 0.5_dp, 0.5_dp]
@@ -93,6 +93,15 @@ contains
   end subroutine tri_shape
 
   !> B (4 x 2 nen) and weight at stress point ig; x(2, 1:nen) used.
+  !> The shape functions n(1:nen) at Gauss point ig (stress recovery).
+  pure subroutine tri_point_shape(nen, ig, n)
+    integer, intent(in) :: nen, ig
+    real(dp), intent(out) :: n(6)
+    real(dp) :: xi, eta, w, dn(2, 6)
+    call tri_point(tri_ngauss(nen), ig, xi, eta, w)
+    call tri_shape(nen, xi, eta, n, dn)
+  end subroutine tri_point_shape
+
   pure subroutine tri_b(nen, x, thickness, axisym, ig, b, wt)
     integer, intent(in) :: nen, ig
     real(dp), intent(in) :: x(2, 6), thickness

@@ -19,13 +19,13 @@ module elements
   use element_spring, only: spring_b, spring_check
   use element_bar2, only: bar2_b, bar2_mass, bar2_check
   use element_beam2, only: beam2_ngauss, beam2_b, beam2_mass, BEAM2_MAX_GAUSS
-  use element_quad, only: quad_ngauss, quad_b, quad_mass, quad_check, quad_elastic_d
-  use element_tri, only: tri_ngauss, tri_b, tri_mass, tri_check
+  use element_quad, only: quad_ngauss, quad_b, quad_mass, quad_check, quad_elastic_d, quad_point_shape
+  use element_tri, only: tri_ngauss, tri_b, tri_mass, tri_check, tri_point_shape
   implicit none
   private
   public :: MAX_EDOF, MAX_NSTRAIN, MAX_GAUSS
   public :: elem_dof_mask, elem_nen, elem_ndof, elem_nstrain, elem_ngauss
-  public :: elem_gauss_b, elem_mass, elem_elastic_d, elem_check_geometry, elem_check_section, elem_stiffness
+  public :: elem_gauss_b, elem_gauss_shape, elem_mass, elem_elastic_d, elem_check_geometry, elem_check_section, elem_stiffness
 
   integer, parameter :: MAX_EDOF = 16     !< QUAD8: 8 nodes x 2
   integer, parameter :: MAX_NSTRAIN = 4   !< quads
@@ -99,6 +99,27 @@ contains
     xl = 0.0_dp
     xl(:, 1:nen) = x(1:2, 1:nen)
   end subroutine local_coords
+
+  !> The shape functions n(1:nen) of a surface element (QUAD4, QUAD8, TRI3, TRI6) at its
+  !> integration point ig (1..elem_ngauss); ok false for the other types (n = 0).
+  pure subroutine elem_gauss_shape(et, ig, n, ok)
+    integer, intent(in) :: et, ig
+    real(dp), intent(out) :: n(:)
+    logical, intent(out) :: ok
+    real(dp) :: nq(8), nt(6)
+    n = 0.0_dp
+    ok = .true.
+    select case (et)
+    case (ET_QUAD4, ET_QUAD8)
+      call quad_point_shape(etype_nen(et), ig, nq)
+      n(1:etype_nen(et)) = nq(1:etype_nen(et))
+    case (ET_TRI3, ET_TRI6)
+      call tri_point_shape(etype_nen(et), ig, nt)
+      n(1:etype_nen(et)) = nt(1:etype_nen(et))
+    case default
+      ok = .false.
+    end select
+  end subroutine elem_gauss_shape
 
   !> B (at least nstrain x ndof) and weight at integration point ig (1..elem_ngauss);
   !> x(2, 1:nen) are the node coordinates.

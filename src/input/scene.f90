@@ -4,6 +4,7 @@
 !> refers to groups defined above it).
 module scene
   use kinds, only: dp
+  use array_utils, only: bracket
   use errors, only: upper
   use mesh, only: mesh_t
   use mesh_segments, only: segment_set_t
@@ -16,9 +17,10 @@ module scene
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
   public :: function_value, model_point_kind, tuned_mix, scene_axisymmetric
   public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t, condition_nodes, contact_nodes, condition_keyword
-  public :: impose_t, function_slope
+  public :: impose_t, function_slope, probe_weight
 
   real(dp), parameter :: TUNED_MAX = 1.4999_dp  !< MASS TUNED's mixing factor at c h/dx = 1
+  real(dp), parameter :: TWO_PI = 6.283185307179586476925286766559_dp
 
   integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3
   integer, parameter, public :: LOAD_NODAL = 0, LOAD_PRESSURE = 1, LOAD_TRACTION = 2
@@ -41,6 +43,8 @@ module scene
     integer :: segset = 0                     !< GAP … SEGMENTS: its segments, scene%segsets(segset)
     logical :: follow = .false.               !< re-paired in the configuration of every step (LARGE)
     integer :: side = 0                       !< following, on a line element: b's side of the chain (pair_segment)
+    integer :: curved = 0                     !< OBSTACLE … SPHERE|CYLINDER: +1 OUTSIDE, -1 INSIDE (0: a plane or a GAP)
+    real(dp) :: center(2) = 0.0_dp, radius = 0.0_dp   !< the curved obstacle's circle
   end type condition_t
 
   !> MODELE: an element group with its formulation, material, section and mass kind.
@@ -84,9 +88,18 @@ module scene
   end type initial_t
 
   !> Piecewise-linear function of time, constant beyond its ends.
+  !> FUNCTION kinds (docs/input.md, "Functions"): a table of points (POINTS, or TABLE FILE), a sine,
+  !> a smooth step.
+  integer, parameter, public :: FN_TABLE = 0, FN_SINE = 1, FN_SMOOTH_STEP = 2
+
   type :: function_t
     character(len=:), allocatable :: name
-    real(dp), allocatable :: t(:), f(:)
+    integer :: kind = FN_TABLE
+    real(dp), allocatable :: t(:), f(:)   !< FN_TABLE: the points (times increasing), linear between
+    !> FN_SINE: amplitude sin(2π frequency (t - start) + phase) on [start, finish], 0 outside;
+    !> FN_SMOOTH_STEP: 0 up to start, 1 from finish, ξ³(10 - 15ξ + 6ξ²) between (ξ from 0 to 1).
+    real(dp) :: amplitude = 1.0_dp, frequency = 0.0_dp, phase = 0.0_dp
+    real(dp) :: start = 0.0_dp, finish = huge(1.0_dp)
   end type function_t
 
   !> Nodal forces on every node of a group, times a function of time.
@@ -119,6 +132,8 @@ module scene
     logical :: reaction = .false.            !< RX, RY, RZ: the support reaction, summed over the group
     integer :: ngroup = 0                    !< the probed node group
     integer :: line = 0
+    logical :: about = .false.               !< MZ ABOUT x0 y0: the moment of the group's reactions about x0
+    real(dp) :: x0(2) = 0.0_dp
   end type probe_t
 
   type :: scene_t
@@ -156,6 +171,10 @@ module scene
     integer :: modes = 0                      !< MODES n: the n lowest natural frequencies (0: none)
     real(dp) :: modes_above = -1.0_dp         !< MODES … ABOVE f0 (Hz; < 0: from the lowest)
     integer :: modes_line = 0                 !< the MODES statement's line
+    integer :: static_steps = 0               !< STATIC STEPS n: the preload's increments (0: no STATIC)
+    integer :: static_max_iter = 50           !< STATIC MAX_ITERATIONS: Newton iterations per increment
+    real(dp) :: static_tol = 1.0e-10_dp       !< STATIC TOLERANCE: residual / force scale
+    integer :: static_line = 0                !< the STATIC statement's line
     integer :: time_zero_line = 0             !< TIME END = START (a MODES-only run): its line
     integer :: history_every = 1
     integer :: fields_every = -1              !< -1: first and last step only; 0: never
@@ -243,41 +262,76 @@ contains
     type(function_t), intent(in) :: fns(:)
     integer, intent(in) :: ifn
     real(dp), intent(in) :: t
-    integer :: i, n
+    integer :: i
     real(dp) :: s
     f = 1.0_dp
     if (ifn == 0) return
-    associate (tt => fns(ifn)%t, ff => fns(ifn)%f)
-      n = size(tt)
-      if (t <= tt(1)) then
-        f = ff(1)
-      else if (t >= tt(n)) then
-        f = ff(n)
-      else
-        do i = 2, n
-          if (t <= tt(i)) exit
-        end do
-        s = (t - tt(i - 1)) / (tt(i) - tt(i - 1))
-        f = (1.0_dp - s) * ff(i - 1) + s * ff(i)
-      end if
+    associate (fn => fns(ifn))
+      select case (fn%kind)
+      case (FN_SINE)
+        f = 0.0_dp
+        if (t >= fn%start .and. t <= fn%finish) f = fn%amplitude * sin(TWO_PI * fn%frequency * (t - fn%start) + fn%phase)
+      case (FN_SMOOTH_STEP)
+        s = min(max((t - fn%start) / (fn%finish - fn%start), 0.0_dp), 1.0_dp)
+        f = s**3 * (10.0_dp - 15.0_dp * s + 6.0_dp * s * s)
+      case default
+        i = bracket(fn%t, t)
+        if (i == 0) then
+          f = fn%f(1)
+        else if (i == size(fn%t)) then
+          f = fn%f(i)
+        else
+          s = (t - fn%t(i)) / (fn%t(i + 1) - fn%t(i))
+          f = (1.0_dp - s) * fn%f(i) + s * fn%f(i + 1)
+        end if
+      end select
     end associate
   end function function_value
 
-  !> The right derivative of a FUNCTION at t (0 beyond its ends; 0 for ifn = 0, the constant 1).
+  !> The right derivative of a FUNCTION at t (0 beyond a table's ends and outside a sine's or a
+  !> step's interval; 0 for ifn = 0, the constant 1).
   pure real(dp) function function_slope(fns, ifn, t) result(d)
     type(function_t), intent(in) :: fns(:)
     integer, intent(in) :: ifn
     real(dp), intent(in) :: t
     integer :: i
+    real(dp) :: s, w
     d = 0.0_dp
     if (ifn == 0) return
-    associate (tt => fns(ifn)%t, ff => fns(ifn)%f)
-      do i = 2, size(tt)
-        if (t >= tt(i - 1) .and. t < tt(i)) then
-          d = (ff(i) - ff(i - 1)) / (tt(i) - tt(i - 1))
-          return
-        end if
-      end do
+    associate (fn => fns(ifn))
+      select case (fn%kind)
+      case (FN_SINE)
+        if (t >= fn%start .and. t < fn%finish) d = fn%amplitude * TWO_PI * fn%frequency * &
+          cos(TWO_PI * fn%frequency * (t - fn%start) + fn%phase)
+      case (FN_SMOOTH_STEP)
+        w = fn%finish - fn%start
+        s = (t - fn%start) / w
+        if (s >= 0.0_dp .and. s < 1.0_dp) d = 30.0_dp * s * s * (1.0_dp - s)**2 / w
+      case default
+        i = bracket(fn%t, t)
+        if (i >= 1 .and. i < size(fn%t)) d = (fn%f(i + 1) - fn%f(i)) / (fn%t(i + 1) - fn%t(i))
+      end select
     end associate
   end function function_slope
+  !> The weight of a node's DOF d (at x) in a reaction probe: 1 on the probed DOF; for MZ ABOUT
+  !> x0 y0 the arm of the moment about x0, -(y - y0) on UX, x - x0 on UY, 1 on RZ (reference
+  !> positions); 0 otherwise.
+  pure real(dp) function probe_weight(pr, d, x) result(w)
+    type(probe_t), intent(in) :: pr
+    integer, intent(in) :: d
+    real(dp), intent(in) :: x(2)
+    w = 0.0_dp
+    if (.not. pr%about) then
+      if (d == pr%dof) w = 1.0_dp
+      return
+    end if
+    select case (d)
+    case (1)
+      w = -(x(2) - pr%x0(2))
+    case (2)
+      w = x(1) - pr%x0(1)
+    case (3)
+      w = 1.0_dp
+    end select
+  end function probe_weight
 end module scene

@@ -17,6 +17,9 @@ module scene_contacts
   private
   public :: contacts_schema, contacts_statement, resolve_impact
 
+  character(len=8), parameter :: CURVED_WORDS(3) = [character(len=8) :: 'RADIUS', 'INSIDE', 'OUTSIDE']
+  character(len=8), parameter :: PLANE_WORDS(2) = [character(len=8) :: 'POINT', 'NORMAL']
+
 contains
 
   subroutine contacts_schema(sch)
@@ -26,6 +29,11 @@ contains
     call sch%add_param('OBSTACLE', 'POINT', 2, 2)
     call sch%add_param('OBSTACLE', 'NORMAL', 2, 2)
     call sch%add_param('OBSTACLE', 'RESTITUTION', 1, 1)
+    call sch%add_param('OBSTACLE', 'SPHERE', 2, 2)
+    call sch%add_param('OBSTACLE', 'CYLINDER', 2, 2)
+    call sch%add_param('OBSTACLE', 'RADIUS', 1, 1)
+    call sch%add_param('OBSTACLE', 'INSIDE', 0, 0)
+    call sch%add_param('OBSTACLE', 'OUTSIDE', 0, 0)
     call sch%add_keyword('GAP', 1, 1)
     call sch%add_param('GAP', 'NODES', 1, 1)
     call sch%add_param('GAP', 'WITH', 1, 1)
@@ -93,6 +101,18 @@ contains
     if (stat /= STAT_OK) return
     call check_modelled(scn, st, st%params(k)%values(1), scn%mesh%ngroups(ig)%items, stat, errmsg)
     if (stat /= STAT_OK) return
+    if (find_param(st, 'SPHERE') > 0 .or. find_param(st, 'CYLINDER') > 0) then
+      call do_curved_obstacle(scn, st, ig, stat, errmsg)
+      return
+    end if
+    do i = 1, 3
+      k = find_param(st, trim(CURVED_WORDS(i)))
+      if (k > 0) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, trim(CURVED_WORDS(i)) // ' goes with SPHERE or CYLINDER', &
+          st%params(k)%keytok))
+        return
+      end if
+    end do
     call get_point(st, 'POINT', p, stat, errmsg)
     if (stat /= STAT_OK) return
     call get_unit(st, 'NORMAL', n, stat, errmsg)
@@ -114,6 +134,80 @@ contains
     end do
     scn%conditions = [scn%conditions, batch]        ! (once per statement: linear in the group)
   end subroutine do_obstacle
+
+  !> OBSTACLE name NODES group SPHERE|CYLINDER x y RADIUS r INSIDE|OUTSIDE (the plane's circle: a
+  !> sphere's or a cylinder's section): each node stays outside (or inside) the rigid circle,
+  !> g = ±(|x_b - c| - r) >= 0, its normal through the centre at the node's current position. The
+  !> rows follow the configuration (contact_geometry, as PAIRING STEP's): linearized at every step,
+  !> during it at the midpoint.
+  subroutine do_curved_obstacle(scn, st, ig, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(in) :: ig
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: word
+    real(dp) :: ctr(2), d(2), r
+    integer :: i, k, s
+    type(condition_t) :: c
+    type(condition_t), allocatable :: batch(:)
+    word = 'SPHERE'
+    if (find_param(st, 'CYLINDER') > 0) word = 'CYLINDER'
+    k = find_param(st, word)
+    do i = 1, 2
+      if (find_param(st, trim(PLANE_WORDS(i))) > 0) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, trim(PLANE_WORDS(i)) // ' goes with a plane, not with ' // &
+          word, st%params(find_param(st, trim(PLANE_WORDS(i))))%keytok))
+        return
+      end if
+    end do
+    if (find_param(st, 'SPHERE') > 0 .and. find_param(st, 'CYLINDER') > 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'SPHERE or CYLINDER, not both', st%params(k)%keytok))
+      return
+    end if
+    call get_point(st, word, ctr, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (find_param(st, 'RADIUS') == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, word // ' needs RADIUS r', st%params(k)%keytok))
+      return
+    end if
+    call get(st, 'RADIUS', c%radius, stat, errmsg, lower=0.0_dp, upper=1.0e100_dp, upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    if ((find_param(st, 'INSIDE') > 0) .eqv. (find_param(st, 'OUTSIDE') > 0)) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, word // ' needs INSIDE or OUTSIDE (the side of the ' // &
+        'circle the nodes stay on), one of them', st%params(k)%keytok))
+      return
+    end if
+    s = merge(-1, 1, find_param(st, 'INSIDE') > 0)
+    call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
+      upper=1.0_dp, upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call check_following(scn, st, k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    allocate (batch(size(scn%mesh%ngroups(ig)%items)))
+    do i = 1, size(scn%mesh%ngroups(ig)%items)
+      c%source = st%lead(1)%text
+      c%node_a = 0
+      c%node_b = scn%mesh%ngroups(ig)%items(i)
+      d = scn%mesh%x(:, c%node_b) - ctr
+      r = norm2(d)
+      if (r <= 1.0e-12_dp * max(c%radius, model_size(scn%mesh))) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(scn%mesh%node_tag(c%node_b)) // &
+          ' is at the centre of the ' // word // ': no normal', st%params(k)%keytok))
+        return
+      end if
+      c%normal = s * d / r
+      c%g0 = s * (r - c%radius)
+      c%curved = s
+      c%center = ctr
+      c%follow = .true.
+      c%line = st%line
+      call check_penetration(scn, st, c, stat, errmsg)
+      if (stat /= STAT_OK) return
+      batch(i) = c
+    end do
+    scn%conditions = [scn%conditions, batch]
+  end subroutine do_curved_obstacle
 
   !> GAP name NODES ga WITH gb [NORMAL nx ny] | GAP name PAIRS a1 b1 a2 b2 … [NORMAL nx ny]:
   !> node-to-node unilateral conditions, b staying on the side of a the normal points to.

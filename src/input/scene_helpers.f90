@@ -10,7 +10,7 @@ module scene_helpers
   use scene, only: scene_t
   implicit none
   private
-  public :: get_etype, node_group, get_choice, get_pair, get_point, model_size, get_unit, check_modelled
+  public :: get_etype, node_group, get_choice, get_pair, get_point, model_size, get_unit, check_modelled, resolve_path
 
 contains
 
@@ -192,4 +192,19 @@ contains
     end if
     n = n / norm2(n)
   end subroutine get_unit
+
+  !> A path relative to the directory of the scene file (absolute paths unchanged).
+  pure function resolve_path(scene_path, file) result(full)
+    character(len=*), intent(in) :: scene_path, file
+    character(len=:), allocatable :: full
+    integer :: k
+    if (len(file) > 0) then
+      if (file(1:1) == '/') then
+        full = file
+        return
+      end if
+    end if
+    k = index(scene_path, '/', back=.true.)
+    full = scene_path(1:k) // file
+  end function resolve_path
 end module scene_helpers

@@ -8,8 +8,9 @@ module scene_materials
     LAW_HYPERELASTIC
   use statement, only: statement_t, stmt_error, find_param, get_real, get_int, to_real
   use statement_schema, only: schema_t
-  use scene, only: scene_t, function_t, MAX_LAYERS
-  use scene_helpers, only: get_pair
+  use scene, only: scene_t, function_t, MAX_LAYERS, FN_SINE, FN_SMOOTH_STEP
+  use scene_helpers, only: get_pair, resolve_path
+  use function_table, only: read_function_table
   implicit none
   private
   public :: materials_schema, materials_statement
@@ -50,6 +51,16 @@ contains
     call sch%add_param('SECTION', 'LAYERS', 1, 1)
     call sch%add_keyword('FUNCTION', 1, 1)
     call sch%add_param('FUNCTION', 'POINTS', 2, -1)
+    call sch%add_param('FUNCTION', 'SINE', 0, 0)
+    call sch%add_param('FUNCTION', 'AMPLITUDE', 1, 1)
+    call sch%add_param('FUNCTION', 'FREQUENCY', 1, 1)
+    call sch%add_param('FUNCTION', 'PHASE', 1, 1)
+    call sch%add_param('FUNCTION', 'START', 1, 1)
+    call sch%add_param('FUNCTION', 'END', 1, 1)
+    call sch%add_param('FUNCTION', 'SMOOTH_STEP', 0, 0)
+    call sch%add_param('FUNCTION', 'T', 1, 1)
+    call sch%add_param('FUNCTION', 'TABLE', 0, 0)
+    call sch%add_param('FUNCTION', 'FILE', 1, 1)
   end subroutine materials_schema
 
   !> One materials statement (pass 1 of load_scene).
@@ -66,7 +77,7 @@ contains
     case ('SECTION')
       call do_section(scn, st, stat, errmsg)
     case ('FUNCTION')
-      call do_function(scn, st, stat, errmsg)
+      call do_function(scn, st, path, stat, errmsg)
     end select
   end subroutine materials_statement
 
@@ -184,13 +195,26 @@ contains
     scn%sections = [scn%sections, sec]
   end subroutine do_section
 
-  subroutine do_function(scn, st, stat, errmsg)
+  !> FUNCTION name POINTS t1 f1 t2 f2 … | SINE AMPLITUDE a FREQUENCY hz [PHASE deg] [START t0] [END t1]
+  !> | SMOOTH_STEP T t1 [START t0] | TABLE FILE path (docs/input.md, "Functions"): one kind, the
+  !> parameters of another refused.
+  subroutine do_function(scn, st, path, stat, errmsg)
     type(scene_t), intent(inout) :: scn
     type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: path
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    character(len=11), parameter :: KINDS(4) = [character(len=11) :: 'POINTS', 'SINE', 'SMOOTH_STEP', 'TABLE']
+    character(len=9), parameter :: OWN(7) = [character(len=9) :: 'AMPLITUDE', 'FREQUENCY', 'PHASE', 'START', 'END', 'T', &
+      'FILE']
+    ! which kinds take each of OWN (POINTS, SINE, SMOOTH_STEP, TABLE)
+    logical, parameter :: TAKES(4, 7) = reshape([.false., .true., .false., .false., .false., .true., .false., .false., &
+      .false., .true., .false., .false., .false., .true., .true., .false., .false., .true., .false., .false., &
+      .false., .false., .true., .false., .false., .false., .false., .true.], [4, 7])
     type(function_t) :: fn
-    integer :: k, n, i
+    integer :: i, k, nk, kind
+    character(len=:), allocatable :: file, msg
+    stat = STAT_OK
     do i = 1, size(scn%functions)
       if (scn%functions(i)%name == st%lead(1)%text) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'function defined twice', st%lead(1)))
@@ -198,11 +222,96 @@ contains
       end if
     end do
     fn%name = st%lead(1)%text
-    k = find_param(st, 'POINTS')
-    if (k == 0) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter POINTS (pairs of time and value)'))
+    nk = 0
+    kind = 0
+    do i = 1, size(KINDS)
+      if (find_param(st, trim(KINDS(i))) > 0) then
+        nk = nk + 1
+        if (nk == 2) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'one of POINTS, SINE, SMOOTH_STEP, TABLE: ' // &
+            trim(KINDS(kind)) // ' and ' // trim(KINDS(i)) // ' given', st%params(find_param(st, trim(KINDS(i))))%keytok))
+          return
+        end if
+        kind = i
+      end if
+    end do
+    if (kind == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing POINTS, SINE, SMOOTH_STEP or TABLE', st%lead(1)))
       return
     end if
+    do i = 1, size(OWN)
+      k = find_param(st, trim(OWN(i)))
+      if (k > 0 .and. .not. TAKES(kind, i)) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, trim(OWN(i)) // ' does not belong to a ' // &
+          trim(KINDS(kind)) // ' function', st%params(k)%keytok))
+        return
+      end if
+    end do
+    select case (kind)
+    case (1)
+      call get_points(st, fn, stat, errmsg)
+    case (2)
+      fn%kind = FN_SINE
+      call get_real(st, 'AMPLITUDE', fn%amplitude, stat, errmsg, lower=-MAX_MATERIAL, lower_inclusive=.true., &
+        upper=MAX_MATERIAL, upper_inclusive=.true.)
+      if (stat == STAT_OK) call get_real(st, 'FREQUENCY', fn%frequency, stat, errmsg, lower=0.0_dp, &
+        lower_inclusive=.false., upper=MAX_MATERIAL, upper_inclusive=.true.)
+      if (stat == STAT_OK) call get_real(st, 'PHASE', fn%phase, stat, errmsg, default=0.0_dp, lower=-1.0e6_dp, &
+        lower_inclusive=.true., upper=1.0e6_dp, upper_inclusive=.true.)
+      fn%phase = fn%phase * atan(1.0_dp) / 45.0_dp
+      if (stat == STAT_OK) call get_interval(st, .false., fn, stat, errmsg)
+    case (3)
+      fn%kind = FN_SMOOTH_STEP
+      call get_real(st, 'T', fn%finish, stat, errmsg)
+      if (stat == STAT_OK) call get_interval(st, .true., fn, stat, errmsg)
+    case (4)
+      k = find_param(st, 'FILE')
+      if (k == 0) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'TABLE needs FILE path (two columns: time, value)', &
+          st%params(find_param(st, 'TABLE'))%keytok))
+        return
+      end if
+      file = st%params(k)%values(1)%text
+      call read_function_table(resolve_path(path, file), fn%t, fn%f, stat, msg)
+      if (stat /= STAT_OK) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, msg, st%params(k)%values(1)))
+    end select
+    if (stat /= STAT_OK) return
+    scn%functions = [scn%functions, fn]
+  end subroutine do_function
+
+  !> FUNCTION … SINE or SMOOTH_STEP: START (default 0) before the end (SINE: END, default none;
+  !> SMOOTH_STEP: T, in fn%finish), both finite.
+  subroutine get_interval(st, step, fn, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    logical, intent(in) :: step
+    type(function_t), intent(inout) :: fn
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: key
+    call get_real(st, 'START', fn%start, stat, errmsg, default=0.0_dp, lower=-MAX_MATERIAL, lower_inclusive=.true., &
+      upper=MAX_MATERIAL, upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    key = 'T'
+    if (.not. step) then
+      key = 'END'
+      if (find_param(st, 'END') == 0) return
+      call get_real(st, 'END', fn%finish, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
+    if (.not. (fn%finish > fn%start .and. fn%finish <= MAX_MATERIAL)) call set_error(stat, errmsg, STAT_INPUT, &
+      stmt_error(st, key // ' must be after START (' // str(fn%start) // ') and within 1e100', &
+      st%params(find_param(st, key))%values(1)))
+  end subroutine get_interval
+
+  !> FUNCTION … POINTS t1 f1 t2 f2 …: times increasing, values within ±1e100.
+  subroutine get_points(st, fn, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(function_t), intent(inout) :: fn
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, n, i
+    stat = STAT_OK
+    k = find_param(st, 'POINTS')
     n = size(st%params(k)%values)
     if (mod(n, 2) /= 0) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'POINTS needs pairs of time and value, found ' // &
@@ -230,8 +339,7 @@ contains
         end if
       end if
     end do
-    scn%functions = [scn%functions, fn]
-  end subroutine do_function
+  end subroutine get_points
 
   !> Parameters that the chosen law does not use are refused rather than ignored.
   subroutine check_law_params(st, law, stat, errmsg)

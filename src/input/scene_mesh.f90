@@ -9,7 +9,8 @@ module scene_mesh
   use mesh, only: MAX_COORD
   use gmsh_reader, only: read_gmsh
   use scene, only: scene_t
-  use scene_helpers, only: get_etype, get_point
+  use scene_helpers, only: get_etype, get_point, resolve_path
+  use scene_groups, only: groups_schema, do_group
   use element_traits, only: NUM_ETYPES, FAMILY_LINE, FAMILY_SURFACE, etypes_of_family, etype_nen, etype_name
   implicit none
   private
@@ -25,9 +26,7 @@ contains
     call sch%add_keyword('ELEMENT', 1, 1)
     call sch%add_param('ELEMENT', 'TYPE', 1, 1)
     call sch%add_param('ELEMENT', 'NODES', 1, -1)
-    call sch%add_keyword('GROUP', 1, 1)
-    call sch%add_param('GROUP', 'NODES', 1, -1)
-    call sch%add_param('GROUP', 'ELEMENTS', 1, -1)
+    call groups_schema(sch)
     call sch%add_keyword('LINE', 1, 1)
     call sch%add_param('LINE', 'FROM', 2, 2)
     call sch%add_param('LINE', 'TO', 2, 2)
@@ -59,7 +58,8 @@ contains
     case ('ELEMENT')
       call do_element(scn, st, stat, errmsg)
     case ('GROUP')
-      call do_group(scn, st, stat, errmsg)
+      call check_new_group_name(scn, st, stat, errmsg)
+      if (stat == STAT_OK) call do_group(scn, st, stat, errmsg)
     case ('LINE')
       call do_line(scn, st, stat, errmsg)
     case ('RECTANGLE')
@@ -152,51 +152,6 @@ contains
     call scn%mesh%add_elem_group(st%lead(1)%text, ids)
   end subroutine do_element
 
-  subroutine do_group(scn, st, stat, errmsg)
-    type(scene_t), intent(inout) :: scn
-    type(statement_t), intent(in) :: st
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: kn, ke, i, ig
-    integer, allocatable :: items(:)
-    logical, allocatable :: used(:)
-    call check_new_group_name(scn, st, stat, errmsg)
-    if (stat /= STAT_OK) return
-    kn = find_param(st, 'NODES')
-    ke = find_param(st, 'ELEMENTS')
-    if ((kn == 0) .eqv. (ke == 0)) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give exactly one of NODES or ELEMENTS'))
-      return
-    end if
-    if (kn > 0) then
-      allocate (used(scn%mesh%nnode))
-      used = .false.
-      do i = 1, size(st%params(kn)%values)
-        ig = scn%mesh%find_node_group(st%params(kn)%values(i)%text)
-        if (ig == 0) then
-          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown node group', st%params(kn)%values(i)))
-          return
-        end if
-        used(scn%mesh%ngroups(ig)%items) = .true.
-      end do
-      items = pack([(i, i = 1, scn%mesh%nnode)], used)
-      call scn%mesh%add_node_group(st%lead(1)%text, items)
-    else
-      allocate (used(scn%mesh%nelem))
-      used = .false.
-      do i = 1, size(st%params(ke)%values)
-        ig = scn%mesh%find_elem_group(st%params(ke)%values(i)%text)
-        if (ig == 0) then
-          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown element group', st%params(ke)%values(i)))
-          return
-        end if
-        used(scn%mesh%egroups(ig)%items) = .true.
-      end do
-      items = pack([(i, i = 1, scn%mesh%nelem)], used)
-      call scn%mesh%add_elem_group(st%lead(1)%text, items)
-    end if
-  end subroutine do_group
-
   subroutine do_line(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn
     type(statement_t), intent(in) :: st
@@ -279,19 +234,4 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, msg, st%params(find_param(st, 'FILE'))%values(1)))
     end if
   end subroutine do_gmsh
-
-  !> A path relative to the directory of the scene file (absolute paths unchanged).
-  pure function resolve_path(scene_path, file) result(full)
-    character(len=*), intent(in) :: scene_path, file
-    character(len=:), allocatable :: full
-    integer :: k
-    if (len(file) > 0) then
-      if (file(1:1) == '/') then
-        full = file
-        return
-      end if
-    end if
-    k = index(scene_path, '/', back=.true.)
-    full = scene_path(1:k) // file
-  end function resolve_path
 end module scene_mesh

@@ -448,11 +448,16 @@ contains
       return
     end if
     associate (kd => sch%kws(k))
-      ! lead tokens: up to nlead_max tokens that are not parameter names
+      ! lead tokens: up to nlead_max tokens that are not parameter names; a required one may be
+      ! spelt like a parameter when a parameter follows it (FUNCTION sine SINE …, GROUP box NODES …:
+      ! names chosen before the parameter existed stay valid)
       i = 2
       nl = 0
       do while (i <= n .and. nl < kd%nlead_max)
-        if (param_of_token(kd, toks(i)) > 0) exit
+        if (param_of_token(kd, toks(i)) > 0) then
+          if (nl >= kd%nlead_min .or. i == n) exit
+          if (param_of_token(kd, toks(i + 1)) == 0) exit
+        end if
         nl = nl + 1
         i = i + 1
       end do

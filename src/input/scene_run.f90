@@ -4,7 +4,7 @@ module scene_run
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
   use mesh, only: DOF_UX, DOF_UY, DOF_RZ
-  use statement, only: statement_t, token_t, stmt_error, find_param, count_param, get_real, get_int, to_int
+  use statement, only: statement_t, token_t, stmt_error, find_param, count_param, get_real, get_int, to_int, to_real
   use statement_schema, only: schema_t
   use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_AUTO, IMPACT_SYMMETRIC, &
     SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
@@ -49,6 +49,10 @@ contains
     call sch%add_param('OUTPUT', 'CHECKPOINT', 1, 2)
     call sch%add_keyword('MODES', 1, 1, once=.true., hint='MODES n [ABOVE f0]')
     call sch%add_param('MODES', 'ABOVE', 1, 1)
+    call sch%add_keyword('STATIC', 0, 0, once=.true., hint='STATIC [STEPS n] [TOLERANCE r] [MAX_ITERATIONS k]')
+    call sch%add_param('STATIC', 'STEPS', 1, 1)
+    call sch%add_param('STATIC', 'TOLERANCE', 1, 1)
+    call sch%add_param('STATIC', 'MAX_ITERATIONS', 1, 1)
   end subroutine run_schema
 
   !> One run statement (pass 2 of load_scene).
@@ -68,6 +72,8 @@ contains
       call do_output(scn, st, stat, errmsg)
     case ('MODES')
       call do_modes(scn, st, stat, errmsg)
+    case ('STATIC')
+      call do_static(scn, st, stat, errmsg)
     end select
   end subroutine run_statement
 
@@ -90,6 +96,25 @@ contains
     if (find_param(st, 'ABOVE') > 0) call get_real(st, 'ABOVE', scn%modes_above, stat, errmsg, lower=0.0_dp, &
       lower_inclusive=.true., upper=1.0e30_dp, upper_inclusive=.true.)
   end subroutine do_modes
+
+  !> STATIC [STEPS n] [TOLERANCE r] [MAX_ITERATIONS k] (docs/input.md, "Static preload"): the
+  !> loads and gravity at the start time applied in n equal increments, each solved by Newton to
+  !> r x the force scale, before the dynamics (static_preload).
+  subroutine do_static(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    scn%static_line = st%line
+    call get_int(st, 'STEPS', scn%static_steps, stat, errmsg, default=1, lower=1, lower_inclusive=.true., &
+      upper=100000, upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call get_int(st, 'MAX_ITERATIONS', scn%static_max_iter, stat, errmsg, default=50, lower=1, lower_inclusive=.true., &
+      upper=100000, upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'TOLERANCE', scn%static_tol, stat, errmsg, default=1.0e-10_dp, lower=0.0_dp, &
+      upper=1.0e-2_dp, upper_inclusive=.true.)
+  end subroutine do_static
 
   subroutine do_time(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn
@@ -211,11 +236,13 @@ contains
     do occ = 1, count_param(st, 'PROBE')
       k = find_param(st, 'PROBE', occ)
       associate (vals => st%params(k)%values)
-        if (mod(size(vals), 2) /= 0) then
-          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'PROBE takes pairs: group DOF', st%params(k)%keytok))
-          return
-        end if
-        do i = 1, size(vals), 2
+        i = 1
+        do while (i <= size(vals))
+          if (i == size(vals)) then
+            call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'PROBE takes pairs: group DOF [ABOUT x y]', &
+              st%params(k)%keytok))
+            return
+          end if
           call node_group(scn, st, vals(i), ig, stat, errmsg)
           if (stat /= STAT_OK) return
           call probe_dof(st, vals(i + 1), pr, stat, errmsg)
@@ -229,11 +256,47 @@ contains
           pr%node = scn%mesh%ngroups(ig)%items(1)
           pr%label = vals(i)%text // '.' // upper(vals(i + 1)%text)
           pr%line = st%line
+          pr%about = .false.
+          i = i + 2
+          if (i <= size(vals)) then
+            if (upper(vals(i)%text) == 'ABOUT') then
+              call probe_about(st, vals, i, pr, stat, errmsg)
+              if (stat /= STAT_OK) return
+            end if
+          end if
           scn%probes = [scn%probes, pr]
         end do
       end associate
     end do
   end subroutine do_output
+
+  !> PROBE group MZ ABOUT x y: the moment of the group's support reactions about (x, y); vals(i)
+  !> is ABOUT, i moves past y.
+  subroutine probe_about(st, vals, i, pr, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(token_t), intent(in) :: vals(:)
+    integer, intent(inout) :: i
+    type(probe_t), intent(inout) :: pr
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k
+    stat = STAT_OK
+    if (upper(vals(i - 1)%text) /= 'MZ') then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ABOUT goes with MZ (the moment of the reactions about ' // &
+        'a point)', vals(i)))
+      return
+    end if
+    if (i + 2 > size(vals)) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ABOUT needs the point: x y', vals(i)))
+      return
+    end if
+    do k = 1, 2
+      call to_real(vals(i + k), st, pr%x0(k), stat, errmsg)
+      if (stat /= STAT_OK) return
+    end do
+    pr%about = .true.
+    i = i + 3
+  end subroutine probe_about
 
   !> The quantity of a PROBE pair: UX UY RZ (displacement), VX VY VRZ (velocity), RX RY RZ
   !> (support reaction; RZ is a rotation when displaced, a moment as a reaction: the reaction

@@ -17,7 +17,12 @@
 !>                         of u, v [, reaction];
 !>                       stress (4, nelem): element mean of Gauss-point values
 !>                       (spring: force; bar: sigma; beam: N, M; quads: sxx, syy, szz, sxy);
-!>                       every dataset has the string attributes `components` and `units`.
+!>                       every dataset has the string attributes `components` and `units`;
+!>                       with the integration points (set_points): nodal_sigma_xx … nodal_plastic_strain
+!>                       (nnode, stress_recovery's L2 projection) and the group points/ with
+!>                       displacement (3, npt), sigma_xx … plastic_strain (npt)
+!>   /points/coordinates float64 (3, npt): the integration points' reference positions
+!>                       (OUTDIR/fields_points.xmf shows them as a Polyvertex set).
 !> After each step the file is flushed and the step's grid added to fields.xmf in one write, so
 !> a killed run leaves a readable pair holding every completed step. The file is created without HDF5 file
 !> locking so that ParaView can open it while the run is going on.
@@ -30,7 +35,7 @@ module fields_hdf5
     XDMF_POLYVERTEX, XDMF_POLYLINE, &
     XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
   use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic, SIGMA_NAMES, &
-    SIGMA_AXI
+    SIGMA_AXI, xdmf_points_grid, recovered_name
   use os_utils, only: make_directory, room_for
   use hdf5_file, only: h5_file_t
   use text_file, only: text_file_t
@@ -59,8 +64,15 @@ module fields_hdf5
     ! Work arrays for splitting (UX, UY, RZ) fields, sized in open and reused by every step.
     real(dp), allocatable :: vec(:, :), rz(:)
     real(dp), allocatable :: col(:)          !< one stress column (sigma_xx ...), nelem
+    ! The integration points (set_points): their count, OUTDIR/fields_points.xmf, a column of theirs
+    ! and of the nodes.
+    integer :: npt = 0
+    type(text_file_t) :: pxmf
+    character(len=:), allocatable :: pxmfpath
+    real(dp), allocatable :: pcol(:), ncol(:)
   contains
     procedure :: open => fw_open
+    procedure :: set_points => fw_set_points
     procedure :: write_step => fw_write_step
     procedure :: close => fw_close
     procedure :: opened => fw_opened
@@ -259,6 +271,9 @@ contains
     if (allocated(self%rz)) deallocate (self%rz)
     if (allocated(self%col)) deallocate (self%col)
     allocate (self%vec(3, self%nnode), self%rz(self%nnode), self%col(self%nelem))
+    if (allocated(self%ncol)) deallocate (self%ncol)
+    allocate (self%ncol(self%nnode))
+    self%npt = 0
 
     ! No lock, so that a viewer can read the completed steps while the run goes on.
     call self%h5%create(self%h5path, 'field output', stat, errmsg, unlocked=.true.)
@@ -286,10 +301,31 @@ contains
     if (stat /= STAT_OK) call self%close(st2, msg2)   ! keep the first error
   end subroutine fw_open
 
+  !> The integration points shown as a point set (after open): their positions xg(3, npt) in
+  !> /points/coordinates, and OUTDIR/fields_points.xmf (basename_points.xmf after a restart),
+  !> whose grids the steps written with pvals add.
+  subroutine fw_set_points(self, xg, stat, errmsg)
+    class(fields_writer_t), intent(inout) :: self
+    real(dp), intent(in) :: xg(:, :)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    self%npt = size(xg, 2)
+    if (self%npt == 0 .or. .not. self%is_open) return
+    if (allocated(self%pcol)) deallocate (self%pcol)
+    allocate (self%pcol(self%npt))
+    call self%h5%create_group('points', stat, errmsg)
+    call self%h5%write('points/coordinates', xg, stat, errmsg)
+    call self%h5%flush(stat, errmsg)
+    self%pxmfpath = self%xmfpath(1:len(self%xmfpath) - 4) // '_points.xmf'
+    if (stat == STAT_OK) call write_text_atomic(self%pxmfpath, xdmf_head() // self%xtail, stat, errmsg)
+    if (stat == STAT_OK) call self%pxmf%append(self%pxmfpath, stat, errmsg)
+  end subroutine fw_set_points
+
   !> Append one output step: group /step_NNNNNN in fields.h5, the /times and /steps series, a
   !> flush, then the rewritten fields.xmf. u, v, reaction are (3, nnode) holding UX, UY, RZ (each
   !> stored as an in-plane vector plus a scalar, see the module header); stress is (4, nelem).
-  subroutine fw_write_step(self, step, time, u, v, stress, stat, errmsg, reaction, escalar, support)
+  subroutine fw_write_step(self, step, time, u, v, stress, stat, errmsg, reaction, escalar, support, nodal, pvals, pdisp)
     class(fields_writer_t), intent(inout) :: self
     integer, intent(in) :: step
     real(dp), intent(in) :: time
@@ -299,6 +335,9 @@ contains
     real(dp), intent(in), optional :: reaction(:, :)
     real(dp), intent(in), optional :: escalar(:, :)   !< (nelem, 2): von Mises stress, equivalent plastic strain
     real(dp), intent(in), optional :: support(:, :)   !< (3, nnode): the supports' mean reaction of the step
+    real(dp), intent(in), optional :: nodal(:, :)     !< (6, nnode): the recovered nodal fields (stress_recovery)
+    real(dp), intent(in), optional :: pvals(:, :)     !< (6, npt): the integration points' fields
+    real(dp), intent(in), optional :: pdisp(:, :)     !< (3, npt): the displacement at the points
     integer :: k
     character(len=:), allocatable :: grp
 
@@ -363,6 +402,23 @@ contains
       call describe(self, grp // '/plastic_strain', 'element mean of the equivalent plastic strain (VON_MISES), ' // &
         'of the plastic strain (ELASTOPLASTIC bars and springs); 0 otherwise', '1 (m for springs)', stat, errmsg)
     end if
+    if (present(nodal)) then
+      do k = 1, 6
+        self%ncol = nodal(k, :)
+        call self%h5%write(grp // '/nodal_' // recovered_name(k, self%axisymmetric), self%ncol, stat, errmsg)
+      end do
+      call describe(self, grp // '/nodal_' // recovered_name(1, self%axisymmetric), 'L2 projection of the integration ' // &
+        'points'' values on the surface elements'' nodes (nodal_sigma_*, nodal_von_mises, nodal_plastic_strain)', &
+        'Pa (plastic strain: 1)', stat, errmsg)
+    end if
+    if (present(pvals) .and. present(pdisp) .and. self%npt > 0) then
+      call self%h5%create_group(grp // '/points', stat, errmsg)
+      call self%h5%write(grp // '/points/displacement', pdisp, stat, errmsg)
+      do k = 1, 6
+        self%pcol = pvals(k, :)
+        call self%h5%write(grp // '/points/' // recovered_name(k, self%axisymmetric), self%pcol, stat, errmsg)
+      end do
+    end if
     call self%h5%append_series('times', self%nsteps + 1, stat, errmsg, x=time)
     call self%h5%append_series('steps', self%nsteps + 1, stat, errmsg, i=step)
     ! Everything of this step reaches the disk before the .xmf announces it; every REOPEN_EVERY
@@ -378,9 +434,11 @@ contains
     self%nsteps = self%nsteps + 1
     call self%xmf%replace_tail(xdmf_step_grid(self%h5name, self%nnode, self%nelem, self%ntopo, &
       xdmf_step_t(step=step, time=time, has_reaction=present(reaction), has_scalars=present(escalar), &
-      has_support=present(support), axisymmetric=self%axisymmetric)) // &
+      has_support=present(support), axisymmetric=self%axisymmetric, has_nodal=present(nodal))) // &
       self%xtail, &
       len(self%xtail), stat, errmsg)
+    if (stat == STAT_OK .and. present(pvals) .and. self%npt > 0) call self%pxmf%replace_tail(xdmf_points_grid(self%h5name, &
+      self%npt, xdmf_step_t(step=step, time=time, axisymmetric=self%axisymmetric)) // self%xtail, len(self%xtail), stat, errmsg)
   end subroutine fw_write_step
 
   !> Refuse a step the disk (or the file size limit) cannot hold, before HDF5 tries: HDF5 1.10
@@ -395,7 +453,8 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp) :: need, free
     stat = STAT_OK
-    need = 8.0_dp * (4.0_dp * self%nnode * merge(4, 2, with_reaction) + 6.0_dp * self%nelem)
+    need = 8.0_dp * (4.0_dp * self%nnode * merge(4, 2, with_reaction) + 6.0_dp * self%nelem + 6.0_dp * self%nnode + &
+      9.0_dp * self%npt)
     need = 2.0_dp * need + ROOM_MARGIN
     free = room_for(self%h5path)
     if (free >= 0.0_dp .and. free < need) call set_error(stat, errmsg, STAT_RUN, 'field output ' // self%h5path // &
@@ -433,6 +492,12 @@ contains
       st = st2
       msg = msg2
     end if
+    if (self%npt > 0) call self%pxmf%close(st2, msg2)
+    if (st == STAT_OK .and. st2 /= STAT_OK) then
+      st = st2
+      msg = msg2
+    end if
+    self%npt = 0
     if (allocated(self%vec)) deallocate (self%vec)
     if (allocated(self%rz)) deallocate (self%rz)
     self%nsteps = 0

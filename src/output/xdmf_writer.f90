@@ -19,7 +19,7 @@ module xdmf_writer
   implicit none
   private
   public :: xdmf_step_t, xdmf_document, step_group_name, write_text_atomic, xml_escape, xdmf_real
-  public :: xdmf_head, xdmf_tail, xdmf_step_grid, SIGMA_NAMES, SIGMA_AXI
+  public :: xdmf_head, xdmf_tail, xdmf_step_grid, xdmf_points_grid, SIGMA_NAMES, SIGMA_AXI, recovered_name
 
   !> What the XML needs to know about one written step.
   type :: xdmf_step_t
@@ -29,6 +29,7 @@ module xdmf_writer
     logical :: has_scalars = .false.          !< von_mises and plastic_strain (cell scalars)
     logical :: has_support = .false.          !< support_reaction and support_moment (nodal)
     logical :: axisymmetric = .false.         !< the third stress column is the hoop stress, sigma_tt
+    logical :: has_nodal = .false.            !< nodal_sigma_xx … nodal_plastic_strain (stress_recovery)
   end type xdmf_step_t
 
   !> Growable character buffer: appending is amortised O(1), so a document of many steps is
@@ -199,9 +200,57 @@ contains
       call cell_scalar(tb, 'von_mises', str(nelem), h5, grp)
       call cell_scalar(tb, 'plastic_strain', str(nelem), h5, grp)
     end if
+    if (st%has_nodal) then
+      do k = 1, 6
+        call node_attribute(tb, 'nodal_' // recovered_name(k, st%axisymmetric), 'Scalar', str(nnode), h5, grp)
+      end do
+    end if
     call put(tb, I2 // '</Grid>' // NL)
     xml = tb%buf(1:tb%n)
   end function xdmf_step_grid
+
+  !> The name of recovered field k (stress_recovery): the four stresses, von_mises, plastic_strain.
+  pure function recovered_name(k, axisymmetric) result(name)
+    integer, intent(in) :: k
+    logical, intent(in) :: axisymmetric
+    character(len=:), allocatable :: name
+    if (k <= 4 .and. axisymmetric) then
+      name = trim(SIGMA_AXI(k))
+    else if (k <= 4) then
+      name = trim(SIGMA_NAMES(k))
+    else if (k == 5) then
+      name = 'von_mises'
+    else
+      name = 'plastic_strain'
+    end if
+  end function recovered_name
+
+  !> The grid of one step's integration points (OUTDIR/fields_points.xmf): a Polyvertex set at
+  !> /points/coordinates with the step's /step_NNNNNN/points/{displacement, sigma_xx, …}.
+  pure function xdmf_points_grid(h5file, npt, st) result(xml)
+    character(len=*), intent(in) :: h5file
+    integer, intent(in) :: npt
+    type(xdmf_step_t), intent(in) :: st
+    character(len=:), allocatable :: xml
+    type(text_buffer_t) :: tb
+    character(len=:), allocatable :: h5, grp
+    integer :: k
+    h5 = xml_escape(h5file)
+    grp = step_group_name(st%step)
+    call put(tb, I2 // '<Grid Name="' // grp // '_points" GridType="Uniform">' // NL)
+    call put(tb, I3 // '<Time Value="' // xdmf_real(st%time) // '"/>' // NL)
+    call put(tb, I3 // '<Topology TopologyType="Polyvertex" NumberOfElements="' // str(npt) // &
+      '" NodesPerElement="1"/>' // NL)
+    call put(tb, I3 // '<Geometry GeometryType="XYZ">' // NL)
+    call put(tb, data_item(I4, str(npt) // ' 3', 'Float', '8', h5 // ':/points/coordinates'))
+    call put(tb, I3 // '</Geometry>' // NL)
+    call node_attribute(tb, 'displacement', 'Vector', str(npt) // ' 3', h5, grp // '/points')
+    do k = 1, 6
+      call node_attribute(tb, recovered_name(k, st%axisymmetric), 'Scalar', str(npt), h5, grp // '/points')
+    end do
+    call put(tb, I2 // '</Grid>' // NL)
+    xml = tb%buf(1:tb%n)
+  end function xdmf_points_grid
 
   !> A cell scalar attribute (dims "nelem") of step group grp.
   pure subroutine cell_scalar(tb, name, dims, h5, grp)

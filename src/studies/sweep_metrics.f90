@@ -4,6 +4,7 @@
 module sweep_metrics
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
   use kinds, only: dp
+  use array_utils, only: bracket
   use errors, only: STAT_OK, STAT_RUN, set_error
   use scene_parser, only: read_text
   use number_text, only: parse_real_text, NUM_OK
@@ -56,7 +57,7 @@ contains
   !> y(tq) by linear interpolation between the samples around tq (t increasing); NaN outside.
   pure real(dp) function interp_at(t, y, tq) result(v)
     real(dp), intent(in) :: t(:), y(:), tq
-    integer :: lo, hi, mid
+    integer :: lo, hi
     v = nan_value()
     if (size(t) == 0) return
     if (tq < t(1) .or. tq > t(size(t))) return
@@ -64,16 +65,8 @@ contains
       v = y(1)
       return
     end if
-    lo = 1
-    hi = size(t)
-    do while (hi - lo > 1)          ! invariant t(lo) <= tq <= t(hi)
-      mid = (lo + hi) / 2
-      if (t(mid) <= tq) then
-        lo = mid
-      else
-        hi = mid
-      end if
-    end do
+    lo = min(bracket(t, tq), size(t) - 1)      ! t(lo) <= tq <= t(hi)
+    hi = lo + 1
     if (tq == t(lo)) then
       v = y(lo)
     else if (tq == t(hi)) then

@@ -72,10 +72,11 @@ contains
   !> For linear elastic models the cumulative work of the internal forces equals the strain
   !> energy of the current state; that state function is used for them (pass elastic0 and
   !> elastic), so that rounding does not accumulate step after step.
-  pure subroutine start(self, kinetic0, internal0, elastic0)
+  pure subroutine start(self, kinetic0, internal0, elastic0, dissipated0)
     class(energy_t), intent(inout) :: self
     real(dp), intent(in) :: kinetic0, internal0
     real(dp), intent(in), optional :: elastic0
+    real(dp), intent(in), optional :: dissipated0   !< of internal0, dissipated (a STATIC preload's plastic work)
     self%kinetic = kinetic0
     self%elastic = 0.0_dp
     if (present(elastic0)) self%elastic = elastic0
@@ -87,6 +88,7 @@ contains
     self%damping_sum = sum_t()
     self%held_sum = sum_t()
     call add(self%internal_sum, internal0)
+    if (present(dissipated0)) call add(self%dissipated_sum, dissipated0)
     self%initial = kinetic0 + self%internal()
     self%max_balance = 0.0_dp
     self%max_scale = abs(self%initial)

@@ -6,7 +6,7 @@
 module imposed_motion
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use scene, only: scene_t, function_value, function_slope
+  use scene, only: scene_t, function_value, function_slope, probe_weight
   use assembly, only: system_t
   use dof_map, only: DOF_FIXED, DOF_ABSENT
   use array_utils, only: grow
@@ -88,14 +88,17 @@ contains
     end do
   end subroutine imposed_targets
 
-  !> The (row, slot) pairs of the support-reaction probes (PROBE group RX|RY|MZ, in order) that
-  !> sum an imposed DOF: its node in the probe's group, its DOF the probe's direction.
-  subroutine imposed_probe_map(scn, row, slot)
+  !> The (row, slot, weight) triples of the support-reaction probes (PROBE group RX|RY|MZ, in
+  !> order) that sum an imposed DOF: its node in the probe's group, its DOF the probe's direction
+  !> (weight 1), or for MZ ABOUT any translation, weighted by its arm (probe_weight).
+  subroutine imposed_probe_map(scn, row, slot, weight)
     type(scene_t), intent(in) :: scn
     integer, allocatable, intent(out) :: row(:), slot(:)
+    real(dp), allocatable, intent(out) :: weight(:)
     logical, allocatable :: member(:)
-    integer :: k, i, j, s, p, np, npair
-    allocate (row(8), slot(8), member(scn%mesh%nnode))
+    integer :: k, i, j, s, p, np, npair, n
+    real(dp) :: w
+    allocate (row(8), slot(8), weight(8), member(scn%mesh%nnode))
     s = 0
     npair = 0
     do p = 1, size(scn%probes)
@@ -108,29 +111,34 @@ contains
         np = size(scn%mesh%ngroups(scn%imposes(k)%ngroup)%items)
         do i = 1, np
           j = j + 1
-          if (scn%imposes(k)%dof /= scn%probes(p)%dof) cycle
-          if (.not. member(scn%mesh%ngroups(scn%imposes(k)%ngroup)%items(i))) cycle
+          n = scn%mesh%ngroups(scn%imposes(k)%ngroup)%items(i)
+          w = probe_weight(scn%probes(p), scn%imposes(k)%dof, scn%mesh%x(:, n))
+          if (w == 0.0_dp .or. .not. member(n)) cycle
           npair = npair + 1
           call grow(row, npair)
           call grow(slot, npair)
+          call grow(weight, npair)
           row(npair) = j
           slot(npair) = s
+          weight(npair) = w
         end do
       end do
     end do
     row = row(1:npair)
     slot = slot(1:npair)
+    weight = weight(1:npair)
   end subroutine imposed_probe_map
 
   !> After a step: the mean force of the step at each imposed DOF, half its multiplier (which
   !> stands for R(n) + R(n+1)), added to the reaction probes that sum it.
-  subroutine imposed_reactions(cs, row, slot, value)
+  subroutine imposed_reactions(cs, row, slot, weight, value)
     type(contact_set_t), intent(in) :: cs
     integer, intent(in) :: row(:), slot(:)
+    real(dp), intent(in) :: weight(:)
     real(dp), intent(inout) :: value(:)
     integer :: k
     do k = 1, size(row)
-      value(slot(k)) = value(slot(k)) + 0.5_dp * cs%multiplier(row(k))
+      value(slot(k)) = value(slot(k)) + 0.5_dp * weight(k) * cs%multiplier(row(k))
     end do
   end subroutine imposed_reactions
 end module imposed_motion

@@ -6,7 +6,7 @@
 module newmark
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
-  use scene, only: scene_t, condition_nodes, condition_keyword
+  use scene, only: scene_t, condition_nodes
   use contact_modes, only: IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use dof_map, only: equation_bodies, body_rigid_freedom
   use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions
@@ -20,6 +20,8 @@ module newmark
   use step_state, only: step_state_t
   use iteration_matrix, only: iteration_matrix_t
   use nonlinear_zone, only: zone_t
+  use contact_checks, only: check_massless, check_initial_gaps
+  use static_preload, only: static_report_t, static_solve
   use cholmod_binding, only: factor_stats_t
   use newmark_step, only: step_report_t, iterate_eq9, iterate_eq9_zone, end_step, following_rows, STEP_CONVERGED, &
     STEP_DIVERGED, STEP_NOT_CONVERGED, &
@@ -84,6 +86,8 @@ module newmark
     logical, allocatable :: act0(:)          !< the LCP's warm start at the start of a step (retries)
     real(dp), allocatable :: vtry(:), mvtry(:)   !< v(n+1), M v(n+1) before the commit (impact_short)
     integer, allocatable :: imp_row(:), imp_slot(:)   !< IMPOSE rows summed by reaction probes
+    real(dp), allocatable :: imp_w(:)                 !< and their weights (MZ ABOUT: the arm)
+    type(static_report_t) :: pre             !< STATIC: the preload
   end type run_state_t
 
 contains
@@ -96,7 +100,7 @@ contains
     type(run_state_t), intent(inout) :: rs
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: n, minor
+    integer :: n, minor, k
     real(dp) :: span
     real(dp), allocatable :: fstatic(:), ustatic(:)
     logical :: has_static
@@ -126,7 +130,7 @@ contains
     end if
     call imposed_start(scn, sys, rs%st%u, rs%st%v, stat, errmsg)
     if (stat /= STAT_OK) return
-    call imposed_probe_map(scn, rs%imp_row, rs%imp_slot)
+    call imposed_probe_map(scn, rs%imp_row, rs%imp_slot, rs%imp_w)
     call rs%mat%setup(sys, rs%h, stat, errmsg, minor, scn%iter_auto)
     if (stat /= STAT_OK) then
       call set_error(stat, errmsg, STAT_INPUT, dof_origin(scn, sys, minor) // ': singular system K0 + 4M/h2 at ' // &
@@ -141,20 +145,46 @@ contains
       call setup_contact(scn, sys, rs, stat, errmsg)
       if (stat /= STAT_OK) return
     end if
-    ! Initial internal forces and strain energy: the laws take the path from zero strain to u0.
+    if (scn%static_steps > 0) call run_static(scn, sys, rs, stat, errmsg)
+    if (stat /= STAT_OK) return
+    ! Initial internal forces and strain energy: the laws take the path from zero strain to u0
+    ! (after STATIC, they are at the committed equilibrium).
     call check_k0_product(scn, sys, rs%st%fint, rs%st%r)
-    call rs%st%set_initial(scn, sys)
+    call rs%st%set_initial(scn, sys, preloaded=scn%static_steps > 0)
     ! The linear fast path (Bσ = K0 u) with nothing added to (9) (no contact rows, damping or
     ! lumped mass, whose product is one pass anyway) takes M v(n+1) from the step's momentum
     ! balance instead of the consistent mass's product (momentum_eq2).
     rs%st%momentum_form = sys%ops%k0u%active() .and. .not. (rs%has_contact .or. is_damped(sys) .or. &
       sys%ops%mass_diagonal)
     if (sys%ops%k0u%active()) call linear_strain_energy(scn, sys, rs%st%u, rs%st%inc%elastic)
-    call rs%en%start(rs%st%kinetic, rs%st%inc%work, rs%st%inc%elastic)
+    call rs%en%start(rs%st%kinetic, rs%st%inc%work + rs%pre%work_internal, rs%st%inc%elastic, rs%pre%dissipated)
     call refresh_points(scn, sys, rs%st%u, .true.)
     call reaction_update(scn, sys, rs%st%u, rs%st%v, scn%t_start, rs%h, .true.)
+    if (scn%static_steps > 0 .and. rs%has_contact) then    ! STATIC: the imposed DOFs' static reactions
+      do k = 1, size(rs%imp_row)
+        sys%react%value(rs%imp_slot(k)) = sys%react%value(rs%imp_slot(k)) + rs%imp_w(k) * rs%lam(rs%imp_row(k))
+      end do
+    end if
     call external_force(scn, sys, scn%t_start, rs%st%f_n, rs%st%u)
   end subroutine prepare_run
+
+  !> STATIC (static_preload): the equilibrium under the start time's loads becomes u0; the contact
+  !> set, left holding it, is prepared again with the dynamics' S (and its following pairs moved).
+  subroutine run_static(scn, sys, rs, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(run_state_t), intent(inout) :: rs
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    if (.not. rs%has_contact) then
+      call static_solve(scn, sys, rs%st%u, rs%rig, rs%pre, stat, errmsg)
+      return
+    end if
+    call static_solve(scn, sys, rs%st%u, rs%rig, rs%pre, stat, errmsg, rs%cs, rs%lam)
+    if (stat == STAT_OK .and. rs%follow%count() > 0) call rs%follow%update(scn%mesh%x, sys%dofs%eqn, rs%st%u, rs%cs, &
+      stat, errmsg)
+    if (stat == STAT_OK) call contact_prepare(rs%cs, rs%mat%factor, stat, errmsg, sys%ops%pat, rs%mat%sval)
+  end subroutine run_static
 
   !> The contact conditions as constraint rows on the free equations: g = g0 + n.(u_b - u_a);
   !> the mass for the impulse and the reflection, the Schur data of S for the multipliers.
@@ -168,6 +198,7 @@ contains
     integer, allocatable :: sptr(:), star(:)
     real(dp) :: coefs(6), w(3), lscale
     character(len=:), allocatable :: msg
+    real(dp), allocatable :: circ(:, :)
     logical, allocatable :: free(:, :)
     rs%has_contact = .true.
     do j = 1, size(scn%conditions)
@@ -194,8 +225,10 @@ contains
     if (stat /= STAT_OK) return
     associate (c => scn%conditions)
       call node_stars(scn%mesh, pack(c%node_b, c%follow), sptr, star)
+      circ = reshape([(c(j)%center, c(j)%radius, real(c(j)%curved, dp), j = 1, size(c))], [4, size(c)])
       call rs%follow%init(pack([(j, j = 1, size(c))], c%follow), pack(c%node_b, c%follow), pack(c%segset, c%follow), &
-        pack(c%side, c%follow), scn%segsets, sptr, star, scn%mesh%nnode)
+        pack(c%side, c%follow), scn%segsets, sptr, star, scn%mesh%nnode, circle=circ(:, pack([(j, j = 1, size(c))], &
+        c%follow)))
     end associate
     call rs%follow%update(scn%mesh%x, sys%dofs%eqn, rs%st%u, rs%cs, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -282,86 +315,6 @@ contains
       end associate
     end do
   end subroutine rotation_mode
-
-  !> IMPACT MASSLESS moves the contact nodes' mass to their neighbours: a contact node whose
-  !> elements have contact nodes only (a point mass, a body touching with every node) keeps it,
-  !> and would then need a velocity correction MASSLESS does not make: bad input, named.
-  !> eqs: the contact nodes' equations (massless), each once.
-  subroutine check_massless(scn, sys, eqs, stat, errmsg)
-    type(scene_t), intent(in) :: scn
-    type(system_t), intent(in) :: sys
-    integer, allocatable, intent(out) :: eqs(:)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    real(dp), allocatable :: dm(:)
-    logical, allocatable :: mark(:)
-    real(dp) :: w(3)
-    integer :: j, n, k, i, nodes(3)
-    stat = STAT_OK
-    allocate (mark(sys%dofs%neq))
-    mark = .false.
-    allocate (dm(sys%dofs%neq))
-    call sys%ops%pat%diagonal(sys%ops%mval, dm)
-    do j = 1, size(scn%conditions)
-      associate (c => scn%conditions(j))
-        call condition_nodes(c, nodes, w)
-        do k = 1, 3
-          n = nodes(k)
-          if (n <= 0) cycle
-          if (any(dm(pack(sys%dofs%eqn(1:2, n), sys%dofs%eqn(1:2, n) > 0)) > 0.0_dp)) then
-            call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(c%line) // ': ' // &
-              condition_keyword(c) // ' ' // c%source // ': SCHEME IMPACT MASSLESS ' // &
-              'cannot move the mass of node ' // str(n) // ' (its elements have contact nodes only: a point mass, or ' // &
-              'a body touching with all its nodes); use IMPACT PAPER or PERSIST' // ", at '" // c%source // "'")
-            return
-          end if
-          do i = 1, 2
-            if (sys%dofs%eqn(i, n) > 0) mark(sys%dofs%eqn(i, n)) = .true.
-          end do
-        end do
-      end associate
-    end do
-    eqs = pack([(i, i = 1, sys%dofs%neq)], mark)
-  end subroutine check_massless
-
-  !> The initial state (INITIAL DISPLACEMENT, STATIC) must not put a node inside an obstacle or
-  !> two nodes of a GAP through each other (the mesh itself is checked by the scene): bad input,
-  !> naming the statement and the nodes (at most 5 of them).
-  subroutine check_initial_gaps(scn, cs, u, lscale, stat, errmsg)
-    type(scene_t), intent(in) :: scn
-    type(contact_set_t), intent(in) :: cs
-    real(dp), intent(in) :: u(:), lscale
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    real(dp), allocatable :: g(:)
-    character(len=:), allocatable :: list
-    integer :: j, nbad, first
-    stat = STAT_OK
-    allocate (g(cs%n_conditions()))
-    call contact_gaps(cs, u, g)
-    nbad = 0
-    first = 0
-    list = ''
-    do j = 1, size(scn%conditions)               ! (the IMPOSE rows after them are equalities)
-      if (.not. g(j) < -1.0e-10_dp * lscale) cycle
-      nbad = nbad + 1
-      if (first == 0) first = j
-      if (nbad > 5) cycle
-      associate (c => scn%conditions(j))
-        if (c%node_a > 0) list = list // merge('; ', '  ', nbad > 1) // 'node ' // str(scn%mesh%node_tag(c%node_a)) // ' and'
-        list = list // merge('; ', '  ', nbad > 1 .and. c%node_a == 0) // ' node ' // str(scn%mesh%node_tag(c%node_b)) // &
-          ' (x = ' // &
-          str(scn%mesh%x(1, c%node_b)) // ', y = ' // str(scn%mesh%x(2, c%node_b)) // ') by ' // str(-g(j))
-      end associate
-    end do
-    if (nbad == 0) return
-    associate (c => scn%conditions(first))
-      call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(c%line) // ': ' // &
-        condition_keyword(c) // ' ' // c%source // ': the initial displacement puts ' // &
-        str(nbad) // ' contact node(s) inside: ' // trim(adjustl(list)) // trim(merge(' ...', '    ', nbad > 5)) // &
-        ", at '" // c%source // "'")
-    end associate
-  end subroutine check_initial_gaps
 
   !> Integrate from START to END, writing history, probes and fields under opts%outdir.
   subroutine run_newmark(scn, sys, rs, opts, summary, stat, errmsg)
@@ -645,7 +598,8 @@ contains
     end if
     call refresh_points(scn, sys, rs%st%u, .true.)
     call reaction_update(scn, sys, rs%st%u, rs%st%v, t, h, .false.)
-    if (size(rs%imp_row) > 0) call imposed_reactions(rs%cs, rs%imp_row, rs%imp_slot, sys%react%value)
+    if (size(rs%imp_row) > 0) call imposed_reactions(rs%cs, rs%imp_row, rs%imp_slot, rs%imp_w, &
+      sys%react%value)
     ! Bσ = K0 u: the strain energy a history line reports is the points' ½ Σ w σ·ε, as the element
     ! loop has it (½ u·K0 u rounds at eps x the condition of K0: 1e-11 of a bent beam's energy).
     sampled = .not. sys%ops%k0u%active() .or. outs%writes_history(scn, step) .or. step == rs%nsteps

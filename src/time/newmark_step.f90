@@ -57,8 +57,9 @@ contains
     real(dp), intent(inout), optional :: lam(:)
     type(following_t), intent(inout), optional :: follow
     integer :: iter
-    real(dp) :: rwork, target, fscale
+    real(dp) :: rwork, target, fscale, dunorm_prev
     logical :: refactored, switch
+    dunorm_prev = 0.0_dp
     call st%begin_step()
     call mat%begin_step()
     do iter = 1, scn%max_iterations
@@ -95,7 +96,9 @@ contains
         st%du = st%du + st%ddu
       end if
       call st%trial(scn, sys, scn%energy_correction, mat%wants_tangent())
-      if (sys%elems%linear .and. .not. st%extended) exit
+      ! (Rows that follow the geometry are re-linearized at the midpoint of the iterate: a linear
+      ! model iterates too, until the residual stops falling.)
+      if (sys%elems%linear .and. .not. st%extended .and. .not. following(follow)) exit
       call st%residual(sys)
       ! st%r is the residual without the contact forces: the next unconstrained iterate is
       ! du + S^-1 r and contact_solve_step adds S^-1 C' Lambda with the total multiplier.
@@ -114,7 +117,14 @@ contains
         rep%bad_equation = max(first_nonfinite(st%r), 1)
         return
       end if
-      if (sys%elems%linear) then
+      if (sys%elems%linear .and. following(follow)) then
+        ! Rows re-linearized at the iterate's midpoint (a curved obstacle's discrete gradient): on
+        ! until the iterate settles (|du| to 1e-12: the row is then the one of its own du).
+        if (iter >= 2 .and. abs(norm2(st%du) - dunorm_prev) <= 1.0e-12_dp * norm2(st%du)) exit
+        dunorm_prev = norm2(st%du)
+        if (iter == scn%max_iterations) exit
+        cycle
+      else if (sys%elems%linear) then
         ! Refinement of a linear step: on until the residual stops falling (round-off).
         if (iter >= 2) then
           if (st%res_hist(iter) >= 0.5_dp * st%res_hist(iter - 1)) exit
@@ -351,6 +361,13 @@ contains
   end function step_work
 
   !> Index of the first NaN or infinite entry, 0 if none.
+  !> There are rows that follow the geometry (contact_geometry).
+  logical function following(follow)
+    type(following_t), intent(in), optional :: follow
+    following = .false.
+    if (present(follow)) following = follow%count() > 0
+  end function following
+
   pure integer function first_nonfinite(x)
     real(dp), intent(in) :: x(:)
     integer :: i

@@ -9,6 +9,7 @@ module run_outputs
   use mesh, only: mesh_t
   use assembly, only: system_t, stored_energy
   use point_fields, only: element_stress, element_scalars, nodal_values
+  use stress_recovery, only: recovery_t, NREC
   use energy, only: energy_t
   use contact, only: contact_set_t, contact_event_t, EVENT_ESTABLISH, row_geometry_t
   use history_writer, only: csv_file_t
@@ -45,6 +46,9 @@ module run_outputs
     integer, allocatable :: kept(:)                   !< the elements fields.h5 shows: those of a MODEL
     real(dp), allocatable :: wstress(:, :), wscalar(:, :)   !< their stresses and scalars
     real(dp), allocatable :: support(:, :)                  !< (3, nnode) the supports' reactions
+    type(recovery_t) :: rec                                 !< integration points and nodal stresses
+    logical :: rec_built = .false.
+    real(dp), allocatable :: nodal(:, :), pvals(:, :), pdisp(:, :)   !< (NREC, nnode), (NREC, npt), (3, npt)
     real(dp), allocatable :: preals(:), hreals(:), htail(:)   !< htail: dissipated, stored, impact_dissipated, momenta, damping
   contains
     procedure :: open => outputs_open
@@ -142,8 +146,8 @@ contains
     character(len=*), intent(in) :: outdir
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=16), parameter :: names(6) = [character(len=16) :: 'history.csv', 'probes.csv', 'events.csv', &
-      'contacts.csv', 'fields.xmf', 'checkpoint.h5']
+    character(len=17), parameter :: names(7) = [character(len=17) :: 'history.csv', 'probes.csv', 'events.csv', &
+      'contacts.csv', 'fields.xmf', 'checkpoint.h5', 'fields_points.xmf']
     integer :: k
     stat = STAT_OK
     do k = 1, size(names)
@@ -225,6 +229,8 @@ contains
       if (stat /= STAT_OK) return
     end if
     if (self%writes_fields(scn, step)) then
+      if (.not. self%rec_built) call build_recovery(self, scn, sys, stat, errmsg)
+      if (stat /= STAT_OK) return
       call nodal_values(sys, u, self%nodal_u)
       call nodal_values(sys, v, self%nodal_v)
       call element_stress(sys, self%estress)
@@ -236,16 +242,35 @@ contains
       do k = 1, sys%react%nslot - sys%react%nprobe   ! the support_reaction field's slots
         self%support(sys%react%fdof(k), sys%react%fnode(k)) = sys%react%value(sys%react%nprobe + k)
       end do
+      call self%rec%points(scn, sys, self%nodal_u, self%pvals, self%pdisp)
+      call self%rec%nodal(scn, self%pvals, self%nodal, stat, errmsg)
+      if (stat /= STAT_OK) return
       if (present(cs)) then
         call contact_reactions(self, scn, cs)
         call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%wstress, stat, errmsg, &
-          reaction=self%reaction, escalar=self%wscalar, support=self%support)
+          reaction=self%reaction, escalar=self%wscalar, support=self%support, nodal=self%nodal, pvals=self%pvals, &
+          pdisp=self%pdisp)
       else
         call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%wstress, stat, errmsg, &
-          escalar=self%wscalar, support=self%support)
+          escalar=self%wscalar, support=self%support, nodal=self%nodal, pvals=self%pvals, pdisp=self%pdisp)
       end if
     end if
   end subroutine outputs_write_step
+
+  !> The integration points and the projection of the recovered stresses (stress_recovery), at the
+  !> first written fields: their positions to fields.h5, fields_points.xmf opened.
+  subroutine build_recovery(self, scn, sys, stat, errmsg)
+    type(output_set_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call self%rec%build(scn, sys, stat, errmsg)
+    if (stat /= STAT_OK) return
+    allocate (self%nodal(NREC, scn%mesh%nnode), self%pvals(NREC, self%rec%ngp), self%pdisp(3, self%rec%ngp))
+    call self%fields%set_points(self%rec%x, stat, errmsg)
+    self%rec_built = .true.
+  end subroutine build_recovery
 
   !> Σ (x + u) × (M v) over the nodes' free translations, plus the rotations' M v: the angular
   !> momentum about the origin in the current configuration (KINEMATICS LARGE).
@@ -524,6 +549,7 @@ contains
     call self%hist%close(st(3), m(3)%s)
     call self%probes%close(st(4), m(4)%s)
     if (self%with_fields) call self%fields%close(st(5), m(5)%s)
+    if (self%rec_built) call self%rec%destroy()
     if (stat /= STAT_OK) return
     do k = 1, 5
       if (st(k) /= STAT_OK) then

@@ -78,11 +78,17 @@ contains
   !> The initial state: u0, v0 (set by the caller in u and v), Bσ(u0) along the path from zero
   !> strain (committed as the points' state), M v0 and the kinetic energy; F(t_start) is the
   !> caller's.
-  subroutine state_set_initial(self, scn, sys)
+  subroutine state_set_initial(self, scn, sys, preloaded)
     class(step_state_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
-    call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%ops%tval), self%inc)
+    logical, intent(in) :: preloaded   !< STATIC: the laws are at u (committed), their path ends there
+    if (preloaded) then
+      call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%ops%tval), self%inc, &
+        un=self%u)
+    else
+      call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%ops%tval), self%inc)
+    end if
     call commit_state(sys)
     call mass_times(sys, self%v, self%mv)
     self%kinetic = 0.5_dp * dot_product(self%v, self%mv)
@@ -91,8 +97,13 @@ contains
       ! the energy by a fraction of eps per step (docs/precision.md).
       self%u_q = real(self%u, qp)
       self%v_q = real(self%v, qp)
-      call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%ops%tval), self%inc, &
-        uq=self%u_q)
+      if (preloaded) then
+        call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%ops%tval), self%inc, &
+          uq=self%u_q, un=self%u)
+      else
+        call internal_force(scn, sys, self%u, self%fint_n, self%fcorr, .false., allocated(sys%ops%tval), self%inc, &
+          uq=self%u_q)
+      end if
       self%fint_n_q = sys%fint_q
       call mass_times_q(sys, self%v_q, self%mv_q)
       self%kinetic = real(0.5_qp * sum(self%v_q * self%mv_q), dp)

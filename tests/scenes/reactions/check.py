@@ -10,7 +10,9 @@ of the step, from the fixed rows' momentum balance of the scheme (src/assembly/r
 - a clamped cantilever under gravity ramped in over 0.2 s, damped to rest (ALPHA 105: every mode
   decays as e^{-52.5 t}; consistent mass: part of the weight goes straight into the support):
   RY = m g and MZ = m g L/2 within 1e-10 (mean of the last 0.2 s, see cantilever());
-- a reaction probe on a group with no fixed DOF of its direction is an input error.
+- a reaction probe on a group with no fixed DOF of its direction is an input error;
+- PROBE group MZ ABOUT x y on a continuum clamp (QUAD8, no RZ): the moment of the loads about
+  the point (1e-10), ABOUT misplaced or incomplete refused.
 """
 import os
 import sys
@@ -89,7 +91,40 @@ def refused():
               'exit %d: %r' % (rc, err))
 
 
+QUADS = """RECTANGLE c ORIGIN 0 0 SIZE 1 0.1 ELEMENTS 20 4 TYPE QUAD8
+MATERIAL st ELASTIC YOUNG 2e11 POISSON 0.3 DENSITY 7800
+MODEL c MATERIAL st PLANE STRESS
+FIX c.left UX UY
+LOAD tip NODES c.bottom_right FORCE 0 -1000
+GRAVITY GY -9.81
+STATIC
+TIME STEP 1e-5 END 1e-4
+"""
+
+
+def moment_about():
+    """A QUAD8 cantilever (no RZ: a continuum clamp) at rest under its weight and a tip load:
+    PROBE c.left MZ ABOUT x y, the moment of the clamp's reactions about a point, equals the
+    moment of the loads about it, P L + m g L/2 (about the clamp's mid-height), and about the
+    corner (0, 0) the same (RX = 0)."""
+    scene = sc.write_scene('moment_about.dat', QUADS + 'OUTPUT HISTORY EVERY 1 FIELDS EVERY 0 PROBE c.left RY '
+                           'PROBE c.left MZ ABOUT 0 0.05 PROBE c.left RX\n')
+    p = sc.probes(sc.run_ok(scene))
+    w = 7800 * 0.1 * 9.81
+    sc.close('QUAD8 clamp at rest: RY = P + m g', p['c.left.RY'][-1], 1000 + w, 1e-10)
+    sc.close('QUAD8 clamp at rest: MZ ABOUT the clamp\'s mid-height = P L + m g L/2', p['c.left.MZ'][-1],
+             1000 + w / 2, 1e-10)
+    bad = sc.write_scene('about_rx.dat', QUADS + 'OUTPUT PROBE c.left RX ABOUT 0 0\n')
+    rc, err, out = sc.run(bad, outdir=sc.new_dir('never'))
+    sc.report('ABOUT after RX is refused, naming ABOUT', rc == 2 and 'ABOUT goes with MZ' in err and "at 'ABOUT'" in err
+              and not os.path.exists(out), err.strip())
+    bad = sc.write_scene('about_short.dat', QUADS + 'OUTPUT PROBE c.left MZ ABOUT 0\n')
+    rc, err, out = sc.run(bad, outdir=sc.new_dir('never'))
+    sc.report('ABOUT without both coordinates is refused', rc == 2 and 'ABOUT needs the point' in err, err.strip())
+
+
 plastic_spring()
 oscillator()
 cantilever()
 refused()
+moment_about()
