@@ -271,8 +271,9 @@ contains
     if (summary%schur_solves + summary%augmented_solves > 0) call say('  contact multipliers: ' // &
       str8(summary%schur_solves) // ' Schur solves (' // str8(summary%schur_columns) // ' columns), ' // &
       str8(summary%augmented_solves) // ' augmented solves (' // str8(summary%augmented_factorizations) // ' LU)')
-    if (summary%following > 0) call say('  contact pairing: ' // str(summary%following) // ' node-to-segment ' // &
-      'conditions re-paired at every step (PAIRING STEP), ' // str8(summary%repairings) // ' changes of partner')
+    if (summary%following > 0) call say('  contact pairing: ' // str(summary%following) // ' conditions ' // &
+      'linearized anew at every step (GAP … SEGMENTS PAIRING STEP, curved OBSTACLE), ' // str8(summary%repairings) // &
+      ' changes of partner')
     call say('  results in ' // outdir // '/')
   end subroutine print_summary
 

@@ -11,7 +11,11 @@ usage: plate_hole_mesh.py NT NR OUT.msh [GRADING [W]]   (NT elements around the 
        the plate's half width W, default 1)
 """
 import math
+import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import msh22  # noqa: E402
 
 
 def main():
@@ -58,22 +62,8 @@ def main():
         phys = 2 if th < 0.25 * math.pi else 3                                           # right, top
         lines.append((phys, tag[(i, nj - 1)], tag[(i + 2, nj - 1)], tag[(i + 1, nj - 1)]))
         lines.append((5, tag[(i, 0)], tag[(i + 2, 0)], tag[(i + 1, 0)]))                 # hole
-    with open(out, 'w') as fo:
-        fo.write('$MeshFormat\n2.2 0 8\n$EndMeshFormat\n')
-        fo.write('$PhysicalNames\n6\n1 1 "bottom"\n1 2 "right"\n1 3 "top"\n1 4 "left"\n1 5 "hole"\n'
-                 '2 6 "plate"\n$EndPhysicalNames\n')
-        fo.write('$Nodes\n%d\n' % len(nodes))
-        for k, (x, y) in enumerate(nodes):
-            fo.write('%d %.17g %.17g 0\n' % (k + 1, x, y))
-        fo.write('$EndNodes\n$Elements\n%d\n' % (len(lines) + len(quads)))
-        k = 0
-        for p, n1, n2, n3 in lines:
-            k += 1
-            fo.write('%d 8 2 %d %d %d %d %d\n' % (k, p, p, n1, n2, n3))
-        for q in quads:
-            k += 1
-            fo.write('%d 16 2 6 6 %s\n' % (k, ' '.join(str(v) for v in q)))
-        fo.write('$EndElements\n')
+    msh22.write(out, [(1, 1, 'bottom'), (1, 2, 'right'), (1, 3, 'top'), (1, 4, 'left'), (1, 5, 'hole'), (2, 6, 'plate')],
+                nodes, [(8, p, [n1, n2, n3]) for p, n1, n2, n3 in lines] + [(16, 6, q) for q in quads])
 
 
 if __name__ == '__main__':

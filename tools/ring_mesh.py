@@ -7,7 +7,11 @@ circle) and "ring" (the quads, counter-clockwise). inputs/ring.msh is n = 12, m 
 usage: ring_mesh.py N M OUT.msh
 """
 import math
+import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import msh22  # noqa: E402
 
 
 def main():
@@ -28,21 +32,8 @@ def main():
             quads.append((j * nt + i + 1, j * nt + i2 + 1, (j + 1) * nt + i2 + 1, (j + 1) * nt + i + 1))
     for i in range(nt):
         lines.append((m * nt + i + 1, m * nt + (i + 1) % nt + 1))
-    with open(out, 'w') as f:
-        f.write('$MeshFormat\n2.2 0 8\n$EndMeshFormat\n')
-        f.write('$PhysicalNames\n2\n1 1 "outer"\n2 2 "ring"\n$EndPhysicalNames\n')
-        f.write('$Nodes\n%d\n' % len(nodes))
-        for k, (x, y) in enumerate(nodes):
-            f.write('%d %.17g %.17g 0\n' % (k + 1, x, y))
-        f.write('$EndNodes\n$Elements\n%d\n' % (len(lines) + len(quads)))
-        k = 0
-        for a, b in lines:
-            k += 1
-            f.write('%d 1 2 1 1 %d %d\n' % (k, a, b))
-        for q in quads:
-            k += 1
-            f.write('%d 3 2 2 2 %d %d %d %d\n' % ((k,) + q))
-        f.write('$EndElements\n')
+    msh22.write(out, [(1, 1, 'outer'), (2, 2, 'ring')], nodes,
+                [(1, 1, list(ln)) for ln in lines] + [(3, 2, list(q)) for q in quads])
 
 
 if __name__ == '__main__':

@@ -636,6 +636,8 @@ contains
     cs%st%r_prev = merge(lam, 0.0_dp, cs%st%active)
     cs%st%lambda = lam
     cs%st%active_iter = cs%st%active .or. cs%bilat
+    cs%lam_step = 2.0_dp * cs%st%r_prev            ! (the outputs of t = 0 read the static force, ½ Λ)
+    cs%cimp = 0.0_dp
   end subroutine contact_set_resting
 
   !> MULTIPLIERS AUTO takes the Schur columns whatever the active set's size while schur_only

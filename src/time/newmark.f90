@@ -180,7 +180,7 @@ contains
       call static_solve(scn, sys, rs%st%u, rs%rig, rs%pre, stat, errmsg)
       return
     end if
-    call static_solve(scn, sys, rs%st%u, rs%rig, rs%pre, stat, errmsg, rs%cs, rs%lam)
+    call static_solve(scn, sys, rs%st%u, rs%rig, rs%pre, stat, errmsg, rs%cs, rs%lam, rs%follow)
     if (stat == STAT_OK .and. rs%follow%count() > 0) call rs%follow%update(scn%mesh%x, sys%dofs%eqn, rs%st%u, rs%cs, &
       stat, errmsg)
     if (stat == STAT_OK) call contact_prepare(rs%cs, rs%mat%factor, stat, errmsg, sys%ops%pat, rs%mat%sval)

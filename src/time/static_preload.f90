@@ -22,6 +22,7 @@ module static_preload
   use contact, only: contact_set_t, contact_prepare, contact_solve_step, contact_add_force, contact_gaps, &
     contact_set_resting, contact_schur_only
   use dense_solve, only: spsd_solve
+  use contact_geometry, only: following_t
   implicit none
   private
   public :: static_report_t, static_solve
@@ -50,7 +51,7 @@ contains
   !> (their multipliers in lam on return, and the set left holding them: contact_set_resting);
   !> the caller prepares cs again with the dynamics' matrix. Bad input (a free rigid mode) is
   !> STAT_INPUT, an increment that does not converge STAT_RUN with its residuals.
-  subroutine static_solve(scn, sys, u, rig, rep, stat, errmsg, cs, lam)
+  subroutine static_solve(scn, sys, u, rig, rep, stat, errmsg, cs, lam, follow)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     real(dp), intent(inout) :: u(:)
@@ -60,12 +61,16 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(contact_set_t), intent(inout), optional :: cs
     real(dp), intent(inout), optional :: lam(:)
+    !> rows that follow the configuration (curved obstacles, GAP … SEGMENTS PAIRING STEP): linearized
+    !> at each iterate, the contact solved about it (Newton on the gaps)
+    type(following_t), intent(inout), optional :: follow
     type(cholmod_factor_t) :: fac
     type(work_increment_t) :: inc
-    real(dp), allocatable :: f(:), fprev(:), fint(:), fcorr(:), r(:), du(:), ddu(:), un(:), sval(:), res(:)
+    real(dp), allocatable :: f(:), fprev(:), fint(:), fcorr(:), r(:), du(:), ddu(:), un(:), sval(:), res(:), uk(:), &
+      dcorr(:)
     real(dp) :: eps_m, kappa, s, fscale, lscale
     integer :: k, it, n, nc
-    logical :: conv, tangent, constant
+    logical :: conv, tangent, constant, moving, refactor
     logical, allocatable :: held(:), held_f(:)
 
     n = sys%dofs%neq
@@ -73,7 +78,8 @@ contains
     if (stat /= STAT_OK) return
     eps_m = 0.0_dp
     kappa = 0.0_dp
-    if (rep%shifted) call shifts(sys, eps_m, kappa)
+    call shifts(sys, eps_m, kappa)               ! (κ also for IMPOSE's rows)
+    if (.not. rep%shifted) eps_m = 0.0_dp
     nc = size(scn%conditions)
     allocate (held(nc), held_f(nc))
     if (present(lam)) then
@@ -81,12 +87,15 @@ contains
       allocate (held(size(lam)), held_f(size(lam)))    ! the conditions, then IMPOSE's rows
     end if
     held_f = .false.
-    allocate (f(n), fprev(n), fint(n), fcorr(n), r(n), du(n), ddu(n), un(n), res(scn%static_max_iter))
+    allocate (f(n), fprev(n), fint(n), fcorr(n), r(n), du(n), ddu(n), un(n), res(scn%static_max_iter), uk(n), dcorr(n))
+    moving = .false.
+    if (present(follow) .and. present(cs)) moving = follow%count() > 0
     associate (x => scn%mesh%x(:, 1:scn%mesh%nnode))
-      lscale = max(maxval(x(1, :)) - minval(x(1, :)), maxval(x(2, :)) - minval(x(2, :)), tiny(1.0_dp))
+      lscale = max(maxval(x(1, :)) - minval(x(1, :)), maxval(x(2, :)) - minval(x(2, :)), maxval(abs(x)), &
+        maxval(scn%conditions%radius, mask=scn%conditions%curved /= 0), tiny(1.0_dp))
     end associate
     tangent = allocated(sys%ops%tval)
-    constant = .not. tangent                     ! linear elastic: K0 + εM factorized once
+    constant = .not. tangent .and. .not. moving  ! linear elastic: K0 + εM factorized once
     if (present(cs)) call contact_schur_only(cs, .true.)
     fprev = 0.0_dp                               ! the loads grow from zero
     fscale = 1.0_dp
@@ -97,8 +106,11 @@ contains
       du = 0.0_dp
       conv = .false.
       do it = 1, scn%static_max_iter
-        call internal_force(scn, sys, un + du, fint, fcorr, .false., tangent, inc, un=un)
-        call external_force(scn, sys, scn%t_start, f, un + du)
+        uk = un + du
+        call internal_force(scn, sys, uk, fint, fcorr, .false., tangent, inc, un=un)
+        call external_force(scn, sys, scn%t_start, f, uk)
+        if (moving) call follow%update(scn%mesh%x, sys%dofs%eqn, uk, cs, stat, errmsg)   ! rows at the iterate
+        if (stat /= STAT_OK) return
         f = s * f
         r = f - fint
         ddu = r
@@ -111,10 +123,11 @@ contains
           conv = .true.
           exit
         end if
-        ! A residual at the attainable floor (round-off of the forces: a linear increment solved
-        ! exactly, LARGE members' rounding, round_floor) stops falling: converged.
-        if (it > 2 .and. res(it) <= max(1.0e3_dp * epsilon(1.0_dp) * fscale, 4.0_dp * sys%elems%round_floor) .and. &
-          res(it) >= 0.5_dp * res(it - 1)) then
+        ! A residual at the attainable floor (round-off of the forces, or of the stiffness times the
+        ! displacement where no force loads the structure: a linear increment solved exactly;
+        ! LARGE members' rounding, round_floor) stops falling: converged.
+        if (it > 2 .and. res(it) <= max(1.0e3_dp * epsilon(1.0_dp) * max(fscale, kappa * maxval(abs(uk))), &
+          4.0_dp * sys%elems%round_floor) .and. res(it) >= 0.5_dp * res(it - 1)) then
           conv = .true.
           exit
         end if
@@ -128,16 +141,29 @@ contains
           if (rep%shifted) held(1:nc) = lam(1:nc) > 0.0_dp
           held(nc + 1:) = .true.
         end if
-        if (.not. (constant .and. fac%is_factored() .and. all(held .eqv. held_f))) then
-          call static_matrix(scn, sys, eps_m, kappa, held, sval, fac, rep, stat, errmsg)
+        refactor = .not. (constant .and. fac%is_factored() .and. all(held .eqv. held_f))
+        if (refactor) then
+          if (moving) then
+            call static_matrix(scn, sys, eps_m, kappa, held, sval, fac, rep, stat, errmsg, uk, lam)
+          else
+            call static_matrix(scn, sys, eps_m, kappa, held, sval, fac, rep, stat, errmsg)
+          end if
           if (stat /= STAT_OK) return
           held_f = held
-          if (present(cs)) call contact_prepare(cs, fac, stat, errmsg, sys%ops%pat, sval)
-          if (stat /= STAT_OK) return
         end if
+        if (present(cs) .and. (refactor .or. moving)) call contact_prepare(cs, fac, stat, errmsg, sys%ops%pat, sval)
+        if (stat /= STAT_OK) return
         call fac%solve(r, ddu, stat, errmsg)
         if (stat /= STAT_OK) return
-        if (present(cs)) then
+        if (moving) then
+          ! Newton about the iterate: the gaps of the rows linearized there, g(u_k + d) >= 0
+          call contact_solve_step(cs, fac, uk, ddu, dcorr, lam, stat, errmsg)
+          if (stat /= STAT_OK) then
+            errmsg = 'STATIC: contact: ' // errmsg
+            return
+          end if
+          du = du + dcorr
+        else if (present(cs)) then
           ddu = du + ddu
           call contact_solve_step(cs, fac, un, ddu, du, lam, stat, errmsg)
           if (stat /= STAT_OK) then
@@ -177,7 +203,7 @@ contains
   !> S = Kt + κ Σ_held c_j c_j' when the held conditions (active, holding rigid modes) make it
   !> definite, Kt + εM otherwise (Kt: the tangent with its compressive geometric part, without it
   !> when that is not positive definite; K0 when there is no tangent), factorized.
-  subroutine static_matrix(scn, sys, eps_m, kappa, held, sval, fac, rep, stat, errmsg)
+  subroutine static_matrix(scn, sys, eps_m, kappa, held, sval, fac, rep, stat, errmsg, uk, lam)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
     real(dp), intent(in) :: eps_m, kappa
@@ -187,6 +213,7 @@ contains
     type(static_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    real(dp), intent(in), optional :: uk(:), lam(:)   !< the iterate and the multipliers: the curved contacts' stiffness
     integer :: minor, pass
     real(dp), allocatable :: kt(:)
     if (allocated(sys%ops%tval)) then
@@ -195,6 +222,7 @@ contains
     else
       kt = sys%ops%kval
     end if
+    if (present(uk) .and. present(lam)) call add_curvature(scn, sys, uk, lam, kt)
     do pass = 1, 4
       ! 1: with the held rows, 2: with εM; 3, 4: the same without the compressive geometric part.
       if (pass == 1 .or. pass == 3) then
@@ -214,6 +242,36 @@ contains
     end do
     errmsg = 'STATIC: the tangent does not factorize (' // errmsg // '): a structure that buckles or a mechanism; more STEPS'
   end subroutine static_matrix
+
+  !> The curved obstacles' part of the Newton matrix: -Λ ∇²g = -s Λ (I - n n')/r on the node of
+  !> each active condition (g = s(|x - c| - r)), at the iterate uk: a bowl (INSIDE) holds its
+  !> node along the tangent, a dome (OUTSIDE) pushes it off.
+  subroutine add_curvature(scn, sys, uk, lam, kt)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: uk(:), lam(:)
+    real(dp), intent(inout) :: kt(:)
+    integer :: j, b, eqs(2), d
+    real(dp) :: x(2), r, nn(2), ke(2, 2)
+    do j = 1, size(scn%conditions)
+      associate (c => scn%conditions(j))
+        if (c%curved == 0 .or. lam(j) <= 0.0_dp) cycle
+        b = c%node_b
+        eqs = max(sys%dofs%eqn(1:2, b), 0)
+        x = scn%mesh%x(:, b)
+        do d = 1, 2
+          if (eqs(d) > 0) x(d) = x(d) + uk(eqs(d))
+        end do
+        r = norm2(x - c%center)
+        if (r <= 0.0_dp) cycle
+        nn = (x - c%center) / r
+        ke(:, 1) = [1.0_dp - nn(1)**2, -nn(1) * nn(2)]
+        ke(:, 2) = [-nn(1) * nn(2), 1.0_dp - nn(2)**2]
+        ke = -c%curved * lam(j) / r * ke
+        call sys%ops%pat%add_element(kt, eqs, ke)
+      end associate
+    end do
+  end subroutine add_curvature
 
   !> sval += κ c_j c_j' for the held conditions whose rows fit the pattern (an obstacle's node; a
   !> GAP's two nodes when an element joins them; an imposed DOF), held(j) over the contact set's
@@ -295,14 +353,17 @@ contains
     real(dp), allocatable :: ct(:, :), g0(:), t(:)
     real(dp) :: gram(3, 3), x(3), b(3), nrm(3)
     logical :: dropped(3)
-    integer :: ib, k, l, nf, rank, idx(3), nc
+    integer :: ib, k, l, nf, rank, idx(3), nc, nin, j, e2(2)
     stat = STAT_OK
     shifted = .false.
     call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, body)
     call body_rigid_freedom(scn, sys%dofs%eqn, free)
     nc = 0
     if (present(cs)) nc = cs%n_conditions()
-    allocate (ct(nc, 3), g0(nc), t(sys%dofs%neq))
+    ! A bowl (a curved obstacle, INSIDE) also holds its node along the tangent (its curvature):
+    ! one more row each, t'u at the node.
+    nin = count(scn%conditions%curved == -1)
+    allocate (ct(nc + nin, 3), g0(nc), t(sys%dofs%neq))
     if (nc > 0) call contact_gaps(cs, 0.0_dp * t, g0)
     do ib = 1, size(free, 2)
       if (.not. any(body == ib)) cycle
@@ -311,18 +372,28 @@ contains
         if (.not. free(k, ib)) cycle
         t = merge(rig(:, k), 0.0_dp, body == ib)
         if (norm2(t) == 0.0_dp) cycle            ! (a rotation of a body with no DOF it moves)
+        if (dependent_mode(rig, body == ib, idx(1:nf), k)) cycle   ! (a point's rotation: a translation)
         nf = nf + 1
         idx(nf) = k
         if (nc > 0) then
-          call contact_gaps(cs, t, ct(:, nf))
-          ct(:, nf) = ct(:, nf) - g0
+          call contact_gaps(cs, t, ct(1:nc, nf))
+          ct(1:nc, nf) = ct(1:nc, nf) - g0
         end if
+        l = nc
+        do j = 1, size(scn%conditions)
+          if (scn%conditions(j)%curved /= -1) cycle
+          l = l + 1
+          e2 = max(sys%dofs%eqn(1:2, scn%conditions(j)%node_b), 0)
+          ct(l, nf) = 0.0_dp
+          if (e2(1) > 0) ct(l, nf) = ct(l, nf) - scn%conditions(j)%normal(2) * t(e2(1))
+          if (e2(2) > 0) ct(l, nf) = ct(l, nf) + scn%conditions(j)%normal(1) * t(e2(2))
+        end do
       end do
       if (nf == 0) cycle
       shifted = .true.
       do k = 1, nf
         nrm(k) = 0.0_dp
-        if (nc > 0) nrm(k) = norm2(ct(:, k))
+        if (nc + nin > 0) nrm(k) = norm2(ct(:, k))
         if (nrm(k) == 0.0_dp) then
           call free_mode_error(scn, ib, MODE_NAMES(idx(k)), stat, errmsg)
           return
@@ -345,6 +416,30 @@ contains
       end if
     end do
   end subroutine held_modes_check
+
+  !> Mode k of a body (mask: its equations) is a combination of the modes kept before it (a single
+  !> node's rotation is a translation): the Gram matrix of the masked modes loses rank with it.
+  logical function dependent_mode(rig, mask, kept, k) result(dep)
+    real(dp), intent(in) :: rig(:, :)
+    logical, intent(in) :: mask(:)
+    integer, intent(in) :: kept(:), k
+    real(dp) :: gram(3, 3), b(3), x(3), nrm(3)
+    integer :: m, i, l, rank, cols(3)
+    m = size(kept) + 1
+    cols(1:m) = [kept, k]
+    do i = 1, m
+      nrm(i) = norm2(merge(rig(:, cols(i)), 0.0_dp, mask))
+    end do
+    do i = 1, m
+      do l = 1, m
+        gram(i, l) = dot_product(merge(rig(:, cols(i)), 0.0_dp, mask), merge(rig(:, cols(l)), 0.0_dp, mask)) / &
+          (nrm(i) * nrm(l))
+      end do
+    end do
+    b = 0.0_dp
+    call spsd_solve(gram(1:m, 1:m), b(1:m), x(1:m), rank, rtol=1.0e-10_dp)
+    dep = rank < m
+  end function dependent_mode
 
   subroutine free_mode_error(scn, ib, what, stat, errmsg)
     type(scene_t), intent(in) :: scn

@@ -9,12 +9,17 @@ step's ends (src/contact/contact_geometry.f90, pair_circle): a held contact does
   default (PERSIST) and IMPACT PAPER;
 - a point mass sliding off a frictionless sphere from its top at v0: it leaves where
   cos θ = (2 + v0²/(g R))/3 (within the step's travel), the energy exact;
+- STATIC in a bowl: a mass pushed sideways by m g tan 30° rests at 30 degrees (1e-9), then stays;
+- Hertz: a rigid sphere pressed into a block (axisymmetric, STATIC): the force within 1.5 % of
+  Hertz's law at two indentations, F ∝ δ^(3/2), the contact edge within a node spacing of Hertz's;
 - bad input: RADIUS <= 0, no INSIDE/OUTSIDE, POINT with SPHERE, a node at the centre.
 """
 import csv
 import os
+import subprocess
 import sys
 
+import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -95,6 +100,79 @@ OUTPUT HISTORY EVERY 1 FIELDS EVERY 0 PROBE m UX PROBE m UY
     sc.report_measured('sliding off a sphere: |balance| <= 1e-11 of E', bal <= 1e-11, '%.1e' % bal)
 
 
+def bowl_static():
+    """STATIC with a curved obstacle: a point mass in a bowl pushed sideways by F = m g tan 30°
+    comes to rest at 30 degrees (the rows linearized at each iterate, the bowl's curvature -Λ∇²g in
+    the Newton matrix), then stays there within 1e-6 R, its energy balance within 1e-10 of m g R."""
+    f = G * np.tan(np.radians(30))
+    scene = sc.write_scene('bowl_static.dat', MASS % '0 -1' + """LOAD push NODES m FORCE %r 0
+OBSTACLE bowl NODES m SPHERE 0 0 RADIUS 1 INSIDE
+STATIC STEPS 3
+TIME STEP 1e-3 END 1
+OUTPUT HISTORY EVERY 1 FIELDS EVERY 0 PROBE m UX PROBE m UY
+""" % f)
+    rc, err, out = sc.run(scene)
+    if not sc.report('STATIC in a bowl: runs', rc == 0, err.strip()):
+        return
+    p = sc.probes(out)
+    x, y = p['m.UX'], p['m.UY']
+    err0 = max(abs(x[0] - 0.5), abs(y[0] - (1 - np.cos(np.radians(30)))))
+    sc.report_measured('STATIC in a bowl: at rest at 30 degrees (1e-9 R)', err0 <= 1e-9, '%.1e' % err0)
+    drift = np.max(np.hypot(x - x[0], y - y[0]))
+    bal = np.max(np.abs(sc.history(out)['balance'])) / G
+    sc.report_measured('STATIC in a bowl, then left alone: within 1e-6 R, |balance| <= 1e-10 m g R', drift <= 1e-6 and
+                       bal <= 1e-10, 'drift %.1e R, balance %.1e m g R' % (drift, bal))
+
+
+HERTZ = """GMSH b FILE %s
+MATERIAL st ELASTIC YOUNG 2.1e11 POISSON 0.3 DENSITY 7800
+MODEL b.block MATERIAL st AXISYMMETRIC
+OBSTACLE ball NODES b.top SPHERE 0 0.01 RADIUS 0.01 OUTSIDE
+FUNCTION one POINTS 0 1 1 1
+IMPOSE b.bottom UY VALUE %r FUNCTION one
+FIX b.bottom UX
+STATIC STEPS 4
+TIME STEP 1e-7 END 1e-7
+OUTPUT HISTORY EVERY 1 FIELDS EVERY 1 PROBE b.bottom RY
+"""
+
+
+def hertz_static():
+    """A rigid sphere (R = 10 mm) pressed into a steel block (axisymmetric, 40 x 40 mm, QUAD8 graded
+    from 20 µm at the contact: tools/block_mesh.py) by STATIC: the base pushed up by δ. Hertz's
+    half-space law F = 4/3 E* sqrt(R) δ^(3/2) within 1.5 % at δ = 2.5 and 10 µm (the finite block:
+    +1.35, +0.94, +0.63 % at 10, 20, 40 mm and δ = 2.5 µm, falling with its size), F ∝ δ^(3/2) to
+    0.5 %, and the edge of the contact (between the last node on the sphere, gap 0, and the first
+    one off it) within one node spacing of Hertz's radius a = (3 F R / 4 E*)^(1/3)."""
+    msh = os.path.join(sc.TMP, 'hertz_block.msh')
+    subprocess.run(['/usr/bin/python3', os.path.join(sc.ROOT, 'tools', 'block_mesh.py'), '0.04', '0.04', '2e-5', '1.12', msh],
+                   check=True)
+    es = 2.1e11 / (1 - 0.3**2)
+    kh = 4 / 3 * es * np.sqrt(0.01)
+    forces = []
+    for d in [2.5e-6, 1e-5]:
+        out = sc.run_ok(sc.write_scene('hertz_%g.dat' % d, HERTZ % (msh, d)))
+        f = sc.probes(out)['b.bottom.RY'][0]
+        forces.append(f)
+        sc.report_measured('Hertz (rigid sphere on a block, STATIC): F within 1.5 %% of 4/3 E* sqrt(R) δ^1.5 at δ = %g m' % d,
+                           abs(f / (kh * d**1.5) - 1) <= 0.015, 'F = %.2f N, ratio %.4f' % (f, f / (kh * d**1.5)))
+        with h5py.File(os.path.join(out, 'fields.h5'), 'r') as h:
+            x = h['mesh/coordinates'][()]
+            u = h['step_000000/displacement'][()]
+        top = np.nonzero(np.abs(x[:, 1]) < 1e-12)[0]
+        top = top[np.argsort(x[top, 0])]
+        gap = np.hypot(x[top, 0] + u[top, 0], u[top, 1] - 0.01) - 0.01
+        touching = gap <= 1e-12 * 0.01
+        last = np.max(np.nonzero(touching)[0])
+        a = (3 * abs(f) * 0.01 / (4 * es))**(1 / 3)
+        lo, hi = x[top[last], 0], x[top[last + 1], 0]
+        sc.report_measured('Hertz at δ = %g m: the contact edge within one node spacing of Hertz\'s radius' % d,
+                           lo - (hi - lo) <= a <= hi and not touching[last + 1:].any(),
+                           'a = %.4e m, edge between nodes at %.4e and %.4e' % (a, lo, hi))
+    slope = np.log(forces[1] / forces[0]) / np.log(4)
+    sc.report_measured('Hertz: F ∝ δ^(3/2) (0.5 %)', abs(slope / 1.5 - 1) <= 5e-3, 'exponent %.4f' % slope)
+
+
 def bad_input():
     cases = [('RADIUS 0 INSIDE', 'RADIUS'), ('RADIUS 1', 'INSIDE or OUTSIDE'),
              ('RADIUS 1 INSIDE POINT 0 0', 'POINT goes with a plane'), ('RADIUS 1 INSIDE', 'centre')]
@@ -109,4 +187,6 @@ def bad_input():
 
 pendulums()
 slide_off()
+bowl_static()
+hertz_static()
 bad_input()
