@@ -10,7 +10,7 @@ module assembly
   use loads, only: load_nodal_forces
   use follower_loads, only: follower_set_t
   use scene, only: scene_t, probe_weight, function_value, model_point_kind, tuned_mix, contact_nodes, INIT_DISPLACEMENT, &
-    INIT_VELOCITY, &
+    INIT_VELOCITY, INIT_ANGULAR, &
     INIT_STATIC
   use dof_map, only: build_dof_map, cayley_rotations, imposed_dofs, equation_bodies, DOF_ABSENT, DOF_FIXED
   use stiffness_product, only: k0_product_t
@@ -805,7 +805,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: ic, i, d, n, j
-    real(dp) :: s
+    real(dp) :: s, w3(3)
     stat = STAT_OK
     u = 0.0_dp
     v = 0.0_dp
@@ -815,6 +815,14 @@ contains
       associate (c => scn%initials(ic), nodes => scn%mesh%ngroups(scn%initials(ic)%ngroup)%items)
         do i = 1, size(nodes)
           n = nodes(i)
+          if (c%kind == INIT_ANGULAR) then          ! ω × (X - x0) on UX, UY; ω on RZ
+            w3 = [-(scn%mesh%x(2, n) - c%about(2)), scn%mesh%x(1, n) - c%about(1), 1.0_dp]
+            do d = 1, 3
+              j = sys%dofs%eqn(d, n)
+              if (j > 0) v(j) = v(j) + c%values(3) * w3(d)
+            end do
+            cycle
+          end if
           ! FUNCTION f ALONG X|Y: the values times f of the node's coordinate (1 without).
           s = function_value(scn%functions, c%func, scn%mesh%x(c%along, n))
           do d = 1, 3

@@ -16,13 +16,14 @@ module scene
   private
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
   public :: function_value, model_point_kind, tuned_mix, scene_axisymmetric
-  public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, condition_t, condition_nodes, contact_nodes, condition_keyword
+  public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, INIT_ANGULAR, condition_t, condition_nodes, contact_nodes, &
+    condition_keyword
   public :: impose_t, function_slope, probe_weight
 
   real(dp), parameter :: TUNED_MAX = 1.4999_dp  !< MASS TUNED's mixing factor at c h/dx = 1
   real(dp), parameter :: TWO_PI = 6.283185307179586476925286766559_dp
 
-  integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3
+  integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3, INIT_ANGULAR = 4
   integer, parameter, public :: LOAD_NODAL = 0, LOAD_PRESSURE = 1, LOAD_TRACTION = 2
   !> Upper bounds of SECTION LAYERS and MODEL SUBSTEPS (far above any useful value; see do_section, do_model).
   integer, parameter, public :: MAX_LAYERS = 1000, MAX_SUBSTEPS = 10000
@@ -85,6 +86,7 @@ module scene
     integer :: func = 0           !< FUNCTION f ALONG X|Y: values times f(x) or f(y) of each node (0: none)
     integer :: along = 1          !< the coordinate f is evaluated at: 1 (X) or 2 (Y)
     integer :: line = 0
+    real(dp) :: about(2) = 0.0_dp !< ANGULAR_VELOCITY w ABOUT x y: the axis (w in values(3))
   end type initial_t
 
   !> Piecewise-linear function of time, constant beyond its ends.

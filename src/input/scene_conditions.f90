@@ -6,9 +6,9 @@ module scene_conditions
   use statement, only: statement_t, stmt_error, find_param, get_real, get_word, to_real
   use statement_schema, only: schema_t
   use scene, only: scene_t, fix_t, initial_t, load_t, impose_t, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, LOAD_PRESSURE, &
-    LOAD_TRACTION
+    LOAD_TRACTION, INIT_ANGULAR
   use mesh_segments, only: side_set_t, group_sides
-  use scene_helpers, only: node_group, check_modelled
+  use scene_helpers, only: node_group, check_modelled, get_point
   use mesh, only: MAX_COORD
   implicit none
   private
@@ -30,6 +30,8 @@ contains
     call sch%add_param('INITIAL', 'FORCE', 2, 3)
     call sch%add_param('INITIAL', 'FUNCTION', 1, 1)
     call sch%add_param('INITIAL', 'ALONG', 1, 1)
+    call sch%add_param('INITIAL', 'ANGULAR_VELOCITY', 1, 1)
+    call sch%add_param('INITIAL', 'ABOUT', 2, 2)
     call sch%add_keyword('GRAVITY', 0, 0, once=.true.)
     call sch%add_param('GRAVITY', 'GX', 1, 1)
     call sch%add_param('GRAVITY', 'GY', 1, 1)
@@ -157,10 +159,20 @@ contains
     call node_group(scn, st, st%lead(1), ic%ngroup, stat, errmsg)
     if (stat /= STAT_OK) return
     ic%line = st%line
-    nkind = count([find_param(st, 'DISPLACEMENT') > 0, find_param(st, 'VELOCITY') > 0, find_param(st, 'STATIC') > 0])
+    nkind = count([find_param(st, 'DISPLACEMENT') > 0, find_param(st, 'VELOCITY') > 0, find_param(st, 'STATIC') > 0, &
+      find_param(st, 'ANGULAR_VELOCITY') > 0])
     if (nkind /= 1) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give exactly one of DISPLACEMENT, VELOCITY or ' // &
-        'STATIC FORCE', st%lead(1)))
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give exactly one of DISPLACEMENT, VELOCITY, ' // &
+        'ANGULAR_VELOCITY or STATIC FORCE', st%lead(1)))
+      return
+    end if
+    if (find_param(st, 'ABOUT') > 0 .and. find_param(st, 'ANGULAR_VELOCITY') == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ABOUT goes with ANGULAR_VELOCITY', &
+        st%params(find_param(st, 'ABOUT'))%keytok))
+      return
+    end if
+    if (find_param(st, 'ANGULAR_VELOCITY') > 0) then
+      call do_initial_spin(scn, st, ic, stat, errmsg)
       return
     end if
     if (find_param(st, 'DISPLACEMENT') > 0) then
@@ -191,6 +203,53 @@ contains
     scn%initials = [scn%initials, ic]
   end subroutine do_initial
 
+  !> INITIAL group ANGULAR_VELOCITY w ABOUT x y: the rigid spin ω × (X - x0) added to the velocity
+  !> of every node of the group (and w to the rotation rate of beams), on top of a VELOCITY given
+  !> to the same nodes: the one pair of INITIALs on a node that is not an error. Two spins on a node
+  !> are.
+  subroutine do_initial_spin(scn, st, ic, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    type(initial_t), intent(inout) :: ic
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: i, n
+    ic%kind = INIT_ANGULAR
+    call get_real(st, 'ANGULAR_VELOCITY', ic%values(3), stat, errmsg, lower=-MAX_COORD, lower_inclusive=.true., &
+      upper=MAX_COORD, upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    if (find_param(st, 'ABOUT') == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ANGULAR_VELOCITY needs ABOUT x y (the axis)', &
+        st%params(find_param(st, 'ANGULAR_VELOCITY'))%keytok))
+      return
+    end if
+    call get_point(st, 'ABOUT', ic%about, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (find_param(st, 'FUNCTION') > 0 .or. find_param(st, 'FORCE') > 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ANGULAR_VELOCITY takes no FUNCTION or FORCE', &
+        st%params(max(find_param(st, 'FUNCTION'), find_param(st, 'FORCE')))%keytok))
+      return
+    end if
+    ic%mask = .true.
+    if (.not. allocated(scn%initial_line)) then
+      allocate (scn%initial_line(7, scn%mesh%nnode))
+      scn%initial_line = 0
+    end if
+    associate (nodes => scn%mesh%ngroups(ic%ngroup)%items)
+      do i = 1, size(nodes)
+        n = nodes(i)
+        if (scn%initial_line(7, n) /= 0) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(scn%mesh%node_tag(n)) // &
+            ' already spins by INITIAL at line ' // str(scn%initial_line(7, n)) // ' (one ANGULAR_VELOCITY per node)', &
+            st%lead(1)))
+          return
+        end if
+        scn%initial_line(7, n) = st%line
+      end do
+    end associate
+    scn%initials = [scn%initials, ic]
+  end subroutine do_initial_spin
+
   !> Each component of a node's initial displacement or velocity is set by one INITIAL at most: a
   !> second would replace or add to the first without a word. A component counts as set when its
   !> value is not zero (a zero stands for "nothing here": VELOCITY 0 0 w gives a spin alone, which
@@ -213,7 +272,7 @@ contains
       return
     end if
     if (.not. allocated(scn%initial_line)) then
-      allocate (scn%initial_line(6, scn%mesh%nnode))
+      allocate (scn%initial_line(7, scn%mesh%nnode))   ! (7: ANGULAR_VELOCITY, do_initial_spin)
       scn%initial_line = 0
     end if
     associate (nodes => scn%mesh%ngroups(ic%ngroup)%items)

@@ -7,7 +7,7 @@ module scene_loader
   use statement, only: statement_t
   use statement_schema, only: schema_t
   use scene_parser, only: parse_file, apply_override, check_required
-  use scene, only: scene_t, INIT_STATIC
+  use scene, only: scene_t, INIT_STATIC, INIT_ANGULAR, scene_axisymmetric
   use kinds, only: dp
   use material_law, only: LAW_HYPERELASTIC
   use scene_mesh, only: mesh_schema, mesh_statement
@@ -97,6 +97,7 @@ contains
     if (stat == STAT_OK) call check_tuned(scn, stat, errmsg)
     if (stat == STAT_OK) call resolve_impact(scn, stat, errmsg)
     if (stat == STAT_OK) call check_large(scn, stat, errmsg)
+    if (stat == STAT_OK) call check_spin(scn, stat, errmsg)
     ! KINEMATICS LARGE: K0 + 4M/h² holds the reference axes, which a rotating stiff member leaves:
     ! unless the scene says otherwise, the iteration is Newton's (TANGENT), whose quadratic
     ! convergence leaves the energy and momentum errors far below the tolerance (measured in
@@ -188,5 +189,22 @@ contains
       end if
     end do
   end subroutine check_large
+  !> INITIAL … ANGULAR_VELOCITY in an axisymmetric scene: an in-plane rotation is no rigid motion
+  !> of a ring (it stretches the hoops).
+  subroutine check_spin(scn, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: i
+    stat = STAT_OK
+    if (.not. scene_axisymmetric(scn)) return
+    do i = 1, size(scn%initials)
+      if (scn%initials(i)%kind /= INIT_ANGULAR) cycle
+      call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(scn%initials(i)%line) // ': INITIAL: an ' // &
+        'in-plane rotation is no rigid motion of an axisymmetric body (it would stretch the hoops), ' // &
+        "at 'ANGULAR_VELOCITY'")
+      return
+    end do
+  end subroutine check_spin
 end module scene_loader
 
