@@ -156,7 +156,7 @@ contains
     end if
     if (scn%modes > 0) call run_modes()
     call scene_report_out()
-    if (scn%time_zero_line > 0) then             ! MODES alone (TIME END = START)
+    if (scn%time_zero_line > 0 .and. scn%static_steps == 0) then   ! MODES alone (TIME END = START)
       if (.not. quiet) call say('  no time steps (TIME END = START): the modes only; results in ' // outdir // '/')
       call check_stdout()
       return

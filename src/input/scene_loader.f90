@@ -90,9 +90,9 @@ contains
       return
     end if
     call check_required(st, sch, path, stat, errmsg)
-    if (stat == STAT_OK .and. scn%time_zero_line > 0 .and. scn%modes == 0) call set_error(stat, errmsg, STAT_INPUT, &
-      path // ':' // str(scn%time_zero_line) // ": TIME: END equals START: no step to compute (a scene of MODES alone " // &
-      "says MODES n), at 'END'")
+    if (stat == STAT_OK .and. scn%time_zero_line > 0 .and. scn%modes == 0 .and. scn%static_steps == 0) &
+      call set_error(stat, errmsg, STAT_INPUT, path // ':' // str(scn%time_zero_line) // ": TIME: END equals START: " // &
+      "no step to compute (a scene of MODES or STATIC alone says MODES n or STATIC), at 'END'")
     if (stat == STAT_OK) call default_mass(scn)
     if (stat == STAT_OK) call check_tuned(scn, stat, errmsg)
     if (stat == STAT_OK) call resolve_impact(scn, stat, errmsg)

@@ -111,6 +111,7 @@ contains
     rs%nsteps = nint(span / rs%h)
     if (abs(rs%nsteps * rs%h - span) > 1.0e-9_dp * span) rs%nsteps = ceiling(span / rs%h)
     rs%nsteps = max(rs%nsteps, 1)
+    if (scn%time_zero_line > 0) rs%nsteps = 0     ! STATIC alone (TIME END = START): the state of t = 0 only
     call rs%st%init(n, scn%max_iterations, rs%h, sys%extended)
     allocate (fstatic(n), ustatic(n))
     call initial_state(scn, sys, rs%st%u, rs%st%v, fstatic, has_static, stat, errmsg)

@@ -20,6 +20,7 @@ the loads and gravity of the start time, then the dynamics from that equilibrium
 - the elastica (KINEMATICS LARGE, P L^2/EI = 5, STATIC STEPS 5): the tip at (0.71379, 0.38763) L
   (Mattiasson) within 5e-4 L;
 - a plate pulled by IMPOSE on 81 nodes: the static reaction E t H ε, at rest after;
+- a static analysis alone (TIME END = START): the cantilever's P L^3/(3 EI) and P L (1e-12);
 - bad input: a free rigid mode (a point mass held by nothing) named, STEPS 0.
 """
 import os
@@ -205,6 +206,37 @@ OUTPUT HISTORY EVERY 1 FIELDS EVERY 0 PROBE pl.right RX
     at_rest('plate pulled by IMPOSE', out)
 
 
+def static_alone():
+    """A static analysis alone (TIME END equal to START): a cantilever under a tip load, the state of
+    t = 0 written (one row) and nothing stepped: tip deflection P L^3 / (3 EI) and clamp moment P L
+    (1e-12)."""
+    scene = sc.write_scene('static_alone.dat', """LINE beam FROM 0 0 TO 1 0 ELEMENTS 10 TYPE BEAM2
+MATERIAL steel ELASTIC YOUNG 2.1e11 POISSON 0.3 DENSITY 7800
+SECTION sq AREA 1e-4 INERTIA 8.333333333333333e-10 HEIGHT 0.01
+MODEL beam MATERIAL steel SECTION sq
+FIX beam.start UX UY RZ
+LOAD tip NODES beam.end FORCE 0 -10
+STATIC
+TIME STEP 1e-4 END 0
+OUTPUT PROBE beam.end UY PROBE beam.start MZ
+""")
+    out = sc.run_ok(scene)
+    p = sc.probes(out)
+    sc.report('STATIC alone (TIME END = START): one row, t = 0', len(p['time']) == 1 and p['time'][0] == 0.0,
+              '%d rows' % len(p['time']))
+    sc.close('STATIC alone: tip deflection P L^3/(3 EI)', p['beam.end.UY'][0], -10.0 / (3 * E * I), 1e-12)
+    sc.close('STATIC alone: clamp moment P L', p['beam.start.MZ'][0], 10.0, 1e-12)
+    rc, err, out = sc.run(sc.write_scene('time_zero.dat', """LINE beam FROM 0 0 TO 1 0 ELEMENTS 10 TYPE BEAM2
+MATERIAL steel ELASTIC YOUNG 2.1e11 POISSON 0.3 DENSITY 7800
+SECTION sq AREA 1e-4 INERTIA 8.333333333333333e-10 HEIGHT 0.01
+MODEL beam MATERIAL steel SECTION sq
+FIX beam.start UX UY RZ
+TIME STEP 1e-4 END 0
+"""), outdir=sc.new_dir('never'))
+    sc.report('TIME END = START without MODES or STATIC: exit 2 naming END', rc == 2 and "at 'END'" in err and
+              not os.path.exists(out), err.strip())
+
+
 def bad_input():
     free = sc.write_scene('static_free.dat', """NODE a AT 0 0
 ELEMENT m TYPE MASS NODES a
@@ -230,4 +262,5 @@ bolt()
 plastic_bar()
 elastica()
 imposed()
+static_alone()
 bad_input()
