@@ -28,7 +28,12 @@ contains
       if (.not. massless(nodes(a))) cycle
       do d = 1, 2
         ia = (a - 1) * nper + d
-        moved = 2.0_dp * sum(me(ia, :)) - me(ia, ia)
+        ! The mass the row holds in a rigid translation along d: its entries on the d DOFs of the
+        ! element's nodes (not a beam's rotations, kg m, nor the other direction).
+        moved = -me(ia, ia)
+        do b = 1, size(nodes)
+          moved = moved + 2.0_dp * me(ia, (b - 1) * nper + d)
+        end do
         me(ia, :) = 0.0_dp
         me(:, ia) = 0.0_dp
         do b = 1, size(nodes)
