@@ -636,7 +636,8 @@ contains
     cs%st%r_prev = merge(lam, 0.0_dp, cs%st%active)
     cs%st%lambda = lam
     cs%st%active_iter = cs%st%active .or. cs%bilat
-    cs%lam_step = 2.0_dp * cs%st%r_prev            ! (the outputs of t = 0 read the static force, ½ Λ)
+    ! The outputs of t = 0 read the static forces as ½ Λ (contacts, and IMPOSE's reactions).
+    cs%lam_step = 2.0_dp * merge(lam, 0.0_dp, cs%st%active .or. cs%bilat)
     cs%cimp = 0.0_dp
   end subroutine contact_set_resting
 

@@ -23,7 +23,8 @@ module newmark
   use contact_checks, only: check_massless, check_initial_gaps
   use static_preload, only: static_report_t, static_solve
   use cholmod_binding, only: factor_stats_t
-  use newmark_step, only: step_report_t, iterate_eq9, iterate_eq9_zone, end_step, following_rows, STEP_CONVERGED, &
+  use newmark_step, only: residual_history, step_report_t, iterate_eq9, iterate_eq9_zone, end_step, following_rows, &
+    STEP_CONVERGED, &
     STEP_DIVERGED, STEP_NOT_CONVERGED, &
     STEP_NONFINITE, STEP_INVERTED, STEP_INDEFINITE
   use run_outputs, only: output_set_t, HISTORY_HEADER, EVENTS_HEADER
@@ -100,7 +101,7 @@ contains
     type(run_state_t), intent(inout) :: rs
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: n, minor, k
+    integer :: n, minor
     real(dp) :: span
     real(dp), allocatable :: fstatic(:), ustatic(:)
     logical :: has_static
@@ -161,11 +162,8 @@ contains
     call rs%en%start(rs%st%kinetic, rs%st%inc%work + rs%pre%work_internal, rs%st%inc%elastic, rs%pre%dissipated)
     call refresh_points(scn, sys, rs%st%u, .true.)
     call reaction_update(scn, sys, rs%st%u, rs%st%v, scn%t_start, rs%h, .true.)
-    if (scn%static_steps > 0 .and. rs%has_contact) then    ! STATIC: the imposed DOFs' static reactions
-      do k = 1, size(rs%imp_row)
-        sys%react%value(rs%imp_slot(k)) = sys%react%value(rs%imp_slot(k)) + rs%imp_w(k) * rs%lam(rs%imp_row(k))
-      end do
-    end if
+    if (scn%static_steps > 0 .and. rs%has_contact) &      ! STATIC: the imposed DOFs' static reactions
+      call imposed_reactions(rs%cs, rs%imp_row, rs%imp_slot, rs%imp_w, sys%react%value)
     call external_force(scn, sys, scn%t_start, rs%st%f_n, rs%st%u)
   end subroutine prepare_run
 
@@ -672,7 +670,7 @@ contains
       call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'the iteration of eq (9) diverged (residual ' // &
         str(rs%st%res_hist(rep%iterations)) // ' at iteration ' // str(rep%iterations) // ', first non-finite at ' &
         // dof_label(scn, sys, rep%bad_equation) // '; residual norms: ' // &
-        history_text(rs%st%res_hist(1:rep%iterations)) // '); try a smaller TIME STEP or SCHEME ITERATION ' // &
+        residual_history(rs%st%res_hist(1:rep%iterations)) // '); try a smaller TIME STEP or SCHEME ITERATION ' // &
         'TANGENT' // where)
     case (STEP_INVERTED)
       nodes = ''
@@ -691,11 +689,11 @@ contains
       if (rep%element > 0) nodes = ' (element ' // str(rep%element) // ' turned inside out)'
       call set_error(stat, errmsg, STAT_RUN, at_step(step, t) // 'the KINEMATICS LARGE tangent at iteration ' // &
         str(rep%iterations) // ' is not positive definite' // nodes // ': ' // rep%message // '; residual norms: ' // &
-        history_text(rs%st%res_hist(1:max(rep%iterations - 1, 0))) // where)
+        residual_history(rs%st%res_hist(1:max(rep%iterations - 1, 0))) // where)
     case default
       call set_error(stat, errmsg, STAT_RUN, 'step ' // str(step) // ' (t = ' // str(t) // ') did not converge in ' &
         // str(rep%iterations) // ' iterations (tolerance ' // str(scn%tolerance) // ' x force scale ' // &
-        str(rep%force_scale) // '); residual norms: ' // history_text(rs%st%res_hist(1:rep%iterations)) // where)
+        str(rep%force_scale) // '); residual norms: ' // residual_history(rs%st%res_hist(1:rep%iterations)) // where)
     end select
   end subroutine step_failure
 
@@ -821,20 +819,6 @@ contains
     if (rs%has_contact) call rs%cs%load(ck, stat, errmsg)
     call ck%close()
   end subroutine load_checkpoint
-
-  !> Residual norms as text, for the non-convergence report.
-  function history_text(res) result(txt)
-    real(dp), intent(in) :: res(:)
-    character(len=:), allocatable :: txt
-    integer :: k
-    character(len=16) :: buf
-    txt = ''
-    do k = 1, size(res)
-      write (buf, '(es10.3)') res(k)
-      txt = txt // trim(adjustl(buf)) // merge(', ', '  ', k < size(res))
-    end do
-    txt = trim(txt)
-  end function history_text
 
   !> The progress line on stderr (runs longer than 2 s, at most once a second).
   subroutine progress(nsteps, step, t, c0, crate, clast)

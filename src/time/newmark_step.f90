@@ -15,7 +15,8 @@ module newmark_step
   use nonlinear_zone, only: zone_t
   implicit none
   private
-  public :: step_report_t, iterate_eq9, iterate_eq9_zone, end_step, following_rows, STEP_CONVERGED, STEP_DIVERGED, &
+  public :: residual_history, step_report_t, iterate_eq9, iterate_eq9_zone, end_step, following_rows, STEP_CONVERGED, &
+    STEP_DIVERGED, &
     STEP_NOT_CONVERGED, &
     STEP_NONFINITE, &
     STEP_INVERTED, STEP_INDEFINITE
@@ -361,6 +362,20 @@ contains
   end function step_work
 
   !> Index of the first NaN or infinite entry, 0 if none.
+  !> Residual norms as text, for the non-convergence reports (a step's, a STATIC increment's).
+  function residual_history(res) result(txt)
+    real(dp), intent(in) :: res(:)
+    character(len=:), allocatable :: txt
+    integer :: k
+    character(len=16) :: buf
+    txt = ''
+    do k = 1, size(res)
+      write (buf, '(es10.3)') res(k)
+      txt = txt // trim(adjustl(buf)) // merge(', ', '  ', k < size(res))
+    end do
+    txt = trim(txt)
+  end function residual_history
+
   !> There are rows that follow the geometry (contact_geometry).
   logical function following(follow)
     type(following_t), intent(in), optional :: follow

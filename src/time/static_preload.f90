@@ -15,6 +15,7 @@ module static_preload
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use scene, only: scene_t, condition_nodes
+  use scene_helpers, only: model_size
   use assembly, only: system_t, external_force, commit_state
   use internal_forces, only: internal_force, work_increment_t
   use dof_map, only: equation_bodies, body_rigid_freedom
@@ -23,6 +24,7 @@ module static_preload
     contact_set_resting, contact_schur_only
   use dense_solve, only: spsd_solve
   use contact_geometry, only: following_t
+  use newmark_step, only: residual_history
   implicit none
   private
   public :: static_report_t, static_solve
@@ -90,10 +92,8 @@ contains
     allocate (f(n), fprev(n), fint(n), fcorr(n), r(n), du(n), ddu(n), un(n), res(scn%static_max_iter), uk(n), dcorr(n))
     moving = .false.
     if (present(follow) .and. present(cs)) moving = follow%count() > 0
-    associate (x => scn%mesh%x(:, 1:scn%mesh%nnode))
-      lscale = max(maxval(x(1, :)) - minval(x(1, :)), maxval(x(2, :)) - minval(x(2, :)), maxval(abs(x)), &
-        maxval(scn%conditions%radius, mask=scn%conditions%curved /= 0), tiny(1.0_dp))
-    end associate
+    lscale = max(model_size(scn%mesh), maxval(abs(scn%mesh%x(:, 1:scn%mesh%nnode))), &
+      maxval(scn%conditions%radius, mask=scn%conditions%curved /= 0))
     tangent = allocated(sys%ops%tval)
     constant = .not. tangent .and. .not. moving  ! linear elastic: K0 + εM factorized once
     if (present(cs)) call contact_schur_only(cs, .true.)
@@ -176,9 +176,10 @@ contains
         if (.not. (maxval(abs(du)) <= 1.0e3_dp * lscale)) exit   ! no equilibrium within reach
       end do
       if (.not. conv) then
+        it = min(it, scn%static_max_iter)           ! (the last six residuals)
         call set_error(stat, errmsg, STAT_RUN, scn%path // ':' // str(scn%static_line) // ': STATIC: increment ' // &
-          str(k) // ' of ' // str(scn%static_steps) // ' did not converge: residual ' // history(res(1:min(it, &
-          scn%static_max_iter))) // ' against ' // str(scn%static_tol * fscale) // &
+          str(k) // ' of ' // str(scn%static_steps) // ' did not converge: residual ' // &
+          residual_history(res(max(1, it - 5):it)) // ' against ' // str(scn%static_tol * fscale) // &
           ' (more STEPS, a larger MAX_ITERATIONS, or loads the supports and contacts cannot carry)')
         call fac%destroy()
         return
@@ -350,8 +351,7 @@ contains
     type(contact_set_t), intent(in), optional :: cs
     integer, allocatable :: body(:)
     logical, allocatable :: free(:, :)
-    real(dp), allocatable :: ct(:, :), g0(:), t(:)
-    real(dp) :: gram(3, 3), x(3), b(3), nrm(3)
+    real(dp), allocatable :: ct(:, :), g0(:), tm(:, :)
     logical :: dropped(3)
     integer :: ib, k, l, nf, rank, idx(3), nc, nin, j, e2(2)
     stat = STAT_OK
@@ -363,49 +363,44 @@ contains
     ! A bowl (a curved obstacle, INSIDE) also holds its node along the tangent (its curvature):
     ! one more row each, t'u at the node.
     nin = count(scn%conditions%curved == -1)
-    allocate (ct(nc + nin, 3), g0(nc), t(sys%dofs%neq))
-    if (nc > 0) call contact_gaps(cs, 0.0_dp * t, g0)
+    allocate (ct(nc + nin, 3), g0(nc), tm(sys%dofs%neq, 3))
+    if (nc > 0) call contact_gaps(cs, 0.0_dp * tm(:, 1), g0)
     do ib = 1, size(free, 2)
       if (.not. any(body == ib)) cycle
       nf = 0
       do k = 1, size(rig, 2)
         if (.not. free(k, ib)) cycle
-        t = merge(rig(:, k), 0.0_dp, body == ib)
-        if (norm2(t) == 0.0_dp) cycle            ! (a rotation of a body with no DOF it moves)
-        if (dependent_mode(rig, body == ib, idx(1:nf), k)) cycle   ! (a point's rotation: a translation)
+        tm(:, nf + 1) = merge(rig(:, k), 0.0_dp, body == ib)
+        if (norm2(tm(:, nf + 1)) == 0.0_dp) cycle   ! (a rotation of a body with no DOF it moves)
+        call column_rank(tm(:, 1:nf + 1), rank)
+        if (rank <= nf) cycle                    ! (a point's rotation: a translation)
         nf = nf + 1
         idx(nf) = k
-        if (nc > 0) then
-          call contact_gaps(cs, t, ct(1:nc, nf))
-          ct(1:nc, nf) = ct(1:nc, nf) - g0
-        end if
-        l = nc
-        do j = 1, size(scn%conditions)
-          if (scn%conditions(j)%curved /= -1) cycle
-          l = l + 1
-          e2 = max(sys%dofs%eqn(1:2, scn%conditions(j)%node_b), 0)
-          ct(l, nf) = 0.0_dp
-          if (e2(1) > 0) ct(l, nf) = ct(l, nf) - scn%conditions(j)%normal(2) * t(e2(1))
-          if (e2(2) > 0) ct(l, nf) = ct(l, nf) + scn%conditions(j)%normal(1) * t(e2(2))
-        end do
+        associate (t => tm(:, nf))
+          if (nc > 0) then
+            call contact_gaps(cs, t, ct(1:nc, nf))
+            ct(1:nc, nf) = ct(1:nc, nf) - g0
+          end if
+          l = nc
+          do j = 1, size(scn%conditions)
+            if (scn%conditions(j)%curved /= -1) cycle
+            l = l + 1
+            e2 = max(sys%dofs%eqn(1:2, scn%conditions(j)%node_b), 0)
+            ct(l, nf) = 0.0_dp
+            if (e2(1) > 0) ct(l, nf) = ct(l, nf) - scn%conditions(j)%normal(2) * t(e2(1))
+            if (e2(2) > 0) ct(l, nf) = ct(l, nf) + scn%conditions(j)%normal(1) * t(e2(2))
+          end do
+        end associate
       end do
       if (nf == 0) cycle
       shifted = .true.
       do k = 1, nf
-        nrm(k) = 0.0_dp
-        if (nc + nin > 0) nrm(k) = norm2(ct(:, k))
-        if (nrm(k) == 0.0_dp) then
+        if (norm2(ct(:, k)) == 0.0_dp) then      ! (also with no contact row at all)
           call free_mode_error(scn, ib, MODE_NAMES(idx(k)), stat, errmsg)
           return
         end if
       end do
-      do k = 1, nf
-        do l = 1, nf
-          gram(k, l) = dot_product(ct(:, k), ct(:, l)) / (nrm(k) * nrm(l))
-        end do
-      end do
-      b = 0.0_dp
-      call spsd_solve(gram(1:nf, 1:nf), b(1:nf), x(1:nf), rank, dropped(1:nf), rtol=1.0e-10_dp)
+      call column_rank(ct(:, 1:nf), rank, dropped(1:nf))
       if (rank < nf) then
         do k = 1, nf
           if (dropped(k)) exit
@@ -417,29 +412,30 @@ contains
     end do
   end subroutine held_modes_check
 
-  !> Mode k of a body (mask: its equations) is a combination of the modes kept before it (a single
-  !> node's rotation is a translation): the Gram matrix of the masked modes loses rank with it.
-  logical function dependent_mode(rig, mask, kept, k) result(dep)
-    real(dp), intent(in) :: rig(:, :)
-    logical, intent(in) :: mask(:)
-    integer, intent(in) :: kept(:), k
+  !> The rank of the (at most 3, non-zero) columns of a: a pivoted Cholesky of their normalized Gram
+  !> matrix (dense_solve's spsd_solve), dropped(k): column k depends on the others.
+  subroutine column_rank(a, rank, dropped)
+    real(dp), intent(in) :: a(:, :)
+    integer, intent(out) :: rank
+    logical, intent(out), optional :: dropped(:)
     real(dp) :: gram(3, 3), b(3), x(3), nrm(3)
-    integer :: m, i, l, rank, cols(3)
-    m = size(kept) + 1
-    cols(1:m) = [kept, k]
+    integer :: m, i, l
+    m = size(a, 2)
     do i = 1, m
-      nrm(i) = norm2(merge(rig(:, cols(i)), 0.0_dp, mask))
+      nrm(i) = norm2(a(:, i))
     end do
     do i = 1, m
       do l = 1, m
-        gram(i, l) = dot_product(merge(rig(:, cols(i)), 0.0_dp, mask), merge(rig(:, cols(l)), 0.0_dp, mask)) / &
-          (nrm(i) * nrm(l))
+        gram(i, l) = dot_product(a(:, i), a(:, l)) / (nrm(i) * nrm(l))
       end do
     end do
     b = 0.0_dp
-    call spsd_solve(gram(1:m, 1:m), b(1:m), x(1:m), rank, rtol=1.0e-10_dp)
-    dep = rank < m
-  end function dependent_mode
+    if (present(dropped)) then
+      call spsd_solve(gram(1:m, 1:m), b(1:m), x(1:m), rank, dropped, rtol=1.0e-10_dp)
+    else
+      call spsd_solve(gram(1:m, 1:m), b(1:m), x(1:m), rank, rtol=1.0e-10_dp)
+    end if
+  end subroutine column_rank
 
   subroutine free_mode_error(scn, ib, what, stat, errmsg)
     type(scene_t), intent(in) :: scn
@@ -451,15 +447,4 @@ contains
       ' has a ' // trim(what) // ' that no support (FIX, IMPOSE) or contact condition holds: no static equilibrium ' // &
       "to solve for; fix it, at 'STATIC'")
   end subroutine free_mode_error
-
-  function history(res) result(txt)
-    real(dp), intent(in) :: res(:)
-    character(len=:), allocatable :: txt
-    integer :: i
-    txt = ''
-    do i = max(1, size(res) - 5), size(res)
-      txt = txt // str(res(i)) // merge(', ', '  ', i < size(res))
-    end do
-    txt = trim(txt)
-  end function history
 end module static_preload
