@@ -483,33 +483,49 @@ contains
   !> of the map E -> ℓ, G ΔE = Δℓ:
   !>     G = P_m + φ r ⊗ d / (d·ΔE),  P_m = ½(P(n) + P(n+1)),  r = Δℓ - P_m ΔE,  d = ΔE (shear halved),
   !> so that S̄·ΔE = T̄·Δℓ: the step's work is the law's. r is the trapezoid rule's error on the
-  !> smooth log map, O(|ΔE|³): the material part stays in T̄ (as σ̄ in small strain) and the term
-  !> vanishes with the increment. Its round-off, ν ≈ 64 ε (|ℓ| + |E|), divided by |ΔE| would put
-  !> noise in S̄ at small increments of a strained point (Newton then stagnates: the 8 x 40 Taylor
-  !> bar at 69 µs); φ, a smooth step of |ΔE|/δ from 0 at δ = ν^(1/3) to 1 at 2δ, leaves it out
-  !> there, where it is below |T̄| δ³ in work. snoise = |T̄| δ²: the stress noise left either way,
-  !> for the attainable residual (round_floor).
+  !> smooth log map, O(|ℓ'''| |ΔE|³): the material part stays in T̄ (as σ̄ in small strain). Its
+  !> round-off, ν ≈ 64 ε (|ℓ| + |E| + |P| |ΔE|), divided by |ΔE| would put noise in S̄ at small
+  !> increments of a strained point (Newton then stagnates: the 8 x 40 Taylor bar at 69 µs). φ is
+  !> the larger of two smooth steps: of |ΔE|/δ from 0 at δ = ν^(1/3) to 1 at 2δ (the term left out
+  !> where it is below |T̄| δ³ in work on a gently curved map), and of |T̄·r| / (|T̄| ν) from 0 at 1 to
+  !> 1 at 2 (kept wherever the work it carries stands above its round-off: a crushed point, λ² =
+  !> 1/4000, has |ℓ'''| ~ 1/λ⁶, and the cut-off on |ΔE| alone left 3e-7 J in one step's balance of
+  !> the axisymmetric Taylor bar). snoise: the stress noise left, |T̄| δ², or |T̄| ν / |ΔE| where
+  !> the second step brings the term in below 2δ, for the attainable residual (round_floor).
   pure subroutine secant_stress(tbar, ln, l1, en, e1, pn, p1, sbar, snoise)
     real(dp), intent(in) :: tbar(4), ln(4), l1(4), en(4), e1(4), pn(4, 4), p1(4, 4)
     real(dp), intent(out) :: sbar(4), snoise
-    real(dp) :: pm(4, 4), de(4), dd(4), r(4), den, delta, x, phi
+    real(dp) :: pm(4, 4), de(4), dd(4), r(4), den, delta, nu, x, phi, phiw, tn, wr
     integer :: i
     pm = 0.5_dp * (pn + p1)
     de = e1 - en
     dd = [de(1), de(2), de(3), 0.5_dp * de(4)]
     den = dot_product(dd, de)
     sbar = matmul(tbar, pm)
-    delta = (64.0_dp * epsilon(1.0_dp) * (sum(abs(l1) + abs(ln)) + sum(abs(e1) + abs(en))))**(1.0_dp / 3.0_dp)
-    snoise = norm2(tbar) * delta**2
+    tn = norm2(tbar)
+    nu = 64.0_dp * epsilon(1.0_dp) * (sum(abs(l1) + abs(ln)) + sum(abs(e1) + abs(en)))
+    delta = nu**(1.0_dp / 3.0_dp)
+    snoise = tn * delta**2
+    if (.not. (den > 0.0_dp .and. tn > 0.0_dp)) return
     x = sqrt(den) / max(delta, tiny(1.0_dp)) - 1.0_dp
-    if (x <= 0.0_dp) return
-    phi = 1.0_dp
-    if (x < 1.0_dp) phi = x * x * (3.0_dp - 2.0_dp * x)
+    phi = smooth01(x)
     do i = 1, 4
       r(i) = (l1(i) - ln(i)) - dot_product(pm(i, :), de)
     end do
-    sbar = sbar + (phi * dot_product(tbar, r) / den) * dd
+    wr = dot_product(tbar, r)
+    nu = nu + 64.0_dp * epsilon(1.0_dp) * max(1.0_dp, maxval(abs(pm))) * sum(abs(de))
+    phiw = smooth01(abs(wr) / (tn * nu) - 1.0_dp)
+    if (phiw > phi) snoise = max(snoise, tn * nu / sqrt(den))
+    phi = max(phi, phiw)
+    if (phi > 0.0_dp) sbar = sbar + (phi * wr / den) * dd
   end subroutine secant_stress
+
+  !> 0 for x <= 0, 1 for x >= 1, x²(3 - 2x) between (C¹).
+  pure real(dp) function smooth01(x)
+    real(dp), intent(in) :: x
+    smooth01 = min(max(x, 0.0_dp), 1.0_dp)
+    smooth01 = smooth01 * smooth01 * (3.0_dp - 2.0_dp * smooth01)
+  end function smooth01
 
   !> The in-plane block of m (4 x 4 on the strain b maps du to; xx, yy, xy) symmetrized and split:
   !> ke += w b' m⁺ b with m⁺ its positive part, kg += w b' (m - m⁺) b (m's zz row and column are

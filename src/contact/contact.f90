@@ -141,6 +141,14 @@ module contact
     real(dp), allocatable :: wq(:), wdiag(:), nu(:), tolj(:), xw(:)
     logical, allocatable :: viol(:)
     logical :: inelastic = .false.           !< a condition has RESTITUTION e < 1
+    ! Moving obstacles (move_obstacle): over the step the obstacle takes wshift(j) off the gap,
+    ! its normal velocity at the end is wrate(j), its velocity wvel(:, j); the frame of a group's
+    ! obstacles (vframe, M vframe) for the impact corrections (contact_frame).
+    logical :: moving = .false., framed = .false.
+    real(dp), allocatable :: wshift(:), wrate(:), wvel(:, :), vframe(:), mvframe(:)
+    logical, allocatable :: fr_framed(:)     ! (workspaces of obstacle_frame: bodies, their velocity,
+    real(dp), allocatable :: fr_wb(:, :), fr_gain(:), fr_target(:)   ! the conditions it projects on)
+    integer, allocatable :: fr_conds(:)
   contains
     procedure :: n_conditions => cs_n_conditions
     procedure :: n_active => cs_n_active
@@ -164,6 +172,7 @@ module contact
     procedure :: last_active_set => cs_last_active_set
     procedure :: changing_set => cs_changing_set
     procedure :: set_solver => cs_set_solver
+    procedure :: move_obstacle => cs_move_obstacle
     procedure :: save => cs_save
     procedure :: load => cs_load
   end type contact_set_t
@@ -216,6 +225,48 @@ module contact
       integer, intent(out) :: stat
       character(len=:), allocatable, intent(out) :: errmsg
     end subroutine hzero_reflection
+    !> Lumped mass M = diag(mdiag); a consistent one (pattern, values) factorized with CHOLMOD;
+    !> any M⁻¹ operator (copied); each checked on every condition (contact_mass_ops).
+    module subroutine set_mass_diag(cs, mdiag, stat, errmsg)
+      type(contact_set_t), intent(inout) :: cs
+      real(dp), intent(in) :: mdiag(:)
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+    end subroutine set_mass_diag
+    module subroutine set_mass_chol(cs, pat, mval, stat, errmsg)
+      type(contact_set_t), intent(inout) :: cs
+      type(sym_csc_t), intent(in) :: pat
+      real(dp), intent(in), contiguous :: mval(:)
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+    end subroutine set_mass_chol
+    module subroutine set_mass_op(cs, op, stat, errmsg)
+      type(contact_set_t), intent(inout) :: cs
+      class(inverse_op_t), intent(in) :: op
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+    end subroutine set_mass_op
+    module subroutine contact_destroy_mass(cs)
+      type(contact_set_t), intent(inout) :: cs
+    end subroutine contact_destroy_mass
+
+    !> Condition j's obstacle moves (contact_frame).
+    module subroutine cs_move_obstacle(self, j, shift, rate, vel)
+      class(contact_set_t), intent(inout) :: self
+      integer, intent(in) :: j
+      real(dp), intent(in) :: shift, rate, vel(:)
+    end subroutine cs_move_obstacle
+
+    !> The velocity v, mv taken into (enter) or out of the frame of the obstacles the groups
+    !> touch, for the impact corrections (contact_frame).
+    module subroutine obstacle_frame(cs, enter, body, v, mv, stat, errmsg)
+      type(contact_set_t), intent(inout) :: cs
+      logical, intent(in) :: enter
+      integer, intent(in) :: body(:)
+      real(dp), intent(inout) :: v(:), mv(:)
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+    end subroutine obstacle_frame
   end interface
 
   interface contact_set_mass
@@ -509,6 +560,7 @@ contains
     do j = 1, cs%nc
       cs%gend(j) = cs%gn(j) + cs%c%dot(j, du)
     end do
+    if (cs%moving) cs%gn = cs%gn + cs%wshift     ! (the rows hold g0 at the step's end)
     cs%geo_step = cs%geo_now
     cs%gaps_kept = .true.
   end subroutine contact_step_gaps
@@ -674,71 +726,6 @@ contains
   ! Mass and iteration-matrix operators
   ! ---------------------------------------------------------------------------------------
 
-  !> Lumped mass: M = diag(mdiag).
-  subroutine set_mass_diag(cs, mdiag, stat, errmsg)
-    type(contact_set_t), intent(inout) :: cs
-    real(dp), intent(in) :: mdiag(:)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    type(diag_inverse_t) :: op
-    allocate (op%d, source=mdiag)
-    call set_mass_op(cs, op, stat, errmsg)
-  end subroutine set_mass_diag
-
-  !> Consistent mass (pattern, values): factorized with CHOLMOD and kept in cs; M must be
-  !> positive definite on every free equation.
-  subroutine set_mass_chol(cs, pat, mval, stat, errmsg)
-    type(contact_set_t), intent(inout) :: cs
-    type(sym_csc_t), intent(in) :: pat
-    real(dp), intent(in), contiguous :: mval(:)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    cs%mass_set = .false.
-    call cs%sp%set_mass_chol(pat, mval, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call finish_mass(cs, stat, errmsg)
-  end subroutine set_mass_chol
-
-  !> Any M⁻¹ operator (tests, special masses); op is copied into cs.
-  subroutine set_mass_op(cs, op, stat, errmsg)
-    type(contact_set_t), intent(inout) :: cs
-    class(inverse_op_t), intent(in) :: op
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    cs%mass_set = .false.
-    call cs%sp%set_mass_op(op)
-    call finish_mass(cs, stat, errmsg)
-  end subroutine set_mass_op
-
-  subroutine contact_destroy_mass(cs)
-    type(contact_set_t), intent(inout) :: cs
-    call cs%sp%destroy_mass()
-    cs%mass_set = .false.
-  end subroutine contact_destroy_mass
-
-  !> Every condition must see a mass: check the diagonal of A M⁻¹A' (n solves with a
-  !> consistent mass, once per run).
-  subroutine finish_mass(cs, stat, errmsg)
-    type(contact_set_t), intent(inout) :: cs
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    real(dp) :: a(1, 1)
-    integer :: j
-    stat = STAT_OK
-    if (.not. cs%finalized) then
-      call set_error(stat, errmsg, STAT_INPUT, 'contact_set_mass: call contact_finalize first')
-      return
-    end if
-    if (cs%sp%mass_diagonal()) then
-      do j = 1, cs%nc
-        if (cs%bilat(j)) cycle                  ! (no impact correction on an IMPOSE row)
-        call cs%sp%am_block(cs%c, [j], 1, a, stat, errmsg)
-        if (stat /= STAT_OK) return
-      end do
-    end if
-    cs%mass_set = .true.
-  end subroutine finish_mass
-
   !> A new iteration matrix S = K0 + 4M/h² (per step size, or per iteration with TANGENT), the
   !> driver's CHOLMOD factor: the cached Schur columns are dropped. pat and sval (the pattern
   !> and values of S) enable the augmented system; without them only SOLVER_SCHUR works.
@@ -849,6 +836,7 @@ contains
     lambda = 0.0_dp
     if (cs%nc == 0) return
     call cs%c%gaps(u_n, cs%st%gap_n)
+    if (cs%moving) cs%st%gap_n = cs%st%gap_n + cs%wshift   ! (g0 is the step end's: g(n) before the obstacle moved)
     ! A condition that starts the step slightly penetrated (within the input tolerance, or by
     ! the LCP tolerance at an earlier release) is held where it is, not pushed out: its target
     ! is g(n+1) >= g(n). Pushing it out would let the multiplier do the work ½ Λ |g(n)|, which
@@ -862,6 +850,7 @@ contains
         cs%wq(j) = cs%st%gap_n(j) + cs%c%dot(j, du_free)
         cs%tolj(j) = cs%settings%gap_rtol * cs%length_scale
       end if
+      if (cs%moving) cs%wq(j) = cs%wq(j) - cs%wshift(j)
     end do
     call cs%ms%bind(cs%c, s)
     call lcp_pivot(cs%ms, cs%wq, cs%settings%gap_rtol * cs%length_scale, cs%st%lambda, cs%st%gap, &

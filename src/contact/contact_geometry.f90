@@ -28,6 +28,10 @@ module contact_geometry
     integer, allocatable :: set(:)            !< its segments, sets(set)
     integer, allocatable :: side(:)           !< its side of a chain of line elements (pair_segment)
     real(dp), allocatable :: circle(:, :)     !< (4, n) a rigid circle (set 0): centre x, y, radius, +1 outside / -1 inside
+    ! A moving circle (move): its centre's displacement at the step's start and end, its velocity
+    ! at the end; the gap the step's motion takes off (set at each pairing); krow: k of a row.
+    real(dp), allocatable :: w0(:, :), w1(:, :), wv(:, :), shift(:)
+    integer, allocatable :: krow(:)
     integer, allocatable :: sptr(:), star(:)  !< the nodes of b's elements, star(sptr(k):sptr(k+1)-1): no partners
     logical, allocatable :: skip(:)           !< workspace: one star marked (nnode)
     integer, allocatable :: seg(:)            !< the segment it is paired with now (0: none this step, -1: not yet)
@@ -41,6 +45,7 @@ module contact_geometry
     procedure :: count => fg_count
     procedure :: changes => fg_changes
     procedure :: update => fg_update
+    procedure :: move => fg_move
   end type following_t
 
 contains
@@ -54,6 +59,7 @@ contains
     type(segment_set_t), intent(in) :: sets(:)
     integer, intent(in) :: nnode
     real(dp), intent(in), optional :: circle(:, :)   !< (4, n): the rigid circle of the conditions of set 0
+    integer :: i
     self%n = size(rows)
     allocate (self%circle(4, self%n))
     self%circle = 0.0_dp
@@ -68,6 +74,14 @@ contains
     allocate (self%skip(merge(nnode, 0, self%n > 0)))
     self%skip = .false.
     allocate (self%seg(self%n), self%vnode(self%n), self%gstart(self%n), self%x(2, merge(nnode, 0, self%n > 0)))
+    allocate (self%w0(2, self%n), self%w1(2, self%n), self%wv(2, self%n), self%shift(self%n), &
+      self%krow(merge(maxval(rows), 0, self%n > 0)))
+    self%w0 = 0.0_dp
+    self%w1 = 0.0_dp
+    self%wv = 0.0_dp
+    self%shift = 0.0_dp
+    self%krow = 0
+    self%krow(rows) = [(i, i = 1, self%n)]
     self%seg = -1                              ! (not paired yet)
     self%gstart = 0.0_dp
     self%vnode = 0
@@ -84,6 +98,19 @@ contains
     class(following_t), intent(in) :: self
     fg_changes = self%repairings
   end function fg_changes
+
+  !> Row j's circle moves over the next step: its centre displaced by w0 at the start, w1 at
+  !> the end (from its place at t = 0), velocity vel at the end (OBSTACLE … SPHERE … VELOCITY).
+  pure subroutine fg_move(self, j, w0, w1, vel)
+    class(following_t), intent(inout) :: self
+    integer, intent(in) :: j
+    real(dp), intent(in) :: w0(2), w1(2), vel(2)
+    integer :: k
+    k = self%krow(j)
+    self%w0(:, k) = w0
+    self%w1(:, k) = w1
+    self%wv(:, k) = vel
+  end subroutine fg_move
 
   !> Pair every following condition and rewrite its row in cs: at the start of the step (du
   !> absent) in the configuration x0 + u, where the gap found, g(n), is kept; during the
@@ -109,7 +136,7 @@ contains
     logical, intent(in), optional :: at_end
     type(segment_pair_t) :: pr
     integer :: k, i, d, j, eqs(6)
-    real(dp) :: coefs(6), g0, f, delta(2)
+    real(dp) :: coefs(6), g0, f, delta(2), cc(4)
     stat = STAT_OK
     if (self%n == 0) return
     f = 0.5_dp
@@ -127,17 +154,25 @@ contains
     end do
     do k = 1, self%n
       if (self%set(k) == 0) then               ! a rigid circle (OBSTACLE … SPHERE): always its partner
+        ! (its centre where it is at the start, the midpoint or the end of the step: move)
+        cc = self%circle(:, k)
+        cc(1:2) = cc(1:2) + (1.0_dp - f) * self%w0(:, k) + f * self%w1(:, k)
+        if (.not. present(du)) cc(1:2) = self%circle(1:2, k) + self%w0(:, k)
         if (present(du) .and. f == 0.5_dp) then
-          ! during the iteration: the discrete gradient between x(n) and x(n) + du (pair_circle)
+          ! during the iteration: the discrete gradient between x(n) and x(n) + du relative to the
+          ! circle (pair_circle), whose motion takes n̄.(w1 - w0) off the gap
           do d = 1, 2
             j = eqn(d, self%node(k))
-            delta(d) = 0.0_dp
-            if (j > 0) delta(d) = du(j)
+            delta(d) = self%w0(d, k) - self%w1(d, k)
+            if (j > 0) delta(d) = delta(d) + du(j)
           end do
-          call pair_circle(self%x(:, self%node(k)), self%circle(:, k), self%node(k), pr, delta)
+          call pair_circle(self%x(:, self%node(k)), cc, self%node(k), pr, delta)
         else
-          call pair_circle(self%x(:, self%node(k)), self%circle(:, k), self%node(k), pr)
+          call pair_circle(self%x(:, self%node(k)), cc, self%node(k), pr)
         end if
+        if (f /= 1.0_dp) self%shift(k) = dot_product(pr%normal, self%w1(:, k) - self%w0(:, k))
+        if (any(self%wv(:, k) /= 0.0_dp) .or. self%shift(k) /= 0.0_dp) call cs%move_obstacle(self%row(k), &
+          self%shift(k), dot_product(pr%normal, self%wv(:, k)), self%wv(:, k))
         if (.not. present(du)) then
           self%seg(k) = 1
           self%gstart(k) = pr%gap
@@ -168,6 +203,7 @@ contains
       end if
       eqs = 0
       g0 = self%gstart(k)                      ! g(u_n) = g(n)
+      if (self%set(k) == 0 .and. f /= 1.0_dp) g0 = g0 - self%shift(k)   ! (g0: the step end's)
       if (f == 1.0_dp) g0 = cs%gap_end(self%row(k))   ! g(u_n + du) = g(n+1)
       do i = 1, 3
         coefs(2 * i - 1:2 * i) = pr%w(i) * pr%normal

@@ -20,7 +20,7 @@ contains
   !>   the step are cs%events(1:cs%n_events).
   module procedure contact_end_step
     type(contact_report_t) :: rep, geo
-    real(dp) :: t_before
+    real(dp) :: t_before, t_lab
     integer :: j, k
 
     stat = STAT_OK
@@ -42,6 +42,14 @@ contains
     associate (gn => cs%gn, gend => cs%gend, now => cs%now, est => cs%est, rel => cs%rel, e => cs%e, y => cs%y)
       call step_conditions(cs, mode, u_n, du, rep)
       cs%gaps_kept = .false.
+      ! Moving obstacles: the corrections in their frame (contact_frame); t_lab the lab kinetic energy.
+      ! (only where a correction will act: v - V + V is v to round-off only)
+      t_lab = 0.5_dp * dot_product(v, mv)
+      if (cs%moving .and. present(body) .and. mode /= IMPACT_OFF .and. (rep%n_establish > 0 .or. rep%n_release > 0 .or. &
+        any(cs%follow .and. now))) then
+        call obstacle_frame(cs, .true., body, v, mv, stat, errmsg)
+        if (stat /= STAT_OK) return
+      end if
       t_before = 0.5_dp * dot_product(v, mv)
       cs%cimp = 0.0_dp
       cs%bimp = 0.0_dp
@@ -101,6 +109,10 @@ contains
         energy_restored = 0.5_dp * dot_product(v, mv) - t_before
       end if
       rep%energy_restored = energy_restored
+      if (cs%framed) then                      ! back to the lab: the rest of the change is the obstacles' work
+        call obstacle_frame(cs, .false., body, v, mv, stat, errmsg)
+        rep%obstacle_work = rep%obstacle_work + (0.5_dp * dot_product(v, mv) - t_lab - energy_restored)
+      end if
 
       ! Reactions (reported only) and the new state.
       if (mode == IMPACT_MASSLESS) then
@@ -139,6 +151,7 @@ contains
         do j = 1, cs%nc
           gend(j) = gn(j) + cs%c%dot(j, du)
         end do
+        if (cs%moving) gn = gn + cs%wshift      ! (the rows hold g0 at the step's end)
       end if
       ! Bilateral rows (IMPOSE) are no contacts: no events, no correction; their multipliers'
       ! work is the work of the imposed motion, for the driver's external work.
@@ -156,12 +169,16 @@ contains
         cs%lam_step = cs%st%lambda + cs%st%r_prev
         where (rel) e = -impact_energy_error(cs%st%r_prev, max(gend, 0.0_dp))
         rep%reaction_work = 0.5_dp * dot_product(cs%st%r_prev, gend - gn)
+        if (cs%moving) rep%reaction_work = rep%reaction_work + 0.5_dp * dot_product(cs%st%r_prev, cs%wshift)   ! (½ R(n)'C du)
       end if
       rep%n_active = count(now)
       rep%n_establish = count(est)
       rep%n_release = count(rel)
       rep%energy_error = sum(e)
       rep%scheme_work = 0.5_dp * dot_product(cs%lam_step, gend - gn)
+      ! A moving obstacle's work over the step: the multiplier's work ½ Λ c'du = ½ Λ (g(n+1) - g(n)
+      ! + shift) on the structure, less the contact's share.
+      if (cs%moving) rep%obstacle_work = 0.5_dp * sum(cs%lam_step * cs%wshift, mask=.not. cs%bilat)
     end associate
   end subroutine step_conditions
 
@@ -178,9 +195,12 @@ contains
     if (.not. cs%finalized .or. cs%nc == 0 .or. mode /= IMPACT_MASSLESS) return
     call step_conditions(cs, mode, u_n, du, rep)
     if (rep%n_establish == 0 .and. rep%n_release == 0) return
+    call obstacle_frame(cs, .true., body, v, mv, stat, errmsg)   ! (v, mv: scratch)
+    if (stat /= STAT_OK) return
     call cs%massless%correct(cs%sp, cs%c, body, cs%est, cs%rel, cs%now, cs%e, cs%settings%massless_min_fraction, v, mv, &
       cs%cimp, cs%bimp, cs%fallback, rep, stat, errmsg)
     shortfall = rep%unrestored
+    if (stat == STAT_OK) call obstacle_frame(cs, .false., body, v, mv, stat, errmsg)
   end procedure contact_shortfall
 
   !> a(1:n, 1:n) = C_idx M⁻¹ C_idx' for the conditions idx(1:n) (impact_space's am_block).

@@ -13,6 +13,7 @@ module impact_report
     real(dp) :: scheme_work = 0.0_dp         !< ½ Λ'C du: the work the scheme counts for the multiplier
     real(dp) :: reaction_work = 0.0_dp       !< MASSLESS: ½ R(n)'C du, the start reactions' share of it
     real(dp) :: imposed_work = 0.0_dp        !< ½ Λ'C du over the bilateral rows: the work of imposed motion
+    real(dp) :: obstacle_work = 0.0_dp       !< moving obstacles: ½ Λ'shift and their impulses' V'Δ(M v)
     integer :: fp_iterations = 0             !< impulse fixed point (14)
     real(dp) :: fp_change = 0.0_dp           !< its final relative change
     integer :: fp_failures = 0               !< 1 if (14) had no all-negative solution (see impulse_fixed_point)

@@ -42,6 +42,7 @@ module impact_space
     procedure :: am_block => space_am_block
     procedure :: add_minv_ct => space_add_minv_ct
     procedure :: hzero_step => space_hzero_step
+    procedure :: translation => space_translation
     procedure :: rigid_motion => space_rigid_motion
     procedure :: scale_about_rigid => space_scale_about_rigid
     procedure :: book_scaling => space_book_scaling
@@ -259,6 +260,33 @@ contains
     mv = mv + alpha * self%f
   end subroutine space_add_minv_ct
 
+  !> The translation of each body b at velocity wb(:, b) (0 for a body absent from framed, and
+  !> along a direction its supports hold) and M times it, on the free equations (body(i): the
+  !> body of equation i; the rigid modes' translations): the frame of the obstacles a group
+  !> touches (contact_frame).
+  subroutine space_translation(self, body, framed, wb, x, mx)
+    class(impact_space_t), intent(in) :: self
+    integer, intent(in) :: body(:)
+    logical, intent(in) :: framed(:)
+    real(dp), intent(in) :: wb(:, :)
+    real(dp), intent(out) :: x(:), mx(:)
+    integer :: i, d
+    x = 0.0_dp
+    mx = 0.0_dp
+    if (.not. self%has_rigid) return
+    do i = 1, size(x)
+      if (body(i) <= 0) cycle
+      if (.not. framed(body(i))) cycle
+      do d = 1, min(2, size(wb, 1))
+        if (allocated(self%body_free)) then      ! (a translation the supports forbid: not a frame)
+          if (.not. self%body_free(d, body(i))) cycle
+        end if
+        x(i) = x(i) + wb(d, body(i)) * self%rig(i, d)
+        mx(i) = mx(i) + wb(d, body(i)) * self%mrig(i, d)
+      end do
+    end do
+  end subroutine space_translation
+
   !> (16) The hzero step about the conditions A = conds: one Newmark step of length
   !> h0 -> 0 with A held as equalities leaves only the mass terms,
   !>     M w + A'ν = M v,  A w = 0,   then v <- 2 w - v by (3),
@@ -268,9 +296,10 @@ contains
   !> (16); g = 1 (e = 0) stops at w, the M-orthogonal projection on A v = 0 that PERSIST uses
   !> (method.md section 6); 0 <= e < 1 is Newton's law of restitution (RESTITUTION e) in the
   !> M-metric. mv is updated with v (mv <- mv - A'ν). nu(1:nc): ν on conds, 0 elsewhere (the
-  !> impulses -ν along c_j). rank: independent rows of A (dependent ones, e.g. duplicated
+  !> impulses -ν along c_j). With target, A v - target takes the place of A v (a moving
+  !> obstacle's relative normal velocity). rank: independent rows of A (dependent ones, e.g. duplicated
   !> conditions, get ν = 0). The dense hzero_reflection_dense of impact_kernels is its test oracle.
-  subroutine space_hzero_step(self, c, conds, gain, v, mv, nu, rank, stat, errmsg)
+  subroutine space_hzero_step(self, c, conds, gain, v, mv, nu, rank, stat, errmsg, target)
     class(impact_space_t), intent(inout) :: self
     type(constraint_rows_t), intent(in) :: c
     integer, intent(in) :: conds(:)
@@ -280,6 +309,7 @@ contains
     integer, intent(out) :: rank
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    real(dp), intent(in), optional :: target(:)   !< normal velocities A v is reflected about (0 without)
     integer :: k, n, m
     rank = 0
     n = size(conds)
@@ -292,6 +322,7 @@ contains
     if (stat /= STAT_OK) return
     do k = 1, n
       self%sv(k) = gain(k) * c%dot(conds(k), v)
+      if (present(target)) self%sv(k) = self%sv(k) - gain(k) * target(k)
     end do
     call spsd_solve_ws(n, self%amat, self%sv, rank, self%ipiv, self%work2)
     nu = 0.0_dp

@@ -18,7 +18,7 @@ module scene
   public :: function_value, model_point_kind, tuned_mix, scene_axisymmetric
   public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, INIT_ANGULAR, condition_t, condition_nodes, contact_nodes, &
     condition_keyword
-  public :: impose_t, function_slope, probe_weight
+  public :: impose_t, function_slope, probe_weight, function_integral, function_prepare
 
   real(dp), parameter :: TUNED_MAX = 1.4999_dp  !< MASS TUNED's mixing factor at c h/dx = 1
   real(dp), parameter :: TWO_PI = 6.283185307179586476925286766559_dp
@@ -46,6 +46,11 @@ module scene
     integer :: side = 0                       !< following, on a line element: b's side of the chain (pair_segment)
     integer :: curved = 0                     !< OBSTACLE … SPHERE|CYLINDER: +1 OUTSIDE, -1 INSIDE (0: a plane or a GAP)
     real(dp) :: center(2) = 0.0_dp, radius = 0.0_dp   !< the curved obstacle's circle
+    !> OBSTACLE … VELOCITY vx vy [FUNCTION f]: the obstacle translates rigidly at velocity x f(t),
+    !> its displacement velocity x ∫ f from the start time (function_integral); vfunc 0: f = 1.
+    logical :: moving = .false.
+    real(dp) :: velocity(2) = 0.0_dp
+    integer :: vfunc = 0
   end type condition_t
 
   !> MODELE: an element group with its formulation, material, section and mass kind.
@@ -102,6 +107,7 @@ module scene
     !> FN_SMOOTH_STEP: 0 up to start, 1 from finish, ξ³(10 - 15ξ + 6ξ²) between (ξ from 0 to 1).
     real(dp) :: amplitude = 1.0_dp, frequency = 0.0_dp, phase = 0.0_dp
     real(dp) :: start = 0.0_dp, finish = huge(1.0_dp)
+    real(dp), allocatable :: cum(:)       !< FN_TABLE: ∫ f from t(1) to t(i) (function_prepare)
   end type function_t
 
   !> Nodal forces on every node of a group, times a function of time.
@@ -315,6 +321,60 @@ contains
       end select
     end associate
   end function function_slope
+  !> A table's running integral, cum(i) = ∫ f from t(1) to t(i) (the trapezoid rule is exact on
+  !> the piecewise-linear function), for function_integral; nothing for the other kinds.
+  pure subroutine function_prepare(fn)
+    type(function_t), intent(inout) :: fn
+    integer :: i
+    if (fn%kind /= FN_TABLE .or. .not. allocated(fn%t)) return
+    allocate (fn%cum(size(fn%t)))
+    fn%cum(1) = 0.0_dp
+    do i = 2, size(fn%t)
+      fn%cum(i) = fn%cum(i - 1) + 0.5_dp * (fn%t(i) - fn%t(i - 1)) * (fn%f(i - 1) + fn%f(i))
+    end do
+  end subroutine function_prepare
+
+  !> ∫ f from t0 to t1, exactly for every kind (the constant 1 for ifn = 0): what a rigid
+  !> obstacle moving at velocity x f(t) travels (OBSTACLE … VELOCITY … FUNCTION f).
+  pure real(dp) function function_integral(fns, ifn, t0, t1) result(w)
+    type(function_t), intent(in) :: fns(:)
+    integer, intent(in) :: ifn
+    real(dp), intent(in) :: t0, t1
+    if (ifn == 0) then
+      w = t1 - t0
+    else
+      w = antiderivative(fns(ifn), t1) - antiderivative(fns(ifn), t0)
+    end if
+  end function function_integral
+
+  !> A primitive of f: tables from t(1) (cum), sines and steps from their START.
+  pure real(dp) function antiderivative(fn, t) result(p)
+    type(function_t), intent(in) :: fn
+    real(dp), intent(in) :: t
+    integer :: i
+    real(dp) :: s, w, om
+    select case (fn%kind)
+    case (FN_SINE)
+      om = TWO_PI * fn%frequency
+      s = min(max(t, fn%start), fn%finish) - fn%start
+      p = fn%amplitude / om * (cos(fn%phase) - cos(om * s + fn%phase))
+    case (FN_SMOOTH_STEP)
+      w = fn%finish - fn%start
+      s = min(max((t - fn%start) / w, 0.0_dp), 1.0_dp)
+      p = w * s**4 * (2.5_dp - 3.0_dp * s + s * s) + max(t - fn%finish, 0.0_dp)
+    case default
+      i = bracket(fn%t, t)
+      if (i == 0) then
+        p = (t - fn%t(1)) * fn%f(1)
+      else if (i == size(fn%t)) then
+        p = fn%cum(i) + (t - fn%t(i)) * fn%f(i)
+      else
+        s = t - fn%t(i)
+        p = fn%cum(i) + s * (fn%f(i) + 0.5_dp * s * (fn%f(i + 1) - fn%f(i)) / (fn%t(i + 1) - fn%t(i)))
+      end if
+    end select
+  end function antiderivative
+
   !> The weight of a node's DOF d (at x) in a reaction probe: 1 on the probed DOF; for MZ ABOUT
   !> x0 y0 the arm of the moment about x0, -(y - y0) on UX, x - x0 on UY, 1 on RZ (reference
   !> positions); 0 otherwise.

@@ -8,7 +8,7 @@ module scene_conditions
   use scene, only: scene_t, fix_t, initial_t, load_t, impose_t, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, LOAD_PRESSURE, &
     LOAD_TRACTION, INIT_ANGULAR
   use mesh_segments, only: side_set_t, group_sides
-  use scene_helpers, only: node_group, check_modelled, get_point
+  use scene_helpers, only: node_group, check_modelled, get_point, get_function
   use mesh, only: MAX_COORD
   implicit none
   private
@@ -326,27 +326,6 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected X or Y', st%params(find_param(st, 'ALONG'))%values(1)))
     end select
   end subroutine initial_profile
-
-  !> Index of the function named by parameter FUNCTION (0 when absent).
-  subroutine get_function(scn, st, ifn, stat, errmsg)
-    type(scene_t), intent(in) :: scn
-    type(statement_t), intent(in) :: st
-    integer, intent(out) :: ifn
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    character(len=:), allocatable :: w
-    integer :: i
-    ifn = 0
-    stat = STAT_OK
-    if (find_param(st, 'FUNCTION') == 0) return
-    call get_word(st, 'FUNCTION', w, stat, errmsg)
-    if (stat /= STAT_OK) return
-    do i = 1, size(scn%functions)
-      if (scn%functions(i)%name == w) ifn = i
-    end do
-    if (ifn == 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown function', &
-      st%params(find_param(st, 'FUNCTION'))%values(1)))
-  end subroutine get_function
 
   subroutine do_gravity(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn

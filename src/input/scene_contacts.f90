@@ -10,7 +10,7 @@ module scene_contacts
   use contact_modes, only: IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC, IMPACT_NAMES, &
     SOLVER_AUTO, SOLVER_SCHUR
   use element_traits, only: ET_MASS, ET_SPRING
-  use scene_helpers, only: node_group, get_point, model_size, get_unit, get_choice, check_modelled
+  use scene_helpers, only: node_group, get_point, model_size, get_unit, get_choice, check_modelled, get_function
   use mesh_segments, only: segment_set_t, segment_pair_t, group_segments, closest_segment, pair_segment, orient_lines, &
     node_stars, NO_PARTNER
   implicit none
@@ -34,6 +34,8 @@ contains
     call sch%add_param('OBSTACLE', 'RADIUS', 1, 1)
     call sch%add_param('OBSTACLE', 'INSIDE', 0, 0)
     call sch%add_param('OBSTACLE', 'OUTSIDE', 0, 0)
+    call sch%add_param('OBSTACLE', 'VELOCITY', 2, 2)
+    call sch%add_param('OBSTACLE', 'FUNCTION', 1, 1)
     call sch%add_keyword('GAP', 1, 1)
     call sch%add_param('GAP', 'NODES', 1, 1)
     call sch%add_param('GAP', 'WITH', 1, 1)
@@ -119,6 +121,7 @@ contains
     if (stat /= STAT_OK) return
     call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
       upper=1.0_dp, upper_inclusive=.true.)
+    if (stat == STAT_OK) call get_motion(scn, st, c, stat, errmsg)
     if (stat /= STAT_OK) return
     allocate (batch(size(scn%mesh%ngroups(ig)%items)))
     do i = 1, size(scn%mesh%ngroups(ig)%items)
@@ -134,6 +137,25 @@ contains
     end do
     scn%conditions = [scn%conditions, batch]        ! (once per statement: linear in the group)
   end subroutine do_obstacle
+
+  !> OBSTACLE … VELOCITY vx vy [FUNCTION f]: the obstacle's rigid translation at velocity (vx, vy)
+  !> x f(t) (f = 1 without FUNCTION), each component within ±1e100; FUNCTION alone is an error.
+  subroutine get_motion(scn, st, c, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    type(condition_t), intent(inout) :: c
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    stat = STAT_OK
+    if (find_param(st, 'VELOCITY') == 0) then
+      if (find_param(st, 'FUNCTION') > 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, &
+        'FUNCTION scales the obstacle''s VELOCITY vx vy, which is missing', st%params(find_param(st, 'FUNCTION'))%keytok))
+      return
+    end if
+    call get_point(st, 'VELOCITY', c%velocity, stat, errmsg)
+    if (stat == STAT_OK) call get_function(scn, st, c%vfunc, stat, errmsg)
+    c%moving = stat == STAT_OK
+  end subroutine get_motion
 
   !> OBSTACLE name NODES group SPHERE|CYLINDER x y RADIUS r INSIDE|OUTSIDE (the plane's circle: a
   !> sphere's or a cylinder's section): each node stays outside (or inside) the rigid circle,
@@ -181,6 +203,7 @@ contains
     s = merge(-1, 1, find_param(st, 'INSIDE') > 0)
     call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
       upper=1.0_dp, upper_inclusive=.true.)
+    if (stat == STAT_OK) call get_motion(scn, st, c, stat, errmsg)
     if (stat /= STAT_OK) return
     call check_following(scn, st, k, stat, errmsg)
     if (stat /= STAT_OK) return

@@ -10,7 +10,8 @@ module scene_helpers
   use scene, only: scene_t
   implicit none
   private
-  public :: get_etype, node_group, get_choice, get_pair, get_point, model_size, get_unit, check_modelled, resolve_path
+  public :: get_etype, node_group, get_choice, get_pair, get_point, model_size, get_unit, check_modelled, resolve_path, &
+    get_function
 
 contains
 
@@ -207,4 +208,25 @@ contains
     k = index(scene_path, '/', back=.true.)
     full = scene_path(1:k) // file
   end function resolve_path
+
+  !> Index of the function named by parameter FUNCTION (0 when absent).
+  subroutine get_function(scn, st, ifn, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: ifn
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: w
+    integer :: i
+    ifn = 0
+    stat = STAT_OK
+    if (find_param(st, 'FUNCTION') == 0) return
+    call get_word(st, 'FUNCTION', w, stat, errmsg)
+    if (stat /= STAT_OK) return
+    do i = 1, size(scn%functions)
+      if (scn%functions(i)%name == w) ifn = i
+    end do
+    if (ifn == 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown function', &
+      st%params(find_param(st, 'FUNCTION'))%values(1)))
+  end subroutine get_function
 end module scene_helpers

@@ -8,7 +8,7 @@ module scene_materials
     LAW_HYPERELASTIC
   use statement, only: statement_t, stmt_error, find_param, get_real, get_int, to_real
   use statement_schema, only: schema_t
-  use scene, only: scene_t, function_t, MAX_LAYERS, FN_SINE, FN_SMOOTH_STEP
+  use scene, only: scene_t, function_t, MAX_LAYERS, FN_SINE, FN_SMOOTH_STEP, function_prepare
   use scene_helpers, only: get_pair, resolve_path
   use function_table, only: read_function_table
   implicit none
@@ -276,6 +276,7 @@ contains
       if (stat /= STAT_OK) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, msg, st%params(k)%values(1)))
     end select
     if (stat /= STAT_OK) return
+    call function_prepare(fn)
     scn%functions = [scn%functions, fn]
   end subroutine do_function
 

@@ -3,17 +3,20 @@
 !> u_i - a f(t(n+1)) = 0 at the end of every step, always active, its multiplier of any sign the
 !> trapezoidal reaction R(n) + R(n+1). Its work over the step, ½ Λ du_i, is the work of the
 !> imposed motion, which the driver adds to the external work: the balance stays exact.
+!> OBSTACLE … VELOCITY (obstacle_targets): a rigid plane's prescribed translation moves its
+!> conditions' gaps; the contact set books its work (contact_frame).
 module imposed_motion
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use scene, only: scene_t, function_value, function_slope, probe_weight
+  use scene, only: scene_t, function_value, function_slope, probe_weight, function_integral
   use assembly, only: system_t
   use dof_map, only: DOF_FIXED, DOF_ABSENT
   use array_utils, only: grow
   use contact, only: contact_set_t, contact_add, contact_set_bilateral, contact_set_gap0
+  use contact_geometry, only: following_t
   implicit none
   private
-  public :: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions
+  public :: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions, obstacle_targets
 
   character(len=2), parameter :: DOF_NAME(3) = ['UX', 'UY', 'RZ']
 
@@ -87,6 +90,33 @@ contains
       end associate
     end do
   end subroutine imposed_targets
+
+  !> Before the step from t0 to t1: each moving plane obstacle's condition j (row j) at its
+  !> place at t1, g0 - n.w(t1) with w(t) = velocity x ∫ f from the start time, what the step's
+  !> motion takes off the gap, n.(w(t1) - w(t0)), and its velocity at t1 (contact_frame); a
+  !> moving circle's centre displacements w(t0), w(t1) and velocity to its rows (follow).
+  subroutine obstacle_targets(scn, cs, follow, t0, t1)
+    type(scene_t), intent(in) :: scn
+    type(contact_set_t), intent(inout) :: cs
+    type(following_t), intent(inout) :: follow
+    real(dp), intent(in) :: t0, t1
+    integer :: j
+    real(dp) :: f1, vn
+    do j = 1, size(scn%conditions)
+      associate (c => scn%conditions(j))
+        if (.not. c%moving) cycle
+        f1 = function_value(scn%functions, c%vfunc, t1)
+        if (c%follow) then                     ! a circle: its centre's motion (contact_geometry)
+          call follow%move(j, c%velocity * function_integral(scn%functions, c%vfunc, scn%t_start, t0), &
+            c%velocity * function_integral(scn%functions, c%vfunc, scn%t_start, t1), c%velocity * f1)
+          cycle
+        end if
+        vn = dot_product(c%normal, c%velocity)
+        call contact_set_gap0(cs, j, c%g0 - vn * function_integral(scn%functions, c%vfunc, scn%t_start, t1))
+        call cs%move_obstacle(j, vn * function_integral(scn%functions, c%vfunc, t0, t1), vn * f1, c%velocity * f1)
+      end associate
+    end do
+  end subroutine obstacle_targets
 
   !> The (row, slot, weight) triples of the support-reaction probes (PROBE group RX|RY|MZ, in
   !> order) that sum an imposed DOF: its node in the probe's group, its DOF the probe's direction

@@ -41,6 +41,7 @@ module iteration_matrix
     procedure :: update => mat_update
     procedure :: after_residual => mat_after_residual
     procedure :: wants_tangent => mat_wants_tangent
+    procedure :: on_tangent_now => mat_on_tangent
     procedure :: solve => mat_solve
     procedure :: save => mat_save
     procedure :: load => mat_load
@@ -108,6 +109,12 @@ contains
     class(iteration_matrix_t), intent(in) :: self
     mat_wants_tangent = self%tangent .or. self%refactor_next
   end function mat_wants_tangent
+
+  !> Whether the S of the last solve was a tangent (TANGENT, or AUTO after a switch), not K0 + 4M/h².
+  pure logical function mat_on_tangent(self)
+    class(iteration_matrix_t), intent(in) :: self
+    mat_on_tangent = (self%tangent .or. self%on_tangent) .and. .not. self%fallback
+  end function mat_on_tangent
 
   !> ITERATION AUTO, after the residual res(iter) of an iterate that did not converge (target:
   !> the converged residual): refactorize with the tangent when the contraction of the last two

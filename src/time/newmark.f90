@@ -9,7 +9,8 @@ module newmark
   use scene, only: scene_t, condition_nodes
   use contact_modes, only: IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use dof_map, only: equation_bodies, body_rigid_freedom
-  use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions
+  use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions, &
+    obstacle_targets
   use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
     contact_prepare, contact_set_rigid_modes, contact_gaps, contact_step_gaps, contact_shortfall
   use newmark_scheme, only: velocity_eq3
@@ -426,6 +427,7 @@ contains
     tfail = t1
     call rs%st%set_load(scn, sys, t1)
     if (size(scn%imposes) > 0) call imposed_targets(scn, rs%cs, t1)
+    if (any(scn%conditions%moving)) call obstacle_targets(scn, rs%cs, rs%follow, t0, t1)
     if (rs%has_contact) call rs%cs%last_active_set(rs%act0)
     if (level == 0) then
       call attempt(rs%mat)
@@ -568,7 +570,7 @@ contains
         return
       end if
       nactive = crep%n_active
-      dw_ext = dw_ext + crep%imposed_work      ! IMPOSE: the work of the imposed motion
+      dw_ext = dw_ext + crep%imposed_work + crep%obstacle_work   ! IMPOSE, OBSTACLE … VELOCITY: their motion's work
       ! RESTITUTION e < 1: the kinetic energy the impact removed is dissipated, not lost by the
       ! scheme; the correction is what was given back (the measured change plus that).
       if (crep%impact_dissipated /= 0.0_dp) then

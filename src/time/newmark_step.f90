@@ -59,8 +59,9 @@ contains
     type(following_t), intent(inout), optional :: follow
     integer :: iter
     real(dp) :: rwork, target, fscale, dunorm_prev
-    logical :: refactored, switch
+    logical :: refactored, switch, relax, relaxed
     dunorm_prev = 0.0_dp
+    relax = .false.
     call st%begin_step()
     call mat%begin_step()
     do iter = 1, scn%max_iterations
@@ -82,6 +83,14 @@ contains
       if (stat /= STAT_OK) return
       call mat%solve(st%r, st%ddu, stat, errmsg)
       if (stat /= STAT_OK) return
+      ! On a tangent, an iterate whose residual rose after a fall (Newton cycling: a point switching
+      ! between plastic loading and elastic unloading, measured on the axisymmetric Taylor bar at
+      ! 5e-7 s) is followed by a relaxed one, halfway from the last du to the new iterate (the
+      ! contact solve's: its multipliers balance the whole residual; relaxing the free iterate
+      ! before it left half the contact residual for ever). A relaxed iterate, whose gaps and
+      ! multipliers need not be complementary, never ends the step.
+      relaxed = relax
+      if (relax) st%du_prev = st%du
       if (present(cs)) then
         ! Multipliers: the unconstrained iterate, then du = du_free + S^-1 C' Lambda with the
         ! active set of the LCP (gaps >= 0, Lambda >= 0, complementarity).
@@ -96,6 +105,7 @@ contains
       else
         st%du = st%du + st%ddu
       end if
+      if (relax) st%du = st%du_prev + 0.5_dp * (st%du - st%du_prev)
       call st%trial(scn, sys, scn%energy_correction, mat%wants_tangent())
       ! (Rows that follow the geometry are re-linearized at the midpoint of the iterate: a linear
       ! model iterates too, until the residual stops falling.)
@@ -136,8 +146,10 @@ contains
         cycle
       end if
       fscale = force_scale(st)
-      if (converged(scn, sys, st%res_hist(1:iter), rwork, fscale, step_work(st), norm2(st%du), st%energy_share, &
-        target)) exit
+      relax = iter >= 3 .and. mat%on_tangent_now() .and. st%res_hist(iter) > st%res_hist(iter - 1) .and. &
+        st%res_hist(iter - 1) <= st%res_hist(iter - 2)
+      if (.not. relaxed .and. converged(scn, sys, st%res_hist(1:iter), rwork, fscale, step_work(st), norm2(st%du), &
+        st%energy_share, target)) exit
       ! The iteration matrix's policy after a residual: TANGENT's fallback on a stall; AUTO's
       ! tangent where it pays (assembled at this iterate, factorized by the next update).
       call mat%after_residual(sys, st%res_hist, iter, target, switch, refactored, stat, errmsg)

@@ -15,7 +15,9 @@ opening) cancels. The standard is exactly zero, on:
 - mass_bounce: contact, the window 200..400 holds the first impact (step ~347), in IMPACT
   PAPER and PERSIST;
 - bar_impact: a free bar on a wall, PERSIST (projection and body scaling), window 100..200;
-- beams_collide: two beams, consistent mass (solves with M), PERSIST about the centre of mass.
+- beams_collide: two beams, consistent mass (solves with M), PERSIST about the centre of mass;
+- bar_impact with its wall moving at 0.5 m/s (OBSTACLE … VELOCITY), window 50..100 holding the
+  impact: the rows' targets, the obstacle's frame (workspaces set at its first motion).
 
 Contact: the multipliers (Schur columns, LCP pivoting), the impulse (14), the reflection (16)
 and the PERSIST projection work in workspaces sized at contact_finalize (the dense blocks grow
@@ -59,6 +61,7 @@ CASES = [  # scene, N, what the window must contain, --set arguments
     ('inputs/bar_impact.dat', 100, 'impact', ['SCHEME.IMPACT=PERSIST']),
     ('inputs/beams_collide.dat', 400, 'impact', ['SCHEME.IMPACT=PERSIST']),
     ('inputs/hertz_axi.dat', 40, 'impact', ['OUTPUT.FIELDS=EVERY 0']),   # axisymmetric (hoop row, ring weights)
+    ('inputs/bar_impact.dat', 50, 'impact', ['OBSTACLE.VELOCITY=0.5 0']),   # a moving wall (its frame, its work)
 ]
 
 
