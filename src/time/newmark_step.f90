@@ -58,9 +58,10 @@ contains
     real(dp), intent(inout), optional :: lam(:)
     type(following_t), intent(inout), optional :: follow
     integer :: iter
-    real(dp) :: rwork, target, fscale, dunorm_prev
+    real(dp) :: rwork, target, fscale, dunorm_prev, dun(3)
     logical :: refactored, switch, relax, relaxed
     dunorm_prev = 0.0_dp
+    dun = 0.0_dp
     relax = .false.
     call st%begin_step()
     call mat%begin_step()
@@ -83,9 +84,10 @@ contains
       if (stat /= STAT_OK) return
       call mat%solve(st%r, st%ddu, stat, errmsg)
       if (stat /= STAT_OK) return
-      ! On a tangent, an iterate whose residual rose after a fall (Newton cycling: a point switching
-      ! between plastic loading and elastic unloading, measured on the axisymmetric Taylor bar at
-      ! 5e-7 s) is followed by a relaxed one, halfway from the last du to the new iterate (the
+      ! On a tangent, an iterate whose residual rose after a fall, or that oscillates (|du| up and
+      ! down) with its residual not halved in two iterates (Newton cycling: a point switching between
+      ! plastic loading and elastic unloading, contacts chattering; measured on the axisymmetric
+      ! Taylor bar at 5e-7 s) is followed by a relaxed one, halfway from the last du to the new iterate (the
       ! contact solve's: its multipliers balance the whole residual; relaxing the free iterate
       ! before it left half the contact residual for ever). A relaxed iterate, whose gaps and
       ! multipliers need not be complementary, never ends the step.
@@ -146,8 +148,13 @@ contains
         cycle
       end if
       fscale = force_scale(st)
-      relax = iter >= 3 .and. mat%on_tangent_now() .and. st%res_hist(iter) > st%res_hist(iter - 1) .and. &
-        st%res_hist(iter - 1) <= st%res_hist(iter - 2)
+      dun(1) = dun(2)
+      dun(2) = dun(3)
+      dun(3) = norm2(st%du)
+      relax = .false.
+      if (iter >= 3 .and. mat%on_tangent_now() .and. .not. relaxed) relax = (st%res_hist(iter) > st%res_hist(iter - 1) .and. &
+        st%res_hist(iter - 1) <= st%res_hist(iter - 2)) .or. ((dun(3) - dun(2)) * (dun(2) - dun(1)) < 0.0_dp .and. &
+        st%res_hist(iter) > 0.5_dp * st%res_hist(iter - 2))
       if (.not. relaxed .and. converged(scn, sys, st%res_hist(1:iter), rwork, fscale, step_work(st), norm2(st%du), &
         st%energy_share, target)) exit
       ! The iteration matrix's policy after a residual: TANGENT's fallback on a stall; AUTO's
