@@ -27,6 +27,7 @@ contains
       self%wshift = 0.0_dp
       self%wrate = 0.0_dp
       self%wvel = 0.0_dp
+      self%fr_gain = 1.0_dp                    ! (the frame's hzero step: a projection)
     end if
     self%moving = .true.
     self%wshift(j) = shift
@@ -40,7 +41,7 @@ contains
   !> gain 1 and the obstacles' normal velocities as target) so that c_j'V = wrate(j) on all of the
   !> body's conditions. Not enter: the frame taken back (v <- v + V). Nothing without motion.
   module procedure obstacle_frame
-    integer :: j, b, nb, n, rank, eq
+    integer :: j, b, nb, n, rank
     real(dp) :: resid, vmax
     stat = STAT_OK
     if (.not. enter) then
@@ -79,7 +80,6 @@ contains
         n = n + 1
         conds(n) = j
         target(n) = cs%wrate(j)
-        gain(n) = 1.0_dp
         resid = max(resid, abs(cs%c%dot(j, cs%vframe) - target(n)) / max(sqrt(cs%c%norm2_sq(j)), tiny(1.0_dp)))
       end do
       if (n > 0 .and. resid > 1.0e-13_dp * vmax .and. cs%mass_set) then   ! (MASSLESS has no M⁻¹: the translation)
@@ -95,9 +95,7 @@ contains
     integer function row_body(jj) result(bb)
       integer, intent(in) :: jj
       bb = 0
-      if (cs%c%last(jj) < cs%c%first(jj)) return
-      eq = cs%c%eq_at(cs%c%first(jj))
-      bb = body(eq)
+      if (cs%c%last(jj) >= cs%c%first(jj)) bb = body(cs%c%eq_at(cs%c%first(jj)))
     end function row_body
     logical function touches_framed(jj) result(yes)
       integer, intent(in) :: jj

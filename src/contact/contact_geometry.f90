@@ -136,7 +136,7 @@ contains
     logical, intent(in), optional :: at_end
     type(segment_pair_t) :: pr
     integer :: k, i, d, j, eqs(6)
-    real(dp) :: coefs(6), g0, f, delta(2), cc(4)
+    real(dp) :: coefs(6), g0, f, fw, delta(2), cc(4)
     stat = STAT_OK
     if (self%n == 0) return
     f = 0.5_dp
@@ -155,9 +155,9 @@ contains
     do k = 1, self%n
       if (self%set(k) == 0) then               ! a rigid circle (OBSTACLE … SPHERE): always its partner
         ! (its centre where it is at the start, the midpoint or the end of the step: move)
+        fw = merge(f, 0.0_dp, present(du))
         cc = self%circle(:, k)
-        cc(1:2) = cc(1:2) + (1.0_dp - f) * self%w0(:, k) + f * self%w1(:, k)
-        if (.not. present(du)) cc(1:2) = self%circle(1:2, k) + self%w0(:, k)
+        cc(1:2) = cc(1:2) + (1.0_dp - fw) * self%w0(:, k) + fw * self%w1(:, k)
         if (present(du) .and. f == 0.5_dp) then
           ! during the iteration: the discrete gradient between x(n) and x(n) + du relative to the
           ! circle (pair_circle), whose motion takes n̄.(w1 - w0) off the gap

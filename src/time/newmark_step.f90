@@ -58,9 +58,8 @@ contains
     real(dp), intent(inout), optional :: lam(:)
     type(following_t), intent(inout), optional :: follow
     integer :: iter
-    real(dp) :: rwork, target, fscale, dunorm_prev, dun(3)
+    real(dp) :: rwork, target, fscale, dun(3)
     logical :: refactored, switch, relax, relaxed
-    dunorm_prev = 0.0_dp
     dun = 0.0_dp
     relax = .false.
     call st%begin_step()
@@ -130,11 +129,13 @@ contains
         rep%bad_equation = max(first_nonfinite(st%r), 1)
         return
       end if
+      dun(1) = dun(2)                          ! |du| of the last three iterates
+      dun(2) = dun(3)
+      dun(3) = norm2(st%du)
       if (sys%elems%linear .and. following(follow)) then
         ! Rows re-linearized at the iterate's midpoint (a curved obstacle's discrete gradient): on
         ! until the iterate settles (|du| to 1e-12: the row is then the one of its own du).
-        if (iter >= 2 .and. abs(norm2(st%du) - dunorm_prev) <= 1.0e-12_dp * norm2(st%du)) exit
-        dunorm_prev = norm2(st%du)
+        if (iter >= 2 .and. abs(dun(3) - dun(2)) <= 1.0e-12_dp * dun(3)) exit
         if (iter == scn%max_iterations) exit
         cycle
       else if (sys%elems%linear) then
@@ -148,13 +149,7 @@ contains
         cycle
       end if
       fscale = force_scale(st)
-      dun(1) = dun(2)
-      dun(2) = dun(3)
-      dun(3) = norm2(st%du)
-      relax = .false.
-      if (iter >= 3 .and. mat%on_tangent_now() .and. .not. relaxed) relax = (st%res_hist(iter) > st%res_hist(iter - 1) .and. &
-        st%res_hist(iter - 1) <= st%res_hist(iter - 2)) .or. ((dun(3) - dun(2)) * (dun(2) - dun(1)) < 0.0_dp .and. &
-        st%res_hist(iter) > 0.5_dp * st%res_hist(iter - 2))
+      relax = .not. relaxed .and. mat%on_tangent_now() .and. cycling(st%res_hist(1:iter), dun)
       if (.not. relaxed .and. converged(scn, sys, st%res_hist(1:iter), rwork, fscale, step_work(st), norm2(st%du), &
         st%energy_share, target)) exit
       ! The iteration matrix's policy after a residual: TANGENT's fallback on a stall; AUTO's
@@ -232,6 +227,19 @@ contains
     end if
     call st%commit(sys)
   end subroutine end_step
+
+  !> Whether the iteration cycles (iterate_eq9's relaxed iterate), from the third iterate on: the
+  !> residual res rose after a fall, or |du| (dun: the last three iterates) went up and down while
+  !> the residual did not halve in two iterates.
+  pure logical function cycling(res, dun)
+    real(dp), intent(in) :: res(:), dun(3)
+    integer :: n
+    n = size(res)
+    cycling = .false.
+    if (n < 3) return
+    cycling = (res(n) > res(n - 1) .and. res(n - 1) <= res(n - 2)) .or. &
+      ((dun(3) - dun(2)) * (dun(2) - dun(1)) < 0.0_dp .and. res(n) > 0.5_dp * res(n - 2))
+  end function cycling
 
   !> The convergence test of eq (9) after the residual norms res(1:iter), the residual's work
   !> rwork = |r·Δu|, the force scale, the work the step exchanges and ‖Δu‖ (docs/input.md, SCHEME

@@ -18,8 +18,8 @@ step's end, its work booked in the external work, the impact corrections in its 
 - a pendulum inside a cylinder moving at constant velocity: the fixed cylinder's motion in the
   moving frame (1e-12 of the travel); a rigid sphere moving into a point mass off-centre: the
   mass's speed relative to the sphere kept to round-off, the exact rebound at first order in h;
-- a free QUAD4 block landing on a floor that moves obliquely: the fixed floor's run plus the
-  floor's velocity, no momentum along the floor (frictionless);
+- a free QUAD4 block, still or spinning, landing on a floor that moves obliquely: the fixed
+  floor's run plus the floor's velocity, no momentum along the floor (frictionless);
 - a restart with a sine-driven wall continues bit for bit; bad input.
 """
 import os
@@ -243,6 +243,34 @@ OUTPUT HISTORY EVERY 1 FIELDS EVERY 0 PROBE b.top_right VX PROBE b.top_right VY 
                            'velocity %.1e, momentum_x %.1e, %d changes of the active set' % (dv, px, events))
 
 
+def spinning_block():
+    block = """RECTANGLE b ORIGIN 0 0.002 SIZE 0.1 0.05 ELEMENTS 8 4 TYPE QUAD4
+MATERIAL al ELASTIC YOUNG 7e10 POISSON 0.3 DENSITY 2700
+SECTION s THICKNESS 0.01
+MODEL b MATERIAL al SECTION s
+INITIAL b ANGULAR_VELOCITY 30 ABOUT 0.05 0.027
+TIME STEP 2e-6 END 3e-3
+OUTPUT HISTORY EVERY 1 FIELDS EVERY 0 PROBE b.top_right VX PROBE b.top_right VY
+"""
+    fixed = sc.write_scene('spin_fixed.dat', block + 'INITIAL b VELOCITY -0.5 -2\n'
+                           'OBSTACLE floor NODES b.bottom POINT 0 0 NORMAL 0 1\n')
+    moving = sc.write_scene('spin_moving.dat', block + 'OBSTACLE floor NODES b.bottom POINT 0 0 NORMAL 0 1 VELOCITY 0.5 2\n')
+    for mode in ['AUTO', 'PERSIST', 'PAPER']:
+        a = sc.run_ok(fixed, ['SCHEME.IMPACT=' + mode])
+        b = sc.run_ok(moving, ['SCHEME.IMPACT=' + mode])
+        pa, pb, hb = sc.probes(a), sc.probes(b), sc.history(b)
+        dv = max(np.max(np.abs(pb['b.top_right.VX'] - pa['b.top_right.VX'] - 0.5)),
+                 np.max(np.abs(pb['b.top_right.VY'] - pa['b.top_right.VY'] - 2)))
+        px = np.max(np.abs(hb['momentum_x'] - hb['momentum_x'][0]))
+        events = np.count_nonzero(np.diff(hb['active_contacts']) != 0)
+        bal = np.max(np.abs(hb['balance'])) / np.max(hb['kinetic'] + hb['internal'])
+        sc.report_measured('spinning QUAD4 block landing on a corner on a floor moving at (0.5, 2) m/s, IMPACT %s: the '
+                           'fixed floor\'s run plus its velocity (1e-9 m/s), momentum along the floor kept (1e-12), '
+                           'balance 1e-12' % mode, dv <= 1e-9 and px <= 1e-12 and bal <= 1e-12 and events >= 2,
+                           'velocity %.1e, momentum_x %.1e, balance %.1e, %d changes of the active set'
+                           % (dv, px, bal, events))
+
+
 def restart():
     scene = sc.write_scene('restart_wall.dat', BAR + 'FUNCTION f SINE AMPLITUDE 1 FREQUENCY 500\n'
                            'OBSTACLE wall NODES bar.start POINT 0 0 NORMAL 1 0 VELOCITY 2 0 FUNCTION f\n')
@@ -269,5 +297,6 @@ pushed('FUNCTION f POINTS 0 0 0.05 1 1 1\n', table_integral, 'POINTS')
 sine_spring()
 moving_circles()
 block_floor()
+spinning_block()
 restart()
 bad_input()
