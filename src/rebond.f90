@@ -144,7 +144,8 @@ contains
           ' equations (and ' // str(scn%mesh%nelem - nmod) // ' mesh elements in no MODEL, not modelled)')
       end if
       if (size(scn%conditions) > 0) call say('  contact conditions: ' // str(size(scn%conditions)) // ', IMPACT ' // &
-        trim(IMPACT_NAMES(scn%impact)) // trim(merge(' (AUTO)', '       ', scn%impact_auto)))
+        trim(IMPACT_NAMES(scn%impact)) // trim(merge(' (AUTO)', '       ', scn%impact_auto)) // &
+        trim(merge(', events located on a step''s end', '                                ', scn%locate_events)))
       do im = 1, size(scn%models)
         if (scn%models(im)%tuned .and. .not. scn%models(im)%mass_said) call say('  MODEL ' // &
           scn%models(im)%group // ': mass tuned to the step (BAR2 default at c h/dx <= 1; MASS CONSISTENT for the classic)')
@@ -259,7 +260,7 @@ contains
       call say(trim(line))
     end if
     if (summary%factorizations > 1) call say('  iteration matrix factorized ' // str8(int(summary%factorizations, 8)) // &
-      ' times (ITERATION TANGENT or AUTO, SCHEME RETRY)')
+      ' times (ITERATION TANGENT or AUTO, SCHEME RETRY, EVENTS)')
     if (summary%geometric_dropped > 0) call say('  ' // str8(summary%geometric_dropped) // ' of them again without ' // &
       'the compressive geometric stiffness (the tangent with it was not positive definite)')
     if (summary%retried > summary%impact_retried) call say('  ' // str(summary%retried - summary%impact_retried) // &
@@ -268,6 +269,8 @@ contains
     if (summary%impact_retried > 0) call say('  ' // str(summary%impact_retried) // ' steps were taken again as ' // &
       'sub-steps: the impact correction of the whole step could not restore the energy (SCHEME RETRY; up to ' // &
       str(summary%max_substeps) // ' per step)')
+    if (summary%located > 0) call say('  ' // str(summary%located) // ' steps were cut at a contact event, which ' // &
+      'then fell on a step''s end (SCHEME EVENTS)')
     if (summary%schur_solves + summary%augmented_solves > 0) call say('  contact multipliers: ' // &
       str8(summary%schur_solves) // ' Schur solves (' // str8(summary%schur_columns) // ' columns), ' // &
       str8(summary%augmented_solves) // ' augmented solves (' // str8(summary%augmented_factorizations) // ' LU)')

@@ -171,6 +171,7 @@ module contact
     procedure :: warm_start => cs_warm_start
     procedure :: last_active_set => cs_last_active_set
     procedure :: changing_set => cs_changing_set
+    procedure :: row_state => cs_row_state
     procedure :: set_solver => cs_set_solver
     procedure :: move_obstacle => cs_move_obstacle
     procedure :: save => cs_save
@@ -449,6 +450,25 @@ contains
       if (self%st%active_iter(j) .neqv. self%st%active(j)) cs_changing_set = .true.
     end do
   end function cs_changing_set
+
+  !> Condition j as the event locator sees it (event_location): a unilateral condition (not an
+  !> IMPOSE row), active at n, active in the step's last iterate (trial) with its multiplier Λ_j,
+  !> and its normal velocity c_j'v less the obstacle's (OBSTACLE … VELOCITY).
+  pure subroutine cs_row_state(self, j, unilateral, active, trial, lambda, v, rate)
+    class(contact_set_t), intent(in) :: self
+    integer, intent(in) :: j
+    real(dp), intent(in), optional :: v(:)
+    logical, intent(out) :: unilateral, active, trial
+    real(dp), intent(out) :: lambda
+    real(dp), intent(out), optional :: rate
+    unilateral = .not. self%bilat(j)
+    active = self%st%active(j)
+    trial = self%st%active_iter(j)
+    lambda = self%st%lambda(j)
+    if (.not. (present(v) .and. present(rate))) return
+    rate = self%c%dot(j, v)
+    if (self%moving) rate = rate - self%wrate(j)
+  end subroutine cs_row_state
 
   !> Change how the multipliers are computed (SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED).
   pure subroutine cs_set_solver(self, solver)

@@ -174,6 +174,8 @@ module scene
     logical :: iter_auto = .true.             !< ITERATION AUTO: K0 + 4M/h² until the tangent pays (iteration_matrix)
     integer :: zone = 1                       !< SCHEME ZONE: 1 AUTO, 2 ON, 3 OFF (nonlinear_zone)
     logical :: forces_points = .false.        !< SCHEME FORCES POINTS: linear models' Bσ by the element loop too
+    integer :: events = 1                     !< SCHEME EVENTS: 1 AUTO, 2 LOCATE, 3 OFF
+    logical :: locate_events = .false.        !< contact events located (LOCATE, or AUTO on the exact lattice)
     logical :: iteration_given = .false.      !< SCHEME ITERATION was given (else TANGENT with KINEMATICS LARGE)
     logical :: extended = .false.             !< SCHEME PRECISION EXTENDED
     integer :: modes = 0                      !< MODES n: the n lowest natural frequencies (0: none)

@@ -634,6 +634,13 @@ contains
         return
       end if
     end if
+    ! SCHEME EVENTS AUTO locates contact events where every contact node's element is on the exact
+    ! lattice (MASS TUNED at c h/dx = 1): an impact on a step's end is that scheme's exact case
+    ! (docs/contact.md, "Contact events located"); LOCATE everywhere.
+    call contact_nodes(scn, contact)
+    nodes = pack([(i, i = 1, size(contact))], contact)
+    scn%locate_events = size(scn%conditions) > 0 .and. (scn%events == 2 .or. (scn%events == 1 .and. &
+      size(nodes) > 0 .and. .not. on_models(scn, nodes, .not. scn%models%tuned_exact)))
     if (scn%impact /= IMPACT_AUTO) return
     scn%impact_auto = .true.
     if (size(scn%conditions) == 0) then
@@ -646,8 +653,6 @@ contains
       ! in the step's energy as its snap to equilibrium, f²/(2k) >= 0 for a linear element; on LARGE
       ! elements it came out negative (energy created: the ring of inputs/ring_impact.dat gained 10 %
       ! of its energy at h = T/30, 4e-4 at T/100).
-      call contact_nodes(scn, contact)
-      nodes = pack([(i, i = 1, size(contact))], contact)
       if (contact_mass_movable(scn, contact) .and. .not. on_models(scn, nodes, scn%models%large)) then
         ! With a consistent mass MASSLESS rebounds best; with MIXED (or LUMPED) SYMMETRIC, whose
         ! rebound then converges with the mesh (docs/contact.md, "IMPACT SYMMETRIC").

@@ -42,6 +42,7 @@ contains
     call sch%add_param('SCHEME', 'RETRY', 1, 1)
     call sch%add_param('SCHEME', 'ZONE', 1, 1)
     call sch%add_param('SCHEME', 'FORCES', 1, 1)
+    call sch%add_param('SCHEME', 'EVENTS', 1, 1)
     call sch%add_keyword('OUTPUT', 0, 0, once=.true.)
     call sch%add_param('OUTPUT', 'HISTORY', 1, 2)
     call sch%add_param('OUTPUT', 'FIELDS', 1, 2)
@@ -181,6 +182,10 @@ contains
     call get_choice(st, 'FORCES', ['AUTO  ', 'POINTS'], 'AUTO', k, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%forces_points = k == 2
+    ! EVENTS: contact onsets and releases on a step's end (event_location); AUTO resolved with
+    ! IMPACT (scene_contacts).
+    call get_choice(st, 'EVENTS', ['AUTO  ', 'LOCATE', 'OFF   '], 'AUTO', scn%events, stat, errmsg)
+    if (stat /= STAT_OK) return
     call get_choice(st, 'IMPACT', ['AUTO     ', 'PAPER    ', 'PERSIST  ', 'OFF      ', 'MASSLESS ', &
       'SYMMETRIC'], 'AUTO', k, stat, errmsg)
     if (stat /= STAT_OK) return

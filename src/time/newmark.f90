@@ -11,29 +11,24 @@ module newmark
   use dof_map, only: equation_bodies, body_rigid_freedom
   use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions, &
     obstacle_targets
-  use contact, only: contact_set_t, contact_report_t, contact_add, contact_finalize, contact_set_mass, &
+  use contact, only: contact_report_t, contact_add, contact_finalize, contact_set_mass, &
     contact_prepare, contact_set_rigid_modes, contact_gaps, contact_step_gaps, contact_shortfall
   use newmark_scheme, only: velocity_eq3
-  use assembly, only: system_t, external_force, mass_times, initial_state, dof_label, dof_origin, save_points, reaction_update, &
-    load_points, is_damped
+  use assembly, only: system_t, external_force, mass_times, initial_state, dof_label, dof_origin, reaction_update, is_damped
   use energy, only: energy_t
   use internal_forces, only: refresh_points, check_k0_product, linear_strain_energy
-  use step_state, only: step_state_t
   use iteration_matrix, only: iteration_matrix_t
-  use nonlinear_zone, only: zone_t
   use contact_checks, only: check_massless, check_initial_gaps
-  use static_preload, only: static_report_t, static_solve
+  use static_preload, only: static_solve
   use cholmod_binding, only: factor_stats_t
   use newmark_step, only: residual_history, step_report_t, iterate_eq9, iterate_eq9_zone, end_step, following_rows, &
     STEP_CONVERGED, &
     STEP_DIVERGED, STEP_NOT_CONVERGED, &
     STEP_NONFINITE, STEP_INVERTED, STEP_INDEFINITE
   use run_outputs, only: output_set_t, HISTORY_HEADER, EVENTS_HEADER
-  use contact_geometry, only: following_t
   use mesh_segments, only: node_stars
   use os_utils, only: make_directory, install_signal_handlers, signal_received
-  use checkpoint, only: ckpt_file_t
-  use scene_fingerprint, only: fingerprint_mismatch
+  use run_state, only: run_state_t, save_checkpoint, load_checkpoint, steps_for
   implicit none
   private
   public :: run_options_t, run_summary_t, prepare_run, run_newmark, run_state_t
@@ -52,6 +47,7 @@ module newmark
     integer :: iterations = 0
     integer :: retried = 0                   !< steps taken again as sub-steps (SCHEME RETRY)
     integer :: impact_retried = 0            !< of which for their impact correction (impact_short)
+    integer :: located = 0                   !< steps cut at a contact event (SCHEME EVENTS LOCATE)
     integer :: max_substeps = 1              !< the most sub-steps one step took
     integer(8) :: factorizations = 0         !< of the iteration matrix S (setup, TANGENT, AUTO, RETRY)
     integer(8) :: geometric_dropped = 0      !< of them, tangents factorized again without their compressive geometric part
@@ -64,33 +60,6 @@ module newmark
   end type run_summary_t
 
   !> Everything the time loop works on, allocated before it starts.
-  type :: run_state_t
-    integer :: nsteps = 0
-    real(dp) :: h = 0.0_dp
-    type(step_state_t) :: st                 !< u, v and the iterate of the step
-    type(iteration_matrix_t) :: mat          !< S and its policy
-    type(iteration_matrix_t) :: mat_sub      !< S of SCHEME RETRY's sub-steps (set up at each retry)
-    type(zone_t) :: zone                     !< SCHEME ZONE: the iteration on the nonlinear elements' equations
-    integer :: retried = 0, max_sub = 1      !< steps retried as sub-steps, the most sub-steps of one
-    integer :: impact_retried = 0            !< of which because of their impact correction (impact_short)
-    logical :: step_short = .false.          !< the step at hand was (impact_short)
-    type(energy_t) :: en
-    ! Unilateral contact (method.md section 3).
-    logical :: has_contact = .false.
-    type(contact_set_t) :: cs
-    type(following_t) :: follow              !< the conditions paired in the configuration of each step
-    integer, allocatable :: body(:)          !< mesh-connected component of each equation (PERSIST)
-    ! Rigid modes on the free equations (translations x, y and the rotation about the origin in
-    ! the reference configuration) and M times them: the momenta of history.csv, PERSIST.
-    real(dp), allocatable :: rig(:, :), mrig(:, :)
-    real(dp), allocatable :: crig(:, :), cmrig(:, :)  !< the same, rotation about the origin of the step's end (following contacts)
-    real(dp), allocatable :: lam(:)          !< step multipliers of the last iterate
-    logical, allocatable :: act0(:)          !< the LCP's warm start at the start of a step (retries)
-    real(dp), allocatable :: vtry(:), mvtry(:)   !< v(n+1), M v(n+1) before the commit (impact_short)
-    integer, allocatable :: imp_row(:), imp_slot(:)   !< IMPOSE rows summed by reaction probes
-    real(dp), allocatable :: imp_w(:)                 !< and their weights (MZ ABOUT: the arm)
-    type(static_report_t) :: pre             !< STATIC: the preload
-  end type run_state_t
 
 contains
 
@@ -110,9 +79,7 @@ contains
     n = sys%dofs%neq
     rs%h = scn%dt
     span = scn%t_end - scn%t_start
-    rs%nsteps = nint(span / rs%h)
-    if (abs(rs%nsteps * rs%h - span) > 1.0e-9_dp * span) rs%nsteps = ceiling(span / rs%h)
-    rs%nsteps = max(rs%nsteps, 1)
+    rs%nsteps = max(steps_for(span, rs%h, span), 1)
     if (scn%time_zero_line > 0) rs%nsteps = 0     ! STATIC alone (TIME END = START): the state of t = 0 only
     call rs%st%init(n, scn%max_iterations, rs%h, sys%extended)
     allocate (fstatic(n), ustatic(n))
@@ -147,6 +114,13 @@ contains
     if (size(scn%conditions) > 0 .or. size(scn%imposes) > 0) then
       call setup_contact(scn, sys, rs, stat, errmsg)
       if (stat /= STAT_OK) return
+    end if
+    ! Located events (SCHEME EVENTS) cut steps with the sub-steps' S: its factor and the locator's
+    ! arrays set up here, not in the time loop.
+    if (rs%has_contact .and. scn%locate_events) then
+      call rs%mat_sub%setup(sys, rs%h, stat, errmsg, minor, scn%iter_auto)
+      if (stat /= STAT_OK) return
+      call rs%events%init(rs%cs%n_conditions())
     end if
     if (scn%static_steps > 0) call run_static(scn, sys, rs, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -344,28 +318,43 @@ contains
     if (stat == STAT_OK .and. step0 > 0 .and. sys%elems%any_large) call rs%st%refresh_geometry(scn, sys)
     ! After a restart the reactions start again from the loaded state (all state functions).
     if (stat == STAT_OK .and. step0 > 0) call refresh_points(scn, sys, rs%st%u, .true.)
-    if (stat == STAT_OK .and. step0 > 0) call reaction_update(scn, sys, rs%st%u, rs%st%v, scn%t_start + step0 * rs%h, &
-      rs%h, .true.)
+    if (stat == STAT_OK .and. step0 > 0) call reaction_update(scn, sys, rs%st%u, rs%st%v, &
+      scn%t_start + step0 * rs%h + rs%t_shift, rs%h, .true.)
     if (stat == STAT_OK) call install_signal_handlers(stat, errmsg)
-    if (stat == STAT_OK) call outs%open(scn, opts%outdir, step0, rs%nsteps, rs%has_contact, stat, errmsg)
+    if (stat == STAT_OK) call outs%open(scn, opts%outdir, step0, scn%t_start + step0 * rs%h + rs%t_shift, rs%nsteps, &
+      rs%has_contact, stat, errmsg)
     nactive = 0
     if (rs%has_contact) nactive = rs%cs%n_active()
     if (stat == STAT_OK .and. step0 == 0) call write_outputs(outs, scn, sys, rs, 0, scn%t_start, 0, nactive, 0, stat, errmsg)
 
-    do step = step0 + 1, rs%nsteps
+    step = step0
+    do while (step < rs%nsteps)
       if (stat /= STAT_OK) exit
-      t = scn%t_start + step * rs%h
+      step = step + 1
+      t = scn%t_start + step * rs%h + rs%t_shift
       iters = 0
       nsub = 0
       rs%step_short = .false.
+      rs%closing_onset = rs%step_located .and. rs%after_onset    ! the step after a located onset
+      rs%after_onset = .false.
+      rs%step_located = .false.
+      if (rs%has_contact .and. scn%locate_events) call rs%events%begin_step(rs%cs, rs%st%v, rs%h)
       rs%st%energy_share = scn%tolerance * max(rs%en%max_scale, rs%en%initial) / real(rs%nsteps, dp)
-      call advance(scn, sys, rs, outs, step, scn%t_start + (step - 1) * rs%h, t, rs%h, 0, iters, nsub, nactive, rep, &
-        tfail, stat, errmsg)
+      call advance(scn, sys, rs, outs, step, scn%t_start + (step - 1) * rs%h + rs%t_shift, t, rs%h, 0, iters, nsub, &
+        nactive, rep, tfail, stat, errmsg)
       total_iter = total_iter + iters
       if (stat /= STAT_OK) exit
       if (rep%outcome /= STEP_CONVERGED) then
         call step_failure(scn, sys, rs, rep, opts%outdir, step, tfail, nsub, total_iter, stat, errmsg)
         exit
+      end if
+      if (rs%step_located) then
+        ! The step ended at the onset: the grid goes on from there, to END.
+        rs%events%located = rs%events%located + 1
+        t = t - rs%h + rs%h_located
+        rs%t_shift = rs%t_shift + (rs%h_located - rs%h)
+        rs%nsteps = step + steps_for(scn%t_end - t, rs%h, scn%t_end - scn%t_start)
+        call outs%set_last(rs%nsteps)
       end if
       if (nsub > 1) then
         rs%retried = rs%retried + 1
@@ -422,8 +411,8 @@ contains
     real(dp), intent(out) :: tfail
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    real(dp) :: tm
-    logical :: short
+    real(dp) :: tm, theta
+    logical :: short, onset
     tfail = t1
     call rs%st%set_load(scn, sys, t1)
     if (size(scn%imposes) > 0) call imposed_targets(scn, rs%cs, t1)
@@ -439,6 +428,13 @@ contains
       return
     end if
     iters = iters + rep%iterations
+    if (rep%outcome == STEP_CONVERGED .and. level == 0 .and. scn%locate_events .and. rs%has_contact) then
+      theta = rs%events%event_fraction(rs%cs, h, scn%impact == IMPACT_MASSLESS, onset)
+      if (theta > 0.0_dp) then
+        call onset_step(t0 + theta * (t1 - t0), theta * h)
+        return
+      end if
+    end if
     if (rep%outcome == STEP_CONVERGED) then
       short = .false.
       if (level < scn%retry) short = impact_short(scn, sys, rs, stat, errmsg)
@@ -467,6 +463,21 @@ contains
     if (stat /= STAT_OK .or. rep%outcome /= STEP_CONVERGED) return
     call use_step(scn, sys, rs, outs, h, level, stat, errmsg)
   contains
+    !> The step cut at the onset tm (length hm): nothing of the first attempt was committed; the
+    !> run's S is restored after it and the caller shifts the grid.
+    recursive subroutine onset_step(tm, hm)
+      real(dp), intent(in) :: tm, hm
+      rs%step_located = .true.
+      rs%h_located = hm
+      rs%after_onset = onset
+      call rs%cs%warm_start(rs%act0)
+      call use_step(scn, sys, rs, outs, hm, level + 1, stat, errmsg)
+      if (stat == STAT_OK) call advance(scn, sys, rs, outs, step, t0, tm, hm, level + 1, iters, nsub, nactive, rep, &
+        tfail, stat, errmsg)
+      if (stat /= STAT_OK .or. rep%outcome /= STEP_CONVERGED) return
+      call use_step(scn, sys, rs, outs, h, level, stat, errmsg)
+    end subroutine onset_step
+
     subroutine attempt(mat)
       type(iteration_matrix_t), intent(inout), target :: mat
       call following_rows(scn, sys, rs%st, mat, rs%cs, rs%follow, .false., stat, errmsg)   ! pairs in u(n)
@@ -559,12 +570,15 @@ contains
     type(contact_report_t) :: crep
     real(dp) :: dw_ext, dw_corr, e_rest
     logical :: sampled
+    integer :: imode
     if (rs%has_contact .and. (rs%follow%count() > 0 .or. any(scn%models%large))) then
       call end_geometry(scn, sys, rs, stat, errmsg)
       if (stat /= STAT_OK) return
     end if
     if (rs%has_contact) then
-      call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg, rs%cs, rs%body, crep)
+      imode = scn%impact
+      if (rs%closing_onset .and. scn%impact == IMPACT_PERSIST) imode = IMPACT_PAPER
+      call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg, rs%cs, rs%body, crep, imode)
       if (stat /= STAT_OK) then
         errmsg = at_step(step, t) // errmsg
         return
@@ -661,7 +675,8 @@ contains
       str(scn%retry) // ')'
     if (any(rep%outcome == [STEP_DIVERGED, STEP_NONFINITE, STEP_INVERTED, STEP_INDEFINITE])) then
       if (nsub == 0) then
-        call save_checkpoint(scn, outdir, sys, rs, step - 1, scn%t_start + (step - 1) * rs%h, total_iter, stat, errmsg)
+        call save_checkpoint(scn, outdir, sys, rs, step - 1, scn%t_start + (step - 1) * rs%h + rs%t_shift, total_iter, &
+          stat, errmsg)
         where = where // '; the state of step ' // str(step - 1) // ' is in ' // outdir // '/checkpoint.h5'
       else
         where = where // '; ' // str(nsub) // ' of its sub-steps were done, so no checkpoint is written'
@@ -710,6 +725,7 @@ contains
     summary%iterations = total_iter
     summary%retried = rs%retried
     summary%impact_retried = rs%impact_retried
+    summary%located = rs%events%located
     summary%factorizations = rs%mat%n_factor + rs%mat_sub%n_factor
     summary%geometric_dropped = rs%mat%n_geometric_dropped + rs%mat_sub%n_geometric_dropped
     summary%factor = rs%mat%factor%stats()
@@ -747,80 +763,6 @@ contains
     end if
   end subroutine write_outputs
 
-  !> The whole state at the end of step `step` in OUTDIR/checkpoint.h5, atomically: each
-  !> owner writes its own fields.
-  subroutine save_checkpoint(scn, outdir, sys, rs, step, t, iters, stat, errmsg)
-    type(scene_t), intent(in) :: scn
-    character(len=*), intent(in) :: outdir
-    type(system_t), intent(inout) :: sys
-    type(run_state_t), intent(in) :: rs
-    integer, intent(in) :: step, iters
-    real(dp), intent(in) :: t
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    type(ckpt_file_t) :: ck
-    call ck%create(outdir // '/checkpoint.h5', stat, errmsg)
-    if (stat /= STAT_OK) return
-    call ck%put('scene', scn%fingerprint, stat, errmsg)
-    call ck%put('step', step, stat, errmsg)
-    call ck%put('time', t, stat, errmsg)
-    call ck%put('iterations', iters, stat, errmsg)
-    call ck%put('neq', sys%dofs%neq, stat, errmsg)
-    call rs%st%save(ck, stat, errmsg)
-    call rs%mat%save(ck, stat, errmsg)
-    ! ITERATION TANGENT and AUTO start a step from the tangent of the last iterate: kept, so that
-    ! a restart iterates with the same matrix (bit for bit).
-    if (allocated(sys%ops%tval)) call ck%put('tangent', sys%ops%tval, stat, errmsg)
-    if (allocated(sys%ops%gval)) call ck%put('tangent_geometric', sys%ops%gval, stat, errmsg)
-    call refresh_points(scn, sys, rs%st%u, .false.)
-    call save_points(sys, ck, stat, errmsg)
-    call rs%en%save(ck, stat, errmsg)
-    if (rs%has_contact) call rs%cs%save(ck, stat, errmsg)
-    call ck%commit(stat, errmsg)
-  end subroutine save_checkpoint
-
-  !> The state saved by save_checkpoint, checked against this scene's sizes.
-  subroutine load_checkpoint(scn, path, sys, rs, step, iters, stat, errmsg)
-    type(scene_t), intent(in) :: scn
-    character(len=*), intent(in) :: path
-    type(system_t), intent(inout) :: sys
-    type(run_state_t), intent(inout) :: rs
-    integer, intent(out) :: step, iters
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    type(ckpt_file_t) :: ck
-    integer :: neq
-    real(dp) :: tck
-    character(len=:), allocatable :: saved, why
-    step = 0
-    iters = 0
-    call ck%open(path, stat, errmsg)
-    if (stat /= STAT_OK) return
-    ! The state means something only under the scene that wrote it.
-    call ck%get('scene', saved, stat, errmsg)
-    if (stat == STAT_OK) then
-      why = fingerprint_mismatch(saved, scn%fingerprint)
-      if (len(why) > 0) call set_error(stat, errmsg, STAT_INPUT, 'checkpoint ' // path // &
-        ' belongs to another scene: ' // why // ' (only TIME END and OUTPUT may change for a restart)')
-    end if
-    call ck%get('step', step, stat, errmsg)
-    call ck%get('time', tck, stat, errmsg)
-    call ck%get('iterations', iters, stat, errmsg)
-    call ck%get('neq', neq, stat, errmsg)
-    if (stat == STAT_OK .and. (neq /= sys%dofs%neq .or. step < 0 .or. step > rs%nsteps)) then
-      call set_error(stat, errmsg, STAT_INPUT, 'checkpoint ' // path // ': step ' // str(step) // ' of a system of ' // &
-        str(neq) // ' equations does not fit this scene (' // str(sys%dofs%neq) // ' equations, ' // str(rs%nsteps) // &
-        ' steps)')
-    end if
-    call rs%st%load(ck, stat, errmsg)
-    call rs%mat%load(sys, ck, stat, errmsg)
-    if (allocated(sys%ops%tval)) call ck%get('tangent', sys%ops%tval, stat, errmsg)
-    if (allocated(sys%ops%gval)) call ck%get('tangent_geometric', sys%ops%gval, stat, errmsg)
-    call load_points(sys, ck, stat, errmsg)
-    call rs%en%load(ck, stat, errmsg)
-    if (rs%has_contact) call rs%cs%load(ck, stat, errmsg)
-    call ck%close()
-  end subroutine load_checkpoint
 
   !> The progress line on stderr (runs longer than 2 s, at most once a second).
   subroutine progress(nsteps, step, t, c0, crate, clast)

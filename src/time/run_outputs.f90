@@ -56,6 +56,7 @@ module run_outputs
     procedure :: write_events => outputs_write_events
     procedure :: add_contact_impulses => outputs_add_contact_impulses
     procedure :: set_step => outputs_set_step
+    procedure :: set_last => outputs_set_last
     procedure :: close => outputs_close
     procedure :: writes_fields => outputs_writes_fields
     procedure :: writes_history => outputs_writes_history
@@ -70,14 +71,22 @@ contains
     self%h = h
   end subroutine outputs_set_step
 
+  !> The run's last step (always written): a located contact onset adds one.
+  pure subroutine outputs_set_last(self, nsteps)
+    class(output_set_t), intent(inout) :: self
+    integer, intent(in) :: nsteps
+    self%last_step = nsteps
+  end subroutine outputs_set_last
+
   !> Open the files under outdir for a run of nsteps steps; step0 > 0 resumes after a
-  !> checkpoint of step step0 (lines written past it are dropped, the fields of the continued
-  !> run go to fields_restart_NNNNNN.h5/.xmf). with_events: a contact scene.
-  subroutine outputs_open(self, scn, outdir, step0, nsteps, with_events, stat, errmsg)
+  !> checkpoint of step step0 at time t0 (lines written past it are dropped, the fields of the
+  !> continued run go to fields_restart_NNNNNN.h5/.xmf). with_events: a contact scene.
+  subroutine outputs_open(self, scn, outdir, step0, t0, nsteps, with_events, stat, errmsg)
     class(output_set_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     character(len=*), intent(in) :: outdir
     integer, intent(in) :: step0, nsteps
+    real(dp), intent(in) :: t0
     logical, intent(in) :: with_events
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
@@ -100,7 +109,7 @@ contains
       self%reaction(3, scn%mesh%nnode), self%preals(1 + size(scn%probes)), self%hreals(6), self%htail(7))
     self%reaction = 0.0_dp
     self%h = scn%dt
-    self%t_row = scn%t_start + step0 * scn%dt
+    self%t_row = t0
     if (with_events) call contact_statements(self, scn)
     if (step0 > 0) then
       call self%hist%resume(outdir // '/history.csv', HISTORY_HEADER, step0, stat, errmsg)
