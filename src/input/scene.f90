@@ -164,6 +164,9 @@ module scene
     real(dp) :: gravity(2) = 0.0_dp
     integer :: gravity_func = 0
     real(dp) :: t_start = 0.0_dp, t_end = 0.0_dp, dt = 0.0_dp
+    !> TIME … ADAPTIVE TOLERANCE tol [MIN hmin] [MAX hmax] (step_control)
+    logical :: adaptive = .false.
+    real(dp) :: adapt_tol = 0.0_dp, adapt_hmin = 0.0_dp, adapt_hmax = 0.0_dp
     real(dp) :: tolerance = 1.0e-10_dp
     integer :: max_iterations = 25
     integer :: retry = 4                      !< SCHEME RETRY: a failed step is retried as up to 2^retry sub-steps

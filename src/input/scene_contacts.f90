@@ -636,11 +636,12 @@ contains
     end if
     ! SCHEME EVENTS AUTO locates contact events where every contact node's element is on the exact
     ! lattice (MASS TUNED at c h/dx = 1): an impact on a step's end is that scheme's exact case
-    ! (docs/contact.md, "Contact events located"); LOCATE everywhere.
+    ! (docs/contact.md, "Contact events located"), and under TIME … ADAPTIVE (whose error estimate
+    ! does not judge a step that changes the contact set); LOCATE everywhere.
     call contact_nodes(scn, contact)
     nodes = pack([(i, i = 1, size(contact))], contact)
-    scn%locate_events = size(scn%conditions) > 0 .and. (scn%events == 2 .or. (scn%events == 1 .and. &
-      size(nodes) > 0 .and. .not. on_models(scn, nodes, .not. scn%models%tuned_exact)))
+    scn%locate_events = size(scn%conditions) > 0 .and. (scn%events == 2 .or. (scn%events == 1 .and. (scn%adaptive &
+      .or. (size(nodes) > 0 .and. .not. on_models(scn, nodes, .not. scn%models%tuned_exact)))))
     if (scn%impact /= IMPACT_AUTO) return
     scn%impact_auto = .true.
     if (size(scn%conditions) == 0) then

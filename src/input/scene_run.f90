@@ -28,6 +28,10 @@ contains
     call sch%add_param('TIME', 'STEP', 1, 1)
     call sch%add_param('TIME', 'END', 1, 1)
     call sch%add_param('TIME', 'START', 1, 1)
+    call sch%add_param('TIME', 'ADAPTIVE', 0, 0)
+    call sch%add_param('TIME', 'TOLERANCE', 1, 1)
+    call sch%add_param('TIME', 'MIN', 1, 1)
+    call sch%add_param('TIME', 'MAX', 1, 1)
     call sch%add_keyword('SCHEME', 0, 0, once=.true.)
     call sch%add_param('SCHEME', 'NEWMARK', 0, 0)
     call sch%add_param('SCHEME', 'TOLERANCE', 1, 1)
@@ -140,12 +144,51 @@ contains
     end if
     ! END = START: a run of MODES alone (scene_loader checks that there is a MODES statement).
     if (scn%t_end == scn%t_start) scn%time_zero_line = st%line
+    call do_adaptive(scn, st, stat, errmsg)
+    if (stat /= STAT_OK) return
     if (scn%dt >= huge(1.0_dp) / 2.0e9_dp) return
-    if (half_span > 1.0e9_dp * scn%dt) then
+    if (half_span > 1.0e9_dp * max(scn%dt, scn%adapt_hmin)) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'more than 2e9 steps', &
         st%params(find_param(st, 'STEP'))%values(1)))
     end if
   end subroutine do_time
+
+  !> TIME … ADAPTIVE TOLERANCE tol [MIN hmin] [MAX hmax] (step_control): steps STEP 2^k within
+  !> [MIN, MAX] (defaults STEP/1024, 1024 STEP), STEP the first.
+  subroutine do_adaptive(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=9), parameter :: keys(3) = ['TOLERANCE', 'MIN      ', 'MAX      ']
+    integer :: k
+    stat = STAT_OK
+    scn%adaptive = find_param(st, 'ADAPTIVE') > 0
+    if (.not. scn%adaptive) then
+      do k = 1, size(keys)
+        if (find_param(st, trim(keys(k))) > 0) then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, trim(keys(k)) // ' is a parameter of the ' // &
+            'adaptive step: TIME STEP h END t ADAPTIVE TOLERANCE tol [MIN hmin] [MAX hmax]', &
+            st%params(find_param(st, trim(keys(k))))%keytok))
+          return
+        end if
+      end do
+      return
+    end if
+    if (find_param(st, 'TOLERANCE') == 0) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ADAPTIVE needs TOLERANCE tol (the local error per ' // &
+        'step, relative: docs/input.md)', st%params(find_param(st, 'ADAPTIVE'))%keytok))
+      return
+    end if
+    call get_real(st, 'TOLERANCE', scn%adapt_tol, stat, errmsg, lower=0.0_dp, lower_inclusive=.false., upper=1.0_dp, &
+      upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'MIN', scn%adapt_hmin, stat, errmsg, default=scn%dt / 1024.0_dp, lower=0.0_dp, &
+      lower_inclusive=.false., upper=scn%dt, upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    call get_real(st, 'MAX', scn%adapt_hmax, stat, errmsg, default=scn%dt * 1024.0_dp, lower=scn%dt, &
+      lower_inclusive=.true., upper=1.0e150_dp, upper_inclusive=.true.)
+  end subroutine do_adaptive
 
   subroutine do_scheme(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn

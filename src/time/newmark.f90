@@ -34,6 +34,9 @@ module newmark
   public :: run_options_t, run_summary_t, prepare_run, run_newmark, run_state_t
   public :: HISTORY_HEADER, EVENTS_HEADER
 
+  !> advance's outcome when TIME … ADAPTIVE wants the step again at half its length.
+  integer, parameter :: STEP_REJECTED = 101
+
   type :: run_options_t
     character(len=:), allocatable :: outdir
     character(len=:), allocatable :: restart   !< checkpoint to continue from (--restart)
@@ -117,11 +120,13 @@ contains
     end if
     ! Located events (SCHEME EVENTS) cut steps with the sub-steps' S: its factor and the locator's
     ! arrays set up here, not in the time loop.
-    if (rs%has_contact .and. scn%locate_events) then
+    if ((rs%has_contact .and. scn%locate_events) .or. scn%adaptive) then
       call rs%mat_sub%setup(sys, rs%h, stat, errmsg, minor, scn%iter_auto)
       if (stat /= STAT_OK) return
-      call rs%events%init(rs%cs%n_conditions())
     end if
+    if (rs%has_contact .and. scn%locate_events) call rs%events%init(rs%cs%n_conditions())
+    call rs%ctl%init(scn, n)
+    rs%t_now = scn%t_start
     if (scn%static_steps > 0) call run_static(scn, sys, rs, stat, errmsg)
     if (stat /= STAT_OK) return
     ! Initial internal forces and strain energy: the laws take the path from zero strain to u0
@@ -303,7 +308,7 @@ contains
     type(step_report_t) :: rep
     integer :: step, step0, total_iter, nactive, done, iters, nsub
     integer(8) :: c0, crate, clast
-    real(dp) :: t, tfail
+    real(dp) :: t, t0, tfail
 
     call system_clock(c0, crate)
     clast = c0
@@ -318,11 +323,10 @@ contains
     if (stat == STAT_OK .and. step0 > 0 .and. sys%elems%any_large) call rs%st%refresh_geometry(scn, sys)
     ! After a restart the reactions start again from the loaded state (all state functions).
     if (stat == STAT_OK .and. step0 > 0) call refresh_points(scn, sys, rs%st%u, .true.)
-    if (stat == STAT_OK .and. step0 > 0) call reaction_update(scn, sys, rs%st%u, rs%st%v, &
-      scn%t_start + step0 * rs%h + rs%t_shift, rs%h, .true.)
+    if (stat == STAT_OK .and. step0 > 0) call reaction_update(scn, sys, rs%st%u, rs%st%v, rs%t_now, rs%h, .true.)
+    if (stat == STAT_OK .and. step0 > 0 .and. rs%h /= scn%dt) call use_step(scn, sys, rs, outs, rs%h, 0, stat, errmsg)
     if (stat == STAT_OK) call install_signal_handlers(stat, errmsg)
-    if (stat == STAT_OK) call outs%open(scn, opts%outdir, step0, scn%t_start + step0 * rs%h + rs%t_shift, rs%nsteps, &
-      rs%has_contact, stat, errmsg)
+    if (stat == STAT_OK) call outs%open(scn, opts%outdir, step0, rs%t_now, rs%nsteps, rs%has_contact, stat, errmsg)
     nactive = 0
     if (rs%has_contact) nactive = rs%cs%n_active()
     if (stat == STAT_OK .and. step0 == 0) call write_outputs(outs, scn, sys, rs, 0, scn%t_start, 0, nactive, 0, stat, errmsg)
@@ -331,6 +335,8 @@ contains
     do while (step < rs%nsteps)
       if (stat /= STAT_OK) exit
       step = step + 1
+      t0 = scn%t_start + (step - 1) * rs%h + rs%t_shift
+      if (scn%adaptive) t0 = rs%t_now
       t = scn%t_start + step * rs%h + rs%t_shift
       iters = 0
       nsub = 0
@@ -340,22 +346,30 @@ contains
       rs%step_located = .false.
       if (rs%has_contact .and. scn%locate_events) call rs%events%begin_step(rs%cs, rs%st%v, rs%h)
       rs%st%energy_share = scn%tolerance * max(rs%en%max_scale, rs%en%initial) / real(rs%nsteps, dp)
-      call advance(scn, sys, rs, outs, step, scn%t_start + (step - 1) * rs%h + rs%t_shift, t, rs%h, 0, iters, nsub, &
-        nactive, rep, tfail, stat, errmsg)
+      if (scn%adaptive) then
+        call adaptive_step(scn, sys, rs, outs, step, t0, t, iters, nsub, nactive, rep, tfail, stat, errmsg)
+      else
+        call advance(scn, sys, rs, outs, step, t0, t, rs%h, 0, iters, nsub, nactive, rep, tfail, stat, errmsg)
+      end if
       total_iter = total_iter + iters
       if (stat /= STAT_OK) exit
       if (rep%outcome /= STEP_CONVERGED) then
         call step_failure(scn, sys, rs, rep, opts%outdir, step, tfail, nsub, total_iter, stat, errmsg)
         exit
       end if
-      if (rs%step_located) then
-        ! The step ended at the onset: the grid goes on from there, to END.
-        rs%events%located = rs%events%located + 1
+      if (rs%step_located) rs%events%located = rs%events%located + 1
+      if (rs%step_located .and. .not. scn%adaptive) then
+        ! The step ended at the event: the grid goes on from there, to END.
         t = t - rs%h + rs%h_located
         rs%t_shift = rs%t_shift + (rs%h_located - rs%h)
         rs%nsteps = step + steps_for(scn%t_end - t, rs%h, scn%t_end - scn%t_start)
         call outs%set_last(rs%nsteps)
+      else if (scn%adaptive) then
+        rs%nsteps = step + steps_for(max(scn%t_end - t, 0.0_dp), rs%h, scn%t_end - scn%t_start)
+        call outs%set_last(rs%nsteps)
       end if
+      rs%h_used = t - t0
+      rs%t_now = t
       if (nsub > 1) then
         rs%retried = rs%retried + 1
         if (rs%step_short) rs%impact_retried = rs%impact_retried + 1
@@ -392,6 +406,68 @@ contains
     call fill_summary(rs, done, total_iter, c0, crate, summary)
     if (stat == STAT_OK .and. .not. opts%quiet) write (0, '(a)') ''
   end subroutine run_newmark
+
+  !> TIME … ADAPTIVE: the step from t0 at the controller's length (cut at a function's kink),
+  !> taken again at half its length while its local error exceeds the tolerance or it fails and
+  !> h/2 >= MIN (step_control); the length of the next step chosen. t: where it ended.
+  subroutine adaptive_step(scn, sys, rs, outs, step, t0, t, iters, nsub, nactive, rep, tfail, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(inout) :: sys
+    type(run_state_t), intent(inout), target :: rs
+    type(output_set_t), intent(inout) :: outs
+    integer, intent(in) :: step
+    real(dp), intent(in) :: t0
+    real(dp), intent(out) :: t
+    integer, intent(inout) :: iters, nsub, nactive
+    type(step_report_t), intent(out) :: rep
+    real(dp), intent(out) :: tfail
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: hs, hn
+    logical :: full
+    do
+      hs = rs%ctl%to_kink(t0, rs%h)
+      full = hs == rs%h
+      t = t0 + hs
+      if (full) then
+        call advance(scn, sys, rs, outs, step, t0, t, hs, 0, iters, nsub, nactive, rep, tfail, stat, errmsg)
+      else                                       ! to the kink, with the sub-steps' S
+        call use_step(scn, sys, rs, outs, hs, 1, stat, errmsg)
+        if (stat == STAT_OK) call advance(scn, sys, rs, outs, step, t0, t, hs, 1, iters, nsub, nactive, rep, tfail, &
+          stat, errmsg)
+        if (stat == STAT_OK .and. rep%outcome == STEP_CONVERGED) call use_step(scn, sys, rs, outs, rs%h, 0, stat, errmsg)
+      end if
+      if (stat /= STAT_OK) return
+      if (rep%outcome == STEP_CONVERGED) exit
+      if (.not. (rep%outcome == STEP_REJECTED .or. 0.5_dp * rs%h >= rs%ctl%hmin * (1.0_dp - 1.0e-12_dp))) return
+      ! Again at h/2: nothing was committed.
+      if (rs%has_contact) call rs%cs%warm_start(rs%act0)
+      if (rep%outcome == STEP_INDEFINITE) call rs%st%refresh_geometry(scn, sys, tangent=.true.)
+      rs%ctl%shrunk = rs%ctl%shrunk + 1
+      call change_length(scn, sys, rs, outs, 0.5_dp * rs%h, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end do
+    if (rs%step_located) t = t0 + rs%h_located
+    call rs%ctl%accepted(t - t0, full .and. .not. rs%step_located)
+    hn = rs%ctl%next_length(rs%h, rs%step_located .or. (rs%has_contact .and. rs%cs%n_events() > 0), scn%dt)
+    if (hn /= rs%h) call change_length(scn, sys, rs, outs, hn, stat, errmsg)
+  end subroutine adaptive_step
+
+  !> The run's step becomes h (TIME … ADAPTIVE): S = K0 + 4M/h² factorized again (its analysis
+  !> kept), the contact columns and the zone's with it.
+  subroutine change_length(scn, sys, rs, outs, h, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    type(run_state_t), intent(inout), target :: rs
+    type(output_set_t), intent(inout) :: outs
+    real(dp), intent(in) :: h
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: minor
+    rs%h = h
+    call rs%mat%setup(sys, h, stat, errmsg, minor, scn%iter_auto)
+    if (stat == STAT_OK) call use_step(scn, sys, rs, outs, h, 0, stat, errmsg)
+  end subroutine change_length
 
   !> The step from t0 to t1 = t0 + h (level 0: a time step; level k: one of its 2^k sub-steps):
   !> F(t1), the iteration of eq (9), then the end of the step. An iteration that fails (not
@@ -435,6 +511,15 @@ contains
         return
       end if
     end if
+    if (rep%outcome == STEP_CONVERGED .and. level == 0 .and. rs%ctl%on) then
+      ! TIME … ADAPTIVE: a step whose local error exceeds the tolerance is taken again at h/2.
+      if (rs%ctl%judge(sys, rs%st%u, rs%st%du, rs%st%v, h, .not. (rs%has_contact .and. rs%cs%changing_set()) .and. &
+          .not. rs%closing_onset)) then
+        if (rs%has_contact) call rs%cs%warm_start(rs%act0)
+        rep%outcome = STEP_REJECTED
+        return
+      end if
+    end if
     if (rep%outcome == STEP_CONVERGED) then
       short = .false.
       if (level < scn%retry) short = impact_short(scn, sys, rs, stat, errmsg)
@@ -450,6 +535,8 @@ contains
       end if
     end if
     if (level >= scn%retry) return
+    ! (ADAPTIVE: the controller halves the step itself while h/2 >= MIN.)
+    if (level == 0 .and. rs%ctl%on .and. 0.5_dp * h >= rs%ctl%hmin * (1.0_dp - 1.0e-12_dp)) return
     ! Nothing was committed: the same interval again as two half steps (a failed iteration, or
     ! an impact correction that would leave energy in the balance: impact_short).
     if (rs%has_contact) call rs%cs%warm_start(rs%act0)
@@ -570,15 +657,12 @@ contains
     type(contact_report_t) :: crep
     real(dp) :: dw_ext, dw_corr, e_rest
     logical :: sampled
-    integer :: imode
     if (rs%has_contact .and. (rs%follow%count() > 0 .or. any(scn%models%large))) then
       call end_geometry(scn, sys, rs, stat, errmsg)
       if (stat /= STAT_OK) return
     end if
     if (rs%has_contact) then
-      imode = scn%impact
-      if (rs%closing_onset .and. scn%impact == IMPACT_PERSIST) imode = IMPACT_PAPER
-      call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg, rs%cs, rs%body, crep, imode)
+      call end_step(scn, sys, rs%st, dw_ext, dw_corr, e_rest, stat, errmsg, rs%cs, rs%body, crep)
       if (stat /= STAT_OK) then
         errmsg = at_step(step, t) // errmsg
         return
@@ -675,8 +759,7 @@ contains
       str(scn%retry) // ')'
     if (any(rep%outcome == [STEP_DIVERGED, STEP_NONFINITE, STEP_INVERTED, STEP_INDEFINITE])) then
       if (nsub == 0) then
-        call save_checkpoint(scn, outdir, sys, rs, step - 1, scn%t_start + (step - 1) * rs%h + rs%t_shift, total_iter, &
-          stat, errmsg)
+        call save_checkpoint(scn, outdir, sys, rs, step - 1, rs%t_now, total_iter, stat, errmsg)
         where = where // '; the state of step ' // str(step - 1) // ' is in ' // outdir // '/checkpoint.h5'
       else
         where = where // '; ' // str(nsub) // ' of its sub-steps were done, so no checkpoint is written'
@@ -755,6 +838,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     if (outs%writes_fields(scn, step)) call refresh_points(scn, sys, rs%st%u, .false.)
+    call outs%set_row_step(merge(rs%h_used, 0.0_dp, step > 0))
     if (rs%has_contact) then
       call outs%write_step(scn, sys, step, t, iter, nactive, nsub, rs%en, rs%st%u, rs%st%v, rs%st%mv, rs%rig, stat, errmsg, &
         rs%cs)

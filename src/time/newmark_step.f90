@@ -194,7 +194,7 @@ contains
   !> End of a converged step: the points' state committed, the works of the step (external
   !> ½ du'(F(n) + F(n+1)), correction ½ du'Bσc), eq (3), then with contact the impact
   !> correction of SCHEME IMPACT (energy restored in e_rest, report in crep), then the new state.
-  subroutine end_step(scn, sys, st, dw_ext, dw_corr, e_rest, stat, errmsg, cs, body, crep, mode)
+  subroutine end_step(scn, sys, st, dw_ext, dw_corr, e_rest, stat, errmsg, cs, body, crep)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     type(step_state_t), intent(inout) :: st
@@ -204,12 +204,8 @@ contains
     type(contact_set_t), intent(inout), optional :: cs
     integer, intent(in), optional :: body(:)
     type(contact_report_t), intent(out), optional :: crep
-    integer, intent(in), optional :: mode      !< the impact treatment of this step (default SCHEME IMPACT's)
     real(dp) :: w_massless
-    integer :: imode
     stat = STAT_OK
-    imode = scn%impact
-    if (present(mode)) imode = mode
     call commit_state(sys)
     dw_ext = 0.5_dp * dot_product(st%du, st%f_n + st%f_np1)
     dw_corr = 0.5_dp * dot_product(st%du, st%fcorr)
@@ -218,7 +214,7 @@ contains
     e_rest = 0.0_dp
     if (present(cs)) then
       ! Order at the end of a step: (3), then (12)-(15), then (16) (or PERSIST).
-      call contact_end_step(cs, imode, st%u, st%du, st%v, st%mv, e_rest, stat, errmsg, body=body, report=crep)
+      call contact_end_step(cs, scn%impact, st%u, st%du, st%v, st%mv, e_rest, stat, errmsg, body=body, report=crep)
       if (stat /= STAT_OK) then
         errmsg = 'impact correction: ' // errmsg
         return

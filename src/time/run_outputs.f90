@@ -22,7 +22,7 @@ module run_outputs
 
   character(len=*), parameter :: HISTORY_HEADER = &
     'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored,' // &
-    'impact_dissipated,momentum_x,momentum_y,angular_momentum,damping,substeps,contact_held'
+    'impact_dissipated,momentum_x,momentum_y,angular_momentum,damping,substeps,contact_held,h'
   character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored,' &
     // 'contact'
   character(len=*), parameter :: CONTACTS_HEADER = 'step,time,contact,active,force_x,force_y,impulse_x,impulse_y,' // &
@@ -49,6 +49,8 @@ module run_outputs
     type(recovery_t) :: rec                                 !< integration points and nodal stresses
     logical :: rec_built = .false.
     real(dp), allocatable :: nodal(:, :), pvals(:, :), pdisp(:, :)   !< (NREC, nnode), (NREC, npt), (3, npt)
+    real(dp) :: h_row = 0.0_dp               !< the length of the step the next row ends (history.csv h)
+    real(dp) :: htail2(2) = 0.0_dp           !< contact_held, h
     real(dp), allocatable :: preals(:), hreals(:), htail(:)   !< htail: dissipated, stored, impact_dissipated, momenta, damping
   contains
     procedure :: open => outputs_open
@@ -57,6 +59,7 @@ module run_outputs
     procedure :: add_contact_impulses => outputs_add_contact_impulses
     procedure :: set_step => outputs_set_step
     procedure :: set_last => outputs_set_last
+    procedure :: set_row_step => outputs_set_row_step
     procedure :: close => outputs_close
     procedure :: writes_fields => outputs_writes_fields
     procedure :: writes_history => outputs_writes_history
@@ -70,6 +73,13 @@ contains
     real(dp), intent(in) :: h
     self%h = h
   end subroutine outputs_set_step
+
+  !> The length of the step whose end the next row writes (history.csv h; 0 at step 0).
+  pure subroutine outputs_set_row_step(self, h)
+    class(output_set_t), intent(inout) :: self
+    real(dp), intent(in) :: h
+    self%h_row = h
+  end subroutine outputs_set_row_step
 
   !> The run's last step (always written): a located contact onset adds one.
   pure subroutine outputs_set_last(self, nsteps)
@@ -217,7 +227,8 @@ contains
       ! (Σ M v_r over the nodes is not a momentum: each ring's points move in all radial directions).
       if (self%axisymmetric) self%htail([4, 6]) = 0.0_dp
       self%htail(7) = en%damping()
-      call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail, [nsub], [en%contact_held()])
+      self%htail2 = [en%contact_held(), self%h_row]
+      call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail, [nsub], self%htail2)
       if (stat /= STAT_OK) return
       self%preals(1) = t
       r = 0

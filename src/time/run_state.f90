@@ -15,6 +15,7 @@ module run_state
   use static_preload, only: static_report_t
   use contact_geometry, only: following_t
   use event_location, only: event_locator_t
+  use step_control, only: step_controller_t
   use checkpoint, only: ckpt_file_t
   use scene_fingerprint, only: fingerprint_mismatch
   implicit none
@@ -27,8 +28,10 @@ module run_state
     !> Step k ends at t_start + k h + t_shift: a step split at an impact's onset (SCHEME EVENTS
     !> LOCATE) ends there, the grid shifted by the part not taken (h_located − h, event_location).
     real(dp) :: t_shift = 0.0_dp, h_located = 0.0_dp
+    real(dp) :: t_now = 0.0_dp, h_used = 0.0_dp    !< the end of the last step and its length
+    type(step_controller_t) :: ctl                 !< TIME … ADAPTIVE (step_control)
     !> The last located event was an onset: the step after it closes the contact at a zero gap
-    !> (closing_onset: that step, whose impact treatment is PAPER's under PERSIST and SYMMETRIC).
+    !> (closing_onset: that step, which TIME … ADAPTIVE does not judge).
     logical :: after_onset = .false., closing_onset = .false.
     type(step_state_t) :: st                 !< u, v and the iterate of the step
     type(iteration_matrix_t) :: mat          !< S and its policy
@@ -80,6 +83,7 @@ contains
     call ck%put('time_shift', rs%t_shift, stat, errmsg)
     call ck%put('located_onset', merge(1, 0, rs%step_located .and. rs%after_onset), stat, errmsg)
     if (rs%has_contact) call rs%events%save(ck, stat, errmsg)
+    call rs%ctl%save(ck, rs%h, stat, errmsg)
     call ck%put('neq', sys%dofs%neq, stat, errmsg)
     call rs%st%save(ck, stat, errmsg)
     call rs%mat%save(ck, stat, errmsg)
@@ -104,8 +108,8 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(ckpt_file_t) :: ck
-    integer :: neq, flag
-    real(dp) :: tck
+    integer :: neq, flag, minor
+    real(dp) :: tck, hck
     character(len=:), allocatable :: saved, why
     step = 0
     iters = 0
@@ -132,6 +136,13 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, 'checkpoint ' // path // ': step ' // str(step) // ' of a system of ' // &
         str(neq) // ' equations does not fit this scene (' // str(sys%dofs%neq) // ' equations, ' // str(rs%nsteps) // &
         ' steps)')
+    end if
+    rs%t_now = tck
+    ! ADAPTIVE: the step the run had reached, S factorized at it before a saved tangent is put back.
+    call rs%ctl%load(ck, hck, stat, errmsg)
+    if (stat == STAT_OK .and. rs%ctl%on .and. hck /= rs%h) then
+      rs%h = hck
+      call rs%mat%setup(sys, hck, stat, errmsg, minor, scn%iter_auto)
     end if
     call rs%st%load(ck, stat, errmsg)
     call rs%mat%load(sys, ck, stat, errmsg)

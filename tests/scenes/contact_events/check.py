@@ -8,7 +8,7 @@ constant acceleration); the run's steps go on from there (the time grid shifts).
    the step is the exact lattice, where EVENTS AUTO locates): the wall at seven distances (2.0,
    2.01, 2.125, 2.25, 2.3, 2.37, 2.8 mm: the impact anywhere in a step). Exact: rebound 100 m/s,
    contact from g/v0 to g/v0 + 2L/c. Asserted: the onset on a step's end at g/v0 (1e-12
-   relative), the release at onset + 2L/c within 0.05 dx/c, the rebound within 0.02 % of
+   relative), the release at onset + 2L/c within 0.05 dx/c, the rebound within 0.01 % of
    100 m/s at every phase (EVENTS OFF: -0.0035 ... -1.24 %), |balance| <= 1e-10 of E.
 2. The same bar at h = dx/(4c) (AUTO: SYMMETRIC, not located) and with MASS CONSISTENT at both
    steps, under EVENTS LOCATE: the rebound the same at every phase (the spread <= 1e-4 relative;
@@ -18,9 +18,10 @@ constant acceleration); the run's steps go on from there (the time grid shifts).
    the k-th at (2k - 1) t_f + (k - 1) h within 1e-11 s over 10 bounces; |balance| <= 1e-10.
 4. A point mass thrown at 30 degrees onto a wall (no gravity), LOCATE: the onset at the exact
    instant, the tangential momentum unchanged (1e-12), the normal one reversed (1e-12).
-5. A beam landing flat (inputs/beam_land_flat.dat, 80 elements, AUTO = PERSIST) under LOCATE:
-   the step after a located onset closes at a zero gap and takes PAPER's correction (the
-   trapezoid rule's own reflection kept): the bounce recovers >= 95 % of the drop.
+5. A beam landing flat (inputs/beam_land_flat.dat) under LOCATE: the step after a located onset
+   closes at a zero gap, the trapezoid rule reflecting the contact nodes by itself; with PAPER
+   (80 elements, consistent mass) and with PERSIST on MASS MIXED the bounce recovers >= 95 % of
+   the drop (PERSIST on the consistent mass: printed, a limit of docs/contact.md).
 6. A wall moving at 0.5 m/s onto a point mass at rest (OBSTACLE ... VELOCITY), LOCATE: the onset
    at g0 / 0.5 s (1e-12 relative).
 7. Restart: a run stopped on the located step (its successor closes at a zero gap) and restarted
@@ -75,7 +76,7 @@ for g in GAPS:
                        'onset %.17g s, g/v0 %.17g s' % (onset, t_c))
     sc.report_measured(tag + ': release at onset + 2L/c within 0.05 dx/c', abs(release - t_c - 2 * L / C) <= 0.05 * DXC,
                        '%+.4f dx/c' % ((release - t_c - 2 * L / C) / DXC))
-    sc.report_measured(tag + ': rebound within 0.02 % of 100 m/s', abs(reb) <= 2e-4, '%+.4f %%' % (100 * reb))
+    sc.report_measured(tag + ': rebound within 0.01 % of 100 m/s', abs(reb) <= 1e-4, '%+.4f %%' % (100 * reb))
     offs.append(bar_run(g, DXC, ['SCHEME.EVENTS=OFF'])[1])
 print('# sdnv100 h = dx/c: rebound EVENTS AUTO %s %%; EVENTS OFF %s %%'
       % (' '.join('%+.4f' % (100 * r) for r in rebs), ' '.join('%+.4f' % (100 * r) for r in offs)))
@@ -134,15 +135,25 @@ sc.report_measured('oblique point mass: tangential momentum unchanged, normal on
 
 # 5. A beam landing flat.
 FLAT = 'inputs/beam_land_flat.dat'
-out = sc.run_ok(FLAT, ['LINE.beam.ELEMENTS=80', 'SCHEME.IMPACT=AUTO', 'SCHEME.EVENTS=LOCATE', 'OUTPUT.HISTORY=EVERY 1',
-                       'OUTPUT.FIELDS=0'])
-p = sc.probes(out)
-tt, y = p['time'], p['beam.mid.UY']
-after = [i for i in range(1, len(tt) - 1) if tt[i] > 0.065 and y[i] >= y[i - 1] and y[i] > y[i + 1]]
-rec = (0.02 + max(y[i] for i in after)) / 0.02 if after else 0.0
-sc.report_measured('beam_land_flat 80 elements, AUTO (PERSIST), EVENTS LOCATE: the bounce back to >= 95 % of the drop',
-                   rec >= 0.95, '%.1f %%' % (100 * rec))
-cc.check_balance('beam_land_flat EVENTS LOCATE', out)
+
+
+def recovered(sets):
+    out = sc.run_ok(FLAT, sets + ['SCHEME.EVENTS=LOCATE', 'OUTPUT.HISTORY=EVERY 1', 'OUTPUT.FIELDS=0'])
+    p = sc.probes(out)
+    tt, y = p['time'], p['beam.mid.UY']
+    after = [i for i in range(1, len(tt) - 1) if tt[i] > 0.065 and y[i] >= y[i - 1] and y[i] > y[i + 1]]
+    return (0.02 + max(y[i] for i in after)) / 0.02 if after else 0.0, out
+
+
+for sets, label in ((['LINE.beam.ELEMENTS=80', 'SCHEME.IMPACT=PAPER'], '80 elements, consistent mass, PAPER'),
+                    (['MODEL.beam.MASS=MIXED', 'SCHEME.IMPACT=PERSIST'], '20 elements, MASS MIXED, PERSIST')):
+    rec, out = recovered(sets)
+    sc.report_measured('beam_land_flat %s, EVENTS LOCATE: the bounce back to >= 95 %% of the drop' % label,
+                       rec >= 0.95, '%.1f %%' % (100 * rec))
+    cc.check_balance('beam_land_flat %s, EVENTS LOCATE' % label, out)
+rec, out = recovered(['LINE.beam.ELEMENTS=80', 'SCHEME.IMPACT=PERSIST'])
+print('# beam_land_flat 80 elements, consistent mass, PERSIST, EVENTS LOCATE: bounce back %.1f %% of the drop '
+      '(the limit docs/contact.md states: 96.7 %% with EVENTS OFF)' % (100 * rec))
 
 # 6. A moving wall.
 MOV = sc.write_scene('moving_events.dat', '''NODE      ball AT 0.13 0

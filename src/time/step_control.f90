@@ -1,0 +1,231 @@
+!> The adaptive step (TIME … ADAPTIVE TOLERANCE tol [MIN hmin] [MAX hmax], docs/input.md and
+!> docs/accuracy-speed.md): the local error of each step estimated, the step accepted or taken
+!> again at half its length, the next one's length chosen. Every step, whatever its length, is
+!> the energy-exact step of eq (9).
+!>
+!> Estimate (Zienkiewicz and Xie, Earthquake Eng. Struct. Dyn. 20 (1991) 871-887): the local
+!> displacement error of Newmark's step is (β − 1/6) h² (a(n+1) − a(n)), h²/12 (a(n+1) − a(n)) for
+!> the average acceleration. The accelerations are not carried; the change is taken from the mean
+!> accelerations of this step and the last, ā = (v(n+1) − v(n))/h = 2 (Δu/h − v(n))/h (eq 3):
+!>     a(n+1) − a(n) ≈ h (ā − ā_prev) / ((h + h_prev)/2),
+!>     e = h³ (ā − ā_prev) / (6 (h + h_prev)),   η = ‖e‖_M / ‖Δu‖_M,
+!> in the mass norm ‖x‖_M = √(x'Mx) (displacements and rotations weighed by their inertia). η is
+!> the step's error relative to its own motion; for a vibration of frequency ω it is about
+!> (ω h)²/12, the trapezoid rule's relative period error per step, so TOLERANCE reads as a
+!> relative phase error. A step whose contact set changes (an impact or a release, a velocity
+!> jump the estimate would take for an error) is not judged, nor is the step after it.
+!>
+!> Control: steps are STEP × 2^k within [MIN, MAX] (a change of length costs one factorization
+!> of S; powers of two keep the changes few). A step with η > tol is taken again at h/2 while
+!> h/2 ≥ MIN; after three accepted steps with η ≤ tol/8 (doubling multiplies η by about 4: the
+!> doubled step stays within tol/2) the step doubles while 2h ≤ MAX; after a contact event it goes
+!> back to STEP at most (contact events are located on a step's end under ADAPTIVE, and the step
+!> after an onset holds the contact for its whole length). A step that fails to converge
+!> is halved the same way (SCHEME RETRY's sub-steps only below MIN). The kinks of the scene's
+!> functions (table points, a SINE's or SMOOTH_STEP's start and finish) are step ends.
+module step_control
+  use kinds, only: dp
+  use scene, only: scene_t, FN_TABLE
+  use assembly, only: system_t, mass_times
+  use checkpoint, only: ckpt_file_t
+  implicit none
+  private
+  public :: step_controller_t
+
+  integer, parameter :: GROW_AFTER = 3          !< accepted steps with η ≤ tol/8 before doubling
+  real(dp), parameter :: GROW_MARGIN = 0.125_dp
+
+  type :: step_controller_t
+    private
+    logical, public :: on = .false.
+    real(dp), public :: tol = 0.0_dp, hmin = 0.0_dp, hmax = 0.0_dp
+    real(dp), allocatable :: abar(:), anew(:), anew2(:), e(:), me(:)   !< ā of the last judged step; scratch
+    real(dp) :: h_prev = 0.0_dp                 !< its length (0: no ā to compare with)
+    real(dp), public :: eta = 0.0_dp            !< the last estimate
+    logical :: judged = .false.                 !< the last attempt was judged (anew holds its ā)
+    integer :: streak = 0
+    real(dp), allocatable :: kinks(:)           !< the functions' kinks inside the run, increasing
+    integer, public :: rejected = 0, grown = 0, shrunk = 0, at_min = 0
+  contains
+    procedure :: init => ctl_init
+    procedure :: judge => ctl_judge
+    procedure :: accepted => ctl_accepted
+    procedure :: next_length => ctl_next_length
+    procedure :: to_kink => ctl_to_kink
+    procedure :: save => ctl_save
+    procedure :: load => ctl_load
+  end type step_controller_t
+
+contains
+
+  !> For n equations, the scene's tolerance, bounds and function kinks.
+  subroutine ctl_init(self, scn, n)
+    class(step_controller_t), intent(inout) :: self
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: n
+    real(dp), allocatable :: t(:)
+    integer :: i
+    self%on = scn%adaptive
+    if (.not. self%on) return
+    self%tol = scn%adapt_tol
+    self%hmin = scn%adapt_hmin
+    self%hmax = scn%adapt_hmax
+    allocate (self%abar(n), self%anew(n), self%anew2(n), self%e(n), self%me(n))
+    self%abar = 0.0_dp
+    allocate (t(0))
+    do i = 1, size(scn%functions)
+      associate (f => scn%functions(i))
+        if (f%kind == FN_TABLE) then
+          t = [t, f%t]
+        else
+          t = [t, f%start, f%finish]
+        end if
+      end associate
+    end do
+    t = pack(t, t > scn%t_start .and. t < scn%t_end)
+    call sort_unique(t)
+    self%kinks = t
+  end subroutine ctl_init
+
+  !> Insertion sort, duplicates dropped (a few kinks).
+  pure subroutine sort_unique(t)
+    real(dp), allocatable, intent(inout) :: t(:)
+    integer :: i, j, n
+    real(dp) :: x
+    do i = 2, size(t)
+      x = t(i)
+      j = i - 1
+      do while (j >= 1)
+        if (t(j) <= x) exit
+        t(j + 1) = t(j)
+        j = j - 1
+      end do
+      t(j + 1) = x
+    end do
+    n = min(size(t), 1)
+    do i = 2, size(t)
+      if (t(i) > t(n)) then
+        n = n + 1
+        t(n) = t(i)
+      end if
+    end do
+    t = t(1:n)
+  end subroutine sort_unique
+
+  !> The converged trial of a step of length h from velocity v with increment du: η, and whether
+  !> it is to be taken again at h/2 (η > tol and h/2 ≥ MIN). judgeable: the step leaves the
+  !> contact set as it was (else it is accepted unjudged).
+  logical function ctl_judge(self, sys, u, du, v, h, judgeable) result(again)
+    class(step_controller_t), intent(inout) :: self
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: u(:), du(:), v(:), h
+    logical, intent(in) :: judgeable
+    real(dp) :: num, den
+    again = .false.
+    self%judged = judgeable
+    self%eta = 0.0_dp
+    if (.not. judgeable) return
+    self%anew = 2.0_dp * (du / h - v) / h
+    if (self%h_prev <= 0.0_dp) return
+    self%e = (h**3 / (6.0_dp * (h + self%h_prev))) * (self%anew - self%abar)
+    call mass_times(sys, self%e, self%me)
+    num = dot_product(self%e, self%me)
+    self%anew2 = u + du
+    call mass_times(sys, self%anew2, self%me)
+    den = dot_product(self%anew2, self%me)
+    if (num > 0.0_dp) self%eta = sqrt(num / max(den, tiny(1.0_dp)))
+    again = self%eta > self%tol .and. 0.5_dp * h >= self%hmin * (1.0_dp - 1.0e-12_dp)
+    if (again) self%rejected = self%rejected + 1
+  end function ctl_judge
+
+  !> The step of length h was committed; full: at the controller's length (not cut short at a kink
+  !> or an event), judged by the last ctl_judge.
+  subroutine ctl_accepted(self, h, full)
+    class(step_controller_t), intent(inout) :: self
+    real(dp), intent(in) :: h
+    logical, intent(in) :: full
+    if (full .and. self%judged) then
+      self%abar = self%anew
+      self%h_prev = h
+      if (self%eta > self%tol) self%at_min = self%at_min + 1
+    else
+      self%h_prev = 0.0_dp                      ! no mean acceleration to compare the next step with
+    end if
+    if (full .and. self%judged .and. self%eta <= GROW_MARGIN * self%tol) then
+      self%streak = self%streak + 1
+    else
+      self%streak = 0
+    end if
+    self%judged = .false.
+  end subroutine ctl_accepted
+
+  !> The length of the next step after one of length h: doubled after GROW_AFTER quiet steps;
+  !> after a contact event (the step established or released a contact, or was cut at one) at most
+  !> base, TIME STEP: the step that closes a located contact holds it for its whole length.
+  real(dp) function ctl_next_length(self, h, event, base) result(hn)
+    class(step_controller_t), intent(inout) :: self
+    real(dp), intent(in) :: h, base
+    logical, intent(in) :: event
+    hn = h
+    if (event) then
+      self%streak = 0
+      if (h > base) hn = base
+      if (hn < h) self%shrunk = self%shrunk + 1
+      return
+    end if
+    if (self%streak >= GROW_AFTER .and. 2.0_dp * h <= self%hmax * (1.0_dp + 1.0e-12_dp)) then
+      hn = 2.0_dp * h
+      self%streak = 0
+      self%grown = self%grown + 1
+    end if
+  end function ctl_next_length
+
+  !> The step from t0 of length h cut at the first kink inside it (h itself when none).
+  pure real(dp) function ctl_to_kink(self, t0, h) result(hs)
+    class(step_controller_t), intent(in) :: self
+    real(dp), intent(in) :: t0, h
+    integer :: i
+    hs = h
+    if (.not. allocated(self%kinks)) return
+    do i = 1, size(self%kinks)
+      if (self%kinks(i) <= t0 + 1.0e-9_dp * h) cycle
+      if (self%kinks(i) < t0 + h * (1.0_dp - 1.0e-9_dp)) hs = self%kinks(i) - t0
+      return
+    end do
+  end function ctl_to_kink
+
+  !> The controller's memory into a checkpoint (a restart steps as the run would have).
+  subroutine ctl_save(self, ck, h, stat, errmsg)
+    class(step_controller_t), intent(in) :: self
+    type(ckpt_file_t), intent(inout) :: ck
+    real(dp), intent(in) :: h
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    if (.not. self%on) return
+    call ck%put('adaptive_h', h, stat, errmsg)
+    call ck%put('adaptive_h_prev', self%h_prev, stat, errmsg)
+    call ck%put('adaptive_abar', self%abar, stat, errmsg)
+    call ck%put('adaptive_counts', [self%streak, self%rejected, self%grown, self%shrunk, self%at_min], stat, errmsg)
+  end subroutine ctl_save
+
+  !> What ctl_save wrote; h the step to go on with.
+  subroutine ctl_load(self, ck, h, stat, errmsg)
+    class(step_controller_t), intent(inout) :: self
+    type(ckpt_file_t), intent(inout) :: ck
+    real(dp), intent(out) :: h
+    integer, intent(inout) :: stat
+    character(len=:), allocatable, intent(inout) :: errmsg
+    integer :: counts(5)
+    h = 0.0_dp
+    if (.not. self%on) return
+    call ck%get('adaptive_h', h, stat, errmsg)
+    call ck%get('adaptive_h_prev', self%h_prev, stat, errmsg)
+    call ck%get('adaptive_abar', self%abar, stat, errmsg)
+    call ck%get('adaptive_counts', counts, stat, errmsg)
+    self%streak = counts(1)
+    self%rejected = counts(2)
+    self%grown = counts(3)
+    self%shrunk = counts(4)
+    self%at_min = counts(5)
+  end subroutine ctl_load
+end module step_control
