@@ -269,6 +269,14 @@ contains
     if (summary%impact_retried > 0) call say('  ' // str(summary%impact_retried) // ' steps were taken again as ' // &
       'sub-steps: the impact correction of the whole step could not restore the energy (SCHEME RETRY; up to ' // &
       str(summary%max_substeps) // ' per step)')
+    if (summary%adapt_rejected + summary%adapt_grown + summary%adapt_shrunk > 0) then
+      write (line, '(a,es10.3,a,es10.3,a)') '  adaptive step: from ', summary%h_min_used, ' to ', summary%h_max_used, ' s'
+      call say(trim(line) // '; ' // str(summary%adapt_rejected) // ' steps taken again at half their length ' // &
+        '(error above TOLERANCE), ' // str(summary%adapt_grown) // ' doublings, ' // str(summary%adapt_shrunk) // &
+        ' halvings or returns to STEP')
+      if (summary%adapt_at_min > 0) call say('  ' // str(summary%adapt_at_min) // ' steps kept at MIN with ' // &
+        'their error above TOLERANCE')
+    end if
     if (summary%located > 0) call say('  ' // str(summary%located) // ' steps were cut at a contact event, which ' // &
       'then fell on a step''s end (SCHEME EVENTS)')
     if (summary%schur_solves + summary%augmented_solves > 0) call say('  contact multipliers: ' // &

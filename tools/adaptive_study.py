@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The adaptive step's trade (issue 36): error against a reference run versus CPU time, for
-fixed steps and for TIME ... ADAPTIVE at several tolerances, on four scenes; a table and a
+fixed steps and for TIME ... ADAPTIVE at several tolerances, on six scenes; a table and a
 figure per scene, and docs/adaptive-step.md (generated: do not edit).
 
     /usr/bin/python3 tools/adaptive_study.py [--rebond bin/rebond] [--out results/studies/adaptive]
@@ -16,6 +16,7 @@ points that bracket it) over the fixed run's CPU.
 import argparse
 import os
 import platform
+import re
 import resource
 import subprocess
 import sys
@@ -27,20 +28,27 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 # name, scene, sets, base step, (kind, column), fixed step factors, tolerances, what it is
 SCENES = [
-    ('bar_impact', 'inputs/bar_impact.dat', ['TIME.END=6e-4'], 1e-6, ('probe', 'bar.end.UX'),
-     [4, 2, 1, 0.5, 0.25], [1e-2, 3e-3, 1e-3, 3e-4, 1e-4],
+    ('bar_impact', 'inputs/bar_impact.dat', ['TIME.END=2e-3'], 1e-6, ('probe', 'bar.end.UX'),
+     [4, 2, 1, 0.5, 0.25], [1e-2, 1e-3, 1e-4, 1e-5],
      'a free bar (100 BAR2, lumped mass, PERSIST) on a wall: the far end\'s displacement (contact '
-     'from 1e-4 s, release at 4e-4 s)'),
-    ('beam_drop_inclined', 'inputs/beam_drop_inclined.dat', ['TIME.END=0.3'], 1e-5, ('probe', 'beam.mid.UY'),
-     [8, 4, 2, 1, 0.5], [1e-2, 3e-3, 1e-3, 3e-4, 1e-4],
-     'the inclined beam drop (20 BEAM2, consistent mass, PAPER): the midpoint\'s height, 0.3 s (first '
-     'impact at 0.064 s, the beam clattering and bouncing)'),
+     'from 1e-4 s, release at 4e-4 s, then flight)'),
+    ('beam_drop_inclined', 'inputs/beam_drop_inclined.dat', ['TIME.END=0.12'], 1e-5, ('history', 'external'),
+     [8, 4, 2, 1, 0.5], [1e-2, 1e-3, 1e-4, 1e-5],
+     'the inclined beam drop (20 BEAM2, consistent mass, PAPER): the work of gravity, m g times the centre '
+     'of mass\'s fall over 0.12 s (the first impact at 0.064 s and the clatter after it; later the clatter is chaotic and no reference is one)'),
+    ('mass_bounce', 'inputs/mass_bounce.dat', ['TIME.END=5'], 1.3e-3, ('probe', 'ball.UY'),
+     [4, 2, 1, 0.5, 0.25], [1e-2, 1e-3, 1e-4, 1e-5],
+     'the point mass bouncing on the ground (PAPER): its height over 5 s (five bounces)'),
     ('ring_impact', 'inputs/ring_impact.dat', [], 2e-4, ('history', 'momentum_x'),
-     [2, 1, 0.5, 0.25], [1e-2, 3e-3, 1e-3, 3e-4],
+     [2, 1, 0.5, 0.25], [1e-2, 1e-3, 1e-4],
      'the rubber ring (QUAD4, KINEMATICS LARGE) thrown at a wall: its momentum along the wall\'s normal'),
-    ('cantilever_release', 'inputs/cantilever_release.dat', ['TIME.END=1'], 1e-4, ('probe', 'beam.end.UY'),
-     [4, 2, 1, 0.5, 0.25], [1e-2, 3e-3, 1e-3, 3e-4, 1e-4],
-     'the released cantilever (20 BEAM2, a smooth vibration): the tip deflection over 1 s'),
+    ('block_j2', 'inputs/block_j2.dat', [], 1e-5, ('probe', 'block.top_left.UY'),
+     [4, 2, 1, 0.5], [1e-2, 1e-3, 1e-4, 1e-5],
+     'the plane-strain J2 block under a load pulse (table kinks at 1, 2, 3 ms): the top corner\'s '
+     'deflection over 5 ms'),
+    ('cantilever_release', 'inputs/cantilever_release.dat', ['TIME.END=2'], 1e-4, ('probe', 'beam.end.UY'),
+     [4, 2, 1, 0.5, 0.25], [1e-2, 1e-3, 1e-4, 1e-5],
+     'the released cantilever (20 BEAM2, a smooth vibration): the tip deflection over 2 s'),
 ]
 
 
@@ -52,7 +60,7 @@ def read_csv(path):
 
 
 def run(rebond, scene, sets, out):
-    cmd = [rebond, os.path.join(ROOT, scene), '-o', out, '--quiet']
+    cmd = [rebond, os.path.join(ROOT, scene), '-o', out]
     for s in sets:
         cmd += ['--set', s]
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -61,7 +69,8 @@ def run(rebond, scene, sets, out):
     cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
     if p.returncode != 0:
         raise RuntimeError('%s failed (exit %d): %s' % (' '.join(cmd), p.returncode, p.stderr[-400:]))
-    return cpu
+    m = re.search(r'factorized (\d+) times', p.stdout)
+    return cpu, int(m.group(1)) if m else 1
 
 
 def series(out, kind, col):
@@ -84,14 +93,14 @@ def study(args, name, scene, sets, h0, what, factors, tols):
 
     def measure(label, extra):
         out = os.path.join(base, label)
-        cpu = run(args.rebond, scene, common + extra, out)
+        cpu, nfac = run(args.rebond, scene, common + extra, out)
         t, x, h = series(out, kind, col)
         keep = t <= end * (1 + 1e-12)
         err = np.max(np.abs(x[keep] - np.interp(t[keep], tr, xr))) / scale
         steps = len(h['step']) - 1
         bal = np.max(np.abs(h['balance'])) / np.max(np.abs(h['kinetic'] + h['internal']))
         hs = h['h'][1:]
-        rows.append(dict(label=label, cpu=cpu, err=err, steps=steps, bal=bal, hmin=hs.min(), hmax=hs.max()))
+        rows.append(dict(label=label, cpu=cpu, err=err, steps=steps, bal=bal, hmin=hs.min(), hmax=hs.max(), nfac=nfac))
 
     for f in factors:
         measure('fixed_h%g' % f, ['TIME.STEP=%r' % (h0 * f)])
@@ -134,7 +143,7 @@ def plot(results, path):
 def write_doc(args, results):
     lines = ['# The adaptive step: accuracy against CPU', '',
              'Generated by `tools/adaptive_study.py` (`make studies`; do not edit). `TIME STEP h END t ADAPTIVE '
-             'TOLERANCE tol` against fixed steps on four scenes (docs/input.md, TIME; the estimate and the '
+             'TOLERANCE tol` against fixed steps on six scenes (docs/input.md, TIME; the estimate and the '
              'control in `src/time/step_control.f90`).', '',
              '- Machine: %s, %d cores, Python %s; generated %s.' % (platform.machine(), os.cpu_count(),
                                                                     platform.python_version(),
@@ -145,17 +154,43 @@ def write_doc(args, results):
              '- "CPU ratio": the adaptive runs\' CPU at the fixed step\'s error (log-log interpolation between '
              'the tolerances that bracket it) over the fixed run\'s; "≤" where every adaptive run is more '
              'accurate (the cheapest of them bounds it).', '',
-             '![error against CPU](figures/adaptive_step.png)', '']
+             '![error against CPU](figures/adaptive_step.png)', '',
+             '## Summary', '',
+             '| scene | kind | CPU ratio at equal error (over the fixed steps) | issue 36\'s target |',
+             '|---|---|---|---|']
+    kinds = {'bar_impact': ('wave in contact, then flight', ''),
+             'beam_drop_inclined': ('intermittent contact (a drop)', '≤ 1/3'),
+             'mass_bounce': ('intermittent contact (bounces)', '≤ 1/3'),
+             'ring_impact': ('contact spreading over many nodes, LARGE', ''),
+             'block_j2': ('plastic, a load pulse', ''),
+             'cantilever_release': ('smooth vibration', '≤ 1.2')}
+    for name, rows in results:
+        rr = [r['ratio'] for r in rows if 'ratio' in r and np.isfinite(r['ratio'])]
+        span = '%.2f … %.2f' % (min(rr), max(rr)) if rr else 'no fixed step\'s error within the adaptive runs\' range'
+        kind, target = kinds.get(name, ('', ''))
+        lines.append('| %s | %s | %s | %s |' % (name, kind, span, target))
+    lines += ['',
+              'Reading. Where the motion has quiet phases between events (the bouncing mass: flights at up to '
+              '256 STEP, the onsets located on a step\'s end) the adaptive step reaches the fixed steps\' '
+              'errors at a small fraction of their CPU. On a smooth vibration it settles on one length, the '
+              'fixed step\'s cost. Where contact keeps changing (the ring: every node that closes is an event '
+              'after which the step is at most STEP) or a wave runs through a bar, it does not pay: it spends '
+              'its steps on the estimate\'s acceleration jumps. Each change of length refactorizes S (the '
+              '"factorizations" column; its analysis is kept): on small models a factorization costs about a '
+              'solve, on large ones a cache of the levels\' factors would be needed (not done). The inclined '
+              'beam\'s clatter is chaotic: errors against its reference are not monotone in h even for fixed '
+              'steps, and its ratios are indicative only.', '']
     for (name, rows), sc in zip(results, SCENES):
         lines += ['## %s' % name, '', sc[7] + '; first step %g s.' % sc[3], '',
-                  '| run | steps | h min … max (s) | CPU (s) | error | CPU ratio at equal error | balance / E |',
-                  '|---|---|---|---|---|---|---|']
+                  '| run | steps | factorizations of S | h min … max (s) | CPU (s) | error | CPU ratio at equal '
+                  'error | balance / E |',
+                  '|---|---|---|---|---|---|---|---|']
         for r in rows:
             ratio = ''
             if 'ratio' in r and np.isfinite(r['ratio']):
                 ratio = ('≤ ' if r.get('bound') else '') + '%.2f' % r['ratio']
-            lines.append('| %s | %d | %.3g … %.3g | %.3f | %.2e | %s | %.1e |' % (
-                r['label'], r['steps'], r['hmin'], r['hmax'], r['cpu'], r['err'], ratio, r['bal']))
+            lines.append('| %s | %d | %d | %.3g … %.3g | %.3f | %.2e | %s | %.1e |' % (
+                r['label'], r['steps'], r['nfac'], r['hmin'], r['hmax'], r['cpu'], r['err'], ratio, r['bal']))
         lines.append('')
     with open(args.doc, 'w') as f:
         f.write('\n'.join(lines))

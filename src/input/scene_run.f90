@@ -154,7 +154,7 @@ contains
   end subroutine do_time
 
   !> TIME … ADAPTIVE TOLERANCE tol [MIN hmin] [MAX hmax] (step_control): steps STEP 2^k within
-  !> [MIN, MAX] (defaults STEP/1024, 1024 STEP), STEP the first.
+  !> [MIN, MAX] (defaults STEP/1024, 256 STEP), STEP the first.
   subroutine do_adaptive(scn, st, stat, errmsg)
     type(scene_t), intent(inout) :: scn
     type(statement_t), intent(in) :: st
@@ -186,7 +186,7 @@ contains
     call get_real(st, 'MIN', scn%adapt_hmin, stat, errmsg, default=scn%dt / 1024.0_dp, lower=0.0_dp, &
       lower_inclusive=.false., upper=scn%dt, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
-    call get_real(st, 'MAX', scn%adapt_hmax, stat, errmsg, default=scn%dt * 1024.0_dp, lower=scn%dt, &
+    call get_real(st, 'MAX', scn%adapt_hmax, stat, errmsg, default=scn%dt * 256.0_dp, lower=scn%dt, &
       lower_inclusive=.true., upper=1.0e150_dp, upper_inclusive=.true.)
   end subroutine do_adaptive
 

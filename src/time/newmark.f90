@@ -51,6 +51,10 @@ module newmark
     integer :: retried = 0                   !< steps taken again as sub-steps (SCHEME RETRY)
     integer :: impact_retried = 0            !< of which for their impact correction (impact_short)
     integer :: located = 0                   !< steps cut at a contact event (SCHEME EVENTS LOCATE)
+    !> TIME … ADAPTIVE: steps taken again at half their length, doublings, halvings, steps kept at
+    !> MIN above the tolerance; the shortest and longest steps.
+    integer :: adapt_rejected = 0, adapt_grown = 0, adapt_shrunk = 0, adapt_at_min = 0
+    real(dp) :: h_min_used = 0.0_dp, h_max_used = 0.0_dp
     integer :: max_substeps = 1              !< the most sub-steps one step took
     integer(8) :: factorizations = 0         !< of the iteration matrix S (setup, TANGENT, AUTO, RETRY)
     integer(8) :: geometric_dropped = 0      !< of them, tangents factorized again without their compressive geometric part
@@ -346,6 +350,9 @@ contains
       rs%step_located = .false.
       if (rs%has_contact .and. scn%locate_events) call rs%events%begin_step(rs%cs, rs%st%v, rs%h)
       rs%st%energy_share = scn%tolerance * max(rs%en%max_scale, rs%en%initial) / real(rs%nsteps, dp)
+      ! (ADAPTIVE: the share of the run's span the step covers.)
+      if (scn%adaptive) rs%st%energy_share = scn%tolerance * max(rs%en%max_scale, rs%en%initial) * &
+        rs%h / (scn%t_end - scn%t_start)
       if (scn%adaptive) then
         call adaptive_step(scn, sys, rs, outs, step, t0, t, iters, nsub, nactive, rep, tfail, stat, errmsg)
       else
@@ -370,6 +377,9 @@ contains
       end if
       rs%h_used = t - t0
       rs%t_now = t
+      if (rs%h_max_used == 0.0_dp) rs%h_min_used = rs%h_used
+      rs%h_min_used = min(rs%h_min_used, rs%h_used)
+      rs%h_max_used = max(rs%h_max_used, rs%h_used)
       if (nsub > 1) then
         rs%retried = rs%retried + 1
         if (rs%step_short) rs%impact_retried = rs%impact_retried + 1
@@ -441,6 +451,7 @@ contains
       if (rep%outcome == STEP_CONVERGED) exit
       if (.not. (rep%outcome == STEP_REJECTED .or. 0.5_dp * rs%h >= rs%ctl%hmin * (1.0_dp - 1.0e-12_dp))) return
       ! Again at h/2: nothing was committed.
+      if (rep%outcome /= STEP_REJECTED) call rs%ctl%failed(rs%h)
       if (rs%has_contact) call rs%cs%warm_start(rs%act0)
       if (rep%outcome == STEP_INDEFINITE) call rs%st%refresh_geometry(scn, sys, tangent=.true.)
       rs%ctl%shrunk = rs%ctl%shrunk + 1
@@ -449,7 +460,8 @@ contains
     end do
     if (rs%step_located) t = t0 + rs%h_located
     call rs%ctl%accepted(t - t0, full .and. .not. rs%step_located)
-    hn = rs%ctl%next_length(rs%h, rs%step_located .or. (rs%has_contact .and. rs%cs%n_events() > 0), scn%dt)
+    hn = rs%ctl%next_length(rs%h, rs%step_located .or. (rs%has_contact .and. rs%cs%n_events() > 0), &
+      rs%step_located .and. rs%after_onset, scn%dt)
     if (hn /= rs%h) call change_length(scn, sys, rs, outs, hn, stat, errmsg)
   end subroutine adaptive_step
 
@@ -506,6 +518,7 @@ contains
     iters = iters + rep%iterations
     if (rep%outcome == STEP_CONVERGED .and. level == 0 .and. scn%locate_events .and. rs%has_contact) then
       theta = rs%events%event_fraction(rs%cs, h, scn%impact == IMPACT_MASSLESS, onset)
+      if (rs%ctl%on .and. theta * h < rs%ctl%hmin) theta = 0.0_dp     ! (ADAPTIVE: no cut below MIN)
       if (theta > 0.0_dp) then
         call onset_step(t0 + theta * (t1 - t0), theta * h)
         return
@@ -809,6 +822,12 @@ contains
     summary%retried = rs%retried
     summary%impact_retried = rs%impact_retried
     summary%located = rs%events%located
+    summary%adapt_rejected = rs%ctl%rejected
+    summary%adapt_grown = rs%ctl%grown
+    summary%adapt_shrunk = rs%ctl%shrunk
+    summary%adapt_at_min = rs%ctl%at_min
+    summary%h_min_used = rs%h_min_used
+    summary%h_max_used = rs%h_max_used
     summary%factorizations = rs%mat%n_factor + rs%mat_sub%n_factor
     summary%geometric_dropped = rs%mat%n_geometric_dropped + rs%mat_sub%n_geometric_dropped
     summary%factor = rs%mat%factor%stats()

@@ -29,6 +29,7 @@ module run_state
     !> LOCATE) ends there, the grid shifted by the part not taken (h_located − h, event_location).
     real(dp) :: t_shift = 0.0_dp, h_located = 0.0_dp
     real(dp) :: t_now = 0.0_dp, h_used = 0.0_dp    !< the end of the last step and its length
+    real(dp) :: h_min_used = 0.0_dp, h_max_used = 0.0_dp   !< the shortest and longest steps so far
     type(step_controller_t) :: ctl                 !< TIME … ADAPTIVE (step_control)
     !> The last located event was an onset: the step after it closes the contact at a zero gap
     !> (closing_onset: that step, which TIME … ADAPTIVE does not judge).

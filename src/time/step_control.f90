@@ -8,20 +8,23 @@
 !> the average acceleration. The accelerations are not carried; the change is taken from the mean
 !> accelerations of this step and the last, ā = (v(n+1) − v(n))/h = 2 (Δu/h − v(n))/h (eq 3):
 !>     a(n+1) − a(n) ≈ h (ā − ā_prev) / ((h + h_prev)/2),
-!>     e = h³ (ā − ā_prev) / (6 (h + h_prev)),   η = ‖e‖_M / ‖Δu‖_M,
-!> in the mass norm ‖x‖_M = √(x'Mx) (displacements and rotations weighed by their inertia). η is
-!> the step's error relative to its own motion; for a vibration of frequency ω it is about
-!> (ω h)²/12, the trapezoid rule's relative period error per step, so TOLERANCE reads as a
-!> relative phase error. A step whose contact set changes (an impact or a release, a velocity
-!> jump the estimate would take for an error) is not judged, nor is the step after it.
+!>     e = h³ (ā − ā_prev) / (6 (h + h_prev)),   η = ‖e‖_M / max_k ‖u(k)‖_M,
+!> in the mass norm ‖x‖_M = √(x'Mx) (displacements and rotations weighed by their inertia), against
+!> the largest displacement of the run so far (the current one would make a vibration's steps
+!> short at each zero crossing: measured, 1.6 times the steps of a fixed run at its error). For a
+!> vibration of frequency ω, η is about (ω h)²/12 times its amplitude's share of the scale: the
+!> trapezoid rule's relative period error per step, so TOLERANCE reads as a relative phase error.
+!> A step whose contact set changes (an impact or a release, a velocity jump the estimate would
+!> take for an error) is not judged, nor is the step after it.
 !>
 !> Control: steps are STEP × 2^k within [MIN, MAX] (a change of length costs one factorization
 !> of S; powers of two keep the changes few). A step with η > tol is taken again at h/2 while
 !> h/2 ≥ MIN; after three accepted steps with η ≤ tol/8 (doubling multiplies η by about 4: the
 !> doubled step stays within tol/2) the step doubles while 2h ≤ MAX; after a contact event it goes
-!> back to STEP at most (contact events are located on a step's end under ADAPTIVE, and the step
-!> after an onset holds the contact for its whole length). A step that fails to converge
-!> is halved the same way (SCHEME RETRY's sub-steps only below MIN). The kinks of the scene's
+!> back to STEP at most, and after an onset to STEP/32 (contact events are located on a step's end
+!> under ADAPTIVE, and the step after an onset holds the contact for its whole length). A step that fails to converge
+!> is halved the same way (SCHEME RETRY's sub-steps only below MIN), and its length is not tried
+!> again for 50 steps. The kinks of the scene's
 !> functions (table points, a SINE's or SMOOTH_STEP's start and finish) are step ends.
 module step_control
   use kinds, only: dp
@@ -33,7 +36,12 @@ module step_control
   public :: step_controller_t
 
   integer, parameter :: GROW_AFTER = 3          !< accepted steps with η ≤ tol/8 before doubling
-  real(dp), parameter :: GROW_MARGIN = 0.125_dp
+  real(dp), parameter :: GROW_MARGIN = 0.25_dp
+  integer, parameter :: HOLD_AFTER_FAIL = 50    !< steps before a length that failed is tried again
+  !> The step after a located onset, STEP/32 (or MIN): it holds the contact for its whole length,
+  !> the onset's error in time; shorter, the closing step's multipliers (~ m v/h) amplify the gap's
+  !> round-off in the energy balance (STEP/1024 on inputs/beam_drop_vertical.dat: 1e-10 of E).
+  real(dp), parameter :: DWELL_FRACTION = 32.0_dp
 
   type :: step_controller_t
     private
@@ -42,8 +50,13 @@ module step_control
     real(dp), allocatable :: abar(:), anew(:), anew2(:), e(:), me(:)   !< ā of the last judged step; scratch
     real(dp) :: h_prev = 0.0_dp                 !< its length (0: no ā to compare with)
     real(dp), public :: eta = 0.0_dp            !< the last estimate
+    real(dp) :: u_scale = 0.0_dp                !< the largest ‖u‖_M² of the accepted steps (η's scale)
+    real(dp) :: u_norm = 0.0_dp                 !< ‖u(n+1)‖_M² of the last judged trial
     logical :: judged = .false.                 !< the last attempt was judged (anew holds its ā)
     integer :: streak = 0
+    !> After a step failed at length h_fail, no growth to h_fail or beyond for HOLD_AFTER_FAIL steps.
+    real(dp) :: h_fail = huge(1.0_dp)
+    integer :: hold = 0
     real(dp), allocatable :: kinks(:)           !< the functions' kinks inside the run, increasing
     integer, public :: rejected = 0, grown = 0, shrunk = 0, at_min = 0
   contains
@@ -52,6 +65,8 @@ module step_control
     procedure :: accepted => ctl_accepted
     procedure :: next_length => ctl_next_length
     procedure :: to_kink => ctl_to_kink
+    procedure :: failed => ctl_failed
+    procedure :: min_length => ctl_min_length
     procedure :: save => ctl_save
     procedure :: load => ctl_load
   end type step_controller_t
@@ -126,13 +141,14 @@ contains
     self%eta = 0.0_dp
     if (.not. judgeable) return
     self%anew = 2.0_dp * (du / h - v) / h
+    self%anew2 = u + du
+    call mass_times(sys, self%anew2, self%me)
+    self%u_norm = dot_product(self%anew2, self%me)
     if (self%h_prev <= 0.0_dp) return
     self%e = (h**3 / (6.0_dp * (h + self%h_prev))) * (self%anew - self%abar)
     call mass_times(sys, self%e, self%me)
     num = dot_product(self%e, self%me)
-    self%anew2 = u + du
-    call mass_times(sys, self%anew2, self%me)
-    den = dot_product(self%anew2, self%me)
+    den = max(self%u_norm, self%u_scale)
     if (num > 0.0_dp) self%eta = sqrt(num / max(den, tiny(1.0_dp)))
     again = self%eta > self%tol .and. 0.5_dp * h >= self%hmin * (1.0_dp - 1.0e-12_dp)
     if (again) self%rejected = self%rejected + 1
@@ -144,6 +160,7 @@ contains
     class(step_controller_t), intent(inout) :: self
     real(dp), intent(in) :: h
     logical, intent(in) :: full
+    if (self%judged) self%u_scale = max(self%u_scale, self%u_norm)
     if (full .and. self%judged) then
       self%abar = self%anew
       self%h_prev = h
@@ -161,24 +178,49 @@ contains
 
   !> The length of the next step after one of length h: doubled after GROW_AFTER quiet steps;
   !> after a contact event (the step established or released a contact, or was cut at one) at most
-  !> base, TIME STEP: the step that closes a located contact holds it for its whole length.
-  real(dp) function ctl_next_length(self, h, event, base) result(hn)
+  !> base, TIME STEP, and after a located onset STEP/32 (MIN if larger): the step that closes a
+  !> located contact holds it for its whole length (the trapezoid rule's contact step), and that
+  !> dwell is the onset's error in time.
+  real(dp) function ctl_next_length(self, h, event, onset, base) result(hn)
     class(step_controller_t), intent(inout) :: self
     real(dp), intent(in) :: h, base
-    logical, intent(in) :: event
+    logical, intent(in) :: event, onset
     hn = h
     if (event) then
       self%streak = 0
       if (h > base) hn = base
+      if (onset) hn = max(self%min_length(base), base / DWELL_FRACTION)
       if (hn < h) self%shrunk = self%shrunk + 1
       return
     end if
+    if (self%hold > 0) self%hold = self%hold - 1
+    if (self%hold > 0 .and. 2.0_dp * h >= self%h_fail * (1.0_dp - 1.0e-12_dp)) return
     if (self%streak >= GROW_AFTER .and. 2.0_dp * h <= self%hmax * (1.0_dp + 1.0e-12_dp)) then
       hn = 2.0_dp * h
       self%streak = 0
       self%grown = self%grown + 1
     end if
   end function ctl_next_length
+
+  !> The shortest step, base 2^k ≥ MIN.
+  pure real(dp) function ctl_min_length(self, base) result(h)
+    class(step_controller_t), intent(in) :: self
+    real(dp), intent(in) :: base
+    h = base
+    do while (0.5_dp * h >= self%hmin * (1.0_dp - 1.0e-12_dp))
+      h = 0.5_dp * h
+    end do
+  end function ctl_min_length
+
+  !> A step of length h failed to converge (it is taken again at h/2): h is not tried again for
+  !> HOLD_AFTER_FAIL steps (no growth and failure in turn).
+  subroutine ctl_failed(self, h)
+    class(step_controller_t), intent(inout) :: self
+    real(dp), intent(in) :: h
+    self%h_fail = h
+    self%hold = HOLD_AFTER_FAIL
+    self%streak = 0
+  end subroutine ctl_failed
 
   !> The step from t0 of length h cut at the first kink inside it (h itself when none).
   pure real(dp) function ctl_to_kink(self, t0, h) result(hs)
@@ -204,8 +246,10 @@ contains
     if (.not. self%on) return
     call ck%put('adaptive_h', h, stat, errmsg)
     call ck%put('adaptive_h_prev', self%h_prev, stat, errmsg)
+    call ck%put('adaptive_h_fail', self%h_fail, stat, errmsg)
+    call ck%put('adaptive_u_scale', self%u_scale, stat, errmsg)
     call ck%put('adaptive_abar', self%abar, stat, errmsg)
-    call ck%put('adaptive_counts', [self%streak, self%rejected, self%grown, self%shrunk, self%at_min], stat, errmsg)
+    call ck%put('adaptive_counts', [self%streak, self%rejected, self%grown, self%shrunk, self%at_min, self%hold], stat, errmsg)
   end subroutine ctl_save
 
   !> What ctl_save wrote; h the step to go on with.
@@ -215,11 +259,13 @@ contains
     real(dp), intent(out) :: h
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
-    integer :: counts(5)
+    integer :: counts(6)
     h = 0.0_dp
     if (.not. self%on) return
     call ck%get('adaptive_h', h, stat, errmsg)
     call ck%get('adaptive_h_prev', self%h_prev, stat, errmsg)
+    call ck%get('adaptive_h_fail', self%h_fail, stat, errmsg)
+    call ck%get('adaptive_u_scale', self%u_scale, stat, errmsg)
     call ck%get('adaptive_abar', self%abar, stat, errmsg)
     call ck%get('adaptive_counts', counts, stat, errmsg)
     self%streak = counts(1)
@@ -227,5 +273,6 @@ contains
     self%grown = counts(3)
     self%shrunk = counts(4)
     self%at_min = counts(5)
+    self%hold = counts(6)
   end subroutine ctl_load
 end module step_control
