@@ -175,9 +175,9 @@ def write_doc(args, results):
               'errors at a small fraction of their CPU. On a smooth vibration it settles on one length, the '
               'fixed step\'s cost. Where contact keeps changing (the ring: every node that closes is an event '
               'after which the step is at most STEP) or a wave runs through a bar, it does not pay: it spends '
-              'its steps on the estimate\'s acceleration jumps. Each change of length refactorizes S (the '
-              '"factorizations" column; its analysis is kept): on small models a factorization costs about a '
-              'solve, on large ones a cache of the levels\' factors would be needed (not done). The inclined '
+              'its steps on the estimate\'s acceleration jumps. S is factorized once per length used (the '
+              '"factorizations" column) and kept; each change of length sets the contact\'s Schur columns up '
+              'again with the length\'s factor. The inclined '
               'beam\'s clatter is chaotic: errors against its reference are not monotone in h even for fixed '
               'steps, and its ratios are indicative only.', '']
     for (name, rows), sc in zip(results, SCENES):

@@ -23,6 +23,7 @@ module sweep
   use scene_loader, only: load_scene
   use assembly, only: system_t, build_system
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
+  use run_state, only: release_matrices
   use contact, only: contact_destroy
   use sweep_spec, only: sweep_t, case_result_t, parse_sweep, case_dir_name, status_name, &
                         MK_APEX, MK_PROBE, CS_OK, CS_INPUT_ERROR, CS_RUN_ERROR, CS_METRIC_ERROR
@@ -280,7 +281,7 @@ contains
     end if
     if (factored) then
       ! gfortran does not finalize these locals: free the CHOLMOD factors explicitly.
-      call rs%mat%destroy()
+      call release_matrices(rs)
       if (rs%has_contact) call contact_destroy(rs%cs)
     end if
     call system_clock(c1)

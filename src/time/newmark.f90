@@ -28,7 +28,7 @@ module newmark
   use run_outputs, only: output_set_t, HISTORY_HEADER, EVENTS_HEADER
   use mesh_segments, only: node_stars
   use os_utils, only: make_directory, install_signal_handlers, signal_received
-  use run_state, only: run_state_t, save_checkpoint, load_checkpoint, steps_for
+  use run_state, only: run_state_t, save_checkpoint, load_checkpoint, steps_for, init_levels, select_level
   implicit none
   private
   public :: run_options_t, run_summary_t, prepare_run, run_newmark, run_state_t
@@ -85,6 +85,7 @@ contains
 
     n = sys%dofs%neq
     rs%h = scn%dt
+    call init_levels(rs, scn)
     span = scn%t_end - scn%t_start
     rs%nsteps = max(steps_for(span, rs%h, span), 1)
     if (scn%time_zero_line > 0) rs%nsteps = 0     ! STATIC alone (TIME END = START): the state of t = 0 only
@@ -108,7 +109,7 @@ contains
     call imposed_start(scn, sys, rs%st%u, rs%st%v, stat, errmsg)
     if (stat /= STAT_OK) return
     call imposed_probe_map(scn, rs%imp_row, rs%imp_slot, rs%imp_w)
-    call rs%mat%setup(sys, rs%h, stat, errmsg, minor, scn%iter_auto)
+    call select_level(rs, scn, sys, rs%h, stat, errmsg, minor)
     if (stat /= STAT_OK) then
       call set_error(stat, errmsg, STAT_INPUT, dof_origin(scn, sys, minor) // ': singular system K0 + 4M/h2 at ' // &
         dof_label(scn, sys, minor) // ' (no mass and no stiffness on this mode)')
@@ -460,13 +461,15 @@ contains
     end do
     if (rs%step_located) t = t0 + rs%h_located
     call rs%ctl%accepted(t - t0, full .and. .not. rs%step_located)
-    hn = rs%ctl%next_length(rs%h, rs%step_located .or. (rs%has_contact .and. rs%cs%n_events() > 0), &
+    ! (After a cut at an event, or with EVENTS OFF any step that changed the contact set.)
+    hn = rs%ctl%next_length(rs%h, rs%step_located .or. (rs%has_contact .and. .not. scn%locate_events .and. &
+      rs%cs%n_events() > 0), &
       rs%step_located .and. rs%after_onset, scn%dt)
     if (hn /= rs%h) call change_length(scn, sys, rs, outs, hn, stat, errmsg)
   end subroutine adaptive_step
 
-  !> The run's step becomes h (TIME … ADAPTIVE): S = K0 + 4M/h² factorized again (its analysis
-  !> kept), the contact columns and the zone's with it.
+  !> The run's step becomes h (TIME … ADAPTIVE): S at h, factorized at its level's first use and
+  !> kept (select_level), the contact columns and the zone's set up again with it.
   subroutine change_length(scn, sys, rs, outs, h, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
@@ -477,7 +480,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: minor
     rs%h = h
-    call rs%mat%setup(sys, h, stat, errmsg, minor, scn%iter_auto)
+    call select_level(rs, scn, sys, h, stat, errmsg, minor)
     if (stat == STAT_OK) call use_step(scn, sys, rs, outs, h, 0, stat, errmsg)
   end subroutine change_length
 
@@ -828,8 +831,8 @@ contains
     summary%adapt_at_min = rs%ctl%at_min
     summary%h_min_used = rs%h_min_used
     summary%h_max_used = rs%h_max_used
-    summary%factorizations = rs%mat%n_factor + rs%mat_sub%n_factor
-    summary%geometric_dropped = rs%mat%n_geometric_dropped + rs%mat_sub%n_geometric_dropped
+    summary%factorizations = sum(rs%levels%n_factor) + rs%mat_sub%n_factor
+    summary%geometric_dropped = sum(rs%levels%n_geometric_dropped) + rs%mat_sub%n_geometric_dropped
     summary%factor = rs%mat%factor%stats()
     summary%max_substeps = rs%max_sub
     summary%max_rel_balance = rs%en%relative_balance()

@@ -20,7 +20,7 @@ module run_state
   use scene_fingerprint, only: fingerprint_mismatch
   implicit none
   private
-  public :: run_state_t, save_checkpoint, load_checkpoint, steps_for
+  public :: run_state_t, save_checkpoint, load_checkpoint, steps_for, init_levels, select_level, release_matrices
 
   type :: run_state_t
     integer :: nsteps = 0
@@ -35,7 +35,12 @@ module run_state
     !> (closing_onset: that step, which TIME … ADAPTIVE does not judge).
     logical :: after_onset = .false., closing_onset = .false.
     type(step_state_t) :: st                 !< u, v and the iterate of the step
-    type(iteration_matrix_t) :: mat          !< S and its policy
+    !> S and its policy at the run's step: one of levels, S at STEP 2^k for k = k_lo … (TIME …
+    !> ADAPTIVE: each factorized at its first use and kept, so that a return to a length costs no
+    !> factorization; one level otherwise).
+    type(iteration_matrix_t), pointer :: mat => null()
+    type(iteration_matrix_t), pointer :: levels(:) => null()
+    integer :: k_lo = 0
     type(iteration_matrix_t) :: mat_sub      !< S of SCHEME RETRY's sub-steps (set up at each retry)
     type(zone_t) :: zone                     !< SCHEME ZONE: the iteration on the nonlinear elements' equations
     integer :: retried = 0, max_sub = 1      !< steps retried as sub-steps, the most sub-steps of one
@@ -143,7 +148,7 @@ contains
     call rs%ctl%load(ck, hck, stat, errmsg)
     if (stat == STAT_OK .and. rs%ctl%on .and. hck /= rs%h) then
       rs%h = hck
-      call rs%mat%setup(sys, hck, stat, errmsg, minor, scn%iter_auto)
+      call select_level(rs, scn, sys, hck, stat, errmsg, minor)
     end if
     call rs%st%load(ck, stat, errmsg)
     call rs%mat%load(sys, ck, stat, errmsg)
@@ -164,4 +169,54 @@ contains
     if (abs(n * h - span) > 1.0e-9_dp * whole) n = ceiling(span / h)
     n = max(n, 0)
   end function steps_for
+
+  !> The levels of S: STEP 2^k for MIN ≤ STEP 2^k ≤ MAX under TIME … ADAPTIVE, STEP alone
+  !> otherwise; mat at STEP's (not factorized yet: select_level).
+  subroutine init_levels(rs, scn)
+    type(run_state_t), intent(inout) :: rs
+    type(scene_t), intent(in) :: scn
+    integer :: k_hi
+    rs%k_lo = 0
+    k_hi = 0
+    if (scn%adaptive) then
+      rs%k_lo = -floor(log(scn%dt / scn%adapt_hmin) / log(2.0_dp) + 1.0e-9_dp)
+      k_hi = floor(log(scn%adapt_hmax / scn%dt) / log(2.0_dp) + 1.0e-9_dp)
+    end if
+    allocate (rs%levels(k_hi - rs%k_lo + 1))
+    rs%mat => rs%levels(1 - rs%k_lo)
+  end subroutine init_levels
+
+  !> mat becomes S at h = STEP 2^k, factorized now if this level has not been yet or was left on a
+  !> tangent (the others keep their factors).
+  subroutine select_level(rs, scn, sys, h, stat, errmsg, minor)
+    type(run_state_t), intent(inout) :: rs
+    type(scene_t), intent(in) :: scn
+    type(system_t), intent(in) :: sys
+    real(dp), intent(in) :: h
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer, intent(out) :: minor
+    integer :: k
+    stat = STAT_OK
+    minor = 0
+    k = nint(log(h / scn%dt) / log(2.0_dp))
+    k = min(max(k - rs%k_lo + 1, 1), size(rs%levels))
+    rs%mat => rs%levels(k)
+    ! (A level left on an ITERATION AUTO tangent starts again from K0 + 4M/h², as after a restart.)
+    if (rs%mat%n_factor == 0 .or. rs%mat%on_tangent_now()) call rs%mat%setup(sys, h, stat, errmsg, minor, scn%iter_auto)
+  end subroutine select_level
+
+  !> The CHOLMOD factors freed (gfortran does not finalize locals: a sweep runs many cases).
+  subroutine release_matrices(rs)
+    type(run_state_t), intent(inout) :: rs
+    integer :: k
+    if (associated(rs%levels)) then
+      do k = 1, size(rs%levels)
+        call rs%levels(k)%destroy()
+      end do
+      deallocate (rs%levels)
+    end if
+    nullify (rs%mat)
+    call rs%mat_sub%destroy()
+  end subroutine release_matrices
 end module run_state

@@ -17,10 +17,10 @@
 !> A step whose contact set changes (an impact or a release, a velocity jump the estimate would
 !> take for an error) is not judged, nor is the step after it.
 !>
-!> Control: steps are STEP × 2^k within [MIN, MAX] (a change of length costs one factorization
-!> of S; powers of two keep the changes few). A step with η > tol is taken again at h/2 while
-!> h/2 ≥ MIN; after three accepted steps with η ≤ tol/8 (doubling multiplies η by about 4: the
-!> doubled step stays within tol/2) the step doubles while 2h ≤ MAX; after a contact event it goes
+!> Control: steps are STEP × 2^k within [MIN, MAX] (S at each length factorized at its first use
+!> and kept: run_state's levels). A step with η > tol is taken again at h/2 while h/2 ≥ MIN;
+!> after three accepted steps with η ≤ tol/4 (doubling multiplies η by about 4: the doubled step
+!> stays within tol) the step doubles while 2h ≤ MAX; after a contact event it goes
 !> back to STEP at most, and after an onset to STEP/32 (contact events are located on a step's end
 !> under ADAPTIVE, and the step after an onset holds the contact for its whole length). A step that fails to converge
 !> is halved the same way (SCHEME RETRY's sub-steps only below MIN), and its length is not tried
@@ -35,7 +35,7 @@ module step_control
   private
   public :: step_controller_t
 
-  integer, parameter :: GROW_AFTER = 3          !< accepted steps with η ≤ tol/8 before doubling
+  integer, parameter :: GROW_AFTER = 3          !< accepted steps with η ≤ GROW_MARGIN tol before doubling
   real(dp), parameter :: GROW_MARGIN = 0.25_dp
   integer, parameter :: HOLD_AFTER_FAIL = 50    !< steps before a length that failed is tried again
   !> The step after a located onset, STEP/32 (or MIN): it holds the contact for its whole length,
@@ -53,6 +53,7 @@ module step_control
     real(dp) :: u_scale = 0.0_dp                !< the largest ‖u‖_M² of the accepted steps (η's scale)
     real(dp) :: u_norm = 0.0_dp                 !< ‖u(n+1)‖_M² of the last judged trial
     logical :: judged = .false.                 !< the last attempt was judged (anew holds its ā)
+    logical :: measured = .false.               !< and had a previous ā to be compared with (η computed)
     integer :: streak = 0
     !> After a step failed at length h_fail, no growth to h_fail or beyond for HOLD_AFTER_FAIL steps.
     real(dp) :: h_fail = huge(1.0_dp)
@@ -138,6 +139,7 @@ contains
     real(dp) :: num, den
     again = .false.
     self%judged = judgeable
+    self%measured = .false.
     self%eta = 0.0_dp
     if (.not. judgeable) return
     self%anew = 2.0_dp * (du / h - v) / h
@@ -145,6 +147,7 @@ contains
     call mass_times(sys, self%anew2, self%me)
     self%u_norm = dot_product(self%anew2, self%me)
     if (self%h_prev <= 0.0_dp) return
+    self%measured = .true.
     self%e = (h**3 / (6.0_dp * (h + self%h_prev))) * (self%anew - self%abar)
     call mass_times(sys, self%e, self%me)
     num = dot_product(self%e, self%me)
@@ -168,7 +171,7 @@ contains
     else
       self%h_prev = 0.0_dp                      ! no mean acceleration to compare the next step with
     end if
-    if (full .and. self%judged .and. self%eta <= GROW_MARGIN * self%tol) then
+    if (full .and. self%judged .and. self%measured .and. self%eta <= GROW_MARGIN * self%tol) then
       self%streak = self%streak + 1
     else
       self%streak = 0
