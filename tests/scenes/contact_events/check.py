@@ -15,7 +15,9 @@ constant acceleration); the run's steps go on from there (the time grid shifts).
    EVENTS OFF spreads it by up to 0.5 %), the onset on the grid.
 3. The point mass of inputs/mass_bounce.dat under EVENTS LOCATE at two steps: every onset at the
    exact instant of a bounce held one step on the ground (the trapezoid rule's contact step):
-   the k-th at (2k - 1) t_f + (k - 1) h within 1e-11 s over 10 bounces; |balance| <= 1e-10.
+   the k-th at (2k - 1) t_f + (k - 1) h within 1e-11 s over 10 bounces; |balance| <= 1e-10. At the
+   five steps of tests/scenes/mass_bounce, 50 bounces: every energy height y + T/(m g) within
+   1e-12 m of H under PRECISION EXTENDED (double precision's position updates round to 5.5e-12 m).
 4. A point mass thrown at 30 degrees onto a wall (no gravity), LOCATE: the onset at the exact
    instant, the tangential momentum unchanged (1e-12), the normal one reversed (1e-12).
 5. A beam landing flat (inputs/beam_land_flat.dat) under LOCATE: the step after a located onset
@@ -110,6 +112,21 @@ for h in (1.3e-3, 2.7e-3):
     sc.report_measured(tag + ': 10 onsets at (2k - 1) t_f + (k - 1) h (1e-11 s)', len(onsets) == 10 and err <= 1e-11,
                        '%d onsets, max error %.2e s' % (len(onsets), err))
     cc.check_balance(tag, out)
+
+# 3b. The apex heights over 50 bounces at the five steps of tests/scenes/mass_bounce: the energy height
+# y + T/(m g) within 1e-12 m of H at every row under PRECISION EXTENDED; in double precision the
+# 35 000 to 63 000 position updates u += du round to up to 5.5e-12 m, with or without location (printed).
+for h in (1.3e-3, 2.7e-3, 7.3e-4, 4.1e-3, 1.9e-3):
+    tag = 'mass_bounce h = %g, EVENTS LOCATE' % h
+    dev = {}
+    for prec in ('EXTENDED', 'DOUBLE'):
+        out = sc.run_ok('inputs/mass_bounce.dat', ['TIME.STEP=%r' % h, 'SCHEME.EVENTS=LOCATE', 'OUTPUT.HISTORY=1',
+                                                   'SCHEME.PRECISION=' + prec])
+        hist = sc.history(out)
+        y = 1.0 + sc.probes(out)['ball.UY']
+        dev[prec] = np.max(np.abs(y + hist['kinetic'] / cc.G - 1.0))
+    sc.report_measured(tag + ', PRECISION EXTENDED: every energy height at H within 1e-12 m over 50 bounces',
+                       dev['EXTENDED'] <= 1e-12, '%.2e m (DOUBLE: %.2e m)' % (dev['EXTENDED'], dev['DOUBLE']))
 
 # 4. Oblique point mass.
 OBL = sc.write_scene('oblique_events.dat', '''NODE      ball AT 0 0.3
