@@ -1,6 +1,6 @@
 !> Contact events located inside a step (SCHEME EVENTS LOCATE, docs/contact.md "Contact events
 !> located"). A step whose last iterate establishes a contact at the onset of an impact (no
-!> unilateral condition active at its start), or releases one, is not committed: the instant of
+!> condition between the same two bodies held at its start), or releases one, is not committed: the instant of
 !> the first event is estimated and the step is cut there, so that the event falls on a step's
 !> end; the run's steps go on from it (the time grid shifts, newmark).
 !>
@@ -41,6 +41,10 @@ module event_location
     !> active then.
     real(dp), allocatable :: rate(:), rate_prev(:), lam(:)
     logical, allocatable :: open_now(:), open_prev(:), held_now(:), held_prev(:)
+    !> The bodies (mesh-connected components) of each condition's two nodes (0: an obstacle, or a
+    !> node without a free DOF): an onset is located when no condition between the same two bodies
+    !> is held (pair_held).
+    integer, allocatable :: cbody(:, :)
     real(dp) :: h_prev = 0.0_dp, h_now = 0.0_dp
     logical :: started = .false.
     integer, public :: located = 0                  !< steps cut at an event
@@ -54,13 +58,30 @@ module event_location
 
 contains
 
-  !> Room for nc conditions (before the time loop: no allocation in it).
-  subroutine locator_init(self, nc)
+  !> Room for the conditions of cs (before the time loop: no allocation in it), with the bodies of
+  !> their nodes: body(eq) of the first free equation eqn(:, node) (dof_map's equation_bodies).
+  subroutine locator_init(self, cs, eqn, body)
     class(event_locator_t), intent(inout) :: self
-    integer, intent(in) :: nc
+    type(contact_set_t), intent(in) :: cs
+    integer, intent(in) :: eqn(:, :), body(:)
+    integer :: nc, j, k, d, nodes(2)
     if (allocated(self%rate)) return
+    nc = cs%n_conditions()
     allocate (self%rate(nc), self%rate_prev(nc), self%lam(nc), self%open_now(nc), &
-      self%open_prev(nc), self%held_now(nc), self%held_prev(nc))
+      self%open_prev(nc), self%held_now(nc), self%held_prev(nc), self%cbody(2, nc))
+    self%cbody = 0
+    do j = 1, nc
+      nodes = cs%nodes(j)
+      do k = 1, 2
+        if (nodes(k) <= 0) cycle
+        do d = 1, size(eqn, 1)
+          if (eqn(d, nodes(k)) > 0) then
+            self%cbody(k, j) = body(eqn(d, nodes(k)))
+            exit
+          end if
+        end do
+      end do
+    end do
     self%rate = 0.0_dp
     self%lam = 0.0_dp
     self%open_now = .false.
@@ -76,7 +97,6 @@ contains
     integer :: j
     logical :: unilateral, active, trial
     real(dp) :: lambda
-    call locator_init(self, cs%n_conditions())
     self%rate_prev = self%rate
     self%open_prev = self%open_now
     self%held_prev = self%held_now
@@ -97,7 +117,8 @@ contains
   end subroutine locator_begin_step
 
   !> The fraction θ of the step (length h) at which its first contact event happened, 0 when the
-  !> step is not to be cut: no onset or release in it, or θ within SPLIT_MIN of its ends.
+  !> step is not to be cut: no onset (a condition closing between two bodies already in contact is
+  !> the contact spreading) or release in it, or θ within SPLIT_MIN of its ends.
   real(dp) function locator_event_fraction(self, cs, h, massless, is_onset) result(theta)
     class(event_locator_t), intent(in) :: self
     type(contact_set_t), intent(in) :: cs
@@ -110,11 +131,12 @@ contains
     theta = 0.0_dp
     is_onset = .false.
     smin = huge(1.0_dp)
-    onset = .not. any(self%held_now)
     do j = 1, cs%n_conditions()
       call cs%row_state(j, unilateral, active, trial, lambda)
       if (.not. unilateral) cycle
-      if (trial .and. .not. active .and. onset) then
+      onset = .false.
+      if (trial .and. .not. active) onset = .not. pair_held(self, j)
+      if (onset) then
         s = onset_time(self, j, cs%gap(j), h)
         if (s < smin) is_onset = .true.
         smin = min(smin, s)
@@ -129,6 +151,24 @@ contains
     theta = smin / h
     if (theta < SPLIT_MIN .or. theta > 1.0_dp - SPLIT_MIN) theta = 0.0_dp
   end function locator_event_fraction
+
+  !> Whether a condition between the same two bodies as condition j (an obstacle counting as body
+  !> 0) was held at the step's start: j closing is then the contact spreading, not an onset.
+  pure logical function pair_held(self, j) result(held)
+    type(event_locator_t), intent(in) :: self
+    integer, intent(in) :: j
+    integer :: k, a, b
+    a = minval(self%cbody(:, j))
+    b = maxval(self%cbody(:, j))
+    held = .false.
+    do k = 1, size(self%held_now)
+      if (.not. self%held_now(k)) cycle
+      if (minval(self%cbody(:, k)) == a .and. maxval(self%cbody(:, k)) == b) then
+        held = .true.
+        return
+      end if
+    end do
+  end function pair_held
 
   !> The first root in (0, h] of condition j's gap g(s) (huge: none).
   pure real(dp) function onset_time(self, j, g, h) result(s)
@@ -190,8 +230,7 @@ contains
     started = 0
     call ck%get('events_started', started, stat, errmsg)
     call ck%get('events_located', self%located, stat, errmsg)
-    call locator_init(self, nc)
-    self%started = started == 1
+    self%started = started == 1 .and. allocated(self%rate) .and. size(self%rate) == nc
     if (.not. self%started) return
     call ck%get('events_rate', self%rate, stat, errmsg)
     call ck%get('events_multiplier', self%lam, stat, errmsg)

@@ -129,7 +129,7 @@ contains
       call rs%mat_sub%setup(sys, rs%h, stat, errmsg, minor, scn%iter_auto)
       if (stat /= STAT_OK) return
     end if
-    if (rs%has_contact .and. scn%locate_events) call rs%events%init(rs%cs%n_conditions())
+    if (rs%has_contact .and. scn%locate_events) call rs%events%init(rs%cs, sys%dofs%eqn, rs%body)
     call rs%ctl%init(scn, n)
     rs%t_now = scn%t_start
     if (scn%static_steps > 0) call run_static(scn, sys, rs, stat, errmsg)

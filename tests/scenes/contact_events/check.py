@@ -25,7 +25,10 @@ constant acceleration); the run's steps go on from there (the time grid shifts).
    (80 elements, consistent mass) and with PERSIST on MASS MIXED the bounce recovers >= 95 % of
    the drop (PERSIST on the consistent mass: printed, a limit of docs/contact.md).
 6. A wall moving at 0.5 m/s onto a point mass at rest (OBSTACLE ... VELOCITY), LOCATE: the onset
-   at g0 / 0.5 s (1e-12 relative).
+   at g0 / 0.5 s (1e-12 relative). A mass dropped on a mass that rests on the ground: the onset
+   between the two located at sqrt(2 d/g) while the ground contact is held (an onset is a first
+   contact between two bodies; a condition closing between bodies already in contact is the
+   contact spreading, not located).
 7. Restart: a run stopped on the located step (its successor closes at a zero gap) and restarted
    writes the same history.csv, events.csv and contacts.csv as the run in one go, byte for byte.
 8. The run summary and the scene line say so; a word other than AUTO, LOCATE, OFF is refused.
@@ -188,6 +191,32 @@ est = [e[1] for e in cc.events(out) if e[3] == 'establish']
 onset = t[np.searchsorted(t, est[0]) - 1] if est else np.nan
 sc.report_measured('moving wall: onset at g0/v = 0.26 s (1e-12)', abs(onset - 0.26) <= 1e-12 * 0.26, '%.17g s' % onset)
 cc.check_balance('moving wall EVENTS LOCATE', out)
+
+# 6b. An onset between two bodies while one of them holds another contact: a mass resting on the
+# ground, a second one dropped on it from 0.3 m (GAP PAIRS): located at sqrt(2 d / g).
+STACK = sc.write_scene('stack_events.dat', '''NODE      low AT 0 0
+NODE      top AT 0 0.3
+ELEMENT   m1 TYPE MASS NODES low
+ELEMENT   m2 TYPE MASS NODES top
+SECTION   s1 MASS 1
+SECTION   s2 MASS 0.5
+MODEL     m1 SECTION s1
+MODEL     m2 SECTION s2
+OBSTACLE  ground NODES low POINT 0 0 NORMAL 0 1
+GAP       hit PAIRS low top NORMAL 0 1
+GRAVITY   GY -9.81
+TIME      STEP 7e-3 END 0.4
+SCHEME    EVENTS LOCATE
+OUTPUT    HISTORY EVERY 1  FIELDS EVERY 0  PROBE top UY
+''')
+out = sc.run_ok(STACK)
+t = sc.history(out)['time']
+est = [e[1] for e in cc.events(out) if e[3] == 'establish' and e[2] == 2]
+onset = t[np.searchsorted(t, est[0]) - 1] if est else np.nan
+tc = np.sqrt(2 * 0.3 / cc.G)
+sc.report_measured('a mass dropped on a mass resting on the ground: the onset located at sqrt(2 d/g) (1e-12)',
+                   abs(onset - tc) <= 1e-12 * tc, '%.17g s against %.17g s' % (onset, tc))
+cc.check_balance('stacked masses EVENTS LOCATE', out)
 
 # 7. Restart on the located step: gap 2.3 mm, the onset at 2.3e-5 s = END of the first part.
 sets = ['LINE.bar.FROM=0.0023 0', 'LINE.bar.TO=0.2023 0', 'OUTPUT.CHECKPOINT=1', 'OUTPUT.FIELDS=0']
