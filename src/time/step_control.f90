@@ -24,7 +24,7 @@
 !> back to STEP at most, and after an onset to STEP/32 (contact events are located on a step's end
 !> under ADAPTIVE, and the step after an onset holds the contact for its whole length). A step that fails to converge
 !> is halved the same way (SCHEME RETRY's sub-steps only below MIN), and its length is not tried
-!> again for 50 steps. The kinks of the scene's
+!> again for 50 steps (12 after a rejection by the estimate). The kinks of the scene's
 !> functions (table points, a SINE's or SMOOTH_STEP's start and finish) are step ends.
 module step_control
   use kinds, only: dp
@@ -38,6 +38,7 @@ module step_control
   integer, parameter :: GROW_AFTER = 3          !< accepted steps with η ≤ GROW_MARGIN tol before doubling
   real(dp), parameter :: GROW_MARGIN = 0.25_dp
   integer, parameter :: HOLD_AFTER_FAIL = 50    !< steps before a length that failed is tried again
+  integer, parameter :: HOLD_AFTER_REJECT = 12  !< steps before a length rejected by the estimate is tried again
   !> The step after a located onset, STEP/32 (or MIN): it holds the contact for its whole length,
   !> the onset's error in time; shorter, the closing step's multipliers (~ m v/h) amplify the gap's
   !> round-off in the energy balance (STEP/1024 on inputs/beam_drop_vertical.dat: 1e-10 of E).
@@ -154,7 +155,12 @@ contains
     den = max(self%u_norm, self%u_scale)
     if (num > 0.0_dp) self%eta = sqrt(num / max(den, tiny(1.0_dp)))
     again = self%eta > self%tol .and. 0.5_dp * h >= self%hmin * (1.0_dp - 1.0e-12_dp)
-    if (again) self%rejected = self%rejected + 1
+    if (again) then
+      self%rejected = self%rejected + 1
+      ! Not back to h for HOLD_AFTER_REJECT steps (no doubling and rejection in turn).
+      self%h_fail = h
+      self%hold = max(self%hold, HOLD_AFTER_REJECT)
+    end if
   end function ctl_judge
 
   !> The step of length h was committed; full: at the controller's length (not cut short at a kink
