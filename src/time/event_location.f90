@@ -30,7 +30,7 @@ module event_location
   use checkpoint, only: ckpt_file_t
   implicit none
   private
-  public :: event_locator_t, SPLIT_MIN
+  public :: event_locator_t
 
   !> Fraction of the step below which (or above 1 − which) an event is not cut off.
   real(dp), parameter :: SPLIT_MIN = 1.0e-3_dp

@@ -450,7 +450,7 @@ contains
       end if
       if (stat /= STAT_OK) return
       if (rep%outcome == STEP_CONVERGED) exit
-      if (.not. (rep%outcome == STEP_REJECTED .or. 0.5_dp * rs%h >= rs%ctl%hmin * (1.0_dp - 1.0e-12_dp))) return
+      if (.not. (rep%outcome == STEP_REJECTED .or. rs%ctl%can_halve(rs%h))) return
       ! Again at h/2: nothing was committed.
       if (rep%outcome /= STEP_REJECTED) call rs%ctl%failed(rs%h)
       if (rs%has_contact) call rs%cs%warm_start(rs%act0)
@@ -523,7 +523,7 @@ contains
       theta = rs%events%event_fraction(rs%cs, h, scn%impact == IMPACT_MASSLESS, onset)
       if (rs%ctl%on .and. theta * h < rs%ctl%hmin) theta = 0.0_dp     ! (ADAPTIVE: no cut below MIN)
       if (theta > 0.0_dp) then
-        call onset_step(t0 + theta * (t1 - t0), theta * h)
+        call cut_at_event(t0 + theta * (t1 - t0), theta * h)
         return
       end if
     end if
@@ -552,7 +552,7 @@ contains
     end if
     if (level >= scn%retry) return
     ! (ADAPTIVE: the controller halves the step itself while h/2 >= MIN.)
-    if (level == 0 .and. rs%ctl%on .and. 0.5_dp * h >= rs%ctl%hmin * (1.0_dp - 1.0e-12_dp)) return
+    if (level == 0 .and. rs%ctl%on .and. rs%ctl%can_halve(h)) return
     ! Nothing was committed: the same interval again as two half steps (a failed iteration, or
     ! an impact correction that would leave energy in the balance: impact_short).
     if (rs%has_contact) call rs%cs%warm_start(rs%act0)
@@ -566,9 +566,9 @@ contains
     if (stat /= STAT_OK .or. rep%outcome /= STEP_CONVERGED) return
     call use_step(scn, sys, rs, outs, h, level, stat, errmsg)
   contains
-    !> The step cut at the onset tm (length hm): nothing of the first attempt was committed; the
-    !> run's S is restored after it and the caller shifts the grid.
-    recursive subroutine onset_step(tm, hm)
+    !> The step cut at the event's instant tm (an onset or a release; length hm): nothing of the
+    !> first attempt was committed; the run's S is restored after it and the caller shifts the grid.
+    recursive subroutine cut_at_event(tm, hm)
       real(dp), intent(in) :: tm, hm
       rs%step_located = .true.
       rs%h_located = hm
@@ -579,7 +579,7 @@ contains
         tfail, stat, errmsg)
       if (stat /= STAT_OK .or. rep%outcome /= STEP_CONVERGED) return
       call use_step(scn, sys, rs, outs, h, level, stat, errmsg)
-    end subroutine onset_step
+    end subroutine cut_at_event
 
     subroutine attempt(mat)
       type(iteration_matrix_t), intent(inout), target :: mat

@@ -31,6 +31,7 @@ module step_control
   use scene, only: scene_t, FN_TABLE
   use assembly, only: system_t, mass_times
   use checkpoint, only: ckpt_file_t
+  use array_utils, only: stable_order
   implicit none
   private
   public :: step_controller_t
@@ -69,6 +70,7 @@ module step_control
     procedure :: to_kink => ctl_to_kink
     procedure :: failed => ctl_failed
     procedure :: min_length => ctl_min_length
+    procedure :: can_halve => ctl_can_halve
     procedure :: save => ctl_save
     procedure :: load => ctl_load
   end type step_controller_t
@@ -104,21 +106,14 @@ contains
     self%kinks = t
   end subroutine ctl_init
 
-  !> Insertion sort, duplicates dropped (a few kinks).
+  !> Sorted, duplicates dropped (a few kinks).
   pure subroutine sort_unique(t)
     real(dp), allocatable, intent(inout) :: t(:)
-    integer :: i, j, n
-    real(dp) :: x
-    do i = 2, size(t)
-      x = t(i)
-      j = i - 1
-      do while (j >= 1)
-        if (t(j) <= x) exit
-        t(j + 1) = t(j)
-        j = j - 1
-      end do
-      t(j + 1) = x
-    end do
+    integer :: i, n
+    integer :: idx(size(t))
+    idx = [(i, i = 1, size(t))]
+    call stable_order(t, idx)
+    t = t(idx)
     n = min(size(t), 1)
     do i = 2, size(t)
       if (t(i) > t(n)) then
@@ -154,7 +149,7 @@ contains
     num = dot_product(self%e, self%me)
     den = max(self%u_norm, self%u_scale)
     if (num > 0.0_dp) self%eta = sqrt(num / max(den, tiny(1.0_dp)))
-    again = self%eta > self%tol .and. 0.5_dp * h >= self%hmin * (1.0_dp - 1.0e-12_dp)
+    again = self%eta > self%tol .and. self%can_halve(h)
     if (again) then
       self%rejected = self%rejected + 1
       ! Not back to h for HOLD_AFTER_REJECT steps (no doubling and rejection in turn).
@@ -211,12 +206,19 @@ contains
     end if
   end function ctl_next_length
 
+  !> Whether h/2 is still a length of the controller (≥ MIN, to rounding).
+  pure logical function ctl_can_halve(self, h)
+    class(step_controller_t), intent(in) :: self
+    real(dp), intent(in) :: h
+    ctl_can_halve = 0.5_dp * h >= self%hmin * (1.0_dp - 1.0e-12_dp)
+  end function ctl_can_halve
+
   !> The shortest step, base 2^k ≥ MIN.
   pure real(dp) function ctl_min_length(self, base) result(h)
     class(step_controller_t), intent(in) :: self
     real(dp), intent(in) :: base
     h = base
-    do while (0.5_dp * h >= self%hmin * (1.0_dp - 1.0e-12_dp))
+    do while (self%can_halve(h))
       h = 0.5_dp * h
     end do
   end function ctl_min_length
