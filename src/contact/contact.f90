@@ -33,6 +33,7 @@ module contact
   use constraint_rows, only: constraint_rows_t, LABEL_LEN, MAX_REWRITE
   use contact_state, only: contact_state_t
   use contact_multipliers, only: multiplier_system_t
+  use coulomb, only: coulomb_t
   use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC, SOLVER_AUTO, &
     SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   use impact_kernels, only: impact_energy_error
@@ -50,6 +51,7 @@ module contact
   public :: SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   public :: contact_set_t, contact_settings_t, contact_event_t, contact_report_t, multiplier_counters_t, row_geometry_t
   public :: contact_set_bilateral, contact_set_gap0, contact_rewrite, contact_step_gaps
+  public :: contact_add_friction
   public :: contact_add, contact_finalize, contact_set_mass, contact_prepare, contact_solve_step, contact_set_resting, &
     contact_schur_only, &
     contact_end_step, contact_shortfall, contact_add_force, contact_gaps, contact_destroy, contact_w_matrix, contact_am_block, &
@@ -105,7 +107,9 @@ module contact
     type(contact_state_t) :: st              !< state between steps (checkpointed)
     integer :: nc = 0, neq = 0
     integer :: first_bilateral = huge(1)     !< rows from here on are equalities (IMPOSE), always active
-    logical, allocatable :: bilat(:)
+    logical, allocatable :: bilat(:)         !< IMPOSE's rows and FRICTION's tangential rows: no contacts
+    logical, allocatable :: tangent(:)       !< FRICTION's tangential rows (coulomb)
+    type(coulomb_t) :: fr                    !< Coulomb's law on them
     logical, allocatable :: follow(:)        !< rows rewritten at each step (contact_rewrite)
     real(dp), allocatable :: xg(:)           !< the work of those rows the end of the step gives back
     ! Their pairing now (geo_now: the end configuration after end_geometry) and in the step's
@@ -157,6 +161,8 @@ module contact
     procedure :: reaction => cs_reaction
     procedure :: multiplier => cs_multiplier
     procedure :: correction_impulse => cs_correction_impulse
+    procedure :: tangential => cs_tangential
+    procedure :: tangent_row => cs_tangent_row
     procedure :: body_impulse => cs_body_impulse
     procedure :: gap => cs_gap
     procedure :: gap_end => cs_gap_end
@@ -181,7 +187,7 @@ module contact
 
   interface
     !> End of a converged step, after eq (3) gave v = v(n+1) and mv = M v(n+1) (contact_impact).
-    module subroutine contact_end_step(cs, mode, u_n, du, v, mv, energy_restored, stat, errmsg, body, report)
+    module subroutine contact_end_step(cs, mode, u_n, du, v, mv, energy_restored, stat, errmsg, body, report, step)
       type(contact_set_t), intent(inout) :: cs
       integer, intent(in) :: mode
       real(dp), intent(in) :: u_n(:), du(:)
@@ -191,6 +197,7 @@ module contact
       character(len=:), allocatable, intent(out) :: errmsg
       integer, intent(in), optional :: body(:)
       type(contact_report_t), intent(out), optional :: report
+      real(dp), intent(in), optional :: step           !< h: FRICTION's stuck contacts (stick_velocities)
     end subroutine contact_end_step
 
     !> What the impact correction of the step that just converged would leave in the energy
@@ -250,6 +257,17 @@ module contact
     module subroutine contact_destroy_mass(cs)
       type(contact_set_t), intent(inout) :: cs
     end subroutine contact_destroy_mass
+
+    !> One iteration of the step with any S⁻¹ operator (contact_step).
+    module subroutine solve_step_op(cs, s, u_n, du_free, du, lambda, stat, errmsg)
+      type(contact_set_t), intent(inout), target :: cs
+      class(inverse_op_t), intent(inout), target :: s
+      real(dp), intent(in) :: u_n(:), du_free(:)
+      real(dp), intent(out) :: du(:)
+      real(dp), intent(out) :: lambda(:)
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+    end subroutine solve_step_op
 
     !> Condition j's obstacle moves (contact_frame).
     module subroutine cs_move_obstacle(self, j, shift, rate, vel)
@@ -335,6 +353,31 @@ contains
     integer, intent(in) :: j
     cs_multiplier = self%lam_step(j)
   end function cs_multiplier
+
+  !> FRICTION on condition j: its tangential step multiplier Λ_T (along t = n turned by +90°),
+  !> the slip of the last step c_T du and the tangential impulse of its impact correction (all 0
+  !> on a frictionless condition).
+  pure subroutine cs_tangential(self, j, lambda_t, slip, impulse_t)
+    class(contact_set_t), intent(in) :: self
+    integer, intent(in) :: j
+    real(dp), intent(out) :: lambda_t, slip, impulse_t
+    integer :: t
+    lambda_t = 0.0_dp
+    slip = 0.0_dp
+    impulse_t = 0.0_dp
+    t = self%fr%tangent_of(j)
+    if (t == 0) return
+    lambda_t = self%st%lambda(t)
+    slip = self%gend(t) - self%gn(t)
+    impulse_t = self%cimp(t)
+  end subroutine cs_tangential
+
+  !> FRICTION: the tangential row of condition j (0: frictionless).
+  pure integer function cs_tangent_row(self, j) result(t)
+    class(contact_set_t), intent(in) :: self
+    integer, intent(in) :: j
+    t = self%fr%tangent_of(j)
+  end function cs_tangent_row
 
   !> Impulse of the end-of-step correction of the last step along c_j (0 without one).
   pure real(dp) function cs_correction_impulse(self, j)
@@ -485,6 +528,7 @@ contains
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
     call self%st%save(ck, stat, errmsg)
+    call self%fr%save(ck, stat, errmsg)
   end subroutine cs_save
 
   subroutine cs_load(self, ck, stat, errmsg)
@@ -493,6 +537,7 @@ contains
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
     call self%st%load(ck, stat, errmsg)
+    call self%fr%load(ck, stat, errmsg)
   end subroutine cs_load
 
   ! ---------------------------------------------------------------------------------------
@@ -514,6 +559,18 @@ contains
     cs%nc = cs%c%n()
     cs%finalized = .false.
   end subroutine contact_add
+
+  !> FRICTION mu > 0 on condition j (added): its tangential row Σ coefs(k) u(eqs(k)) (the slip,
+  !> along the tangent t = n turned by +90°), appended after every other row (coulomb).
+  pure subroutine contact_add_friction(cs, j, eqs, coefs, mu)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: j, eqs(:)
+    real(dp), intent(in) :: coefs(:), mu
+    call cs%c%add(0.0_dp, eqs, coefs, cs%c%nodes(j), cs%c%label(j))
+    cs%nc = cs%c%n()
+    call cs%fr%add(cs%nc, j, mu)
+    cs%finalized = .false.
+  end subroutine contact_add_friction
 
   !> Rows first.. (added last) are bilateral: equalities g_j = 0 held by a multiplier of any sign
   !> (IMPOSE: prescribed displacements), always active, without impact events or corrections.
@@ -620,7 +677,11 @@ contains
     call cs%st%init(g0)
     if (allocated(cs%bilat)) deallocate (cs%bilat)
     allocate (cs%bilat(nc))
-    cs%bilat = [(j >= cs%first_bilateral, j = 1, nc)]
+    call cs%fr%init(nc)
+    if (allocated(cs%tangent)) deallocate (cs%tangent)
+    allocate (cs%tangent(nc))
+    call cs%fr%tangent_mask(cs%tangent)
+    cs%bilat = [(j >= cs%first_bilateral, j = 1, nc)] .or. cs%tangent
     if (allocated(cs%follow)) deallocate (cs%follow, cs%xg, cs%geo_now, cs%geo_step)
     allocate (cs%follow(nc), cs%xg(nc), cs%geo_now(nc), cs%geo_step(nc))
     cs%follow = .false.
@@ -832,59 +893,4 @@ contains
     call solve_step_op(cs, op, u_n, du_free, du, lambda, stat, errmsg)
   end subroutine solve_step_chol
 
-  subroutine solve_step_op(cs, s, u_n, du_free, du, lambda, stat, errmsg)
-    type(contact_set_t), intent(inout), target :: cs
-    class(inverse_op_t), intent(inout), target :: s
-    real(dp), intent(in) :: u_n(:), du_free(:)
-    real(dp), intent(out) :: du(:)
-    real(dp), intent(out) :: lambda(:)
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j
-
-    stat = STAT_OK
-    du = du_free
-    if (.not. cs%prepared) then
-      call set_error(stat, errmsg, STAT_INPUT, 'contact_solve_step: call contact_prepare first')
-      return
-    end if
-    if (size(lambda) /= cs%nc .or. size(u_n) /= cs%neq .or. size(du_free) /= cs%neq .or. size(du) /= cs%neq) then
-      call set_error(stat, errmsg, STAT_INPUT, 'contact_solve_step: size mismatch (' // str(cs%neq) // &
-        ' equations, ' // str(cs%nc) // ' conditions)')
-      return
-    end if
-    lambda = 0.0_dp
-    if (cs%nc == 0) return
-    call cs%c%gaps(u_n, cs%st%gap_n)
-    if (cs%moving) cs%st%gap_n = cs%st%gap_n + cs%wshift   ! (g0 is the step end's: g(n) before the obstacle moved)
-    ! A condition that starts the step slightly penetrated (within the input tolerance, or by
-    ! the LCP tolerance at an earlier release) is held where it is, not pushed out: its target
-    ! is g(n+1) >= g(n). Pushing it out would let the multiplier do the work ½ Λ |g(n)|, which
-    ! E_j = ½ Λ max(g(n), 0) of eq (10) cannot take back: energy created. Its tolerance is what
-    ! is left of the gap tolerance (tol + g(n), negative beyond it: then it is caught at once),
-    ! so that the penetration stays within the tolerance however slowly it creeps in.
-    do j = 1, cs%nc
-      cs%wq(j) = max(cs%st%gap_n(j), 0.0_dp) + cs%c%dot(j, du_free)
-      cs%tolj(j) = cs%settings%gap_rtol * cs%length_scale + min(cs%st%gap_n(j), 0.0_dp)
-      if (cs%bilat(j) .or. cs%follow(j)) then  ! an equality, or a gap whose work is given back: it closes
-        cs%wq(j) = cs%st%gap_n(j) + cs%c%dot(j, du_free)
-        cs%tolj(j) = cs%settings%gap_rtol * cs%length_scale
-      end if
-      if (cs%moving) cs%wq(j) = cs%wq(j) - cs%wshift(j)
-    end do
-    call cs%ms%bind(cs%c, s)
-    call lcp_pivot(cs%ms, cs%wq, cs%settings%gap_rtol * cs%length_scale, cs%st%lambda, cs%st%gap, &
-      cs%st%active_iter, cs%wdiag, cs%viol, cs%lcp_iter, stat, errmsg, tol_free=cs%tolj, bilateral=cs%bilat)
-    if (stat /= STAT_OK) then
-      call cs%ms%unbind()
-      errmsg = errmsg // ' (' // str(count(cs%st%active_iter)) // ' conditions in the last active set)'
-      return
-    end if
-    lambda = cs%st%lambda
-    if (any(cs%st%lambda /= 0.0_dp)) then
-      call cs%ms%correction(cs%st%lambda, cs%xw, stat, errmsg)
-      if (stat == STAT_OK) du = du + cs%xw
-    end if
-    call cs%ms%unbind()
-  end subroutine solve_step_op
 end module contact

@@ -113,6 +113,14 @@ contains
         call obstacle_frame(cs, .false., body, v, mv, stat, errmsg)
         rep%obstacle_work = rep%obstacle_work + (0.5_dp * dot_product(v, mv) - t_lab - energy_restored)
       end if
+      ! FRICTION: the normal impulses of the correction carry their Coulomb share, and a sticking
+      ! contact's slip rate goes to 0 (after the energy restored is measured, in the lab frame:
+      ! what the friction takes is dissipation, never restored).
+      if (cs%fr%count() > 0 .and. mode /= IMPACT_OFF) then
+        call correction_friction(cs, v, mv, rep, stat, errmsg)
+        if (stat == STAT_OK .and. present(step)) call stick_velocities(cs, step, v, mv, rep, stat, errmsg)
+        if (stat /= STAT_OK) return
+      end if
 
       ! Reactions (reported only) and the new state.
       if (mode == IMPACT_MASSLESS) then
@@ -156,7 +164,9 @@ contains
       ! Bilateral rows (IMPOSE) are no contacts: no events, no correction; their multipliers'
       ! work is the work of the imposed motion, for the driver's external work.
       now = cs%st%active_iter .and. .not. cs%bilat
-      rep%imposed_work = 0.5_dp * sum(cs%st%lambda * (gend - gn), mask=cs%bilat)
+      rep%imposed_work = 0.5_dp * sum(cs%st%lambda * (gend - gn), mask=cs%bilat .and. .not. cs%tangent)
+      ! FRICTION: the tangential rows' work ½ Λ_T s (s = c_T du, the slip), never positive.
+      rep%friction_dissipated = -0.5_dp * sum(cs%st%lambda * (gend - gn), mask=cs%tangent)
       est = now .and. .not. cs%st%active
       rel = cs%st%active .and. .not. now
       y = 0.0_dp
@@ -178,9 +188,106 @@ contains
       rep%scheme_work = 0.5_dp * dot_product(cs%lam_step, gend - gn)
       ! A moving obstacle's work over the step: the multiplier's work ½ Λ c'du = ½ Λ (g(n+1) - g(n)
       ! + shift) on the structure, less the contact's share.
-      if (cs%moving) rep%obstacle_work = 0.5_dp * sum(cs%lam_step * cs%wshift, mask=.not. cs%bilat)
+      if (cs%moving) rep%obstacle_work = 0.5_dp * sum(cs%lam_step * cs%wshift, mask=.not. cs%bilat .or. cs%tangent)
     end associate
   end subroutine step_conditions
+
+  !> FRICTION on the impulses of the impact correction (docs/contact.md, "Friction"): a
+  !> condition j the correction pushed by I_N = cimp(j) > 0 gets along its tangential row t the
+  !> impulse that opposes its slip rate v_t = c_t v, capped by the cone and by what stops the
+  !> slip: I_T = -sign(v_t) min(μ |I_N|, |v_t| / a_tt), a_tt = c_t M⁻¹c_t' (one condition after
+  !> the other). Each removes kinetic energy, booked as the friction's (rep%friction_dissipated),
+  !> not as restored; I_T is kept in cimp(t) for the outputs.
+  subroutine correction_friction(cs, v, mv, rep, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    real(dp), intent(inout) :: v(:), mv(:)
+    type(contact_report_t), intent(inout) :: rep
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: j, jt
+    real(dp) :: vt, a(1, 1)
+    stat = STAT_OK
+    cs%nu = 0.0_dp
+    do j = 1, cs%nc
+      jt = cs%fr%tangent_of(j)
+      if (jt == 0) cycle
+      cs%cimp(jt) = 0.0_dp
+      if (.not. cs%cimp(j) > 0.0_dp) cycle       ! (a pushing impulse: a pull is no contact force)
+      vt = slip_rate(cs, jt, v)
+      if (vt == 0.0_dp) cycle
+      call cs%sp%am_block(cs%c, [jt], 1, a, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (.not. (a(1, 1) > 0.0_dp)) cycle
+      call tangential_impulse(cs, jt, -sign(min(cs%fr%mu_of(j) * cs%cimp(j), abs(vt) / a(1, 1)), vt), vt, a(1, 1), &
+        v, mv, rep, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end do
+  end subroutine correction_friction
+
+  !> FRICTION: a stuck condition's slip over the step is 0, Δu_T = (h/2)(v_T(n) + v_T(n+1)) = 0, so
+  !> a node that sticks while it slid leaves the step at v_T(n+1) = -v_T(n) and keeps alternating
+  !> (the trapezoid rule's signature, as the normal velocity's before eq (16)). A sticking contact
+  !> is a tangential impact: its slip rate is brought to 0 by the impulse -v_t / a_tt along c_t,
+  !> within what the cone leaves of the step's impulses, μ (h/2 Λ_N + I_N) - |h/2 Λ_T + I_T|; the
+  !> kinetic energy it removes is the friction's (rep%friction_dissipated), I_T kept in cimp(t).
+  subroutine stick_velocities(cs, h, v, mv, rep, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    real(dp), intent(in) :: h
+    real(dp), intent(inout) :: v(:), mv(:)
+    type(contact_report_t), intent(inout) :: rep
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: j, jt
+    real(dp) :: vt, a(1, 1), budget
+    stat = STAT_OK
+    do j = 1, cs%nc
+      jt = cs%fr%tangent_of(j)
+      if (jt == 0) cycle
+      if (.not. (cs%now(j) .and. cs%fr%sticks(jt))) cycle
+      vt = slip_rate(cs, jt, v)
+      if (vt == 0.0_dp) cycle
+      budget = cs%fr%mu_of(j) * (0.5_dp * h * cs%st%lambda(j) + max(cs%cimp(j), 0.0_dp)) - &
+        abs(0.5_dp * h * cs%st%lambda(jt) + cs%cimp(jt))
+      if (.not. budget > 0.0_dp) cycle
+      call cs%sp%am_block(cs%c, [jt], 1, a, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (.not. (a(1, 1) > 0.0_dp)) cycle
+      call tangential_impulse(cs, jt, -sign(min(budget, abs(vt) / a(1, 1)), vt), vt, a(1, 1), v, mv, rep, stat, &
+        errmsg)
+      if (stat /= STAT_OK) return
+    end do
+  end subroutine stick_velocities
+
+  !> The slip rate of tangential row jt: c_t v, relative to a moving obstacle (its tangential
+  !> velocity wrate(jt)).
+  pure real(dp) function slip_rate(cs, jt, v) result(vt)
+    type(contact_set_t), intent(in) :: cs
+    integer, intent(in) :: jt
+    real(dp), intent(in) :: v(:)
+    vt = cs%c%dot(jt, v)
+    if (cs%moving) vt = vt - cs%wrate(jt)
+  end function slip_rate
+
+  !> The impulse p along tangential row jt (vt its slip rate, a = c_t M⁻¹c_t'):
+  !> v <- v + p M⁻¹c_t', its dissipation -p (vt + ½ a p) >= 0 booked as the friction's and the
+  !> rest of the kinetic change, p times the obstacle's tangential velocity, as the obstacle's
+  !> work; p kept in cimp(jt).
+  subroutine tangential_impulse(cs, jt, p, vt, a, v, mv, rep, stat, errmsg)
+    type(contact_set_t), intent(inout) :: cs
+    integer, intent(in) :: jt
+    real(dp), intent(in) :: p, vt, a
+    real(dp), intent(inout) :: v(:), mv(:)
+    type(contact_report_t), intent(inout) :: rep
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    cs%nu(jt) = p
+    call cs%sp%add_minv_ct(cs%c, cs%nu, 1.0_dp, v, mv, stat, errmsg)
+    cs%nu(jt) = 0.0_dp
+    if (stat /= STAT_OK) return
+    rep%friction_dissipated = rep%friction_dissipated - p * (vt + 0.5_dp * a * p)
+    if (cs%moving) rep%obstacle_work = rep%obstacle_work + p * cs%wrate(jt)
+    cs%cimp(jt) = cs%cimp(jt) + p
+  end subroutine tangential_impulse
 
   !> What the impact correction of the step that just converged would leave in the energy balance
   !> (contact_end_step's report%unrestored), found before anything is committed, so that the

@@ -68,6 +68,10 @@ module contact_multipliers
     procedure :: gaps => ms_gaps
     procedure :: correction => ms_correction
     procedure :: column => ms_column
+    procedure :: ensure => ms_ensure
+    procedure :: w_entry => ms_w_entry
+    procedure :: w_block => ms_w_block
+    procedure :: add_columns => ms_add_columns
     procedure :: destroy => ms_destroy
   end type multiplier_system_t
 
@@ -421,6 +425,54 @@ contains
       self%used(sl) = self%clock
     end do
   end subroutine ensure_columns
+
+  !> The columns W(:, j) of the rows rows(1:n) in the cache (one solve each that is not there
+  !> yet), not evicting those of keep (coulomb's solver reads them through w_entry).
+  subroutine ms_ensure(self, rows, n, keep, stat, errmsg)
+    class(multiplier_system_t), intent(inout) :: self
+    integer, intent(in) :: rows(:), n
+    logical, intent(in) :: keep(:)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    self%ia(1:n) = rows(1:n)
+    call ensure_columns(self, keep, n, stat, errmsg)
+    self%x_ok = .false.
+  end subroutine ms_ensure
+
+  !> W_ij for a row j whose column is in the cache (ms_ensure).
+  pure real(dp) function ms_w_entry(self, i, j) result(w)
+    class(multiplier_system_t), intent(in) :: self
+    integer, intent(in) :: i, j
+    w = self%wcol(i, self%slot(j))
+  end function ms_w_entry
+
+  !> w(1:n, l) = W(rows(1:n), cols(l)), l = 1..m, for rows whose columns are in the cache.
+  pure subroutine ms_w_block(self, rows, n, cols, m, w)
+    class(multiplier_system_t), intent(in) :: self
+    integer, intent(in) :: rows(:), n, cols(:), m
+    real(dp), intent(inout) :: w(:, :)
+    integer :: k, l, sl
+    do l = 1, m
+      sl = self%slot(cols(l))
+      do k = 1, n
+        w(k, l) = self%wcol(rows(k), sl)
+      end do
+    end do
+  end subroutine ms_w_block
+
+  !> g <- g + Σ_l lam(cols(l)) W(:, cols(l)) over cached columns.
+  pure subroutine ms_add_columns(self, cols, m, lam, g)
+    class(multiplier_system_t), intent(in) :: self
+    integer, intent(in) :: cols(:), m
+    real(dp), intent(in) :: lam(:)
+    real(dp), intent(inout) :: g(:)
+    integer :: l, sl
+    do l = 1, m
+      if (lam(cols(l)) == 0.0_dp) cycle
+      sl = self%slot(cols(l))
+      g = g + lam(cols(l)) * self%wcol(:, sl)
+    end do
+  end subroutine ms_add_columns
 
   !> z = S⁻¹c_j (one solve with the driver's factor).
   subroutine ms_column(self, j, z, stat, errmsg)

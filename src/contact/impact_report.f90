@@ -22,6 +22,7 @@ module impact_report
     real(dp) :: impact_dissipated = 0.0_dp   !< kinetic energy removed by RESTITUTION e < 1 (never negative)
     real(dp) :: held = 0.0_dp                !< SYMMETRIC: energy taken into (> 0) or given back from (< 0) the contacts' hold
     real(dp) :: snap_dissipated = 0.0_dp     !< MASSLESS: lost by massless nodes snapping to equilibrium (driver's)
+    real(dp) :: friction_dissipated = 0.0_dp !< FRICTION: -½ Λ_T'C_T du, the friction's dissipation in the step (>= 0)
     real(dp) :: unrestored = 0.0_dp          !< energy a scaling could not give back or take off (left in the balance)
   end type contact_report_t
 end module impact_report

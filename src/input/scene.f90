@@ -40,6 +40,7 @@ module scene
     real(dp) :: normal(2) = 0.0_dp
     real(dp) :: g0 = 0.0_dp
     real(dp) :: restitution = 1.0_dp          !< RESTITUTION e: normal velocity after an impact = -e x before
+    real(dp) :: friction = 0.0_dp             !< FRICTION mu: Coulomb's coefficient (0: frictionless)
     integer :: line = 0
     integer :: segset = 0                     !< GAP … SEGMENTS: its segments, scene%segsets(segset)
     logical :: follow = .false.               !< re-paired in the configuration of every step (LARGE)

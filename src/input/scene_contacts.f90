@@ -36,6 +36,7 @@ contains
     call sch%add_param('OBSTACLE', 'OUTSIDE', 0, 0)
     call sch%add_param('OBSTACLE', 'VELOCITY', 2, 2)
     call sch%add_param('OBSTACLE', 'FUNCTION', 1, 1)
+    call sch%add_param('OBSTACLE', 'FRICTION', 1, 1)
     call sch%add_keyword('GAP', 1, 1)
     call sch%add_param('GAP', 'NODES', 1, 1)
     call sch%add_param('GAP', 'WITH', 1, 1)
@@ -44,6 +45,7 @@ contains
     call sch%add_param('GAP', 'NORMAL', 2, 2)
     call sch%add_param('GAP', 'RESTITUTION', 1, 1)
     call sch%add_param('GAP', 'PAIRING', 1, 1)
+    call sch%add_param('GAP', 'FRICTION', 1, 1)
   end subroutine contacts_schema
 
   !> One contacts statement (pass 3 of load_scene: after the models and SCHEME).
@@ -53,14 +55,45 @@ contains
     character(len=*), intent(in) :: path
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    integer :: first
     stat = STAT_OK
+    first = size(scn%conditions) + 1
     select case (st%keyword)
     case ('OBSTACLE')
       call do_obstacle(scn, st, stat, errmsg)
     case ('GAP')
       call do_gap(scn, st, stat, errmsg)
     end select
+    if (stat == STAT_OK) call get_friction(scn, st, first, stat, errmsg)
   end subroutine contacts_statement
+
+  !> FRICTION mu (mu >= 0, finite; default 0) on the conditions first.. of the statement just read:
+  !> Coulomb friction (docs/contact.md, "Friction"). Refused where the tangent would have to follow
+  !> the geometry (a curved obstacle, GAP … SEGMENTS paired at every step): not supported yet,
+  !> never ignored.
+  subroutine get_friction(scn, st, first, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(in) :: first
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    real(dp) :: mu
+    integer :: k
+    stat = STAT_OK
+    k = find_param(st, 'FRICTION')
+    if (k == 0) return
+    call get(st, 'FRICTION', mu, stat, errmsg, lower=0.0_dp, lower_inclusive=.true., upper=1.0e100_dp, &
+      upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
+    if (mu == 0.0_dp) return
+    if (any(scn%conditions(first:)%follow)) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FRICTION on a contact whose normal follows the ' // &
+        'configuration (a SPHERE or CYLINDER obstacle, GAP … SEGMENTS paired at every step) is not supported yet: ' // &
+        'a plane OBSTACLE, GAP … WITH or PAIRS, or SEGMENTS with PAIRING START', st%params(k)%keytok))
+    else
+      scn%conditions(first:)%friction = mu
+    end if
+  end subroutine get_friction
 
   !> Refuse an initial penetration beyond 1e-10 of the model size (a gap of zero is a contact
   !> at t = 0, legitimate).
@@ -634,6 +667,19 @@ contains
         return
       end if
     end if
+    j = findloc(scn%conditions%friction > 0.0_dp, .true., 1)
+    if (j > 0 .and. scn%impact == IMPACT_MASSLESS) then
+      call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(scn%conditions(j)%line) // ': ' // &
+        condition_keyword(scn%conditions(j)) // ' ' // scn%conditions(j)%source // ': FRICTION needs IMPACT ' // &
+        "PERSIST, PAPER or SYMMETRIC (MASSLESS's contact nodes carry no inertia for the friction to act on), at 'FRICTION'")
+      return
+    end if
+    if (j > 0 .and. scn%static_steps > 0) then
+      call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(scn%conditions(j)%line) // ': ' // &
+        condition_keyword(scn%conditions(j)) // ' ' // scn%conditions(j)%source // ': FRICTION with a STATIC ' // &
+        "preload is not supported yet (ramp the loads with a FUNCTION instead), at 'FRICTION'")
+      return
+    end if
     ! SCHEME EVENTS AUTO locates contact events where every contact node's element is on the exact
     ! lattice (MASS TUNED at c h/dx = 1): an impact on a step's end is that scheme's exact case
     ! (docs/contact.md, "Contact events located"), and under TIME … ADAPTIVE (whose error estimate
@@ -649,7 +695,7 @@ contains
       return
     end if
     scn%impact = IMPACT_PERSIST
-    if (all(scn%conditions%restitution >= 1.0_dp) .and. .not. any(scn%conditions%follow)) then
+    if (all(scn%conditions%restitution >= 1.0_dp) .and. .not. any(scn%conditions%follow) .and. j == 0) then
       ! No contact node on a KINEMATICS LARGE model: MASSLESS books what a massless node's row leaves
       ! in the step's energy as its snap to equilibrium, f²/(2k) >= 0 for a linear element; on LARGE
       ! elements it came out negative (energy created: the ring of inputs/ring_impact.dat gained 10 %

@@ -22,6 +22,7 @@ module energy
     type(sum_t) :: impact_sum          !< kinetic energy removed by impacts (RESTITUTION e < 1)
     type(sum_t) :: damping_sum         !< energy removed by Rayleigh damping (MODEL DAMPING)
     type(sum_t) :: held_sum            !< energy a contact holds and gives back at its release (IMPACT SYMMETRIC)
+    type(sum_t) :: friction_sum        !< energy the contacts' friction dissipated (FRICTION)
     real(dp) :: initial = 0.0_dp       !< kinetic + internal at t = 0
     real(dp) :: max_balance = 0.0_dp   !< max |balance| so far
     real(dp) :: max_scale = 0.0_dp     !< max (kinetic + internal) so far
@@ -39,6 +40,8 @@ module energy
     procedure :: add_damping
     procedure :: contact_held
     procedure :: add_held
+    procedure :: friction
+    procedure :: add_friction
     procedure :: relative_balance
     procedure :: pack_state
     procedure :: unpack_state
@@ -46,7 +49,7 @@ module energy
     procedure :: load
   end type energy_t
 
-  integer, parameter, public :: ENERGY_STATE_SIZE = 19
+  integer, parameter, public :: ENERGY_STATE_SIZE = 21
 
 contains
 
@@ -87,6 +90,7 @@ contains
     self%impact_sum = sum_t()
     self%damping_sum = sum_t()
     self%held_sum = sum_t()
+    self%friction_sum = sum_t()
     call add(self%internal_sum, internal0)
     if (present(dissipated0)) call add(self%dissipated_sum, dissipated0)
     self%initial = kinetic0 + self%internal()
@@ -176,6 +180,19 @@ contains
     call add(self%held_sum, e)
   end subroutine add_held
 
+  !> Energy the friction of the contacts dissipated since t = 0.
+  pure real(dp) function friction(self)
+    class(energy_t), intent(in) :: self
+    friction = value(self%friction_sum)
+  end function friction
+
+  !> The friction of a step dissipated e (>= 0): booked like an impact's loss (before add_step).
+  pure subroutine add_friction(self, e)
+    class(energy_t), intent(inout) :: self
+    real(dp), intent(in) :: e
+    call add(self%friction_sum, e)
+  end subroutine add_friction
+
   pure real(dp) function correction(self)
     class(energy_t), intent(in) :: self
     correction = value(self%correction_sum)
@@ -184,13 +201,13 @@ contains
   !> Energy the scheme created: kinetic + internal + impact dissipation - external - (kinetic +
   !> internal at t = 0). Corrections are not subtracted: they give back what the scheme lost,
   !> and the balance is what remains wrong after them. The energy an inelastic impact removes
-  !> (RESTITUTION e < 1), the work of the damping (MODEL DAMPING) and the energy a contact holds
-  !> until its release (IMPACT SYMMETRIC) are physics, not errors: they are counted with the
-  !> internal work.
+  !> (RESTITUTION e < 1), the work of the damping (MODEL DAMPING), the energy a contact holds
+  !> until its release (IMPACT SYMMETRIC) and the friction's dissipation (FRICTION) are physics,
+  !> not errors: they are counted with the internal work.
   pure real(dp) function balance(self)
     class(energy_t), intent(in) :: self
     real(dp) :: lost
-    lost = value(self%impact_sum) + value(self%damping_sum) + value(self%held_sum)
+    lost = value(self%impact_sum) + value(self%damping_sum) + value(self%held_sum) + value(self%friction_sum)
     if (lost == 0.0_dp) then
       balance = ((self%kinetic + self%internal()) - value(self%external_sum)) - self%initial
     else
@@ -205,7 +222,8 @@ contains
     x = [self%kinetic, self%internal_sum%s, self%internal_sum%c, self%elastic, self%external_sum%s, &
       self%external_sum%c, self%correction_sum%s, self%correction_sum%c, self%dissipated_sum%s, &
       self%dissipated_sum%c, self%initial, self%max_balance, self%max_scale, self%impact_sum%s, self%impact_sum%c, &
-      self%damping_sum%s, self%damping_sum%c, self%held_sum%s, self%held_sum%c]
+      self%damping_sum%s, self%damping_sum%c, self%held_sum%s, self%held_sum%c, self%friction_sum%s, &
+      self%friction_sum%c]
   end function pack_state
 
   pure subroutine unpack_state(self, x)
@@ -223,6 +241,7 @@ contains
     self%impact_sum = sum_t(x(14), x(15))
     self%damping_sum = sum_t(x(16), x(17))
     self%held_sum = sum_t(x(18), x(19))
+    self%friction_sum = sum_t(x(20), x(21))
   end subroutine unpack_state
 
   !> The accounts into an open checkpoint (sticky stat, as ckpt_file_t).

@@ -114,6 +114,11 @@ contains
         vn = dot_product(c%normal, c%velocity)
         call contact_set_gap0(cs, j, c%g0 - vn * function_integral(scn%functions, c%vfunc, scn%t_start, t1))
         call cs%move_obstacle(j, vn * function_integral(scn%functions, c%vfunc, t0, t1), vn * f1, c%velocity * f1)
+        if (cs%tangent_row(j) > 0) then        ! FRICTION: the slip is relative to the obstacle
+          vn = c%velocity(2) * c%normal(1) - c%velocity(1) * c%normal(2)   ! (along t = n turned by +90°)
+          call cs%move_obstacle(cs%tangent_row(j), vn * function_integral(scn%functions, c%vfunc, t0, t1), vn * f1, &
+            c%velocity * f1)
+        end if
       end associate
     end do
   end subroutine obstacle_targets

@@ -11,7 +11,7 @@ module newmark
   use dof_map, only: equation_bodies, body_rigid_freedom
   use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions, &
     obstacle_targets
-  use contact, only: contact_report_t, contact_add, contact_finalize, contact_set_mass, &
+  use contact, only: contact_report_t, contact_add, contact_add_friction, contact_finalize, contact_set_mass, &
     contact_prepare, contact_set_rigid_modes, contact_gaps, contact_step_gaps, contact_shortfall
   use newmark_scheme, only: velocity_eq3
   use assembly, only: system_t, external_force, mass_times, initial_state, dof_label, dof_origin, reaction_update, is_damped
@@ -199,6 +199,16 @@ contains
       end associate
     end do
     call imposed_rows(scn, sys, rs%cs)
+    do j = 1, size(scn%conditions)            ! FRICTION: a tangential row each, after all the others
+      if (scn%conditions(j)%friction <= 0.0_dp) cycle
+      call condition_nodes(scn%conditions(j), nodes, w)
+      eqs = 0
+      do k = 1, 3
+        coefs(2 * k - 1:2 * k) = w(k) * [-scn%conditions(j)%normal(2), scn%conditions(j)%normal(1)]
+        if (nodes(k) > 0) eqs(2 * k - 1:2 * k) = max(sys%dofs%eqn(1:2, nodes(k)), 0)
+      end do
+      call contact_add_friction(rs%cs, j, eqs, coefs, scn%conditions(j)%friction)
+    end do
     associate (x => scn%mesh%x(:, 1:scn%mesh%nnode))
       lscale = max(maxval(x(1, :)) - minval(x(1, :)), maxval(x(2, :)) - minval(x(2, :)))
     end associate
@@ -692,6 +702,7 @@ contains
         e_rest = e_rest + crep%impact_dissipated
       end if
       if (crep%snap_dissipated /= 0.0_dp) call rs%en%add_impact(crep%snap_dissipated)
+      if (crep%friction_dissipated /= 0.0_dp) call rs%en%add_friction(crep%friction_dissipated)
       ! SYMMETRIC: the energy the contacts hold until their release, in its own account.
       if (crep%held /= 0.0_dp) then
         call rs%en%add_held(crep%held)

@@ -214,7 +214,8 @@ contains
     e_rest = 0.0_dp
     if (present(cs)) then
       ! Order at the end of a step: (3), then (12)-(15), then (16) (or PERSIST).
-      call contact_end_step(cs, scn%impact, st%u, st%du, st%v, st%mv, e_rest, stat, errmsg, body=body, report=crep)
+      call contact_end_step(cs, scn%impact, st%u, st%du, st%v, st%mv, e_rest, stat, errmsg, body=body, report=crep, &
+        step=st%h)
       if (stat /= STAT_OK) then
         errmsg = 'impact correction: ' // errmsg
         return

@@ -22,11 +22,11 @@ module run_outputs
 
   character(len=*), parameter :: HISTORY_HEADER = &
     'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored,' // &
-    'impact_dissipated,momentum_x,momentum_y,angular_momentum,damping,substeps,contact_held,h'
+    'impact_dissipated,momentum_x,momentum_y,angular_momentum,damping,substeps,contact_held,h,friction_dissipated'
   character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored,' &
     // 'contact'
   character(len=*), parameter :: CONTACTS_HEADER = 'step,time,contact,active,force_x,force_y,impulse_x,impulse_y,' // &
-    'min_gap,moment,impulse_moment'
+    'min_gap,moment,impulse_moment,slip'
 
   type :: output_set_t
     private
@@ -41,7 +41,7 @@ module run_outputs
     character(len=:), allocatable :: cnames(:)
     character(len=:), allocatable :: row     !< a contacts.csv or events.csv line (sized for the longest name)
     integer, allocatable :: cstat(:)
-    real(dp), allocatable :: cimp(:, :), cforce(:, :)
+    real(dp), allocatable :: cimp(:, :), cforce(:, :), cslip(:)   !< cslip: Σ slip since the last row
     real(dp), allocatable :: nodal_u(:, :), nodal_v(:, :), estress(:, :), reaction(:, :), escalar(:, :)
     integer, allocatable :: kept(:)                   !< the elements fields.h5 shows: those of a MODEL
     real(dp), allocatable :: wstress(:, :), wscalar(:, :)   !< their stresses and scalars
@@ -50,7 +50,7 @@ module run_outputs
     logical :: rec_built = .false.
     real(dp), allocatable :: nodal(:, :), pvals(:, :), pdisp(:, :)   !< (NREC, nnode), (NREC, npt), (3, npt)
     real(dp) :: h_row = 0.0_dp               !< the length of the step the next row ends (history.csv h)
-    real(dp) :: htail2(2) = 0.0_dp           !< contact_held, h
+    real(dp) :: htail2(3) = 0.0_dp           !< contact_held, h, friction_dissipated
     real(dp), allocatable :: preals(:), hreals(:), htail(:)   !< htail: dissipated, stored, impact_dissipated, momenta, damping
   contains
     procedure :: open => outputs_open
@@ -227,7 +227,7 @@ contains
       ! (Σ M v_r over the nodes is not a momentum: each ring's points move in all radial directions).
       if (self%axisymmetric) self%htail([4, 6]) = 0.0_dp
       self%htail(7) = en%damping()
-      self%htail2 = [en%contact_held(), self%h_row]
+      self%htail2 = [en%contact_held(), self%h_row, en%friction()]
       call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail, [nsub], self%htail2)
       if (stat /= STAT_OK) return
       self%preals(1) = t
@@ -325,7 +325,7 @@ contains
     type(scene_t), intent(in) :: scn
     type(contact_set_t), intent(in) :: cs
     integer :: j, k, nodes(3)
-    real(dp) :: f, w(3)
+    real(dp) :: f, w(3), ft, slip, imp_t
     self%reaction = 0.0_dp
     do j = 1, size(scn%conditions)
       if (cs%follows(j)) then                  ! the step's pairing, then the end's for the correction
@@ -335,9 +335,12 @@ contains
       end if
       associate (c => scn%conditions(j))
         f = step_impulse(self, cs, j) / self%h
+        call cs%tangential(j, ft, slip, imp_t)     ! (FRICTION: the tangential force along t)
+        ft = 0.5_dp * ft + imp_t / self%h
         call condition_nodes(c, nodes, w)
         do k = 1, 3
-          if (nodes(k) > 0) self%reaction(1:2, nodes(k)) = self%reaction(1:2, nodes(k)) + w(k) * f * c%normal
+          if (nodes(k) > 0) self%reaction(1:2, nodes(k)) = self%reaction(1:2, nodes(k)) + w(k) * (f * c%normal + &
+            ft * [-c%normal(2), c%normal(1)])
         end do
       end associate
     end do
@@ -409,8 +412,9 @@ contains
       end if
     end do
     self%cnames = self%cnames(1:k)
-    allocate (self%cimp(3, k), self%cforce(3, k))
+    allocate (self%cimp(3, k), self%cforce(3, k), self%cslip(k))
     self%cimp = 0.0_dp
+    self%cslip = 0.0_dp
   end subroutine contact_statements
 
   !> After each step: the impulse each contact statement gave its NODES group (for a GAP the
@@ -424,7 +428,7 @@ contains
     real(dp), intent(in) :: u(:), du(:)
     type(contact_set_t), intent(in) :: cs
     type(row_geometry_t) :: gs, ge
-    real(dp) :: istep(2), icorr(2), sgn
+    real(dp) :: istep(2), icorr(2), sgn, lam_t, slip, imp_t
     integer :: j, node
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j), s => self%cstat(j))
@@ -437,8 +441,10 @@ contains
         else
           ! on the NODES group: node b of an OBSTACLE or GAP … SEGMENTS, node a of GAP … WITH or PAIRS
           sgn = merge(-1.0_dp, 1.0_dp, c%node_a > 0 .and. c%node_c == 0)
-          istep = sgn * 0.5_dp * self%h * cs%multiplier(j) * c%normal
-          icorr = sgn * cs%correction_impulse(j) * c%normal + cs%body_impulse(j)
+          call cs%tangential(j, lam_t, slip, imp_t)   ! (FRICTION: along t = n turned by +90°)
+          istep = sgn * 0.5_dp * self%h * (cs%multiplier(j) * c%normal + lam_t * [-c%normal(2), c%normal(1)])
+          self%cslip(s) = self%cslip(s) + slip
+          icorr = sgn * (cs%correction_impulse(j) * c%normal + imp_t * [-c%normal(2), c%normal(1)]) + cs%body_impulse(j)
           node = merge(c%node_a, c%node_b, c%node_a > 0 .and. c%node_c == 0)
         end if
         self%cimp(1:2, s) = self%cimp(1:2, s) + istep + icorr
@@ -492,10 +498,13 @@ contains
       call put_es(self%row, pos, self%cforce(3, k))
       call put_text(self%row, pos, ',')
       call put_es(self%row, pos, self%cimp(3, k))
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, self%cslip(k))
       call self%contacts%write_line(self%row(1:pos), stat, errmsg)
       if (stat /= STAT_OK) return
     end do
     self%cimp = 0.0_dp
+    self%cslip = 0.0_dp
     self%t_row = t
   end subroutine write_contacts
 

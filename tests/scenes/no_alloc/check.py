@@ -17,7 +17,9 @@ opening) cancels. The standard is exactly zero, on:
 - bar_impact: a free bar on a wall, PERSIST (projection and body scaling), window 100..200;
 - beams_collide: two beams, consistent mass (solves with M), PERSIST about the centre of mass;
 - bar_impact with its wall moving at 0.5 m/s (OBSTACLE … VELOCITY), window 50..100 holding the
-  impact: the rows' targets, the obstacle's frame (workspaces set at its first motion).
+  impact: the rows' targets, the obstacle's frame (workspaces set at its first motion);
+- FRICTION (tests/scenes/friction): the stick-slip oscillator over a slip reversal and its stick,
+  the QUAD4 block sliding on its base, the oblique impact's frictional correction.
 
 Contact: the multipliers (Schur columns, LCP pivoting), the impulse (14), the reflection (16)
 and the PERSIST projection work in workspaces sized at contact_finalize (the dense blocks grow
@@ -62,6 +64,11 @@ CASES = [  # scene, N, what the window must contain, --set arguments
     ('inputs/beams_collide.dat', 400, 'impact', ['SCHEME.IMPACT=PERSIST']),
     ('inputs/hertz_axi.dat', 40, 'impact', ['OUTPUT.FIELDS=EVERY 0']),   # axisymmetric (hoop row, ring weights)
     ('inputs/bar_impact.dat', 50, 'impact', ['OBSTACLE.VELOCITY=0.5 0']),   # a moving wall (its frame, its work)
+    # FRICTION: the stick-slip oscillator through a slip reversal and a stick (steps 157-158), the
+    # sliding block's base (the active-set passes, dgesv), the oblique impact's friction correction
+    ('tests/scenes/friction/oscillator.dat', 100, 'impact', []),
+    ('tests/scenes/friction/block_slide.dat', 30, 'impact', []),
+    ('tests/scenes/friction/oblique.dat', 20, 'impact', []),
 ]
 
 
