@@ -110,6 +110,7 @@ bench: bin/rebond
 	@BENCH_CONTACT_OUT=docs/performance-contact.md bash tools/bench_contact.sh
 	@/usr/bin/python3 tools/bench_taylor.py
 	@/usr/bin/python3 tools/bench_taylor.py bin/rebond docs/taylor-axisymmetric.md --scene inputs/taylor_bar.dat
+	@/usr/bin/python3 tools/bench_friction.py
 
 clean:
 	rm -rf $(BUILD) bin/rebond

@@ -117,7 +117,7 @@ contains
       ! contact's slip rate goes to 0 (after the energy restored is measured, in the lab frame:
       ! what the friction takes is dissipation, never restored).
       if (cs%fr%count() > 0 .and. mode /= IMPACT_OFF) then
-        call correction_friction(cs, v, mv, rep, stat, errmsg)
+        if (present(step)) call correction_friction(cs, step, v, mv, rep, stat, errmsg)
         if (stat == STAT_OK .and. present(step)) call stick_velocities(cs, step, v, mv, rep, stat, errmsg)
         if (stat /= STAT_OK) return
       end if
@@ -193,33 +193,43 @@ contains
   end subroutine step_conditions
 
   !> FRICTION on the impulses of the impact correction (docs/contact.md, "Friction"): a
-  !> condition j the correction pushed by I_N = cimp(j) > 0 gets along its tangential row t the
-  !> impulse that opposes its slip rate v_t = c_t v, capped by the cone and by what stops the
-  !> slip: I_T = -sign(v_t) min(μ |I_N|, |v_t| / a_tt), a_tt = c_t M⁻¹c_t' (one condition after
-  !> the other). Each removes kinetic energy, booked as the friction's (rep%friction_dissipated),
-  !> not as restored; I_T is kept in cimp(t) for the outputs.
-  subroutine correction_friction(cs, v, mv, rep, stat, errmsg)
+  !> condition j the correction pushes by I_N = cimp(j) > 0 gets along its tangential row t the
+  !> impulse that opposes its slip rate v_t (c_t v, relative to a moving obstacle), capped by the
+  !> cone and by what stops the slip: -sign(v_t) min(μ I_N, |v_t| / a_tt), a_tt = c_t M⁻¹c_t'; one
+  !> the correction pulls back (I_N < 0: PERSIST's projection of the closing step's reflection)
+  !> gives back the friction of that share of the step's impulse F = h/2 Λ_T: -sign(F) min(μ |I_N|,
+  !> |F|), so that the step's tangential impulse stays within μ times its net normal one. One
+  !> condition after the other; the kinetic energy each changes is the friction's, never restored
+  !> (tangential_impulse); I_T is kept in cimp(t) for the outputs.
+  subroutine correction_friction(cs, h, v, mv, rep, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
+    real(dp), intent(in) :: h
     real(dp), intent(inout) :: v(:), mv(:)
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: j, jt
-    real(dp) :: vt, a(1, 1)
+    real(dp) :: vt, a(1, 1), f, p
     stat = STAT_OK
     cs%nu = 0.0_dp
     do j = 1, cs%nc
       jt = cs%fr%tangent_of(j)
       if (jt == 0) cycle
       cs%cimp(jt) = 0.0_dp
-      if (.not. cs%cimp(j) > 0.0_dp) cycle       ! (a pushing impulse: a pull is no contact force)
+      if (cs%cimp(j) == 0.0_dp) cycle
       vt = slip_rate(cs, jt, v)
-      if (vt == 0.0_dp) cycle
+      f = 0.5_dp * h * cs%st%lambda(jt)                ! the step's tangential impulse
       call cs%sp%am_block(cs%c, [jt], 1, a, stat, errmsg)
       if (stat /= STAT_OK) return
       if (.not. (a(1, 1) > 0.0_dp)) cycle
-      call tangential_impulse(cs, jt, -sign(min(cs%fr%mu_of(j) * cs%cimp(j), abs(vt) / a(1, 1)), vt), vt, a(1, 1), &
-        v, mv, rep, stat, errmsg)
+      if (cs%cimp(j) > 0.0_dp) then                    ! a push: its friction, against the slip rate
+        if (vt == 0.0_dp) cycle
+        p = -sign(min(cs%fr%mu_of(j) * cs%cimp(j), abs(vt) / a(1, 1)), vt)
+      else                                             ! the correction took normal impulse back:
+        if (f == 0.0_dp) cycle                         ! the step's friction gives back its share
+        p = -sign(min(cs%fr%mu_of(j) * abs(cs%cimp(j)), abs(f)), f)
+      end if
+      call tangential_impulse(cs, jt, p, vt, a(1, 1), v, mv, rep, stat, errmsg)
       if (stat /= STAT_OK) return
     end do
   end subroutine correction_friction

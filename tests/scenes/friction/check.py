@@ -212,3 +212,49 @@ sc.report('conveyor belt: rides the belt at V once stuck (1e-12)', np.abs(v[t > 
           'max |v - V| %.2e' % np.abs(v[t > ts + h] - belt).max())
 sc.close('conveyor belt: the belt did m V^2 (1e-12)', hist['external'][-1], 2.0 * belt ** 2, 1e-12)
 sc.close('conveyor belt: half of it dissipated, 1/2 m V^2 (1e-12)', hist['friction_dissipated'][-1], belt ** 2, 1e-12)
+
+# An elastic ring hitting a rough wall obliquely, at three angles.
+ring_m = np.pi * (0.1 ** 2 - 0.08 ** 2) * 0.01 * 1000.0
+ring_i = ring_m * (0.1 ** 2 + 0.08 ** 2) / 2.0
+
+
+def rebound(hist):
+    """Centre velocity and spin after the impact (L about the origin less m x_cm x v_cm)."""
+    t = hist['time']
+    vx, vy = hist['momentum_x'] / ring_m, hist['momentum_y'] / ring_m
+    x = np.concatenate([[0.0], np.cumsum(0.5 * (vx[1:] + vx[:-1]) * np.diff(t))])
+    y = np.concatenate([[0.0], np.cumsum(0.5 * (vy[1:] + vy[:-1]) * np.diff(t))])
+    w = (hist['angular_momentum'][-1] - ring_m * (x[-1] * vy[-1] - y[-1] * vx[-1])) / ring_i
+    return vx[-1], vy[-1], w
+
+
+for vt in [1.0, 2.0, 7.0]:
+    vel = 'INITIAL.VELOCITY=%r -2' % vt
+    angle = np.degrees(np.arctan(vt / 2.0))
+    for mode in ['AUTO', 'PAPER', 'SYMMETRIC', 'frictionless']:
+        sets = [vel] + (['OBSTACLE.FRICTION=0'] if mode == 'frictionless' else ['SCHEME.IMPACT=' + mode])
+        tag = 'ring at %.0f deg, %s' % (angle, mode)
+        out = sc.run_ok(HERE + 'ring_oblique.dat', sets)
+        hist = energy_checks(tag, out)
+        ct = sc.contacts(out)
+        dl = hist['angular_momentum'] - hist['angular_momentum'][0] - np.cumsum(ct['impulse_moment'])
+        dp = hist['momentum_x'] - hist['momentum_x'][0] - np.cumsum(ct['impulse_x'])
+        err = max(np.abs(dl).max() / np.abs(hist['angular_momentum']).max(),
+                  np.abs(dp).max() / np.abs(hist['momentum_x']).max())
+        sc.report(tag + ': momenta change by the impulses and their moments (1e-12)', err <= 1e-12, '%.2e' % err)
+        vx, vy, w = rebound(hist)
+        print('# %s: rebound v = (%.4f, %.4f) m/s, %.2f deg from the normal, spin %.3f rad/s, friction %.4e J' %
+              (tag, vx, vy, np.degrees(np.arctan2(vx, vy)), w, hist['friction_dissipated'][-1]))
+        if mode in ['PAPER', 'SYMMETRIC']:
+            over = ((np.abs(ct['impulse_x']) - 0.3 * ct['impulse_y']) / np.maximum(ct['impulse_y'], 1e-300)).max()
+            sc.report(tag + ': tangential impulse <= mu x normal every step', over <= 1e-12, 'excess %.2e' % over)
+            w_rough = w
+        if mode in ['PAPER', 'SYMMETRIC'] and vt == 7.0:      # it slides throughout: Coulomb's facet
+            ratio = (hist['momentum_x'][-1] - hist['momentum_x'][0]) / (hist['momentum_y'][-1] - hist['momentum_y'][0])
+            sc.report(tag + ': sliding throughout, momentum change x = -mu y (1e-12)', abs(ratio + 0.3) <= 1e-12,
+                      'ratio %.15f' % ratio)
+        if mode == 'frictionless':
+            drift = np.abs(hist['momentum_x'] - hist['momentum_x'][0]).max() / abs(hist['momentum_x'][0])
+            sc.report(tag + ': tangential momentum kept (1e-12)', drift <= 1e-12, '%.2e' % drift)
+            sc.report(tag + ': spin below 1 % of the rough wall\'s (its deformation only)', abs(w) <= 0.01 * abs(w_rough),
+                      'w %.3f rad/s against %.3f' % (w, w_rough))
