@@ -50,6 +50,12 @@ module contact_multipliers
     real(dp), allocatable :: dscale(:)              !< inactive diagonal: c'Sc / c'c (a stiffness)
     real(dp), allocatable :: wlow(:)                !< (c'c)²/(c'Sc) <= W_jj (tolerance scale)
     logical, allocatable :: kkt_set(:)              !< active set of the current factorization
+    ! FRICTION (coulomb): pair(j) the tangential row of condition j (0: none), its entry (row neq +
+    ! pair(j), column neq + j) at pos_p(j): a slipping row's equation Λ_t = ρ_t Λ_j; kkt_rho the ρ
+    ! of the current factorization, kkt_coulomb whether it is solve_coulomb's.
+    integer, allocatable :: pair(:), pos_p(:)
+    real(dp), allocatable :: kkt_rho(:)
+    logical :: kkt_coulomb = .false.
     ! The last solution.
     logical :: x_ok = .false.                       !< x = S⁻¹C'Λ of the last Λ
     real(dp), allocatable :: x(:)
@@ -72,6 +78,8 @@ module contact_multipliers
     procedure :: w_entry => ms_w_entry
     procedure :: w_block => ms_w_block
     procedure :: add_columns => ms_add_columns
+    procedure :: set_pairs => ms_set_pairs
+    procedure :: solve_coulomb => ms_solve_coulomb
     procedure :: destroy => ms_destroy
   end type multiplier_system_t
 
@@ -133,6 +141,7 @@ contains
     self%nslot = 0
     self%x_ok = .false.
     self%kkt_factored = .false.
+    self%kkt_coulomb = .false.
     if (.not. (present(pat) .and. present(sval))) then
       if (self%mode == SOLVER_AUGMENTED) call set_error(stat, errmsg, STAT_INPUT, &
         'contact: the augmented multiplier system needs the matrix S (pattern and values)')
@@ -247,8 +256,12 @@ contains
       end do
       self%kptr(k + 1) = self%kptr(k + 1) + (cptr(k + 1) - cptr(k))
     end do
+    if (.not. allocated(self%pair)) then
+      allocate (self%pair(nc))
+      self%pair = 0
+    end if
     do j = 1, nc
-      self%kptr(neq + j + 1) = self%c%last(j) - self%c%first(j) + 2
+      self%kptr(neq + j + 1) = self%c%last(j) - self%c%first(j) + 2 + merge(1, 0, self%pair(j) > 0)
     end do
     self%kptr(1) = 1
     do i = 1, n
@@ -256,7 +269,9 @@ contains
     end do
     nnz = self%kptr(n + 1) - 1
     allocate (self%krow(nnz), self%kval(nnz), self%pos_s(2, pat%nnz), self%pos_cr(nzc), &
-      self%pos_cc(nzc), self%pos_d(nc))
+      self%pos_cc(nzc), self%pos_d(nc), self%pos_p(nc), self%kkt_rho(nc))
+    self%pos_p = 0
+    self%kkt_rho = 0.0_dp
     self%kval = 0.0_dp
     fill = self%kptr(1:neq)
     ! Column r: its upper rows (<= r, ascending in sym_csc_t) are placed when k = r, its lower
@@ -293,6 +308,10 @@ contains
       end do
       self%krow(k) = neq + j
       self%pos_d(j) = k
+      if (self%pair(j) > 0) then               ! (a tangential row comes after every contact's)
+        self%krow(k + 1) = neq + self%pair(j)
+        self%pos_p(j) = k + 1
+      end if
     end do
     call self%lu%analyze(n, self%kptr, self%krow, stat, errmsg)
     if (stat /= STAT_OK) then
@@ -525,10 +544,12 @@ contains
     neq = self%neq
     singular = .false.
     stat = STAT_OK
-    same = self%kkt_factored
+    same = self%kkt_factored .and. .not. self%kkt_coulomb
     if (same) same = all(active .eqv. self%kkt_set)
     if (.not. same) then
+      self%kkt_coulomb = .false.
       do j = 1, self%nc
+        if (self%pos_p(j) > 0) self%kval(self%pos_p(j)) = 0.0_dp
         do p = self%c%first(j), self%c%last(j)
           self%kval(self%pos_cr(p)) = merge(self%c%coef_at(p), 0.0_dp, active(j))
           self%kval(self%pos_cc(p)) = merge(self%c%coef_at(p), 0.0_dp, active(j))
@@ -565,6 +586,77 @@ contains
     g = q + g
     wdiag = self%wlow
   end subroutine kkt_solve
+
+  !> FRICTION: pair(j), the tangential row of condition j (0: none), for the augmented system's
+  !> pattern (before its first prepare).
+  subroutine ms_set_pairs(self, pair)
+    class(multiplier_system_t), intent(inout) :: self
+    integer, intent(in) :: pair(:)
+    if (allocated(self%pair)) deallocate (self%pair)
+    allocate (self%pair, source=pair)
+  end subroutine ms_set_pairs
+
+  !> FRICTION's step on the augmented system (coulomb, large contact zones): the rows on(j) hold
+  !> their gap (g_j = 0), a row with rho(t) /= 0 carries Λ_t = rho(t) Λ_j of its contact j (its
+  !> force acts, its gap is free: [d, -rho d] in its row), the others Λ = 0; refactorized (UMFPACK,
+  !> nonsymmetric) when on or rho changed. lam, g = q + C x, x = S⁻¹C'Λ kept for ms_correction;
+  !> singular: dependent rows (nothing computed, the caller falls back to the Schur columns).
+  subroutine ms_solve_coulomb(self, q, on, rho, lam, g, singular, stat, errmsg)
+    class(multiplier_system_t), intent(inout) :: self
+    real(dp), intent(in) :: q(:), rho(:)
+    logical, intent(in) :: on(:)
+    real(dp), intent(out) :: lam(:), g(:)
+    logical, intent(out) :: singular
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: j, p, neq
+    logical :: same, acts
+    neq = self%neq
+    singular = .false.
+    stat = STAT_OK
+    same = self%kkt_factored .and. self%kkt_coulomb
+    if (same) same = all(on .eqv. self%kkt_set) .and. all(rho == self%kkt_rho)
+    if (.not. same) then
+      do j = 1, self%nc
+        acts = on(j) .or. rho(j) /= 0.0_dp
+        do p = self%c%first(j), self%c%last(j)
+          self%kval(self%pos_cr(p)) = merge(self%c%coef_at(p), 0.0_dp, on(j))
+          self%kval(self%pos_cc(p)) = merge(self%c%coef_at(p), 0.0_dp, acts)
+        end do
+        self%kval(self%pos_d(j)) = merge(0.0_dp, self%dscale(j), on(j))
+        if (self%pos_p(j) > 0) self%kval(self%pos_p(j)) = -rho(self%pair(j)) * self%dscale(self%pair(j))
+      end do
+      self%kkt_factored = .false.
+      call self%lu%factorize(self%kval, stat, errmsg, singular)
+      self%n_lu = self%n_lu + 1
+      if (singular) then
+        stat = STAT_OK
+        return
+      end if
+      if (stat /= STAT_OK) then
+        errmsg = 'contact: augmented system: ' // errmsg
+        return
+      end if
+      self%kkt_set = on
+      self%kkt_rho = rho
+      self%kkt_factored = .true.
+      self%kkt_coulomb = .true.
+    end if
+    self%kb(1:neq) = 0.0_dp
+    do j = 1, self%nc
+      self%kb(neq + j) = merge(-q(j), 0.0_dp, on(j))
+    end do
+    call self%lu%solve(self%kb, self%kx, stat, errmsg)
+    if (stat /= STAT_OK) return
+    self%n_kkt = self%n_kkt + 1
+    self%x = self%kx(1:neq)
+    self%x_ok = .true.
+    do j = 1, self%nc
+      lam(j) = merge(-self%kx(neq + j), 0.0_dp, on(j) .or. rho(j) /= 0.0_dp)
+    end do
+    call self%c%times(self%x, g)
+    g = q + g
+  end subroutine ms_solve_coulomb
 
   !> g = q + W lam, with x = S⁻¹C'lam kept for ms_correction.
   subroutine ms_gaps(self, q, lam, g, stat, errmsg)
@@ -632,10 +724,13 @@ contains
       self%wlow, self%dscale, self%kkt_set, self%piv, self%work)
     if (allocated(self%waa)) deallocate (self%waa)
     if (allocated(self%kptr)) deallocate (self%kptr)
-    if (allocated(self%krow)) deallocate (self%krow, self%kval, self%pos_s, self%pos_cr, self%pos_cc, self%pos_d)
+    if (allocated(self%krow)) deallocate (self%krow, self%kval, self%pos_s, self%pos_cr, self%pos_cc, self%pos_d, &
+      self%pos_p, self%kkt_rho)
     if (allocated(self%kb)) deallocate (self%kb, self%kx)
+    if (allocated(self%pair)) deallocate (self%pair)
     self%kkt_built = .false.
     self%kkt_factored = .false.
+    self%kkt_coulomb = .false.
     self%nc = 0
     self%cap = 0
     self%nslot = 0

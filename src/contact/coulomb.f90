@@ -20,6 +20,7 @@ module coulomb
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use contact_multipliers, only: multiplier_system_t
+  use contact_modes, only: SOLVER_AUTO, SOLVER_AUGMENTED
   use lapack_pure, only: dgesv
   use checkpoint, only: ckpt_file_t
   implicit none
@@ -43,7 +44,8 @@ module coulomb
     ! workspaces: the unknowns' and the columns' rows, the columns kept, the dense system
     integer, allocatable :: rows(:), ipiv(:)
     logical, allocatable :: keep(:)
-    real(dp), allocatable :: m(:, :), rhs(:), col(:, :)
+    real(dp), allocatable :: m(:, :), rhs(:), col(:, :), rho(:)
+    logical, allocatable :: on(:)
     integer :: passes = 0                    !< passes of the last solve
   contains
     procedure :: add => coulomb_add
@@ -87,9 +89,9 @@ contains
     integer :: k
     if (.not. allocated(self%trow)) allocate (self%trow(0), self%nrow(0), self%mu(0))
     if (allocated(self%state)) deallocate (self%state, self%tangent, self%kof, self%rows, self%ipiv, self%keep, self%m, &
-      self%rhs, self%col)
+      self%rhs, self%col, self%rho, self%on)
     allocate (self%state(self%n), self%tangent(nc), self%kof(nc), self%rows(nc), self%ipiv(nc), self%keep(nc), &
-      self%m(min(nc, 64), min(nc, 64)), self%rhs(nc), self%col(nc, 1))
+      self%m(min(nc, 64), min(nc, 64)), self%rhs(nc), self%col(nc, 1), self%rho(nc), self%on(nc))
     self%state = FRICTION_FREE
     self%tangent = .false.
     self%kof = 0
@@ -275,6 +277,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: k, l, j, ni, nl, info
+    logical :: singular
     stat = STAT_OK
     ! The unknowns I (ni) and the columns needed, I and the slipping rows (nl).
     do k = 1, self%n
@@ -300,6 +303,25 @@ contains
       nl = nl + 1
       self%rows(nl) = self%trow(k)
     end do
+    ! A large zone (MULTIPLIERS AUGMENTED, or AUTO above AUGMENTED_ABOVE unknowns): the augmented
+    ! sparse system, a slipping row's force tied to its contact's there (ms%solve_coulomb).
+    if (ms%kkt_built .and. (ms%mode == SOLVER_AUGMENTED .or. (ms%mode == SOLVER_AUTO .and. ni > ms%switch_size))) then
+      self%on = .false.
+      self%rho = 0.0_dp
+      do l = 1, ni
+        self%on(self%rows(l)) = .true.
+      end do
+      do k = 1, self%n
+        if (self%state(k) == FRICTION_SLIP_POS .or. self%state(k) == FRICTION_SLIP_NEG) &
+          self%rho(self%trow(k)) = slip_force(self, k, 1.0_dp)
+      end do
+      call ms%solve_coulomb(q, self%on, self%rho, lam, g, singular, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (.not. singular) then
+        wdiag = ms%wlow
+        return
+      end if                                   ! (dependent rows: the Schur columns below)
+    end if
     self%keep = .false.
     do l = 1, nl                               ! (a loop: a vector subscript makes a temporary)
       self%keep(self%rows(l)) = .true.
