@@ -674,12 +674,6 @@ contains
         "PERSIST, PAPER or SYMMETRIC (MASSLESS's contact nodes carry no inertia for the friction to act on), at 'FRICTION'")
       return
     end if
-    if (j > 0 .and. scn%static_steps > 0) then
-      call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(scn%conditions(j)%line) // ': ' // &
-        condition_keyword(scn%conditions(j)) // ' ' // scn%conditions(j)%source // ': FRICTION with a STATIC ' // &
-        "preload is not supported yet (ramp the loads with a FUNCTION instead), at 'FRICTION'")
-      return
-    end if
     ! SCHEME EVENTS AUTO locates contact events where every contact node's element is on the exact
     ! lattice (MASS TUNED at c h/dx = 1): an impact on a step's end is that scheme's exact case
     ! (docs/contact.md, "Contact events located"), and under TIME … ADAPTIVE (whose error estimate

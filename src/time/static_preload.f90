@@ -94,6 +94,7 @@ contains
     if (present(follow) .and. present(cs)) moving = follow%count() > 0
     lscale = max(model_size(scn%mesh), maxval(abs(scn%mesh%x(:, 1:scn%mesh%nnode))), &
       maxval(scn%conditions%radius, mask=scn%conditions%curved /= 0))
+    if (.not. lscale > 1.0e3_dp * tiny(1.0_dp)) lscale = 1.0_dp   ! (a single node at the origin: no length)
     tangent = allocated(sys%ops%tval)
     constant = .not. tangent .and. .not. moving  ! linear elastic: K0 + εM factorized once
     if (present(cs)) call contact_schur_only(cs, .true.)
@@ -139,7 +140,7 @@ contains
         held = .false.
         if (present(lam)) then
           if (rep%shifted) held(1:nc) = lam(1:nc) > 0.0_dp
-          held(nc + 1:) = .true.
+          call held_rows_after(scn, nc, held)
         end if
         refactor = .not. (constant .and. fac%is_factored() .and. all(held .eqv. held_f))
         if (refactor) then
@@ -283,15 +284,22 @@ contains
     real(dp), intent(in) :: kappa
     logical, intent(in) :: held(:)
     real(dp), intent(inout) :: sval(:)
-    integer :: j, k, l, eqs(6), nodes(3), ki, ii
-    real(dp) :: coefs(6), w(3), ke(6, 6)
+    integer :: j, k, l, eqs(6), nodes(3), ki, ii, nimp, jc
+    real(dp) :: coefs(6), w(3), ke(6, 6), dir(2)
     logical :: fits
     ki = 1
     ii = 0
+    jc = 0
+    nimp = size(held) - size(scn%conditions) - count(scn%conditions%friction > 0.0_dp)
     do j = 1, size(held)
       eqs = 0
       coefs = 0.0_dp
-      if (j > size(scn%conditions)) then       ! IMPOSE k's i-th node: u_i on its DOF
+      if (j > size(scn%conditions) + nimp) then   ! FRICTION: the next frictional condition's tangent
+        jc = jc + 1
+        do while (scn%conditions(jc)%friction <= 0.0_dp)
+          jc = jc + 1
+        end do
+      else if (j > size(scn%conditions)) then       ! IMPOSE k's i-th node: u_i on its DOF
         ii = ii + 1
         do while (ii > size(scn%mesh%ngroups(scn%imposes(ki)%ngroup)%items))
           ii = 1
@@ -301,12 +309,14 @@ contains
         coefs(1) = 1.0_dp
       end if
       if (.not. held(j)) cycle
-      if (j <= size(scn%conditions)) then
-        associate (c => scn%conditions(j))
+      if (j <= size(scn%conditions) .or. j > size(scn%conditions) + nimp) then
+        associate (c => scn%conditions(merge(j, jc, j <= size(scn%conditions))))
+          dir = c%normal
+          if (j > size(scn%conditions)) dir = [-c%normal(2), c%normal(1)]
           call condition_nodes(c, nodes, w)
           do k = 1, 3
             if (nodes(k) <= 0) cycle
-            coefs(2 * k - 1:2 * k) = w(k) * c%normal
+            coefs(2 * k - 1:2 * k) = w(k) * dir
             eqs(2 * k - 1:2 * k) = max(sys%dofs%eqn(1:2, nodes(k)), 0)
           end do
         end associate
@@ -321,6 +331,22 @@ contains
       if (fits) call sys%ops%pat%add_element(sval, eqs, ke)
     end do
   end subroutine add_held_rows
+
+  !> The rows after the conditions: IMPOSE's (held always), then FRICTION's tangential rows, one per
+  !> condition with friction in order (held with their condition).
+  pure subroutine held_rows_after(scn, nc, held)
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: nc
+    logical, intent(inout) :: held(:)
+    integer :: j, t
+    t = size(held) - count(scn%conditions%friction > 0.0_dp)
+    held(nc + 1:t) = .true.
+    do j = 1, nc
+      if (scn%conditions(j)%friction <= 0.0_dp) cycle
+      t = t + 1
+      held(t) = held(j)
+    end do
+  end subroutine held_rows_after
 
   !> ε = 1e-8 Σdiag K / Σdiag M: small against the structure's stiffness, large enough to make
   !> Kt + εM definite along the modes the contacts hold; κ = the mean diagonal stiffness.

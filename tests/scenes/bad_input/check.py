@@ -348,7 +348,7 @@ CASES = [
     ('--set unknown keyword', BASE, None, ['TIMES.STEP=1'], None, '--set', 'TIMES'),
     ('--set unknown parameter', BASE, None, ['TIME.STOP=1'], None, '--set', 'STOP'),
     # Issue 33: FRICTION mu >= 0 and finite, on OBSTACLE and GAP only, where its tangent is fixed
-    # (no curved obstacle), never with MASSLESS's inertia-free contact nodes or STATIC.
+    # (no curved obstacle), never with MASSLESS's inertia-free contact nodes.
     ('negative FRICTION', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0 FRICTION -0.1'], None, [], 15,
      'OBSTACLE wall', '-0.1'),
     ('FRICTION not finite', BASE + ['GAP g PAIRS a b FRICTION inf'], None, [], 15, 'GAP g', 'inf'),
@@ -357,8 +357,6 @@ CASES = [
      'IMPOSE', 'FRICTION'),
     ('FRICTION with IMPACT MASSLESS', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0 FRICTION 0.3',
                                               'SCHEME IMPACT MASSLESS'], None, [], 15, 'OBSTACLE wall', 'FRICTION'),
-    ('FRICTION with STATIC', BASE + ['OBSTACLE wall NODES b POINT 2 0 NORMAL -1 0 FRICTION 0.3', 'STATIC'], None, [],
-     15, 'OBSTACLE wall', 'FRICTION'),
     ('FRICTION on a curved obstacle', BASE + ['OBSTACLE wall NODES b CYLINDER 3 0 RADIUS 1 OUTSIDE FRICTION 0.3'], None,
      [], 15, 'OBSTACLE wall', 'FRICTION'),
     ('--set ambiguous statement', edit(BASE, 6, 'MATERIAL k ELASTIC YOUNG 8\nMATERIAL k2 ELASTIC YOUNG 9'), None,

@@ -267,3 +267,26 @@ for scene, sets in [('block_slide.dat', ['TIME.END=6e-4']), ('ring_oblique.dat',
     err = max(np.abs(runs[0][k] - runs[1][k]).max() / max(np.abs(runs[0][k]).max(), 1e-300)
               for k in ['momentum_x', 'momentum_y', 'kinetic', 'friction_dissipated'])
     sc.report('%s: MULTIPLIERS AUGMENTED = SCHUR (1e-12)' % scene, err <= 1e-12, 'largest relative difference %.2e' % err)
+
+# STATIC with friction: the dynamics starts from the static equilibrium the friction holds.
+with open(HERE + 'block_stick.dat') as f:
+    text = f.read()
+text = text.replace('FUNCTION ramp', '').replace('END 1', 'END 0.01') + 'STATIC\n'
+out = sc.run_ok(sc.write_scene('block_static.dat', text))
+hist = sc.history(out)
+pr = sc.probes(out)
+move = max(np.abs(pr[k] - pr[k][0]).max() for k in ['block.bottom_left.UX', 'block.bottom_right.UX', 'block.top_left.UX'])
+sc.report('STATIC block on 20 deg, mu 0.5: stays at its equilibrium (1e-15 m)', move <= 1e-15, 'moved %.2e m' % move)
+sc.report('STATIC block on 20 deg, mu 0.5: no kinetic energy (1e-20 J)', hist['kinetic'].max() <= 1e-20,
+          '%.2e J' % hist['kinetic'].max())
+sc.report('STATIC block on 20 deg, mu 0.5: the top moved by the static shear', np.abs(pr['block.top_left.UX'][0]) > 1e-10,
+          'u_x %.3e m' % pr['block.top_left.UX'][0])
+rc, err, _ = sc.run(sc.write_scene('block_static_slides.dat', text.replace('FRICTION 0.5', 'FRICTION 0.3')))
+sc.report('STATIC block on 20 deg, mu 0.3 < tan 20 deg: no equilibrium, exit 1 naming STATIC',
+          rc == 1 and 'STATIC' in err and 'did not converge' in err, 'exit %d: %s' % (rc, err.strip()[:200]))
+with open(HERE + 'incline.dat') as f:
+    text = f.read()
+out = sc.run_ok(sc.write_scene('incline_static.dat', text + 'STATIC\n'), ['OBSTACLE.FRICTION=0.7'])
+pr = sc.probes(out)
+umax = np.hypot(pr['ball.UX'], pr['ball.UY']).max()
+sc.report('STATIC point mass at the origin on 30 deg, mu 0.7: rests (1e-12 m)', umax <= 1e-12, '%.2e m' % umax)
