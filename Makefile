@@ -161,6 +161,7 @@ peers: bin/rebond
 	@command -v ccx >/dev/null 2>&1 || apt-get install -y calculix-ccx >/dev/null || \
 	  { echo "peers: CalculiX is needed (apt-get install calculix-ccx, as root)"; exit 1; }
 	@/usr/bin/python3 tools/peers.py
+	@/usr/bin/python3 tools/peers_friction.py
 
 # The contact comparison (docs/contact-table.md): three impact benchmarks with exact solutions,
 # every impact mode at every mesh size.
