@@ -21,18 +21,19 @@ Writes docs/peers-friction.md.
     /usr/bin/python3 tools/peers_friction.py [--doc docs/peers-friction.md]
 """
 import argparse
-import collections
 import datetime
 import math
 import os
 import re
-import resource
 import shutil
 import subprocess
 import sys
 import tempfile
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from peers import ccx_results, cpu_of  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 REBOND = os.environ.get('REBOND_BIN', os.path.join(ROOT, 'bin', 'rebond'))
@@ -56,13 +57,6 @@ def ring_nodes():
             i2 = (i + 1) % nt
             quads.append((j * nt + i, j * nt + i2, (j + 1) * nt + i2, (j + 1) * nt + i))
     return np.array(xy), quads, [NW * nt + i for i in range(nt)]
-
-
-def cpu_of(fn):
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    out = fn()
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return out, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
 def ccx_input(vt, mu, path):
@@ -110,24 +104,6 @@ def ccx_input(vt, mu, path):
             'ELSE, ELKE', '*END STEP']
     with open(path, 'w') as f:
         f.write('\n'.join(out) + '\n')
-
-
-def ccx_results(path):
-    data = collections.defaultdict(dict)
-    cur = None
-    with open(path) as f:
-        for line in f:
-            m = re.match(r'\s*(velocities|displacements|internal energy|kinetic energy).*time\s+(\S+)', line)
-            if m:
-                cur = (m.group(1), float(m.group(2)))
-                continue
-            p = line.split()
-            if cur and len(p) >= 2:
-                try:
-                    data[cur][int(p[0])] = [float(x) for x in p[1:]]
-                except ValueError:
-                    pass
-    return data
 
 
 def rigid_motion(x, v, w):

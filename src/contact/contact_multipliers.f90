@@ -556,17 +556,8 @@ contains
         end do
         self%kval(self%pos_d(j)) = merge(0.0_dp, self%dscale(j), active(j))
       end do
-      self%kkt_factored = .false.
-      call self%lu%factorize(self%kval, stat, errmsg, singular)
-      self%n_lu = self%n_lu + 1
-      if (singular) then
-        stat = STAT_OK
-        return
-      end if
-      if (stat /= STAT_OK) then
-        errmsg = 'contact: augmented system: ' // errmsg
-        return
-      end if
+      call kkt_factorize(self, singular, stat, errmsg)
+      if (singular .or. stat /= STAT_OK) return
       self%kkt_set = active
       self%kkt_factored = .true.
     end if
@@ -586,6 +577,23 @@ contains
     g = q + g
     wdiag = self%wlow
   end subroutine kkt_solve
+
+  !> The numeric factorization of the augmented system with its values loaded (kkt_solve,
+  !> solve_coulomb); singular: dependent rows (stat OK, nothing factorized).
+  subroutine kkt_factorize(self, singular, stat, errmsg)
+    class(multiplier_system_t), intent(inout) :: self
+    logical, intent(out) :: singular
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    self%kkt_factored = .false.
+    call self%lu%factorize(self%kval, stat, errmsg, singular)
+    self%n_lu = self%n_lu + 1
+    if (singular) then
+      stat = STAT_OK
+    else if (stat /= STAT_OK) then
+      errmsg = 'contact: augmented system: ' // errmsg
+    end if
+  end subroutine kkt_factorize
 
   !> FRICTION: pair(j), the tangential row of condition j (0: none), for the augmented system's
   !> pattern (before its first prepare).
@@ -626,17 +634,8 @@ contains
         self%kval(self%pos_d(j)) = merge(0.0_dp, self%dscale(j), on(j))
         if (self%pos_p(j) > 0) self%kval(self%pos_p(j)) = -rho(self%pair(j)) * self%dscale(self%pair(j))
       end do
-      self%kkt_factored = .false.
-      call self%lu%factorize(self%kval, stat, errmsg, singular)
-      self%n_lu = self%n_lu + 1
-      if (singular) then
-        stat = STAT_OK
-        return
-      end if
-      if (stat /= STAT_OK) then
-        errmsg = 'contact: augmented system: ' // errmsg
-        return
-      end if
+      call kkt_factorize(self, singular, stat, errmsg)
+      if (singular .or. stat /= STAT_OK) return
       self%kkt_set = on
       self%kkt_rho = rho
       self%kkt_factored = .true.
