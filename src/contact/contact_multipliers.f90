@@ -52,10 +52,9 @@ module contact_multipliers
     logical, allocatable :: kkt_set(:)              !< active set of the current factorization
     ! FRICTION (coulomb): pair(j) the tangential row of condition j (0: none), its entry (row neq +
     ! pair(j), column neq + j) at pos_p(j): a slipping row's equation Λ_t = ρ_t Λ_j; kkt_rho the ρ
-    ! of the current factorization, kkt_coulomb whether it is solve_coulomb's.
+    ! of the current factorization, no_rho all zero (no row slipping: the frictionless system).
     integer, allocatable :: pair(:), pos_p(:)
-    real(dp), allocatable :: kkt_rho(:)
-    logical :: kkt_coulomb = .false.
+    real(dp), allocatable :: kkt_rho(:), no_rho(:)
     ! The last solution.
     logical :: x_ok = .false.                       !< x = S⁻¹C'Λ of the last Λ
     real(dp), allocatable :: x(:)
@@ -141,7 +140,6 @@ contains
     self%nslot = 0
     self%x_ok = .false.
     self%kkt_factored = .false.
-    self%kkt_coulomb = .false.
     if (.not. (present(pat) .and. present(sval))) then
       if (self%mode == SOLVER_AUGMENTED) call set_error(stat, errmsg, STAT_INPUT, &
         'contact: the augmented multiplier system needs the matrix S (pattern and values)')
@@ -269,9 +267,10 @@ contains
     end do
     nnz = self%kptr(n + 1) - 1
     allocate (self%krow(nnz), self%kval(nnz), self%pos_s(2, pat%nnz), self%pos_cr(nzc), &
-      self%pos_cc(nzc), self%pos_d(nc), self%pos_p(nc), self%kkt_rho(nc))
+      self%pos_cc(nzc), self%pos_d(nc), self%pos_p(nc), self%kkt_rho(nc), self%no_rho(nc))
     self%pos_p = 0
     self%kkt_rho = 0.0_dp
+    self%no_rho = 0.0_dp
     self%kval = 0.0_dp
     fill = self%kptr(1:neq)
     ! Column r: its upper rows (<= r, ascending in sym_csc_t) are placed when k = r, its lower
@@ -539,43 +538,8 @@ contains
     logical, intent(out) :: singular
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, p, neq
-    logical :: same
-    neq = self%neq
-    singular = .false.
-    stat = STAT_OK
-    same = self%kkt_factored .and. .not. self%kkt_coulomb
-    if (same) same = all(active .eqv. self%kkt_set)
-    if (.not. same) then
-      self%kkt_coulomb = .false.
-      do j = 1, self%nc
-        if (self%pos_p(j) > 0) self%kval(self%pos_p(j)) = 0.0_dp
-        do p = self%c%first(j), self%c%last(j)
-          self%kval(self%pos_cr(p)) = merge(self%c%coef_at(p), 0.0_dp, active(j))
-          self%kval(self%pos_cc(p)) = merge(self%c%coef_at(p), 0.0_dp, active(j))
-        end do
-        self%kval(self%pos_d(j)) = merge(0.0_dp, self%dscale(j), active(j))
-      end do
-      call kkt_factorize(self, singular, stat, errmsg)
-      if (singular .or. stat /= STAT_OK) return
-      self%kkt_set = active
-      self%kkt_factored = .true.
-    end if
-    self%kb(1:neq) = 0.0_dp
-    do j = 1, self%nc
-      self%kb(neq + j) = merge(-q(j), 0.0_dp, active(j))
-    end do
-    call self%lu%solve(self%kb, self%kx, stat, errmsg)
-    if (stat /= STAT_OK) return
-    self%n_kkt = self%n_kkt + 1
-    self%x = self%kx(1:neq)
-    self%x_ok = .true.
-    do j = 1, self%nc
-      lam(j) = merge(-self%kx(neq + j), 0.0_dp, active(j))
-    end do
-    call self%c%times(self%x, g)
-    g = q + g
-    wdiag = self%wlow
+    call ms_solve_coulomb(self, q, active, self%no_rho, lam, g, singular, stat, errmsg)
+    if (stat == STAT_OK .and. .not. singular) wdiag = self%wlow
   end subroutine kkt_solve
 
   !> The numeric factorization of the augmented system with its values loaded (kkt_solve,
@@ -604,7 +568,8 @@ contains
     allocate (self%pair, source=pair)
   end subroutine ms_set_pairs
 
-  !> FRICTION's step on the augmented system (coulomb, large contact zones): the rows on(j) hold
+  !> The step on the augmented system (kkt_solve: no row slipping; FRICTION's coulomb on large
+  !> contact zones): the rows on(j) hold
   !> their gap (g_j = 0), a row with rho(t) /= 0 carries Λ_t = rho(t) Λ_j of its contact j (its
   !> force acts, its gap is free: [d, -rho d] in its row), the others Λ = 0; refactorized (UMFPACK,
   !> nonsymmetric) when on or rho changed. lam, g = q + C x, x = S⁻¹C'Λ kept for ms_correction;
@@ -622,7 +587,7 @@ contains
     neq = self%neq
     singular = .false.
     stat = STAT_OK
-    same = self%kkt_factored .and. self%kkt_coulomb
+    same = self%kkt_factored
     if (same) same = all(on .eqv. self%kkt_set) .and. all(rho == self%kkt_rho)
     if (.not. same) then
       do j = 1, self%nc
@@ -639,7 +604,6 @@ contains
       self%kkt_set = on
       self%kkt_rho = rho
       self%kkt_factored = .true.
-      self%kkt_coulomb = .true.
     end if
     self%kb(1:neq) = 0.0_dp
     do j = 1, self%nc
@@ -724,12 +688,11 @@ contains
     if (allocated(self%waa)) deallocate (self%waa)
     if (allocated(self%kptr)) deallocate (self%kptr)
     if (allocated(self%krow)) deallocate (self%krow, self%kval, self%pos_s, self%pos_cr, self%pos_cc, self%pos_d, &
-      self%pos_p, self%kkt_rho)
+      self%pos_p, self%kkt_rho, self%no_rho)
     if (allocated(self%kb)) deallocate (self%kb, self%kx)
     if (allocated(self%pair)) deallocate (self%pair)
     self%kkt_built = .false.
     self%kkt_factored = .false.
-    self%kkt_coulomb = .false.
     self%nc = 0
     self%cap = 0
     self%nslot = 0
