@@ -390,7 +390,8 @@ contains
     ! one more row each, t'u at the node.
     nin = count(scn%conditions%curved == -1)
     allocate (ct(nc + nin, 3), g0(nc), tm(sys%dofs%neq, 3))
-    if (nc > 0) call contact_gaps(cs, 0.0_dp * tm(:, 1), g0)
+    tm = 0.0_dp                                  ! (g0 from u = 0: 0 x an unset value may be a NaN)
+    if (nc > 0) call contact_gaps(cs, tm(:, 1), g0)
     do ib = 1, size(free, 2)
       if (.not. any(body == ib)) cycle
       nf = 0
