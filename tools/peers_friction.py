@@ -9,12 +9,13 @@ the normal, the spin about the centre (the angular momentum about the centre of 
 polar moment, nodal masses lumped from the quads' areas), the energy lost, rebond's balance
 error, the increments, the CPU (user + system of the run).
 
-- rebond: tests/scenes/friction/ring_oblique.dat (QUAD4 plane stress, KINEMATICS LARGE, rebond's
+- rebond: inputs/ring_rough_wall.dat (QUAD4 plane stress, KINEMATICS LARGE, rebond's
   defaults: IMPACT AUTO, h = 2e-5 s), FRICTION 0.3 and 0.
 - CalculiX 2.20 (Debian calculix-ccx): the same mesh as one layer of C3D8 bricks through the
   thickness (a thin slab: plane stress), NLGEOM, the wall a fixed brick, surface-to-surface penalty
   contact of the outer faces (PRESSURE-OVERCLOSURE=LINEAR, slope E / dx; node-to-surface stopped
-  at 8 ms on 'too many cutbacks'), *FRICTION mu with a stick slope E / dx, *DYNAMIC ALPHA=0 (the trapezoidal rule) with automatic incrementation from 2e-5 s;
+  at 8 ms on 'too many cutbacks'), *FRICTION mu with a stick slope E / dx, *DYNAMIC ALPHA=0 (the
+  trapezoidal rule) with automatic incrementation from 2e-5 s;
   nodal velocities and positions from *NODE PRINT, energies from *EL PRINT ELSE, ELKE.
 
 Writes docs/peers-friction.md.
@@ -37,7 +38,7 @@ from peers import ccx_results, cpu_of  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 REBOND = os.environ.get('REBOND_BIN', os.path.join(ROOT, 'bin', 'rebond'))
-SCENE = 'tests/scenes/friction/ring_oblique.dat'
+SCENE = 'inputs/ring_rough_wall.dat'
 R_IN, R_OUT, THICK, NQ, NW = 0.08, 0.1, 0.01, 12, 3
 E, NU, RHO, MU, VN, TEND, H = 1e7, 0.3, 1000.0, 0.3, 2.0, 0.03, 2e-5
 WALL = -0.1001
