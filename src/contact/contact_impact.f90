@@ -116,9 +116,10 @@ contains
       ! FRICTION: the normal impulses of the correction carry their Coulomb share, and a sticking
       ! contact's slip rate goes to 0 (after the energy restored is measured, in the lab frame:
       ! what the friction takes is dissipation, never restored).
-      if (cs%fr%count() > 0 .and. mode /= IMPACT_OFF) then
-        if (present(step)) call correction_friction(cs, step, v, mv, rep, stat, errmsg)
-        if (stat == STAT_OK .and. present(step)) call stick_velocities(cs, step, v, mv, rep, stat, errmsg)
+      if (cs%fr%count() > 0 .and. mode /= IMPACT_OFF .and. present(step)) then
+        cs%nu = 0.0_dp                          ! (tangential_impulse's one-entry impulse vector)
+        call correction_friction(cs, step, v, mv, rep, stat, errmsg)
+        if (stat == STAT_OK) call stick_velocities(cs, step, v, mv, rep, stat, errmsg)
         if (stat /= STAT_OK) return
       end if
 
@@ -211,23 +212,20 @@ contains
     integer :: j, jt
     real(dp) :: vt, a(1, 1), f, p
     stat = STAT_OK
-    cs%nu = 0.0_dp
-    do j = 1, cs%nc
+    do j = 1, cs%nc                                    ! (cimp(jt) = 0 since contact_end_step began)
       jt = cs%fr%tangent_of(j)
-      if (jt == 0) cycle
-      cs%cimp(jt) = 0.0_dp
-      if (cs%cimp(j) == 0.0_dp) cycle
+      if (jt == 0 .or. cs%cimp(j) == 0.0_dp) cycle
       vt = slip_rate(cs, jt, v)
       f = 0.5_dp * h * cs%st%lambda(jt)                ! the step's tangential impulse
+      if (cs%cimp(j) > 0.0_dp .and. vt == 0.0_dp) cycle
+      if (cs%cimp(j) < 0.0_dp .and. f == 0.0_dp) cycle
       call cs%sp%am_block(cs%c, [jt], 1, a, stat, errmsg)
       if (stat /= STAT_OK) return
       if (.not. (a(1, 1) > 0.0_dp)) cycle
       if (cs%cimp(j) > 0.0_dp) then                    ! a push: its friction, against the slip rate
-        if (vt == 0.0_dp) cycle
         p = -sign(min(cs%fr%mu_of(j) * cs%cimp(j), abs(vt) / a(1, 1)), vt)
       else                                             ! the correction took normal impulse back:
-        if (f == 0.0_dp) cycle                         ! the step's friction gives back its share
-        p = -sign(min(cs%fr%mu_of(j) * abs(cs%cimp(j)), abs(f)), f)
+        p = -sign(min(cs%fr%mu_of(j) * abs(cs%cimp(j)), abs(f)), f)   ! the step's friction gives back its share
       end if
       call tangential_impulse(cs, jt, p, vt, a(1, 1), v, mv, rep, stat, errmsg)
       if (stat /= STAT_OK) return

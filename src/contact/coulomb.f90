@@ -25,7 +25,7 @@ module coulomb
   use checkpoint, only: ckpt_file_t
   implicit none
   private
-  public :: coulomb_t, FRICTION_FREE, FRICTION_STICK, FRICTION_SLIP_POS, FRICTION_SLIP_NEG
+  public :: coulomb_t
 
   !> The state of a tangential row: FREE (its contact open: no force), STICK, or slipping along +t
   !> (force -μ Λ_N) or -t (force +μ Λ_N).
@@ -39,26 +39,21 @@ module coulomb
     integer, allocatable :: trow(:), nrow(:) !< their tangential and normal rows
     real(dp), allocatable :: mu(:)
     integer, allocatable :: state(:)         !< FRICTION_* of the last solve (warm start of the next)
-    logical, allocatable :: tangent(:)       !< (rows) a tangential row
     integer, allocatable :: kof(:)           !< (rows) k of a tangential row, -k of its contact's row, else 0
     ! workspaces: the unknowns' and the columns' rows, the columns kept, the dense system
     integer, allocatable :: rows(:), ipiv(:)
     logical, allocatable :: keep(:)
     real(dp), allocatable :: m(:, :), rhs(:), col(:, :), rho(:)
     logical, allocatable :: on(:)
-    integer :: passes = 0                    !< passes of the last solve
   contains
     procedure :: add => coulomb_add
     procedure :: count => coulomb_count
     procedure :: init => coulomb_init
     procedure :: solve => coulomb_solve
-    procedure :: is_tangent => coulomb_is_tangent
     procedure :: tangent_mask => coulomb_tangent_mask
     procedure :: tangent_of => coulomb_tangent_of
     procedure :: mu_of => coulomb_mu_of
     procedure :: sticks => coulomb_sticks
-    procedure :: last_passes => coulomb_last_passes
-    procedure :: state_of => coulomb_state_of
     procedure :: save => coulomb_save
     procedure :: load => coulomb_load
   end type coulomb_t
@@ -82,39 +77,30 @@ contains
     coulomb_count = self%n
   end function coulomb_count
 
-  !> Workspaces for nc rows; every tangential row sticks until its contact says otherwise.
+  !> Workspaces for nc rows; every tangential row FREE until its contact closes.
   pure subroutine coulomb_init(self, nc)
     class(coulomb_t), intent(inout) :: self
     integer, intent(in) :: nc
     integer :: k
     if (.not. allocated(self%trow)) allocate (self%trow(0), self%nrow(0), self%mu(0))
-    if (allocated(self%state)) deallocate (self%state, self%tangent, self%kof, self%rows, self%ipiv, self%keep, self%m, &
+    if (allocated(self%state)) deallocate (self%state, self%kof, self%rows, self%ipiv, self%keep, self%m, &
       self%rhs, self%col, self%rho, self%on)
-    allocate (self%state(self%n), self%tangent(nc), self%kof(nc), self%rows(nc), self%ipiv(nc), self%keep(nc), &
+    allocate (self%state(self%n), self%kof(nc), self%rows(nc), self%ipiv(nc), self%keep(nc), &
       self%m(min(nc, 64), min(nc, 64)), self%rhs(nc), self%col(nc, 1), self%rho(nc), self%on(nc))
     self%state = FRICTION_FREE
-    self%tangent = .false.
     self%kof = 0
     do k = 1, self%n
-      self%tangent(self%trow(k)) = .true.
       self%kof(self%trow(k)) = k
       self%kof(self%nrow(k)) = -k
     end do
   end subroutine coulomb_init
-
-  pure logical function coulomb_is_tangent(self, j)
-    class(coulomb_t), intent(in) :: self
-    integer, intent(in) :: j
-    coulomb_is_tangent = .false.
-    if (allocated(self%tangent)) coulomb_is_tangent = self%tangent(j)
-  end function coulomb_is_tangent
 
   !> The tangential rows as a mask over the rows (all .false. without friction).
   pure subroutine coulomb_tangent_mask(self, mask)
     class(coulomb_t), intent(in) :: self
     logical, intent(out) :: mask(:)
     mask = .false.
-    if (allocated(self%tangent)) mask = self%tangent
+    if (allocated(self%kof)) mask = self%kof > 0
   end subroutine coulomb_tangent_mask
 
   !> The tangential row of condition j (0: frictionless).
@@ -144,29 +130,14 @@ contains
     if (self%kof(t) > 0) coulomb_sticks = self%state(self%kof(t)) == FRICTION_STICK
   end function coulomb_sticks
 
-  pure integer function coulomb_last_passes(self)
-    class(coulomb_t), intent(in) :: self
-    coulomb_last_passes = self%passes
-  end function coulomb_last_passes
-
-  !> FRICTION_* of the tangential row t after the last solve.
-  pure integer function coulomb_state_of(self, t) result(s)
-    class(coulomb_t), intent(in) :: self
-    integer, intent(in) :: t
-    integer :: k
-    s = FRICTION_FREE
-    do k = 1, self%n
-      if (self%trow(k) == t) s = self%state(k)
-    end do
-  end function coulomb_state_of
-
   !> The step's multipliers with friction, by a primal-dual active set on the states of every
   !> row: a unilateral row active or not, a tangential row of an active contact sticking or
   !> slipping (±). For given states the step is linear: the active rows' gaps, the sticking
   !> rows' slips and the IMPOSE rows are 0, a slipping row's force is ∓μ Λ_N of its contact,
   !> so that the unknowns Λ_I (I: active, sticking, IMPOSE) solve the dense nonsymmetric system
   !>   Σ_l (W_{I_k I_l} ∓ μ_l W_{I_k t_l}) Λ_{I_l} = -q_{I_k}
-  !> (W's columns from the multipliers' Schur cache, LAPACK dgesv). Then every state that
+  !> (W's columns from the multipliers' Schur cache, LAPACK dgesv; a large zone: the augmented
+  !> sparse system, ms%solve_coulomb). Then every state that
   !> violates its law changes at once (a negative normal multiplier releases, a penetrating gap
   !> closes, a stick force out of the cone slips opposite to it, a slip against its force sticks);
   !> after BLOCK_TRIES passes without fewer violations, one change per pass. q: the gaps and slips
@@ -194,7 +165,6 @@ contains
     tries = BLOCK_TRIES
     do pass = 1, MAX_PASSES
       iterations = pass
-      self%passes = pass
       call solve_states(self, ms, q, bilateral, active, lam, g, wdiag, stat, errmsg)
       if (stat /= STAT_OK) return
       ! The violations: unilateral rows (the tangential ones are bilateral), then the cone.
@@ -264,8 +234,8 @@ contains
     end do
   end subroutine open_states
 
-  !> One pass of coulomb_solve: the states made consistent with the contacts (an open contact's
-  !> tangent FREE, a new one's STICK), the system of the states solved, lam and g = q + W lam.
+  !> One pass of coulomb_solve: an open contact's tangent FREE, the system of the states solved,
+  !> lam and g = q + W lam.
   subroutine solve_states(self, ms, q, bilateral, active, lam, g, wdiag, stat, errmsg)
     class(coulomb_t), intent(inout) :: self
     type(multiplier_system_t), intent(inout) :: ms
@@ -279,17 +249,14 @@ contains
     integer :: k, l, j, ni, nl, info
     logical :: singular
     stat = STAT_OK
-    ! The unknowns I (ni) and the columns needed, I and the slipping rows (nl).
+    ! The unknowns I (ni) and the columns needed, I and the slipping rows (nl). (An open contact's
+    ! tangent is FREE; a closed one's is never FREE here: open_states has set it.)
     do k = 1, self%n
-      if (.not. active(self%nrow(k))) then
-        self%state(k) = FRICTION_FREE
-      else if (self%state(k) == FRICTION_FREE) then
-        self%state(k) = FRICTION_STICK
-      end if
+      if (.not. active(self%nrow(k))) self%state(k) = FRICTION_FREE
     end do
     ni = 0
     do j = 1, size(q)
-      if (self%tangent(j)) then
+      if (self%kof(j) > 0) then
         if (self%state(self%kof(j)) /= FRICTION_STICK) cycle
       else if (.not. (active(j) .or. bilateral(j))) then
         cycle
@@ -299,7 +266,7 @@ contains
     end do
     nl = ni
     do k = 1, self%n
-      if (self%state(k) /= FRICTION_SLIP_POS .and. self%state(k) /= FRICTION_SLIP_NEG) cycle
+      if (.not. slipping(self, k)) cycle
       nl = nl + 1
       self%rows(nl) = self%trow(k)
     end do
@@ -312,7 +279,7 @@ contains
         self%on(self%rows(l)) = .true.
       end do
       do k = 1, self%n
-        if (self%state(k) == FRICTION_SLIP_POS .or. self%state(k) == FRICTION_SLIP_NEG) &
+        if (slipping(self, k)) &
           self%rho(self%trow(k)) = slip_force(self, k, 1.0_dp)
       end do
       call ms%solve_coulomb(q, self%on, self%rho, lam, g, singular, stat, errmsg)
@@ -338,7 +305,7 @@ contains
       self%rhs(l) = -q(j)
       if (self%kof(j) >= 0) cycle
       k = -self%kof(j)                         ! a contact whose tangent slips: its force follows Λ_N
-      if (self%state(k) /= FRICTION_SLIP_POS .and. self%state(k) /= FRICTION_SLIP_NEG) cycle
+      if (.not. slipping(self, k)) cycle
       call ms%w_block(self%rows, ni, self%trow(k:k), 1, self%col)
       self%m(1:ni, l) = self%m(1:ni, l) + slip_force(self, k, 1.0_dp) * self%col(1:ni, 1)
     end do
@@ -354,7 +321,7 @@ contains
       lam(self%rows(l)) = self%rhs(l)
     end do
     do k = 1, self%n
-      if (self%state(k) == FRICTION_SLIP_POS .or. self%state(k) == FRICTION_SLIP_NEG) &
+      if (slipping(self, k)) &
         lam(self%trow(k)) = slip_force(self, k, lam(self%nrow(k)))
     end do
     g = q
@@ -363,6 +330,13 @@ contains
       wdiag(self%rows(l)) = ms%w_entry(self%rows(l), self%rows(l))
     end do
   end subroutine solve_states
+
+  !> Whether friction k's tangential row slips (either way).
+  pure logical function slipping(self, k)
+    class(coulomb_t), intent(in) :: self
+    integer, intent(in) :: k
+    slipping = self%state(k) == FRICTION_SLIP_POS .or. self%state(k) == FRICTION_SLIP_NEG
+  end function slipping
 
   !> The force of the slipping tangential row of friction k for a normal multiplier lam_n:
   !> -μ Λ_N along +t (SLIP_POS), +μ Λ_N (SLIP_NEG).

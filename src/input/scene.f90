@@ -17,7 +17,7 @@ module scene
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
   public :: function_value, model_point_kind, tuned_mix, scene_axisymmetric
   public :: INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, INIT_ANGULAR, condition_t, condition_nodes, contact_nodes, &
-    condition_keyword
+    condition_keyword, condition_row, condition_tangent
   public :: impose_t, function_slope, probe_weight, function_integral, function_prepare
 
   real(dp), parameter :: TUNED_MAX = 1.4999_dp  !< MASS TUNED's mixing factor at c h/dx = 1
@@ -229,6 +229,33 @@ contains
     if (c%node_c == 0) w(2) = -1.0_dp
     where (nodes == 0) w = 0.0_dp
   end subroutine condition_nodes
+
+  !> FRICTION's tangent of condition c: its normal turned by +90° (the slip and the tangential
+  !> force are along it).
+  pure function condition_tangent(c) result(t)
+    type(condition_t), intent(in) :: c
+    real(dp) :: t(2)
+    t = [-c%normal(2), c%normal(1)]
+  end function condition_tangent
+
+  !> Condition c's row along the unit vector dir (its normal, or its tangent) on the equations
+  !> eqn(1:2, node) of its nodes b, a, c (condition_nodes' weights): entries eqs(2k-1:2k) and
+  !> coefs(2k-1:2k) for node k, eqs 0 where a node or a DOF is absent.
+  pure subroutine condition_row(c, dir, eqn, eqs, coefs)
+    type(condition_t), intent(in) :: c
+    real(dp), intent(in) :: dir(2)
+    integer, intent(in) :: eqn(:, :)
+    integer, intent(out) :: eqs(6)
+    real(dp), intent(out) :: coefs(6)
+    integer :: k, nodes(3)
+    real(dp) :: w(3)
+    call condition_nodes(c, nodes, w)
+    eqs = 0
+    do k = 1, 3
+      coefs(2 * k - 1:2 * k) = w(k) * dir
+      if (nodes(k) > 0) eqs(2 * k - 1:2 * k) = max(eqn(1:2, nodes(k)), 0)
+    end do
+  end subroutine condition_row
 
   !> The statement a condition comes from, for messages: OBSTACLE (no node a) or GAP.
   pure function condition_keyword(c) result(k)

@@ -8,7 +8,7 @@
 module imposed_motion
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use scene, only: scene_t, function_value, function_slope, probe_weight, function_integral
+  use scene, only: scene_t, function_value, function_slope, probe_weight, function_integral, condition_tangent
   use assembly, only: system_t
   use dof_map, only: DOF_FIXED, DOF_ABSENT
   use array_utils, only: grow
@@ -115,7 +115,7 @@ contains
         call contact_set_gap0(cs, j, c%g0 - vn * function_integral(scn%functions, c%vfunc, scn%t_start, t1))
         call cs%move_obstacle(j, vn * function_integral(scn%functions, c%vfunc, t0, t1), vn * f1, c%velocity * f1)
         if (cs%tangent_row(j) > 0) then        ! FRICTION: the slip is relative to the obstacle
-          vn = c%velocity(2) * c%normal(1) - c%velocity(1) * c%normal(2)   ! (along t = n turned by +90°)
+          vn = dot_product(condition_tangent(c), c%velocity)
           call cs%move_obstacle(cs%tangent_row(j), vn * function_integral(scn%functions, c%vfunc, t0, t1), vn * f1, &
             c%velocity * f1)
         end if

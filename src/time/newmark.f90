@@ -6,7 +6,7 @@
 module newmark
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
-  use scene, only: scene_t, condition_nodes
+  use scene, only: scene_t, condition_row, condition_tangent
   use contact_modes, only: IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use dof_map, only: equation_bodies, body_rigid_freedom
   use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions, &
@@ -178,21 +178,16 @@ contains
     type(run_state_t), intent(inout) :: rs
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, k, eqs(6), nodes(3)
+    integer :: j, eqs(6)
     integer, allocatable :: sptr(:), star(:)
-    real(dp) :: coefs(6), w(3), lscale
+    real(dp) :: coefs(6), lscale
     character(len=:), allocatable :: msg
     real(dp), allocatable :: circ(:, :)
     logical, allocatable :: free(:, :)
     rs%has_contact = .true.
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j))
-        call condition_nodes(c, nodes, w)
-        eqs = 0
-        do k = 1, 3
-          coefs(2 * k - 1:2 * k) = w(k) * c%normal
-          if (nodes(k) > 0) eqs(2 * k - 1:2 * k) = max(sys%dofs%eqn(1:2, nodes(k)), 0)
-        end do
+        call condition_row(c, c%normal, sys%dofs%eqn, eqs, coefs)
         ! events and messages name b and, for a segment, its end nearer the contact point
         call contact_add(rs%cs, c%g0, eqs, coefs, nodes=[merge(c%node_c, c%node_a, c%xi > 0.5_dp), c%node_b], &
           label=c%source, restitution=c%restitution)
@@ -201,12 +196,7 @@ contains
     call imposed_rows(scn, sys, rs%cs)
     do j = 1, size(scn%conditions)            ! FRICTION: a tangential row each, after all the others
       if (scn%conditions(j)%friction <= 0.0_dp) cycle
-      call condition_nodes(scn%conditions(j), nodes, w)
-      eqs = 0
-      do k = 1, 3
-        coefs(2 * k - 1:2 * k) = w(k) * [-scn%conditions(j)%normal(2), scn%conditions(j)%normal(1)]
-        if (nodes(k) > 0) eqs(2 * k - 1:2 * k) = max(sys%dofs%eqn(1:2, nodes(k)), 0)
-      end do
+      call condition_row(scn%conditions(j), condition_tangent(scn%conditions(j)), sys%dofs%eqn, eqs, coefs)
       call contact_add_friction(rs%cs, j, eqs, coefs, scn%conditions(j)%friction)
     end do
     associate (x => scn%mesh%x(:, 1:scn%mesh%nnode))

@@ -5,7 +5,7 @@
 module run_outputs
   use kinds, only: dp
   use errors, only: STAT_OK
-  use scene, only: scene_t, condition_nodes, scene_axisymmetric
+  use scene, only: scene_t, condition_nodes, condition_tangent, scene_axisymmetric
   use mesh, only: mesh_t
   use assembly, only: system_t, stored_energy
   use point_fields, only: element_stress, element_scalars, nodal_values
@@ -340,7 +340,7 @@ contains
         call condition_nodes(c, nodes, w)
         do k = 1, 3
           if (nodes(k) > 0) self%reaction(1:2, nodes(k)) = self%reaction(1:2, nodes(k)) + w(k) * (f * c%normal + &
-            ft * [-c%normal(2), c%normal(1)])
+            ft * condition_tangent(c))
         end do
       end associate
     end do
@@ -442,9 +442,9 @@ contains
           ! on the NODES group: node b of an OBSTACLE or GAP … SEGMENTS, node a of GAP … WITH or PAIRS
           sgn = merge(-1.0_dp, 1.0_dp, c%node_a > 0 .and. c%node_c == 0)
           call cs%tangential(j, lam_t, slip, imp_t)   ! (FRICTION: along t = n turned by +90°)
-          istep = sgn * 0.5_dp * self%h * (cs%multiplier(j) * c%normal + lam_t * [-c%normal(2), c%normal(1)])
+          istep = sgn * 0.5_dp * self%h * (cs%multiplier(j) * c%normal + lam_t * condition_tangent(c))
           self%cslip(s) = self%cslip(s) + slip
-          icorr = sgn * (cs%correction_impulse(j) * c%normal + imp_t * [-c%normal(2), c%normal(1)]) + cs%body_impulse(j)
+          icorr = sgn * (cs%correction_impulse(j) * c%normal + imp_t * condition_tangent(c)) + cs%body_impulse(j)
           node = merge(c%node_a, c%node_b, c%node_a > 0 .and. c%node_c == 0)
         end if
         self%cimp(1:2, s) = self%cimp(1:2, s) + istep + icorr

@@ -14,7 +14,7 @@
 module static_preload
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
-  use scene, only: scene_t, condition_nodes
+  use scene, only: scene_t, condition_row, condition_tangent
   use scene_helpers, only: model_size
   use assembly, only: system_t, external_force, commit_state
   use internal_forces, only: internal_force, work_increment_t
@@ -284,8 +284,8 @@ contains
     real(dp), intent(in) :: kappa
     logical, intent(in) :: held(:)
     real(dp), intent(inout) :: sval(:)
-    integer :: j, k, l, eqs(6), nodes(3), ki, ii, nimp, jc
-    real(dp) :: coefs(6), w(3), ke(6, 6), dir(2)
+    integer :: j, k, l, eqs(6), ki, ii, nimp, jc
+    real(dp) :: coefs(6), ke(6, 6)
     logical :: fits
     ki = 1
     ii = 0
@@ -311,14 +311,11 @@ contains
       if (.not. held(j)) cycle
       if (j <= size(scn%conditions) .or. j > size(scn%conditions) + nimp) then
         associate (c => scn%conditions(merge(j, jc, j <= size(scn%conditions))))
-          dir = c%normal
-          if (j > size(scn%conditions)) dir = [-c%normal(2), c%normal(1)]
-          call condition_nodes(c, nodes, w)
-          do k = 1, 3
-            if (nodes(k) <= 0) cycle
-            coefs(2 * k - 1:2 * k) = w(k) * dir
-            eqs(2 * k - 1:2 * k) = max(sys%dofs%eqn(1:2, nodes(k)), 0)
-          end do
+          if (j <= size(scn%conditions)) then
+            call condition_row(c, c%normal, sys%dofs%eqn, eqs, coefs)
+          else
+            call condition_row(c, condition_tangent(c), sys%dofs%eqn, eqs, coefs)
+          end if
         end associate
       end if
       fits = .true.
