@@ -119,14 +119,19 @@ def ccx_results(path):
     return data
 
 
+def ccx_job(job):
+    """Run CalculiX on job.inp (in its folder): (process, CPU, results of job.dat or None)."""
+    p, cpu = cpu_of(lambda: subprocess.run(['ccx', '-i', os.path.basename(job)], cwd=os.path.dirname(job),
+                                           capture_output=True, text=True))
+    return p, cpu, ccx_results(job + '.dat') if os.path.exists(job + '.dat') else None
+
+
 def run_ccx(n, h, plastic, work, factor=1.0):
     job = os.path.join(work, 'ccx_%d_%g_%d_%g' % (n, h, plastic, factor))
     ccx_input(n, h, plastic, job + '.inp', factor)
-    p, cpu = cpu_of(lambda: subprocess.run(['ccx', '-i', os.path.basename(job)], cwd=work, capture_output=True,
-                                           text=True))
-    if not os.path.exists(job + '.dat'):
+    p, cpu, d = ccx_job(job)
+    if d is None:
         return dict(ok=False, cpu=cpu)
-    d = ccx_results(job + '.dat')
     times = sorted(t for (k, t) in d if k == 'velocities')
     e = np.array([sum(v[-1] for v in d[('internal energy', t)].values()) +
                   sum(v[-1] for v in d[('kinetic energy', t)].values()) for t in times])

@@ -34,7 +34,7 @@ import tempfile
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from peers import ccx_results, cpu_of  # noqa: E402
+from peers import ccx_job, cpu_of  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 REBOND = os.environ.get('REBOND_BIN', os.path.join(ROOT, 'bin', 'rebond'))
@@ -130,11 +130,9 @@ def lumped_weights(xy, quads):
 def run_ccx(vt, mu, work):
     job = os.path.join(work, 'ring_%g_%g' % (vt, mu))
     ccx_input(vt, mu, job + '.inp')
-    p, cpu = cpu_of(lambda: subprocess.run(['ccx', '-i', os.path.basename(job)], cwd=work, capture_output=True,
-                                           text=True))
-    if not os.path.exists(job + '.dat'):
+    p, cpu, d = ccx_job(job)
+    if d is None:
         return dict(ok=False, cpu=cpu)
-    d = ccx_results(job + '.dat')
     times = sorted(t for (k, t) in d if k == 'velocities')
     if not times or abs(times[-1] - TEND) > 1e-9:
         return dict(ok=False, cpu=cpu)
