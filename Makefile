@@ -105,6 +105,7 @@ run: bin/rebond
 
 bench: bin/rebond
 	@bash tools/bench.sh
+	@BENCH_DIM=3 BENCH_SIZES="1e4 1e5" bash tools/bench.sh
 	@/usr/bin/python3 tools/bench_load.py --write
 	@bash tools/bench_nonlinear.sh
 	@BENCH_CONTACT_OUT=docs/performance-contact.md bash tools/bench_contact.sh

@@ -4,14 +4,14 @@
 module assembly
   use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, check_alloc
-  use mesh, only: DOF_NAMES
-  use element_traits, only: ET_BEAM2, etype_needs_material, etype_family, FAMILY_SURFACE
+  use mesh, only: DOF_NAMES, NODE_DOFS, DOF_AXIS
+  use element_traits, only: ET_BEAM2, etype_needs_material, etype_family, FAMILY_SURFACE, MAX_NEN
   use contact_modes, only: IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use loads, only: load_nodal_forces
   use follower_loads, only: follower_set_t
   use scene, only: scene_t, probe_weight, function_value, model_point_kind, tuned_mix, contact_nodes, INIT_DISPLACEMENT, &
     INIT_VELOCITY, INIT_ANGULAR, &
-    INIT_STATIC
+    INIT_STATIC, TRANSLATION_SLOT
   use dof_map, only: build_dof_map, cayley_rotations, imposed_dofs, equation_bodies, DOF_ABSENT, DOF_FIXED
   use stiffness_product, only: k0_product_t
   use lapack_pure, only: dsyev
@@ -116,7 +116,9 @@ contains
     integer :: loc(2)
     loc = findloc(sys%dofs%eqn, ieq)
     s = 'node ' // str(scn%mesh%node_tag(loc(2))) // ' (x = ' // str(scn%mesh%x(1, loc(2))) // ', y = ' // &
-      str(scn%mesh%x(2, loc(2))) // ') DOF ' // trim(DOF_NAMES(loc(1)))
+      str(scn%mesh%x(2, loc(2)))
+    if (scn%mesh%ndim == 3) s = s // ', z = ' // str(scn%mesh%x(3, loc(2)))
+    s = s // ') DOF ' // trim(DOF_NAMES(loc(1)))
   end function dof_label
 
   !> Number the DOFs, compute the element data, assemble K0, M and the load vectors.
@@ -173,7 +175,8 @@ contains
       allocate (sys%fint_q(sys%dofs%neq))
       sys%fint_q = 0.0_qp
     end if
-    if (sys%elems%linear .and. .not. (sys%extended .or. scn%forces_points)) then
+    ! (3D: the element loop; the product's rigid modes are the planar ones)
+    if (sys%elems%linear .and. .not. (sys%extended .or. scn%forces_points) .and. scn%mesh%ndim == 2) then
       call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, body)
       call sys%ops%k0u%setup(sys%ops%pat, sys%ops%kval, sys%dofs%eqn, scn%mesh%x, body, held_modes(scn, sys, body))
     end if
@@ -201,7 +204,7 @@ contains
     logical, allocatable :: held(:, :)
     real(dp), allocatable :: g(:, :, :)
     real(dp) :: row(3), w(3), work(16), xy(2)
-    logical :: mask(3)
+    logical :: mask(NODE_DOFS)
     integer :: e, a, n, b, d, info
     allocate (held(4, maxval(body)), g(3, 3, maxval(body)))
     held = .false.
@@ -211,7 +214,7 @@ contains
       mask = elem_dof_mask(scn%mesh%etype(e))
       b = 0
       do a = 1, scn%mesh%nen(e)                ! the element's body: that of any free equation
-        do d = 1, 3
+        do d = 1, NODE_DOFS
           if (mask(d) .and. sys%dofs%eqn(d, scn%mesh%conn(a, e)) > 0) b = body(sys%dofs%eqn(d, scn%mesh%conn(a, e)))
         end do
       end do
@@ -219,7 +222,7 @@ contains
       do a = 1, scn%mesh%nen(e)
         n = scn%mesh%conn(a, e)
         xy = scn%mesh%x(:, n)
-        do d = 1, 3
+        do d = 1, 3    ! (2D only: the product K0 u is not set up in 3D)
           if (.not. (mask(d) .and. sys%dofs%eqn(d, n) == DOF_FIXED)) cycle
           ! The fixed DOF's row: modes 1-3 there (UX: 1, 0, -y; UY: 0, 1, x; RZ: 0, 0, 1).
           row = [merge(1.0_dp, 0.0_dp, d == 1), merge(1.0_dp, 0.0_dp, d == 2), merge(-xy(2), merge(xy(1), 1.0_dp, d == 2), d == 1)]
@@ -286,9 +289,9 @@ contains
     type(system_t), intent(inout) :: sys
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: e, et, im, nen, ndof, nstr, igp, k, a, d, ast
-    logical :: mask(3)
-    real(dp) :: x(2, 8), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho, mix
+    integer :: e, et, im, nen, ndof, nstr, igp, k, a, d, ast, nd
+    logical :: mask(NODE_DOFS)
+    real(dp) :: x(3, MAX_NEN), ke(MAX_EDOF, MAX_EDOF), me(MAX_EDOF, MAX_EDOF), g(MAX_EDOF), rho, mix
     real(dp) :: mlump(MAX_EDOF, MAX_EDOF), bl(MAX_NSTRAIN * MAX_EDOF)
     logical, allocatable :: massless(:), lumped_rows(:)
     logical :: damped
@@ -324,17 +327,18 @@ contains
           call add_btdb(nstr, ndof, bl, sys%elems%dmat(1, 1, im), sys%elems%wt(igp), ke)
         end do
         if (nstr > 0) call sys%ops%pat%add_element(sys%ops%kval, dofs, ke(1:ndof, 1:ndof))
-        x(:, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
+        nd = scn%mesh%ndim
+        x(1:nd, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
         rho = 0.0_dp
         if (scn%models(im)%material > 0) rho = scn%materials(scn%models(im)%material)%density
-        call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, scn%models(im)%lumped, me(1:ndof, 1:ndof), &
+        call elem_mass(et, x(1:nd, 1:nen), scn%models(im)%sec, rho, scn%models(im)%lumped, me(1:ndof, 1:ndof), &
           scn%models(im)%large)
         if (scn%models(im)%mixed) then
           ! MASS MIXED [alpha]: alpha x consistent + (1 - alpha) x lumped; TUNED: alpha from the step (docs/contact.md).
-          call elem_mass(et, x(:, 1:nen), scn%models(im)%sec, rho, .true., mlump(1:ndof, 1:ndof), scn%models(im)%large)
+          call elem_mass(et, x(1:nd, 1:nen), scn%models(im)%sec, rho, .true., mlump(1:ndof, 1:ndof), scn%models(im)%large)
           mix = scn%models(im)%mix
           if (scn%models(im)%tuned) mix = tuned_mix(sqrt(scn%materials(scn%models(im)%material)%young / rho), scn%dt, &
-            norm2(x(:, 2) - x(:, 1)))
+            norm2(x(1:nd, 2) - x(1:nd, 1)))
           me(1:ndof, 1:ndof) = mix * me(1:ndof, 1:ndof) + (1 - mix) * mlump(1:ndof, 1:ndof)
         end if
         if (allocated(massless)) call move_contact_mass(scn%mesh%conn(1:nen, e), elem_dof_mask(et), massless, &
@@ -347,11 +351,11 @@ contains
         mask = elem_dof_mask(et)
         k = 0
         do a = 1, nen
-          do d = 1, 3
+          do d = 1, NODE_DOFS
             if (.not. mask(d)) cycle
             k = k + 1
             g(k) = 0.0_dp
-            if (d <= 2) g(k) = scn%gravity(d)
+            if (DOF_AXIS(d) > 0) g(k) = scn%gravity(DOF_AXIS(d))
           end do
         end do
         g(1:ndof) = matmul(me(1:ndof, 1:ndof), g(1:ndof))
@@ -497,14 +501,14 @@ contains
     real(dp), allocatable :: fn(:, :)
     integer :: il, n, d, k, cnt
     stat = STAT_OK
-    allocate (sys%loads%vectors(size(scn%loads)), fn(3, scn%mesh%nnode))
+    allocate (sys%loads%vectors(size(scn%loads)), fn(NODE_DOFS, scn%mesh%nnode))
     do il = 1, size(scn%loads)
       call load_nodal_forces(scn, scn%loads(il), fn)
       cnt = count(fn /= 0.0_dp .and. sys%dofs%eqn(:, 1:scn%mesh%nnode) > 0)
       allocate (sys%loads%vectors(il)%eq(cnt), sys%loads%vectors(il)%f(cnt))
       k = 0
       do n = 1, scn%mesh%nnode
-        do d = 1, 3
+        do d = 1, NODE_DOFS
           if (fn(d, n) /= 0.0_dp .and. sys%dofs%eqn(d, n) > 0) then
             k = k + 1
             sys%loads%vectors(il)%eq(k) = sys%dofs%eqn(d, n)
@@ -525,18 +529,18 @@ contains
     integer, allocatable :: slot_of(:), fslot(:, :)
     logical, allocatable :: member(:, :)
     real(dp), allocatable :: fn(:, :)
-    logical :: mask(3)
+    logical :: mask(NODE_DOFS)
     integer :: k, s, e, a, d, n, loc, nfix
     real(dp) :: w
     slot_of = pack([(k, k = 1, size(scn%probes))], [(scn%probes(k)%reaction, k = 1, size(scn%probes))])
     sys%react%nprobe = size(slot_of)
     ! With FIELDS output, one more slot per fixed DOF of a modelled node: the support_reaction field.
-    allocate (fslot(3, scn%mesh%nnode))
+    allocate (fslot(NODE_DOFS, scn%mesh%nnode))
     fslot = 0
     nfix = 0
     if (scn%fields_every /= 0) then
       do n = 1, scn%mesh%nnode
-        do d = 1, 3
+        do d = 1, NODE_DOFS
           if (sys%dofs%eqn(d, n) /= DOF_FIXED) cycle
           nfix = nfix + 1
           fslot(d, n) = sys%react%nprobe + nfix
@@ -547,7 +551,7 @@ contains
     if (sys%react%nslot == 0) return
     allocate (sys%react%fnode(nfix), sys%react%fdof(nfix))
     do n = 1, scn%mesh%nnode
-      do d = 1, 3
+      do d = 1, NODE_DOFS
         if (fslot(d, n) == 0) cycle
         sys%react%fnode(fslot(d, n) - sys%react%nprobe) = n
         sys%react%fdof(fslot(d, n) - sys%react%nprobe) = d
@@ -567,7 +571,7 @@ contains
       loc = 0
       do a = 1, scn%mesh%nen(e)
         n = scn%mesh%conn(a, e)
-        do d = 1, 3
+        do d = 1, NODE_DOFS
           if (.not. mask(d)) cycle
           loc = loc + 1
           if (sys%dofs%eqn(d, n) /= DOF_FIXED) cycle
@@ -580,17 +584,17 @@ contains
       end do
     end do
     call sys%react%finish_map(size(scn%loads))
-    allocate (fn(3, scn%mesh%nnode))
+    allocate (fn(NODE_DOFS, scn%mesh%nnode))
     do k = 1, size(scn%loads)
       call load_nodal_forces(scn, scn%loads(k), fn)
       do n = 1, scn%mesh%nnode
-        do d = 1, 3
+        do d = 1, NODE_DOFS
           if (fslot(d, n) > 0) sys%react%load(k, fslot(d, n)) = fn(d, n)
         end do
       end do
       do s = 1, sys%react%nprobe
         do n = 1, scn%mesh%nnode
-          do d = 1, 3
+          do d = 1, NODE_DOFS
             w = probe_weight(scn%probes(slot_of(s)), d, scn%mesh%x(:, n))
             if (fn(d, n) /= 0.0_dp .and. w /= 0.0_dp .and. sys%dofs%eqn(d, n) == DOF_FIXED .and. member(n, s)) &
               sys%react%load(k, s) = sys%react%load(k, s) + w * fn(d, n)
@@ -815,9 +819,19 @@ contains
       associate (c => scn%initials(ic), nodes => scn%mesh%ngroups(scn%initials(ic)%ngroup)%items)
         do i = 1, size(nodes)
           n = nodes(i)
+          if (c%kind == INIT_ANGULAR .and. scn%mesh%ndim == 3) then   ! ω × (X - x0) on UX, UY, UZ
+            w3 = scn%mesh%x(:, n) - c%about
+            w3 = [c%omega(2) * w3(3) - c%omega(3) * w3(2), c%omega(3) * w3(1) - c%omega(1) * w3(3), &
+              c%omega(1) * w3(2) - c%omega(2) * w3(1)]
+            do d = 1, 3
+              j = sys%dofs%eqn(TRANSLATION_SLOT(d), n)
+              if (j > 0) v(j) = v(j) + w3(d)
+            end do
+            cycle
+          end if
           if (c%kind == INIT_ANGULAR) then          ! ω × (X - x0) on UX, UY; ω on RZ
             w3 = [-(scn%mesh%x(2, n) - c%about(2)), scn%mesh%x(1, n) - c%about(1), 1.0_dp]
-            do d = 1, 3
+            do d = 1, 3                             ! (2D: UX UY RZ)
               j = sys%dofs%eqn(d, n)
               if (j > 0) v(j) = v(j) + c%values(3) * w3(d)
             end do
@@ -825,7 +839,7 @@ contains
           end if
           ! FUNCTION f ALONG X|Y: the values times f of the node's coordinate (1 without).
           s = function_value(scn%functions, c%func, scn%mesh%x(c%along, n))
-          do d = 1, 3
+          do d = 1, NODE_DOFS
             if (.not. c%mask(d)) cycle
             j = sys%dofs%eqn(d, n)
             ! Supports win over initial values: a fixed (or absent) DOF keeps zero.

@@ -3,6 +3,7 @@
 !> nodes, IMPACT SYMMETRIC lumps their positive couplings on the diagonals.
 module contact_mass
   use kinds, only: dp
+  use element_traits, only: NODE_DOFS, DOF_RZ
   implicit none
   private
   public :: move_contact_mass, lump_contact_rows
@@ -17,16 +18,17 @@ contains
   !> are all contact nodes keeps its mass.
   pure subroutine move_contact_mass(nodes, mask, massless, me)
     integer, intent(in) :: nodes(:)
-    logical, intent(in) :: mask(3), massless(:)
+    logical, intent(in) :: mask(NODE_DOFS), massless(:)
     real(dp), intent(inout) :: me(:, :)
-    integer :: a, b, d, ia, ib, nper, nfree
+    integer :: a, b, d, ia, ib, nper, nfree, ntr
     real(dp) :: moved
     nper = count(mask)
+    ntr = nper - merge(1, 0, mask(DOF_RZ))     ! the translations lead each node's DOFs
     nfree = count(.not. massless(nodes))
     if (nfree == 0 .or. nfree == size(nodes)) return
     do a = 1, size(nodes)
       if (.not. massless(nodes(a))) cycle
-      do d = 1, 2
+      do d = 1, ntr
         ia = (a - 1) * nper + d
         ! The mass the row holds in a rigid translation along d: its entries on the d DOFs of the
         ! element's nodes (not a beam's rotations, kg m, nor the other direction).
@@ -53,14 +55,15 @@ contains
   !> that node alone (on linear elements).
   pure subroutine lump_contact_rows(nodes, mask, contact, me)
     integer, intent(in) :: nodes(:)
-    logical, intent(in) :: mask(3), contact(:)
+    logical, intent(in) :: mask(NODE_DOFS), contact(:)
     real(dp), intent(inout) :: me(:, :)
-    integer :: a, b, d, ia, ib, nper
+    integer :: a, b, d, ia, ib, nper, ntr
     real(dp) :: c
     nper = count(mask)
+    ntr = nper - merge(1, 0, mask(DOF_RZ))
     do a = 1, size(nodes)
       if (.not. contact(nodes(a))) cycle
-      do d = 1, 2
+      do d = 1, ntr
         ia = (a - 1) * nper + d
         do b = 1, size(nodes)
           if (b == a) cycle

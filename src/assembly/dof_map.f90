@@ -6,7 +6,7 @@ module dof_map
   use mesh, only: mesh_t
   use scene, only: scene_t, scene_axisymmetric
   use elements, only: elem_dof_mask
-  use element_traits, only: ET_BEAM2
+  use element_traits, only: ET_BEAM2, NODE_DOFS, DOF_UX, DOF_UY, DOF_RZ, DOF_UZ
   implicit none
   private
   public :: build_dof_map, equation_bodies, body_rigid_freedom, cayley_rotations, imposed_dofs, DOF_ABSENT, DOF_FIXED
@@ -21,9 +21,9 @@ contains
     integer, allocatable, intent(out) :: eqn(:, :)
     integer, intent(out) :: neq
     logical, allocatable :: present(:, :)
-    logical :: mask(3)
+    logical :: mask(NODE_DOFS)
     integer :: e, a, i, n, d
-    allocate (present(3, scn%mesh%nnode), eqn(3, scn%mesh%nnode))
+    allocate (present(NODE_DOFS, scn%mesh%nnode), eqn(NODE_DOFS, scn%mesh%nnode))
     present = .false.
     do e = 1, scn%mesh%nelem
       if (scn%elem_model(e) == 0) cycle
@@ -36,7 +36,7 @@ contains
     eqn = merge(1, DOF_ABSENT, present)
     do i = 1, size(scn%fixes)
       associate (nodes => scn%mesh%ngroups(scn%fixes(i)%ngroup)%items)
-        do d = 1, 3
+        do d = 1, NODE_DOFS
           if (.not. scn%fixes(i)%dofs(d)) cycle
           where (present(d, nodes)) eqn(d, nodes) = DOF_FIXED
         end do
@@ -44,7 +44,7 @@ contains
     end do
     neq = 0
     do n = 1, scn%mesh%nnode
-      do d = 1, 3
+      do d = 1, NODE_DOFS
         if (eqn(d, n) > 0) then
           neq = neq + 1
           eqn(d, n) = neq
@@ -73,7 +73,8 @@ contains
   end subroutine equation_bodies
 
   !> free(k, b): the rigid mode k of the model (1, 2: the translations x, y; 3: the rotation about
-  !> the origin, -y, x on the translations, 1 on RZ) is a free motion of body b (equation_bodies'
+  !> the origin, -y, x on the translations, 1 on RZ; in 3D 4: z, 5, 6: the rotations about x and y)
+  !> is a free motion of body b (equation_bodies'
   !> numbering): no node of b has a DOF that the mode moves held by FIX or IMPOSE (a body pinned
   !> at the origin keeps its rotation). An impact correction keeps the momentum of b along its
   !> free modes that the contact conditions leave invariant (docs/contact.md, "What a correction
@@ -84,23 +85,31 @@ contains
     logical, allocatable, intent(out) :: free(:, :)
     integer, allocatable :: label(:)
     logical, allocatable :: imposed(:, :)
-    logical :: held(3)
-    integer :: n, nb
+    logical :: held(NODE_DOFS)
+    integer :: n, nb, nrig
     real(dp) :: tol
     call node_bodies(scn, label, nb)
     call imposed_dofs(scn, imposed)
-    allocate (free(3, nb))
+    nrig = merge(6, 3, scn%mesh%ndim == 3)
+    allocate (free(nrig, nb))
     free = .true.
     tol = 0.0_dp
     if (scn%mesh%nnode > 0) tol = 1.0e-12_dp * maxval(abs(scn%mesh%x(:, 1:scn%mesh%nnode)))
     do n = 1, scn%mesh%nnode
       if (label(n) == 0) cycle
       held = eqn(:, n) == DOF_FIXED .or. (imposed(:, n) .and. eqn(:, n) /= DOF_ABSENT)
-      if (held(1)) free(1, label(n)) = .false.
-      if (held(2)) free(2, label(n)) = .false.
-      ! The rotation moves UX by -y, UY by x and RZ by 1.
-      if ((held(1) .and. abs(scn%mesh%x(2, n)) > tol) .or. (held(2) .and. abs(scn%mesh%x(1, n)) > tol) .or. held(3)) &
-        free(3, label(n)) = .false.
+      if (held(DOF_UX)) free(1, label(n)) = .false.
+      if (held(DOF_UY)) free(2, label(n)) = .false.
+      ! The rotation about z moves UX by -y, UY by x and RZ by 1.
+      if ((held(DOF_UX) .and. abs(scn%mesh%x(2, n)) > tol) .or. (held(DOF_UY) .and. abs(scn%mesh%x(1, n)) > tol) .or. &
+        held(DOF_RZ)) free(3, label(n)) = .false.
+      if (nrig == 3) cycle
+      ! 3D: z (mode 4); the rotation about x (5) moves UY by -z, UZ by y; about y (6) UX by z, UZ by -x.
+      if (held(DOF_UZ)) free(4, label(n)) = .false.
+      if ((held(DOF_UY) .and. abs(scn%mesh%x(3, n)) > tol) .or. (held(DOF_UZ) .and. abs(scn%mesh%x(2, n)) > tol)) &
+        free(5, label(n)) = .false.
+      if ((held(DOF_UX) .and. abs(scn%mesh%x(3, n)) > tol) .or. (held(DOF_UZ) .and. abs(scn%mesh%x(1, n)) > tol)) &
+        free(6, label(n)) = .false.
     end do
     ! Axisymmetric: a rigid radial translation or an in-plane rotation would stretch the hoops; the
     ! one rigid motion of a ring is along the axis (y).
@@ -191,7 +200,7 @@ contains
     type(scene_t), intent(in) :: scn
     logical, allocatable, intent(out) :: mask(:, :)
     integer :: k
-    allocate (mask(3, scn%mesh%nnode))
+    allocate (mask(NODE_DOFS, scn%mesh%nnode))
     mask = .false.
     do k = 1, size(scn%imposes)
       mask(scn%imposes(k)%dof, scn%mesh%ngroups(scn%imposes(k)%ngroup)%items) = .true.

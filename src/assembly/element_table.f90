@@ -5,7 +5,7 @@
 module element_table
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error, str, check_alloc
-  use element_traits, only: etype_family, FAMILY_SURFACE
+  use element_traits, only: etype_family, FAMILY_SURFACE, FAMILY_VOLUME, NODE_DOFS, MAX_NEN
   use scene, only: scene_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, MAX_EDOF, MAX_NSTRAIN
   implicit none
@@ -52,9 +52,9 @@ contains
     type(element_table_t), intent(inout) :: elems
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: e, et, im, nen, ndof, nstr, ngp, ig, igp, nb, ngr, k, a, d, n, ast
-    logical :: mask(3)
-    real(dp) :: x(2, 8), b(MAX_NSTRAIN, MAX_EDOF), w, bl(MAX_NSTRAIN * MAX_EDOF)
+    integer :: e, et, im, nen, ndof, nstr, ngp, ig, igp, nb, ngr, k, a, d, n, ast, nd
+    logical :: mask(NODE_DOFS)
+    real(dp) :: x(3, MAX_NEN), b(MAX_NSTRAIN, MAX_EDOF), w, bl(MAX_NSTRAIN * MAX_EDOF)
     allocate (elems%edof_ptr(scn%mesh%nelem + 1), elems%gp_ptr(scn%mesh%nelem + 1))
     elems%edof_ptr(1) = 1
     elems%gp_ptr(1) = 1
@@ -99,26 +99,35 @@ contains
       k = elems%edof_ptr(e)
       do a = 1, nen
         n = scn%mesh%conn(a, e)
-        do d = 1, 3
+        do d = 1, NODE_DOFS
           if (.not. mask(d)) cycle
           elems%edof(k) = max(eqn(d, n), 0)
           k = k + 1
         end do
       end do
-      x(:, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
+      nd = scn%mesh%ndim
+      x(1:nd, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
       ndof = elem_ndof(et)
       nstr = elem_nstrain(et)
       do ig = 1, elems%gp_ptr(e + 1) - elems%gp_ptr(e)
         igp = elems%gp_ptr(e) + ig - 1
-        call elem_gauss_b(et, x(:, 1:nen), scn%models(im)%sec, ig, b(1:nstr, 1:ndof), w)
+        call elem_gauss_b(et, x(1:nd, 1:nen), scn%models(im)%sec, ig, b(1:nstr, 1:ndof), w)
         elems%wt(igp) = w
         elems%b_ptr(igp + 1) = elems%b_ptr(igp)
         if (plane_gradients(scn, elems, im, et)) then
           elems%gr_ptr(igp) = ngr + 1
-          do a = 1, nen                     ! B(1, 2a-1) = dN_a/dx, B(2, 2a) = dN_a/dy (element_iso)
-            elems%grad(ngr + 2 * a - 1) = b(1, 2 * a - 1)
-            elems%grad(ngr + 2 * a) = b(2, 2 * a)
-          end do
+          if (nstr == 6) then               ! B(1, 3a-2) = dN_a/dx, B(2, 3a-1) = dN_a/dy, B(3, 3a) = dN_a/dz
+            do a = 1, nen
+              elems%grad(ngr + 3 * a - 2) = b(1, 3 * a - 2)
+              elems%grad(ngr + 3 * a - 1) = b(2, 3 * a - 1)
+              elems%grad(ngr + 3 * a) = b(3, 3 * a)
+            end do
+          else
+            do a = 1, nen                   ! B(1, 2a-1) = dN_a/dx, B(2, 2a) = dN_a/dy (element_iso)
+              elems%grad(ngr + 2 * a - 1) = b(1, 2 * a - 1)
+              elems%grad(ngr + 2 * a) = b(2, 2 * a)
+            end do
+          end if
           ngr = ngr + ndof
           call elems%point_b(igp, nstr, ndof, bl)
           if (any(reshape(bl(1:nstr * ndof), [nstr, ndof]) /= b(1:nstr, 1:ndof))) then
@@ -146,18 +155,20 @@ contains
       if (im == 0) cycle
       if (.not. scn%models(im)%bbar) cycle
       call mean_dilatation_b(elems, elems%gp_ptr(e), elems%gp_ptr(e + 1) - elems%gp_ptr(e), elem_ndof(scn%mesh%etype(e)), &
-        merge(3, 2, scn%models(im)%sec%axisymmetric))
+        merge(3, 2, scn%models(im)%sec%axisymmetric .or. elem_nstrain(scn%mesh%etype(e)) == 6), &
+        elem_nstrain(scn%mesh%etype(e)))
     end do
   end subroutine build_element_table
 
-  !> B-bar (FORMULATION BBAR): at each of the element's ng points (from g0; B 4 x ndof in bmat) the
-  !> volumetric row b_v = B(1, :) + … + B(ntr, :) (ntr = 2 in plane strain, 3 with the hoop row of
-  !> an axisymmetric model) replaced by its volume mean over the element, <b_v> = Σ w b_v / Σ w:
+  !> B-bar (FORMULATION BBAR): at each of the element's ng points (from g0; B nstr x ndof in bmat, 4
+  !> rows in 2D, 6 for a solid) the volumetric row b_v = B(1, :) + … + B(ntr, :) (ntr = 2 in plane
+  !> strain, 3 with the hoop row of an axisymmetric model or in 3D) replaced by its volume mean over
+  !> the element, <b_v> = Σ w b_v / Σ w:
   !> B̄ = B + (1/ntr) [1 … 1, 0]' (<b_v> - b_v). The strain B̄ u keeps each point's deviator and takes
   !> the element's mean dilatation (Hughes' B-bar; docs/locking.md).
-  pure subroutine mean_dilatation_b(elems, g0, ng, ndof, ntr)
+  pure subroutine mean_dilatation_b(elems, g0, ng, ndof, ntr, nstr)
     type(element_table_t), intent(inout) :: elems
-    integer, intent(in) :: g0, ng, ndof, ntr
+    integer, intent(in) :: g0, ng, ndof, ntr, nstr
     real(dp) :: m(MAX_EDOF), wsum, dv, bv
     integer :: igp, a, p, r
     m(1:ndof) = 0.0_dp
@@ -167,7 +178,7 @@ contains
       do a = 1, ndof
         bv = 0.0_dp
         do r = 1, ntr
-          bv = bv + elems%bmat(p + 4 * a - 4 + r)
+          bv = bv + elems%bmat(p + nstr * a - nstr + r)
         end do
         m(a) = m(a) + elems%wt(igp) * bv
       end do
@@ -179,18 +190,19 @@ contains
       do a = 1, ndof
         bv = 0.0_dp
         do r = 1, ntr
-          bv = bv + elems%bmat(p + 4 * a - 4 + r)
+          bv = bv + elems%bmat(p + nstr * a - nstr + r)
         end do
         dv = (m(a) - bv) / ntr
         do r = 1, ntr
-          elems%bmat(p + 4 * a - 4 + r) = elems%bmat(p + 4 * a - 4 + r) + dv
+          elems%bmat(p + nstr * a - nstr + r) = elems%bmat(p + nstr * a - nstr + r) + dv
         end do
       end do
     end do
   end subroutine mean_dilatation_b
 
   !> Point igp's B (nstr x ndof, column-major) into b: from bmat, or rebuilt from the gradients of
-  !> a point that keeps only those (B(1,2a-1) = B(4,2a) = dN_a/dx, B(2,2a) = B(4,2a-1) = dN_a/dy).
+  !> a point that keeps only those (B(1,2a-1) = B(4,2a) = dN_a/dx, B(2,2a) = B(4,2a-1) = dN_a/dy; a
+  !> solid's, nstr = 6, element_solid's solid_b from dN_a/dx, dN_a/dy, dN_a/dz).
   pure subroutine point_b(self, igp, nstr, ndof, b)
     class(element_table_t), intent(in) :: self
     integer, intent(in) :: igp, nstr, ndof
@@ -204,6 +216,21 @@ contains
     end if
     b = 0.0_dp
     g = self%gr_ptr(igp) - 1
+    if (nstr == 6) then
+      do a = 1, ndof / 3
+        k = 3 * (a - 1)
+        b(1, k + 1) = self%grad(g + k + 1)
+        b(2, k + 2) = self%grad(g + k + 2)
+        b(3, k + 3) = self%grad(g + k + 3)
+        b(4, k + 1) = self%grad(g + k + 2)
+        b(4, k + 2) = self%grad(g + k + 1)
+        b(5, k + 2) = self%grad(g + k + 3)
+        b(5, k + 3) = self%grad(g + k + 2)
+        b(6, k + 1) = self%grad(g + k + 3)
+        b(6, k + 3) = self%grad(g + k + 1)
+      end do
+      return
+    end if
     do a = 1, ndof / 2
       b(1, 2 * a - 1) = self%grad(g + 2 * a - 1)
       b(4, 2 * a) = self%grad(g + 2 * a - 1)
@@ -214,13 +241,15 @@ contains
 
   !> Whether the points of model im's elements of type et keep their gradients (gr_ptr): linear
   !> elastic surface elements in small strain (not B-bar, not axisymmetric: the hoop row is not made
-  !> of gradients), the ones the element loop's plane kernel serves.
+  !> of gradients), the ones the element loop's plane kernel serves, and linear elastic solids (its
+  !> solid kernel; B is 6 x 3 nen with three entries a column).
   pure logical function plane_gradients(scn, elems, im, et)
     type(scene_t), intent(in) :: scn
     type(element_table_t), intent(in) :: elems
     integer, intent(in) :: im, et
-    plane_gradients = etype_family(et) == FAMILY_SURFACE .and. elems%model_linear(im) .and. &
-      .not. scn%models(im)%large .and. .not. scn%models(im)%bbar .and. .not. scn%models(im)%sec%axisymmetric
+    plane_gradients = (etype_family(et) == FAMILY_SURFACE .or. etype_family(et) == FAMILY_VOLUME) .and. &
+      elems%model_linear(im) .and. .not. scn%models(im)%large .and. .not. scn%models(im)%bbar .and. &
+      .not. scn%models(im)%sec%axisymmetric
   end function plane_gradients
 
   !> ke(1:ndof, 1:ndof) += w B' D B, B nstr x ndof, D the leading nstr x nstr block of d.

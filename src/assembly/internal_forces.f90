@@ -125,7 +125,8 @@ contains
           if (tangent .and. allocated(sys%ops%gval)) call sys%ops%pat%add_element(sys%ops%gval, &
             sys%elems%edof(e0:e0 + ndof - 1), kg(1:ndof, 1:ndof))
         end if
-      else if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1)) then
+      else if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1 .or. &
+               (nstr == 6 .and. sys%elems%gr_ptr(g0) > 0))) then
         call linear_element(sys%elems, sys%pts%eps_t, sys%pts%sig_t, g0, ng, ndof, nstr, mv%im, ue, tangent, fe, ke, esum)
       else
         call nonlinear_element(scn, sys, mv, g0, ng, ndof, nstr, ue, correct, tangent, fe, fc, ke, any_c, wsum, dsum, &
@@ -291,6 +292,9 @@ contains
     integer :: p, igp
     p = elems%b_ptr(g0)
     select case (nstr)
+    case (6)                                   ! (solids: from their gradients, linear_element's callers check)
+      call linear_points_solid(ndof / 3, ng, elems%grad(elems%gr_ptr(g0)), elems%wt(g0), ue, elems%dmat(1, 1, im), &
+        eps(1, g0), sig(1, g0), fe, esum)
     case (4)
       if (elems%gr_ptr(g0) > 0) then
         call linear_points_plane(ndof / 2, ng, elems%grad(elems%gr_ptr(g0)), elems%wt(g0), ue, &
@@ -558,6 +562,39 @@ contains
       end do
     end do
   end subroutine linear_points_2
+
+  !> Linear elastic solid points (HEX8, TET4) from their shape-function gradients g (dN_a/dx, dN_a/dy,
+  !> dN_a/dz by node): eps = B ue with B's three entries a column, sigma = D eps, fe += w B'sigma.
+  pure subroutine linear_points_solid(nen, ng, g, w, ue, d, eps, sig, fe, esum)
+    integer, intent(in) :: nen, ng
+    real(dp), intent(in) :: g(3, nen, ng), w(ng), ue(3, nen), d(MAX_NSTRAIN, MAX_NSTRAIN)
+    real(dp), intent(inout) :: eps(MAX_NSTRAIN, ng), sig(MAX_NSTRAIN, ng), fe(3, nen), esum
+    integer :: ig, a, i
+    real(dp) :: e(6), s(6)
+    do ig = 1, ng
+      e = 0.0_dp
+      do a = 1, nen
+        e(1) = e(1) + g(1, a, ig) * ue(1, a)
+        e(2) = e(2) + g(2, a, ig) * ue(2, a)
+        e(3) = e(3) + g(3, a, ig) * ue(3, a)
+        e(4) = e(4) + g(2, a, ig) * ue(1, a) + g(1, a, ig) * ue(2, a)
+        e(5) = e(5) + g(3, a, ig) * ue(2, a) + g(2, a, ig) * ue(3, a)
+        e(6) = e(6) + g(3, a, ig) * ue(1, a) + g(1, a, ig) * ue(3, a)
+      end do
+      do i = 1, 6
+        s(i) = d(i, 1) * e(1) + d(i, 2) * e(2) + d(i, 3) * e(3) + d(i, 4) * e(4) + d(i, 5) * e(5) + d(i, 6) * e(6)
+      end do
+      eps(1:6, ig) = e
+      sig(1:6, ig) = s
+      esum = esum + 0.5_dp * w(ig) * dot_product(s, e)
+      s = w(ig) * s
+      do a = 1, nen
+        fe(1, a) = fe(1, a) + (g(1, a, ig) * s(1) + g(2, a, ig) * s(4) + g(3, a, ig) * s(6))
+        fe(2, a) = fe(2, a) + (g(1, a, ig) * s(4) + g(2, a, ig) * s(2) + g(3, a, ig) * s(5))
+        fe(3, a) = fe(3, a) + (g(1, a, ig) * s(6) + g(2, a, ig) * s(5) + g(3, a, ig) * s(3))
+      end do
+    end do
+  end subroutine linear_points_solid
 
   !> linear_points_4 for springs and bars (one strain component).
   pure subroutine linear_points_1(ndof, ng, b, w, ue, d, eps, sig, fe, esum)

@@ -7,15 +7,18 @@
 !> t is the thickness of the side's element (its MODEL's SECTION THICKNESS), or in an axisymmetric
 !> model 2π r(s), the whole ring (r the side's radius at each point). A PRESSURE on the
 !> sides of a KINEMATICS LARGE model follows them (follower_loads) unless said DEAD: those sides
-!> are left out here.
+!> are left out here. In a DIMENSION 3 scene PRESSURE and TRACTION (tx, ty, tz) act on the free
+!> faces of the group's solids (mesh_faces), consistent nodal forces ∫ N_i (-p n + tr) dA.
 module loads
   use kinds, only: dp
   use scene, only: scene_t, load_t, LOAD_NODAL, LOAD_PRESSURE, LOAD_TRACTION
   use mesh_segments, only: side_set_t, group_sides
+  use mesh_faces, only: face_set_t, group_faces
+  use mesh, only: DOF_UX, DOF_UY, DOF_UZ
   use element_iso, only: TWO_PI
   implicit none
   private
-  public :: load_nodal_forces, side_forces, side_pressure_stiffness, side_follows
+  public :: load_nodal_forces, side_forces, side_pressure_stiffness, side_follows, face_forces
 
 contains
 
@@ -38,6 +41,10 @@ contains
         end do
         return
       end if
+      if (scn%mesh%ndim == 3) then
+        call face_loads(scn, ld, nodes, fn)
+        return
+      end if
       call group_sides(scn%mesh, nodes, sides, stat, msg)   ! checked when the scene was read
     end associate
     do k = 1, sides%n
@@ -57,6 +64,81 @@ contains
       end do
     end do
   end subroutine load_nodal_forces
+
+  !> A PRESSURE or TRACTION on the free faces of the solids of a node group (DIMENSION 3).
+  subroutine face_loads(scn, ld, nodes, fn)
+    type(scene_t), intent(in) :: scn
+    type(load_t), intent(in) :: ld
+    integer, intent(in) :: nodes(:)
+    real(dp), intent(inout) :: fn(:, :)
+    type(face_set_t) :: faces
+    real(dp) :: x(3, 4), f(3, 4), p, tr(3)
+    integer :: k, i, stat
+    integer, parameter :: slot(3) = [DOF_UX, DOF_UY, DOF_UZ]
+    character(len=:), allocatable :: msg
+    call group_faces(scn%mesh, nodes, faces, stat, msg)   ! checked when the scene was read
+    p = 0.0_dp
+    tr = 0.0_dp
+    if (ld%kind == LOAD_PRESSURE) then
+      p = ld%force(1)
+    else
+      tr = ld%force(1:3)
+    end if
+    do k = 1, faces%n
+      if (scn%elem_model(faces%elem(k)) == 0) cycle
+      x = 0.0_dp
+      x(:, 1:faces%nfn(k)) = scn%mesh%x(:, faces%node(1:faces%nfn(k), k))
+      call face_forces(faces%nfn(k), x, p, tr, f)
+      do i = 1, faces%nfn(k)
+        fn(slot, faces%node(i, k)) = fn(slot, faces%node(i, k)) + f(:, i)
+      end do
+    end do
+  end subroutine face_loads
+
+  !> Consistent nodal forces f(:, 1:nfn) of a face with nodes x(:, 1:nfn) counter-clockwise seen from
+  !> outside, under a pressure p (into the body) and a traction tr per unit area:
+  !> f_i = ∫ N_i (-p n + tr) dA. A 3-node face (flat, constant normal): f_i = (-p A n + A tr)/3. A
+  !> 4-node face (bilinear, warped or not): 2 x 2 Gauss on n dA = (∂x/∂ξ × ∂x/∂η) dξ dη, exact for the
+  !> pressure (degree <= 2 in each variable) and for the traction of a parallelogram. The pressure's
+  !> total is -p times the face's vector area whatever its shape.
+  pure subroutine face_forces(nfn, x, p, tr, f)
+    integer, intent(in) :: nfn
+    real(dp), intent(in) :: x(3, 4), p, tr(3)
+    real(dp), intent(out) :: f(3, 4)
+    real(dp), parameter :: g = 0.57735026918962576450914878050196_dp
+    real(dp), parameter :: xn(4) = [-1.0_dp, 1.0_dp, 1.0_dp, -1.0_dp], yn(4) = [-1.0_dp, -1.0_dp, 1.0_dp, 1.0_dp]
+    real(dp) :: a(3), b(3), na(3), n(4), s, t
+    integer :: ig, i
+    f = 0.0_dp
+    if (nfn == 3) then
+      na = 0.5_dp * cross(x(:, 2) - x(:, 1), x(:, 3) - x(:, 1))
+      do i = 1, 3
+        f(:, i) = (-p * na + norm2(na) * tr) / 3.0_dp
+      end do
+      return
+    end if
+    do ig = 1, 4
+      s = g * xn(ig)
+      t = g * yn(ig)
+      n = 0.25_dp * (1.0_dp + xn * s) * (1.0_dp + yn * t)
+      a = 0.0_dp
+      b = 0.0_dp
+      do i = 1, 4
+        a = a + 0.25_dp * xn(i) * (1.0_dp + yn(i) * t) * x(:, i)
+        b = b + 0.25_dp * yn(i) * (1.0_dp + xn(i) * s) * x(:, i)
+      end do
+      na = cross(a, b)
+      do i = 1, 4
+        f(:, i) = f(:, i) + n(i) * (-p * na + norm2(na) * tr)
+      end do
+    end do
+  contains
+    pure function cross(u, v) result(w)
+      real(dp), intent(in) :: u(3), v(3)
+      real(dp) :: w(3)
+      w = [u(2) * v(3) - u(3) * v(2), u(3) * v(1) - u(1) * v(3), u(1) * v(2) - u(2) * v(1)]
+    end function cross
+  end subroutine face_forces
 
   !> True when the side of element e under load ld follows the deformation: a PRESSURE not said
   !> DEAD on an element of a KINEMATICS LARGE model (follower_loads takes it).

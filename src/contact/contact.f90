@@ -38,7 +38,7 @@ module contact
     SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   use impact_kernels, only: impact_energy_error
   use impact_report, only: contact_report_t
-  use impact_space, only: impact_space_t
+  use impact_space, only: impact_space_t, MAX_RIGID
   use impact_paper, only: paper_t
   use impact_persist, only: persist_t
   use impact_massless, only: massless_t
@@ -130,7 +130,7 @@ module contact
     type(scaling_t) :: following             !< the work of the rows that follow the geometry
     ! Impulses of the end-of-step correction in the last step (docs/contact.md, "Contact
     ! force"): cimp(j) along c_j (the impulse (12), the reflection (16), PERSIST's projection),
-    ! bimp(:, j) the momentum PERSIST's scaling gave the group of condition j (x, y).
+    ! bimp(:, j) the momentum PERSIST's scaling gave the group of condition j (x, y, z).
     real(dp), allocatable :: cimp(:), bimp(:, :)
     real(dp), allocatable :: lam_step(:)     !< the step multiplier R(n) + R(n+1) of the last step
     ! Events of the last contact_end_step: ev(1:n_ev).
@@ -386,11 +386,11 @@ contains
     cs_correction_impulse = self%cimp(j)
   end function cs_correction_impulse
 
-  !> Momentum (x, y) that PERSIST's scaling gave the group of condition j in the last step.
+  !> Momentum (x, y, z) that PERSIST's scaling gave the group of condition j in the last step.
   pure function cs_body_impulse(self, j) result(p)
     class(contact_set_t), intent(in) :: self
     integer, intent(in) :: j
-    real(dp) :: p(2)
+    real(dp) :: p(3)
     p = self%bimp(:, j)
   end function cs_body_impulse
 
@@ -688,7 +688,7 @@ contains
     cs%st%active_iter = cs%bilat                  ! (st%active: the contacts only, none yet)
     if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%nu, cs%viol, cs%now, &
       cs%est, cs%rel, cs%fallback, cs%xw, cs%ev, cs%tolj, cs%cimp, cs%bimp, cs%lam_step, cs%changing)
-    allocate (cs%lam_step(nc), cs%changing(nc), cs%cimp(nc), cs%bimp(2, nc), cs%tolj(nc), cs%wq(nc), cs%wdiag(nc), &
+    allocate (cs%lam_step(nc), cs%changing(nc), cs%cimp(nc), cs%bimp(3, nc), cs%tolj(nc), cs%wq(nc), cs%wdiag(nc), &
       cs%gn(nc), cs%gend(nc), cs%e(nc), cs%y(nc), cs%r(nc), cs%nu(nc), cs%viol(nc), &
       cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%ev(nc), cs%xw(neq))
     cs%fallback = .false.
@@ -860,14 +860,14 @@ contains
     logical, intent(in), optional :: free(:, :)
     stat = STAT_OK
     if (.not. cs%finalized .or. size(t, 1) /= cs%neq .or. any(shape(mt) /= shape(t)) .or. size(t, 2) < 2 .or. &
-      size(t, 2) > 3) then
+      size(t, 2) > MAX_RIGID) then
       call set_error(stat, errmsg, STAT_INPUT, 'contact_set_rigid_modes: call contact_finalize first; t and M t ' // &
-        'must be (neq, 2) or (neq, 3)')
+        'must be (neq, 2 to 6)')
       return
     end if
     if (present(free)) then
-      if (size(free, 1) /= 3) then
-        call set_error(stat, errmsg, STAT_INPUT, 'contact_set_rigid_modes: free must be (3, bodies)')
+      if (size(free, 1) < size(t, 2)) then
+        call set_error(stat, errmsg, STAT_INPUT, 'contact_set_rigid_modes: free must be (modes, bodies)')
         return
       end if
     end if

@@ -10,7 +10,7 @@ module impact_persist
   use constraint_rows, only: constraint_rows_t
   use impact_kernels, only: persist_scale
   use impact_report, only: contact_report_t
-  use impact_space, only: impact_space_t
+  use impact_space, only: impact_space_t, MAX_RIGID
   use impact_groups, only: impact_groups_t
   implicit none
   private
@@ -60,8 +60,8 @@ contains
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, grp, rank, n, k, nm, mk(3)
-    real(dp) :: t1, tp, tstar, s, acm(3), tcm, dis, dm(3), pb(2)
+    integer :: j, grp, rank, n, k, nm, mk(MAX_RIGID)
+    real(dp) :: t1, tp, tstar, s, acm(MAX_RIGID), tcm, dis, dm(MAX_RIGID), pb(3)
     stat = STAT_OK
     fallback = .false.
     if (.not. allocated(self%idx)) call self%init(size(v), size(est))

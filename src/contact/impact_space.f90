@@ -14,15 +14,21 @@ module impact_space
   use sparse_matrix, only: sym_csc_t
   use inverse_ops, only: inverse_op_t, diag_inverse_t, chol_inverse_t
   use dense_solve, only: spsd_solve_ws
-  use rigid_motion, only: invariant_rigid_motion, normal_impulses
+  use rigid_motion, only: invariant_rigid_motion, normal_impulses, MAX_RIGID
   use constraint_rows, only: constraint_rows_t
   implicit none
   private
+  public :: MAX_RIGID, TRANSLATION_MODE
+
+  !> The rigid mode of the translation along x, y, z (the modes' order: x, y, the rotation about z,
+  !> then in 3D z and the rotations about x and y).
+  integer, parameter :: TRANSLATION_MODE(3) = [1, 2, 4]
 
   type, public :: impact_space_t
     private
     class(inverse_op_t), allocatable :: minv
-    ! Rigid modes t_k (neq, 2 or 3: translations x, y, the rotation) on the free equations and
+    ! Rigid modes t_k (neq, 2, 3 or 6: translations x, y, the rotation about z[, z, rotations about x, y]) on the
+    ! free equations and
     ! M t_k (set_rigid_modes); body_free(k, b): mode k is free on body b (no support).
     logical :: has_rigid = .false.
     real(dp), allocatable :: rig(:, :), mrig(:, :)
@@ -57,7 +63,7 @@ contains
     if (allocated(self%f)) deallocate (self%f, self%xw, self%amat, self%sv, self%work2, self%erig, self%cnorm, self%ipiv)
     ! Dense block for up to 64 conditions together; it grows beyond (rarely).
     allocate (self%f(neq), self%xw(neq), self%amat(min(nc, 64), min(nc, 64)), self%sv(nc), self%work2(2 * nc), &
-      self%erig(nc, 3), self%cnorm(nc), self%ipiv(nc))
+      self%erig(nc, MAX_RIGID), self%cnorm(nc), self%ipiv(nc))
     self%has_rigid = .false.
   end subroutine space_init
 
@@ -115,7 +121,7 @@ contains
     end select
   end function space_mass_diagonal
 
-  !> The rigid modes t (neq, 2 or 3), M t, and free(3, bodies) (absent: every mode free); see
+  !> The rigid modes t (neq, 2, 3 or 6), M t, and free(modes, bodies) (absent: every mode free); see
   !> contact_set_rigid_modes.
   subroutine space_set_rigid_modes(self, t, mt, free)
     class(impact_space_t), intent(inout) :: self
@@ -270,19 +276,21 @@ contains
     logical, intent(in) :: framed(:)
     real(dp), intent(in) :: wb(:, :)
     real(dp), intent(out) :: x(:), mx(:)
-    integer :: i, d
+    integer :: i, d, k
     x = 0.0_dp
     mx = 0.0_dp
     if (.not. self%has_rigid) return
     do i = 1, size(x)
       if (body(i) <= 0) cycle
       if (.not. framed(body(i))) cycle
-      do d = 1, min(2, size(wb, 1))
+      do d = 1, size(wb, 1)
+        k = TRANSLATION_MODE(d)
+        if (k > size(self%rig, 2)) cycle
         if (allocated(self%body_free)) then      ! (a translation the supports forbid: not a frame)
-          if (.not. self%body_free(d, body(i))) cycle
+          if (.not. self%body_free(k, body(i))) cycle
         end if
-        x(i) = x(i) + wb(d, body(i)) * self%rig(i, d)
-        mx(i) = mx(i) + wb(d, body(i)) * self%mrig(i, d)
+        x(i) = x(i) + wb(d, body(i)) * self%rig(i, k)
+        mx(i) = mx(i) + wb(d, body(i)) * self%mrig(i, k)
       end do
     end do
   end subroutine space_translation
@@ -347,10 +355,10 @@ contains
     logical, intent(in) :: rows(:)
     integer, intent(in) :: idx(:), n
     real(dp), intent(in) :: mvp(:)
-    real(dp), intent(out) :: a(3), tcm
-    integer, intent(out) :: nm, mk(3)
-    real(dp) :: g(3, 3), pk(3), rmax(3), am(3)
-    logical :: free(3)
+    real(dp), intent(out) :: a(MAX_RIGID), tcm
+    integer, intent(out) :: nm, mk(MAX_RIGID)
+    real(dp) :: g(MAX_RIGID, MAX_RIGID), pk(MAX_RIGID), rmax(MAX_RIGID), am(MAX_RIGID)
+    logical :: free(MAX_RIGID)
     integer :: k, l, i, j
     a = 0.0_dp
     tcm = 0.0_dp
@@ -360,10 +368,11 @@ contains
     free(1:size(self%rig, 2)) = .true.
     if (allocated(self%body_free)) then
       do i = 1, size(rows)
-        if (rows(i) .and. body(i) > 0) free = free .and. self%body_free(:, body(i))
+        if (rows(i) .and. body(i) > 0) free(1:size(self%rig, 2)) = free(1:size(self%rig, 2)) .and. &
+          self%body_free(1:size(self%rig, 2), body(i))
       end do
     end if
-    do k = 1, 3
+    do k = 1, size(self%rig, 2)
       if (.not. free(k)) cycle
       nm = nm + 1
       mk(nm) = k
@@ -392,16 +401,16 @@ contains
 
   !> The group's velocity scaled by s about its rigid motion a (rigid_motion): on its equations
   !> rows, v = v_r + s (vp - v_r), mv likewise from mvp. dm(1:nm): the momenta the scaling gave
-  !> along the free modes mk(1:nm); pb: its momentum (x, y).
+  !> along the free modes mk(1:nm); pb: its momentum (x, y, z).
   subroutine space_scale_about_rigid(self, rows, a, nm, mk, s, vp, mvp, v, mv, dm, pb)
     class(impact_space_t), intent(in) :: self
     logical, intent(in) :: rows(:)
-    real(dp), intent(in) :: a(3), s, vp(:), mvp(:)
-    integer, intent(in) :: nm, mk(3)
+    real(dp), intent(in) :: a(MAX_RIGID), s, vp(:), mvp(:)
+    integer, intent(in) :: nm, mk(MAX_RIGID)
     real(dp), intent(inout) :: v(:), mv(:)
-    real(dp), intent(out) :: dm(3), pb(2)
+    real(dp), intent(out) :: dm(MAX_RIGID), pb(3)
     real(dp) :: vcm, mvcm
-    integer :: i, k
+    integer :: i, k, d
     dm = 0.0_dp
     pb = 0.0_dp
     do i = 1, size(rows)                         ! (a loop: a WHERE block allocates its mask)
@@ -420,7 +429,11 @@ contains
       do k = 1, nm                               ! the momenta the scaling gave, by free mode
         dm(k) = dm(k) + self%rig(i, mk(k)) * (mv(i) - mvp(i))
       end do
-      if (self%has_rigid) pb = pb + self%rig(i, 1:2) * (mv(i) - mvp(i))
+      if (self%has_rigid) then
+        do d = 1, 3
+          if (TRANSLATION_MODE(d) <= size(self%rig, 2)) pb(d) = pb(d) + self%rig(i, TRANSLATION_MODE(d)) * (mv(i) - mvp(i))
+        end do
+      end if
     end do
   end subroutine space_scale_about_rigid
 
@@ -428,12 +441,12 @@ contains
   !> last rigid_motion's, at its active conditions idx(1:n)) lies in what normal impulses at those
   !> rows can give; their least-norm impulses (normal_impulses, in z) join cimp along c_j, so
   !> that contacts.csv and the reaction count them where they act. A group without a free mode
-  !> (held by supports, whose reactions take any momentum) books the momentum pb (x, y) on its
+  !> (held by supports, whose reactions take any momentum) books the momentum pb (x, y, z) on its
   !> first changing condition j0, as a body impulse bimp(:, j0).
   subroutine space_book_scaling(self, idx, n, nm, dm, pb, j0, z, cimp, bimp)
     class(impact_space_t), intent(in) :: self
     integer, intent(in) :: idx(:), n, nm, j0
-    real(dp), intent(in) :: dm(3), pb(2)
+    real(dp), intent(in) :: dm(MAX_RIGID), pb(3)
     real(dp), intent(inout) :: z(:), cimp(:), bimp(:, :)
     real(dp) :: resid
     integer :: j

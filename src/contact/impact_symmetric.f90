@@ -9,7 +9,7 @@ module impact_symmetric
   use errors, only: STAT_OK
   use constraint_rows, only: constraint_rows_t
   use impact_report, only: contact_report_t
-  use impact_space, only: impact_space_t
+  use impact_space, only: impact_space_t, MAX_RIGID
   use impact_groups, only: impact_groups_t
   implicit none
   private
@@ -146,8 +146,8 @@ contains
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: grp, n, j, i, nm, mk(3)
-    real(dp) :: t1, tp, tstar, acm(3), tcm
+    integer :: grp, n, j, i, nm, mk(MAX_RIGID)
+    real(dp) :: t1, tp, tstar, acm(MAX_RIGID), tcm
     logical :: hit
     call self%groups%build(c, body, now, est, stat, errmsg)
     if (stat /= STAT_OK) return

@@ -10,13 +10,17 @@
 !> contact cannot change, keeps zero normal velocities (c_j'v_r = 0), and what it changes in the
 !> other modes is the momentum of normal impulses at the contact rows (normal_impulses).
 !>
-!> Dense kernels on the few (<= 3) rigid modes of a group; no allocation.
+!> Dense kernels on the few (<= MAX_RIGID: 3 in 2D, 6 in 3D) rigid modes of a group; no allocation.
 module rigid_motion
   use kinds, only: dp
   use lapack_pure, only: dsyev
   implicit none
   private
-  public :: invariant_rigid_motion, normal_impulses
+  public :: invariant_rigid_motion, normal_impulses, MAX_RIGID
+
+  !> The most rigid modes a model has: 3 in 2D (x, y, the rotation about z), 6 in 3D (those, then
+  !> z and the rotations about x and y).
+  integer, parameter :: MAX_RIGID = 6
 
   !> A mode whose M-norm is below MODE_RTOL x the largest (relative, after scaling to unit
   !> diagonal) is dependent on the others on this group (a lone node's rotation): dropped.
@@ -38,7 +42,8 @@ contains
   pure subroutine invariant_rigid_motion(g, p, e, cnorm, rmax, a, tcm)
     real(dp), intent(in) :: g(:, :), p(:), e(:, :), cnorm(:), rmax(:)
     real(dp), intent(out) :: a(:), tcm
-    real(dp) :: d(3), gs(3, 3), lam(3), t(3, 3), b(3), bb(3, 3), mu(3), work(16), scale(3), pi
+    real(dp) :: d(MAX_RIGID), gs(MAX_RIGID, MAX_RIGID), lam(MAX_RIGID), t(MAX_RIGID, MAX_RIGID), b(MAX_RIGID), &
+      bb(MAX_RIGID, MAX_RIGID), mu(MAX_RIGID), work(64), scale(MAX_RIGID), pi
     integer :: nm, n, k, l, r, j, q, info
     nm = size(p)
     n = size(e, 1)
@@ -55,7 +60,7 @@ contains
         gs(k, l) = d(k) * g(k, l) * d(l)
       end do
     end do
-    call dsyev('V', 'U', nm, gs, 3, lam, work, size(work), info)
+    call dsyev('V', 'U', nm, gs, MAX_RIGID, lam, work, size(work), info)
     if (info /= 0) return
     r = 0
     do l = 1, nm
@@ -82,7 +87,7 @@ contains
       end do
     end do
     if (n > 0) then
-      call dsyev('V', 'U', r, bb, 3, mu, work, size(work), info)
+      call dsyev('V', 'U', r, bb, MAX_RIGID, mu, work, size(work), info)
       if (info /= 0) return
     else                                         ! (no row: every mode invariant)
       bb = 0.0_dp
@@ -137,7 +142,7 @@ contains
     real(dp), intent(in) :: e(:, :), dm(:)
     real(dp), intent(in) :: escale             !< max_j |c_j| x max_k max|t_k|: what a row seeing a mode gives
     real(dp), intent(out) :: z(:), resid
-    real(dp) :: ee(3, 3), lam(3), y(3), work(16), c, scale
+    real(dp) :: ee(MAX_RIGID, MAX_RIGID), lam(MAX_RIGID), y(MAX_RIGID), work(64), c, scale
     integer :: nm, n, k, l, info
     nm = size(dm)
     n = size(e, 1)
@@ -151,7 +156,7 @@ contains
         ee(k, l) = dot_product(e(1:n, k), e(1:n, l))
       end do
     end do
-    call dsyev('V', 'U', nm, ee, 3, lam, work, size(work), info)
+    call dsyev('V', 'U', nm, ee, MAX_RIGID, lam, work, size(work), info)
     if (info /= 0) then
       resid = huge(1.0_dp)
       return

@@ -7,30 +7,43 @@
 !>   QUAD8 4 corners counter-clockwise then 4 mid-side nodes (side 1-2, 2-3, 3-4, 4-1),
 !>   as Cast3M's QUA8 and Gmsh's 8-node quadrangle; TRI3 3 corners counter-clockwise; TRI6 3
 !>   corners then 3 mid-side nodes (side 1-2, 2-3, 3-1), as Cast3M's TRI6 and Gmsh's 6-node triangle.
+!>   HEX8 (DIMENSION 3) the 4 corners of its bottom face counter-clockwise seen from above, then the
+!>   4 above them; TET4 corners 1 2 3 counter-clockwise seen from corner 4 (Gmsh's and VTK's order).
 module element_traits
-  use material_law, only: PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS
+  use material_law, only: PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS, PK_SOLID
   implicit none
   private
   public :: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, NUM_ETYPES, MAX_NEN
-  public :: FAMILY_POINT, FAMILY_LINE, FAMILY_SURFACE
+  public :: ET_HEX8, ET_TET4, DOF_UX, DOF_UY, DOF_RZ, DOF_UZ, NODE_DOFS, DOF_NAMES, DOF_AXIS
+  public :: FAMILY_POINT, FAMILY_LINE, FAMILY_SURFACE, FAMILY_VOLUME
   public :: XDMF_POLYVERTEX, XDMF_POLYLINE, XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8, XDMF_TRIANGLE, XDMF_TRIANGLE_6
+  public :: XDMF_TETRAHEDRON, XDMF_HEXAHEDRON, etype_dimension
   public :: etype_name, etype_from_name, etype_nen, etype_family, etypes_of_family, etype_needs_material, &
     etype_section_needs, etype_point_kind, etype_xdmf_cell, etype_gmsh, etype_segments, etype_sides, MAX_SEGMENTS, &
+    etype_faces, &
     etype_stress_names
 
   integer, parameter :: ET_MASS = 1, ET_SPRING = 2, ET_BAR2 = 3, ET_BEAM2 = 4, ET_QUAD4 = 5, ET_QUAD8 = 6, ET_TRI3 = 7, &
-    ET_TRI6 = 8
-  integer, parameter :: NUM_ETYPES = 8
+    ET_TRI6 = 8, ET_HEX8 = 9, ET_TET4 = 10
+  integer, parameter :: NUM_ETYPES = 10
   integer, parameter :: MAX_NEN = 8
+
+  !> Degrees of freedom of a node, in this order (their equations are numbered node by node in it):
+  !> UX UY and RZ (planar beams) in 2D, UX UY UZ in 3D; NODE_DOFS slots per node.
+  integer, parameter :: DOF_UX = 1, DOF_UY = 2, DOF_RZ = 3, DOF_UZ = 4, NODE_DOFS = 4
+  character(len=2), parameter :: DOF_NAMES(NODE_DOFS) = [character(len=2) :: 'UX', 'UY', 'RZ', 'UZ']
+  !> The coordinate axis a DOF slot translates along (x 1, y 2, z 3), 0 for the rotation RZ.
+  integer, parameter :: DOF_AXIS(NODE_DOFS) = [1, 2, 0, 3]
   integer, parameter :: MAX_SEGMENTS = 8   !< straight pieces of an element's outline (QUAD8)
   !> Families: a point (MASS), a line (LINE generates them; a MODEL may change one line type
-  !> into another: SPRING, BAR2, BEAM2), a surface (RECTANGLE generates them).
-  integer, parameter :: FAMILY_POINT = 1, FAMILY_LINE = 2, FAMILY_SURFACE = 3
+  !> into another: SPRING, BAR2, BEAM2), a surface (RECTANGLE generates them), a volume (BOX).
+  integer, parameter :: FAMILY_POINT = 1, FAMILY_LINE = 2, FAMILY_SURFACE = 3, FAMILY_VOLUME = 4
   !> XDMF cell codes of a Mixed topology array.
   integer, parameter :: XDMF_POLYVERTEX = 1, XDMF_POLYLINE = 2, XDMF_TRIANGLE = 4, XDMF_QUADRILATERAL = 5, &
-    XDMF_TRIANGLE_6 = 36, XDMF_QUADRILATERAL_8 = 37
+    XDMF_TRIANGLE_6 = 36, XDMF_QUADRILATERAL_8 = 37, XDMF_TETRAHEDRON = 6, XDMF_HEXAHEDRON = 9
 
   character(len=*), parameter :: SIGMA2D = 'sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)'
+  character(len=*), parameter :: SIGMA3D = 'sigma_xx, sigma_yy, sigma_zz, sigma_xy, sigma_yz, sigma_xz (Pa)'
 
   !> One row of the table.
   type :: etraits_t
@@ -42,7 +55,7 @@ module element_traits
     integer :: point_kind            !< material_law PK_* (quads: PK_PSTRAIN, or PK_PSTRESS in plane stress)
     integer :: xdmf_cell             !< XDMF Mixed cell code
     integer :: gmsh                  !< Gmsh element type number (0: none)
-    character(len=56) :: stress      !< its stress columns with units (fields.h5 /mesh/stress_components)
+    character(len=64) :: stress      !< its stress columns with units (fields.h5 /mesh/stress_components)
   end type etraits_t
 
   type(etraits_t), parameter :: TRAITS(NUM_ETYPES) = [ &
@@ -54,7 +67,9 @@ module element_traits
     etraits_t('QUAD4', 4, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_QUADRILATERAL, 3, SIGMA2D), &
     etraits_t('QUAD8', 8, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_QUADRILATERAL_8, 16, SIGMA2D), &
     etraits_t('TRI3', 3, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_TRIANGLE, 2, SIGMA2D), &
-    etraits_t('TRI6', 6, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_TRIANGLE_6, 9, SIGMA2D)]
+    etraits_t('TRI6', 6, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_TRIANGLE_6, 9, SIGMA2D), &
+    etraits_t('HEX8', 8, FAMILY_VOLUME, .true., '', PK_SOLID, XDMF_HEXAHEDRON, 5, SIGMA3D), &
+    etraits_t('TET4', 4, FAMILY_VOLUME, .true., '', PK_SOLID, XDMF_TETRAHEDRON, 4, SIGMA3D)]
 
 contains
 
@@ -85,6 +100,13 @@ contains
     integer, intent(in) :: et
     etype_nen = TRAITS(et)%nen
   end function etype_nen
+
+  !> The space dimension a type lives in: 3 for the volumes, 2 for the others (a MASS, a line
+  !> element or a surface element in a DIMENSION 3 scene is refused: scene_models).
+  pure integer function etype_dimension(et)
+    integer, intent(in) :: et
+    etype_dimension = merge(3, 2, TRAITS(et)%family == FAMILY_VOLUME)
+  end function etype_dimension
 
   pure integer function etype_family(et)
     integer, intent(in) :: et
@@ -171,6 +193,27 @@ contains
       end if
     end do
   end subroutine etype_sides
+
+  !> The faces of a solid as local node lists face(1:nfn(k), k), k = 1..nface, counter-clockwise seen
+  !> from outside (the outward normal along (x2 - x1) x (x3 - x1)): HEX8 six 4-node faces, TET4 four
+  !> triangles. Other types have none (nface = 0).
+  pure subroutine etype_faces(et, face, nfn, nface)
+    integer, intent(in) :: et
+    integer, intent(out) :: face(4, 6), nfn(6), nface
+    face = 0
+    nfn = 0
+    nface = 0
+    select case (et)
+    case (ET_HEX8)
+      nface = 6
+      nfn = 4
+      face = reshape([1, 4, 3, 2, 5, 6, 7, 8, 1, 2, 6, 5, 2, 3, 7, 6, 3, 4, 8, 7, 4, 1, 5, 8], [4, 6])
+    case (ET_TET4)
+      nface = 4
+      nfn(1:4) = 3
+      face(1:3, 1:4) = reshape([1, 3, 2, 1, 2, 4, 2, 3, 4, 1, 4, 3], [3, 4])
+    end select
+  end subroutine etype_faces
 
   !> The straight pieces of an element's outline, as local node pairs seg(:, 1:nseg), for
   !> contact segments: a line element is one piece; a surface element's sides (etype_sides) run

@@ -7,13 +7,14 @@
 !> mask (UX, UY[, RZ]). Strain measures are documented in each element module:
 !> MASS (none), SPRING (elongation, wt 1), BAR2 (axial strain, wt A L), BEAM2 (axial strain and
 !> curvature, wt w L/2), QUAD4/QUAD8/TRI3/TRI6 (exx, eyy, ezz = 0 row, gxy; wt w det J thickness;
-!> axisymmetric: x = r, y the axis, ezz the hoop strain u_r/r, wt w det J 2 pi r: element_iso's iso_ring).
+!> axisymmetric: x = r, y the axis, ezz the hoop strain u_r/r, wt w det J 2 pi r: element_iso's iso_ring),
+!> HEX8/TET4 (exx, eyy, ezz, gxy, gyz, gxz; wt w det J: element_solid).
 !> Output arrays may be larger than needed: the leading block is filled, the rest zeroed.
 module elements
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use element_traits, only: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, MAX_NEN, &
-    etype_nen, etype_name
+    ET_HEX8, ET_TET4, etype_nen, etype_name, etype_dimension, NODE_DOFS, DOF_UX, DOF_UY, DOF_UZ, DOF_RZ
   use section, only: section_t
   use element_mass, only: mass_mass
   use element_spring, only: spring_b, spring_check
@@ -21,23 +22,28 @@ module elements
   use element_beam2, only: beam2_ngauss, beam2_b, beam2_mass, BEAM2_MAX_GAUSS
   use element_quad, only: quad_ngauss, quad_b, quad_mass, quad_check, quad_elastic_d, quad_point_shape
   use element_tri, only: tri_ngauss, tri_b, tri_mass, tri_check, tri_point_shape
+  use element_solid, only: solid_ngauss, solid_b, solid_mass, solid_check, solid_elastic_d, solid_point_shape
   implicit none
   private
   public :: MAX_EDOF, MAX_NSTRAIN, MAX_GAUSS
   public :: elem_dof_mask, elem_nen, elem_ndof, elem_nstrain, elem_ngauss
   public :: elem_gauss_b, elem_gauss_shape, elem_mass, elem_elastic_d, elem_check_geometry, elem_check_section, elem_stiffness
 
-  integer, parameter :: MAX_EDOF = 16     !< QUAD8: 8 nodes x 2
-  integer, parameter :: MAX_NSTRAIN = 4   !< quads
+  integer, parameter :: MAX_EDOF = 24     !< HEX8: 8 nodes x 3
+  integer, parameter :: MAX_NSTRAIN = 6   !< solids
   integer, parameter :: MAX_GAUSS = 9     !< QUAD8 3 x 3
 
 contains
 
-  !> Which of UX, UY, RZ each node of an element of type et carries.
+  !> Which of the node DOF slots (mesh's UX, UY, RZ, UZ) each node of an element of type et carries.
   pure function elem_dof_mask(et) result(mask)
     integer, intent(in) :: et
-    logical :: mask(3)
-    mask = [.true., .true., et == ET_BEAM2]
+    logical :: mask(NODE_DOFS)
+    mask = .false.
+    mask(DOF_UX) = .true.
+    mask(DOF_UY) = .true.
+    mask(DOF_RZ) = et == ET_BEAM2
+    mask(DOF_UZ) = etype_dimension(et) == 3
   end function elem_dof_mask
 
   !> Number of nodes.
@@ -62,6 +68,8 @@ contains
       elem_nstrain = 2
     case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6)
       elem_nstrain = 4
+    case (ET_HEX8, ET_TET4)
+      elem_nstrain = 6
     case default
       elem_nstrain = 0
     end select
@@ -84,12 +92,14 @@ contains
       elem_ngauss = tri_ngauss(3)
     case (ET_TRI6)
       elem_ngauss = tri_ngauss(6)
+    case (ET_HEX8, ET_TET4)
+      elem_ngauss = solid_ngauss(etype_nen(et))
     case default
       elem_ngauss = 0
     end select
   end function elem_ngauss
 
-  !> Node coordinates into a fixed-size local array.
+  !> Node coordinates into a fixed-size local array (x(1:2) in 2D, x(1:3) for a solid).
   pure subroutine local_coords(et, x, xl)
     integer, intent(in) :: et
     real(dp), intent(in) :: x(:, :)
@@ -99,6 +109,17 @@ contains
     xl = 0.0_dp
     xl(:, 1:nen) = x(1:2, 1:nen)
   end subroutine local_coords
+
+  !> A solid's node coordinates into a fixed-size local array.
+  pure subroutine local_coords_3(et, x, xl)
+    integer, intent(in) :: et
+    real(dp), intent(in) :: x(:, :)
+    real(dp), intent(out) :: xl(3, MAX_NEN)
+    integer :: nen
+    nen = etype_nen(et)
+    xl = 0.0_dp
+    xl(:, 1:nen) = x(1:3, 1:nen)
+  end subroutine local_coords_3
 
   !> The shape functions n(1:nen) of a surface element (QUAD4, QUAD8, TRI3, TRI6) at its
   !> integration point ig (1..elem_ngauss); ok false for the other types (n = 0).
@@ -116,23 +137,35 @@ contains
     case (ET_TRI3, ET_TRI6)
       call tri_point_shape(etype_nen(et), ig, nt)
       n(1:etype_nen(et)) = nt(1:etype_nen(et))
+    case (ET_HEX8, ET_TET4)
+      call solid_point_shape(etype_nen(et), ig, nq)
+      n(1:etype_nen(et)) = nq(1:etype_nen(et))
     case default
       ok = .false.
     end select
   end subroutine elem_gauss_shape
 
   !> B (at least nstrain x ndof) and weight at integration point ig (1..elem_ngauss);
-  !> x(2, 1:nen) are the node coordinates.
+  !> x(1:ndim, 1:nen) are the node coordinates.
   pure subroutine elem_gauss_b(et, x, sec, ig, b, wt)
     integer, intent(in) :: et, ig
     real(dp), intent(in) :: x(:, :)
     type(section_t), intent(in) :: sec
     real(dp), intent(out) :: b(:, :), wt
-    real(dp) :: xl(2, MAX_NEN), bl(MAX_NSTRAIN, MAX_EDOF), b1(1, 4), b2(2, 6)
+    real(dp) :: xl(2, MAX_NEN), bl(MAX_NSTRAIN, MAX_EDOF), b1(1, 4), b2(2, 6), x3(3, MAX_NEN), b4(4, 16)
     integer :: ns, nd
-    call local_coords(et, x, xl)
     bl = 0.0_dp
     wt = 0.0_dp
+    if (etype_dimension(et) == 3) then
+      call local_coords_3(et, x, x3)
+      call solid_b(etype_nen(et), x3, ig, bl, wt)
+      ns = elem_nstrain(et)
+      nd = elem_ndof(et)
+      b = 0.0_dp
+      b(1:ns, 1:nd) = bl(1:ns, 1:nd)
+      return
+    end if
+    call local_coords(et, x, xl)
     ! Exact-shape locals for the small elements: sections of bl would need temporaries.
     select case (et)
     case (ET_SPRING)
@@ -145,9 +178,11 @@ contains
       call beam2_b(xl(:, 1:2), sec, ig, b2, wt)
       bl(1:2, 1:6) = b2
     case (ET_QUAD4)
-      call quad_b(4, xl, sec%thickness, sec%axisymmetric, ig, bl, wt)
+      call quad_b(4, xl, sec%thickness, sec%axisymmetric, ig, b4, wt)
+      bl(1:4, 1:16) = b4
     case (ET_QUAD8)
-      call quad_b(8, xl, sec%thickness, sec%axisymmetric, ig, bl, wt)
+      call quad_b(8, xl, sec%thickness, sec%axisymmetric, ig, b4, wt)
+      bl(1:4, 1:16) = b4
     case (ET_TRI3)
       call tri_b(3, xl(:, 1:6), sec%thickness, sec%axisymmetric, ig, bl(1:4, 1:12), wt)
     case (ET_TRI6)
@@ -169,10 +204,15 @@ contains
     logical, intent(in) :: lumped
     real(dp), intent(out) :: me(:, :)
     logical, intent(in), optional :: large
-    real(dp) :: xl(2, MAX_NEN), ml(MAX_EDOF, MAX_EDOF), m2(2, 2), m4(4, 4), m6(6, 6)
+    real(dp) :: xl(2, MAX_NEN), ml(MAX_EDOF, MAX_EDOF), m2(2, 2), m4(4, 4), m6(6, 6), x3(3, MAX_NEN), m16(16, 16)
     integer :: nd
-    call local_coords(et, x, xl)
     ml = 0.0_dp
+    if (etype_dimension(et) == 3) then
+      call local_coords_3(et, x, x3)
+      call solid_mass(etype_nen(et), x3, rho, lumped, ml)
+    else
+      call local_coords(et, x, xl)
+    end if
     select case (et)
     case (ET_MASS)
       call mass_mass(sec, m2)
@@ -184,9 +224,11 @@ contains
       call beam2_mass(xl(:, 1:2), sec%area, rho, lumped, m6, large)
       ml(1:6, 1:6) = m6
     case (ET_QUAD4)
-      call quad_mass(4, xl, sec%thickness, sec%axisymmetric, rho, lumped, ml)
+      call quad_mass(4, xl, sec%thickness, sec%axisymmetric, rho, lumped, m16)
+      ml(1:16, 1:16) = m16
     case (ET_QUAD8)
-      call quad_mass(8, xl, sec%thickness, sec%axisymmetric, rho, lumped, ml)
+      call quad_mass(8, xl, sec%thickness, sec%axisymmetric, rho, lumped, m16)
+      ml(1:16, 1:16) = m16
     case (ET_TRI3)
       call tri_mass(3, xl(:, 1:6), sec%thickness, sec%axisymmetric, rho, lumped, ml(1:12, 1:12))
     case (ET_TRI6)
@@ -206,7 +248,7 @@ contains
     real(dp), intent(in) :: young, poisson
     type(section_t), intent(in) :: sec
     real(dp), intent(out) :: d(:, :)
-    real(dp) :: dq(4, 4)
+    real(dp) :: dq(4, 4), ds(6, 6)
     d = 0.0_dp
     select case (et)
     case (ET_SPRING, ET_BAR2)
@@ -217,6 +259,9 @@ contains
     case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6)
       call quad_elastic_d(young, poisson, sec%plane_stress, dq)
       d(1:4, 1:4) = dq
+    case (ET_HEX8, ET_TET4)
+      call solid_elastic_d(young, poisson, ds)
+      d(1:6, 1:6) = ds
     end select
   end subroutine elem_elastic_d
 
@@ -232,11 +277,18 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp), intent(in), optional :: size_ref
-    real(dp) :: xl(2, MAX_NEN), ref
+    real(dp) :: xl(2, MAX_NEN), ref, x3(3, MAX_NEN)
     integer :: nen
     stat = STAT_OK
-    call local_coords(et, x, xl)
     nen = etype_nen(et)
+    if (etype_dimension(et) == 3) then
+      call local_coords_3(et, x, x3)
+      ref = maxval(abs(x3(:, 1:nen)))
+      if (present(size_ref)) ref = max(ref, size_ref)
+      call solid_check(nen, x3, ref, stat, errmsg)
+      return
+    end if
+    call local_coords(et, x, xl)
     ref = maxval(abs(xl(:, 1:nen)))
     if (present(size_ref)) ref = max(ref, size_ref)
     select case (et)

@@ -6,7 +6,7 @@ module scene
   use kinds, only: dp
   use array_utils, only: bracket
   use errors, only: upper
-  use mesh, only: mesh_t
+  use mesh, only: mesh_t, NODE_DOFS, DOF_UX, DOF_UY, DOF_UZ
   use mesh_segments, only: segment_set_t
   use element_traits, only: etype_point_kind
   use section, only: section_t
@@ -22,8 +22,11 @@ module scene
 
   real(dp), parameter :: TUNED_MAX = 1.4999_dp  !< MASS TUNED's mixing factor at c h/dx = 1
   real(dp), parameter :: TWO_PI = 6.283185307179586476925286766559_dp
+  !> The DOF slots of the translations along x, y, z.
+  integer, parameter, public :: TRANSLATION_SLOT(3) = [DOF_UX, DOF_UY, DOF_UZ]
 
   integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3, INIT_ANGULAR = 4
+  integer, parameter, public :: SPIN_LINE = 2 * NODE_DOFS + 1   !< scene_t%initial_line's ANGULAR_VELOCITY row
   integer, parameter, public :: LOAD_NODAL = 0, LOAD_PRESSURE = 1, LOAD_TRACTION = 2
   !> Upper bounds of SECTION LAYERS and MODEL SUBSTEPS (far above any useful value; see do_section, do_model).
   integer, parameter, public :: MAX_LAYERS = 1000, MAX_SUBSTEPS = 10000
@@ -37,7 +40,7 @@ module scene
     integer :: node_a = 0, node_b = 0
     integer :: node_c = 0                     !< second end of the segment (0: node to node or plane)
     real(dp) :: xi = 0.0_dp                   !< position of the contact point along a -> c
-    real(dp) :: normal(2) = 0.0_dp
+    real(dp) :: normal(3) = 0.0_dp           !< unit normal (x, y[, z]; z = 0 in 2D)
     real(dp) :: g0 = 0.0_dp
     real(dp) :: restitution = 1.0_dp          !< RESTITUTION e: normal velocity after an impact = -e x before
     real(dp) :: friction = 0.0_dp             !< FRICTION mu: Coulomb's coefficient (0: frictionless)
@@ -79,7 +82,7 @@ module scene
   !> BLOQUE: homogeneous supports on DOFs of a node group.
   type :: fix_t
     integer :: ngroup = 0
-    logical :: dofs(3) = .false.
+    logical :: dofs(NODE_DOFS) = .false.   !< the DOF slots held (mesh's DOF_*)
     integer :: line = 0
   end type fix_t
 
@@ -87,12 +90,13 @@ module scene
   type :: initial_t
     integer :: kind = 0
     integer :: ngroup = 0
-    real(dp) :: values(3) = 0.0_dp
-    logical :: mask(3) = .false.
+    real(dp) :: values(NODE_DOFS) = 0.0_dp  !< per DOF slot (mesh's DOF_*)
+    logical :: mask(NODE_DOFS) = .false.
     integer :: func = 0           !< FUNCTION f ALONG X|Y: values times f(x) or f(y) of each node (0: none)
-    integer :: along = 1          !< the coordinate f is evaluated at: 1 (X) or 2 (Y)
+    integer :: along = 1          !< the coordinate f is evaluated at: 1 (X), 2 (Y) or 3 (Z, in 3D)
     integer :: line = 0
-    real(dp) :: about(2) = 0.0_dp !< ANGULAR_VELOCITY w ABOUT x y: the axis (w in values(3))
+    real(dp) :: about(3) = 0.0_dp !< ANGULAR_VELOCITY w ABOUT x y: the axis (w in values(3)); 3D: the point x y z
+    real(dp) :: omega(3) = 0.0_dp !< 3D: ANGULAR_VELOCITY wx wy wz
   end type initial_t
 
   !> Piecewise-linear function of time, constant beyond its ends.
@@ -119,7 +123,7 @@ module scene
     character(len=:), allocatable :: name
     integer :: kind = LOAD_NODAL
     integer :: ngroup = 0
-    real(dp) :: force(3) = 0.0_dp
+    real(dp) :: force(NODE_DOFS) = 0.0_dp   !< LOAD: per DOF slot; PRESSURE: p in force(1); TRACTION: force(1:2)
     integer :: func = 0          !< 0: constant 1
     logical :: dead = .false.    !< PRESSURE … DEAD: a dead load on a KINEMATICS LARGE model too
   end type load_t
@@ -154,15 +158,15 @@ module scene
     integer, allocatable :: elem_model(:)     !< (nelem) model of each element, 0 = not modelled
     integer, allocatable :: node_line(:)      !< (nnode) line of the statement that created each node
     logical, allocatable :: modelled(:)       !< (nnode) the node carries an element of some MODEL (after pass 2)
-    !> (6, nnode) the line of the INITIAL that set component d (1..3) of a node's DISPLACEMENT
-    !> (d) or VELOCITY (3 + d); 0: not set
+    !> (SPIN_LINE, nnode) the line of the INITIAL that set DOF slot d of a node's DISPLACEMENT
+    !> (d) or VELOCITY (NODE_DOFS + d), or its ANGULAR_VELOCITY (SPIN_LINE); 0: not set
     integer, allocatable :: initial_line(:, :)
     type(fix_t), allocatable :: fixes(:)
     type(initial_t), allocatable :: initials(:)
     type(function_t), allocatable :: functions(:)
     type(load_t), allocatable :: loads(:)
     type(impose_t), allocatable :: imposes(:)
-    real(dp) :: gravity(2) = 0.0_dp
+    real(dp) :: gravity(3) = 0.0_dp            !< GRAVITY GX GY [GZ] (m/s2)
     integer :: gravity_func = 0
     real(dp) :: t_start = 0.0_dp, t_end = 0.0_dp, dt = 0.0_dp
     !> TIME … ADAPTIVE TOLERANCE tol [MIN hmin] [MAX hmax] (step_control)
@@ -230,30 +234,34 @@ contains
     where (nodes == 0) w = 0.0_dp
   end subroutine condition_nodes
 
-  !> FRICTION's tangent of condition c: its normal turned by +90° (the slip and the tangential
-  !> force are along it).
+  !> FRICTION's tangent of condition c (2D): its normal turned by +90° about z (the slip and the
+  !> tangential force are along it).
   pure function condition_tangent(c) result(t)
     type(condition_t), intent(in) :: c
-    real(dp) :: t(2)
-    t = [-c%normal(2), c%normal(1)]
+    real(dp) :: t(3)
+    t = [-c%normal(2), c%normal(1), 0.0_dp]
   end function condition_tangent
 
-  !> Condition c's row along the unit vector dir (its normal, or its tangent) on the equations
-  !> eqn(1:2, node) of its nodes b, a, c (condition_nodes' weights): entries eqs(2k-1:2k) and
-  !> coefs(2k-1:2k) for node k, eqs 0 where a node or a DOF is absent.
+  !> Condition c's row along the unit vector dir (x, y, z: its normal, or its tangent) on the
+  !> translations UX UY UZ of its nodes b, a, c (condition_nodes' weights; eqn the DOF map):
+  !> entries eqs(3k-2:3k) and coefs(3k-2:3k) for node k, eqs 0 where a node or a DOF is absent
+  !> (UZ in 2D, where dir(3) = 0).
   pure subroutine condition_row(c, dir, eqn, eqs, coefs)
     type(condition_t), intent(in) :: c
-    real(dp), intent(in) :: dir(2)
+    real(dp), intent(in) :: dir(3)
     integer, intent(in) :: eqn(:, :)
-    integer, intent(out) :: eqs(6)
-    real(dp), intent(out) :: coefs(6)
-    integer :: k, nodes(3)
+    integer, intent(out) :: eqs(9)
+    real(dp), intent(out) :: coefs(9)
+    integer :: k, d, nodes(3)
     real(dp) :: w(3)
     call condition_nodes(c, nodes, w)
     eqs = 0
     do k = 1, 3
-      coefs(2 * k - 1:2 * k) = w(k) * dir
-      if (nodes(k) > 0) eqs(2 * k - 1:2 * k) = max(eqn(1:2, nodes(k)), 0)
+      coefs(3 * k - 2:3 * k) = w(k) * dir
+      if (nodes(k) == 0) cycle
+      do d = 1, 3
+        eqs(3 * k - 3 + d) = max(eqn(TRANSLATION_SLOT(d), nodes(k)), 0)
+      end do
     end do
   end subroutine condition_row
 

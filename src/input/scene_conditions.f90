@@ -6,10 +6,11 @@ module scene_conditions
   use statement, only: statement_t, stmt_error, find_param, get_real, get_word, to_real
   use statement_schema, only: schema_t
   use scene, only: scene_t, fix_t, initial_t, load_t, impose_t, INIT_DISPLACEMENT, INIT_VELOCITY, INIT_STATIC, LOAD_PRESSURE, &
-    LOAD_TRACTION, INIT_ANGULAR
+    LOAD_TRACTION, INIT_ANGULAR, SPIN_LINE
   use mesh_segments, only: side_set_t, group_sides
-  use scene_helpers, only: node_group, check_modelled, get_point, get_function
-  use mesh, only: MAX_COORD
+  use mesh_faces, only: face_set_t, group_faces
+  use scene_helpers, only: node_group, check_modelled, get_point, get_function, get_pair
+  use mesh, only: MAX_COORD, NODE_DOFS, DOF_UX, DOF_UY, DOF_RZ, DOF_UZ, DOF_NAMES
   implicit none
   private
   public :: conditions_schema, conditions_statement, loads_modelled
@@ -22,6 +23,7 @@ contains
     call sch%add_param('FIX', 'UX', 0, 0)
     call sch%add_param('FIX', 'UY', 0, 0)
     call sch%add_param('FIX', 'RZ', 0, 0)
+    call sch%add_param('FIX', 'UZ', 0, 0)
     call sch%add_param('FIX', 'ALL', 0, 0)
     call sch%add_keyword('INITIAL', 1, 1)
     call sch%add_param('INITIAL', 'DISPLACEMENT', 2, 3)
@@ -30,11 +32,12 @@ contains
     call sch%add_param('INITIAL', 'FORCE', 2, 3)
     call sch%add_param('INITIAL', 'FUNCTION', 1, 1)
     call sch%add_param('INITIAL', 'ALONG', 1, 1)
-    call sch%add_param('INITIAL', 'ANGULAR_VELOCITY', 1, 1)
-    call sch%add_param('INITIAL', 'ABOUT', 2, 2)
+    call sch%add_param('INITIAL', 'ANGULAR_VELOCITY', 1, 3)
+    call sch%add_param('INITIAL', 'ABOUT', 2, 3)
     call sch%add_keyword('GRAVITY', 0, 0, once=.true.)
     call sch%add_param('GRAVITY', 'GX', 1, 1)
     call sch%add_param('GRAVITY', 'GY', 1, 1)
+    call sch%add_param('GRAVITY', 'GZ', 1, 1)
     call sch%add_param('GRAVITY', 'FUNCTION', 1, 1)
     call sch%add_keyword('LOAD', 1, 1)
     call sch%add_param('LOAD', 'NODES', 1, 1)
@@ -44,6 +47,7 @@ contains
     call sch%add_param('IMPOSE', 'UX', 0, 0)
     call sch%add_param('IMPOSE', 'UY', 0, 0)
     call sch%add_param('IMPOSE', 'RZ', 0, 0)
+    call sch%add_param('IMPOSE', 'UZ', 0, 0)
     call sch%add_param('IMPOSE', 'VALUE', 1, 1)
     call sch%add_param('IMPOSE', 'FUNCTION', 1, 1)
     call sch%add_keyword('PRESSURE', 1, 1)
@@ -51,7 +55,7 @@ contains
     call sch%add_param('PRESSURE', 'FUNCTION', 1, 1)
     call sch%add_param('PRESSURE', 'DEAD', 0, 0)
     call sch%add_keyword('TRACTION', 1, 1)
-    call sch%add_param('TRACTION', 'VALUE', 2, 2)
+    call sch%add_param('TRACTION', 'VALUE', 2, 3)
     call sch%add_param('TRACTION', 'FUNCTION', 1, 1)
   end subroutine conditions_schema
 
@@ -113,38 +117,71 @@ contains
     type(fix_t) :: fx
     call node_group(scn, st, st%lead(1), fx%ngroup, stat, errmsg)
     if (stat /= STAT_OK) return
-    fx%dofs = [find_param(st, 'UX') > 0, find_param(st, 'UY') > 0, find_param(st, 'RZ') > 0]
+    call dof_words(scn, st, fx%dofs, stat, errmsg)
+    if (stat /= STAT_OK) return
     if (find_param(st, 'ALL') > 0) fx%dofs = .true.
     if (.not. any(fx%dofs)) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'no DOF to fix (expected UX, UY, RZ or ALL)', st%lead(1)))
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'no DOF to fix (expected ' // &
+        trim(merge('UX, UY, UZ', 'UX, UY, RZ', scn%mesh%ndim == 3)) // ' or ALL)', st%lead(1)))
       return
     end if
     fx%line = st%line
     scn%fixes = [scn%fixes, fx]
   end subroutine do_fix
 
-  !> Values of a parameter with 2 or 3 numbers (x, y[, rotation]), each within ±MAX_COORD (1e100:
-  !> their squares, the energies, stay finite).
-  subroutine get_vector(st, key, v, mask, stat, errmsg)
+  !> The DOF words of a FIX or IMPOSE (UX UY RZ in 2D, UX UY UZ in 3D) as DOF slots; a word of the
+  !> other dimension is an error naming it.
+  subroutine dof_words(scn, st, flags, stat, errmsg)
+    type(scene_t), intent(in) :: scn
     type(statement_t), intent(in) :: st
-    character(len=*), intent(in) :: key
-    real(dp), intent(out) :: v(3)
-    logical, intent(out) :: mask(3)
+    logical, intent(out) :: flags(NODE_DOFS)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: k, i
+    stat = STAT_OK
+    flags = .false.
+    flags(DOF_UX) = find_param(st, 'UX') > 0
+    flags(DOF_UY) = find_param(st, 'UY') > 0
+    flags(DOF_RZ) = find_param(st, 'RZ') > 0
+    flags(DOF_UZ) = find_param(st, 'UZ') > 0
+    if (scn%mesh%ndim == 3 .and. flags(DOF_RZ)) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'RZ is a DOF of planar beams; a DIMENSION 3 scene has ' // &
+        'UX, UY, UZ', st%params(find_param(st, 'RZ'))%keytok))
+    else if (scn%mesh%ndim == 2 .and. flags(DOF_UZ)) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'UZ needs DIMENSION 3', st%params(find_param(st, 'UZ'))%keytok))
+    end if
+  end subroutine dof_words
+
+  !> The DOF slot of the i-th number of a vector parameter: x, y, then the rotation RZ in 2D or z in 3D.
+  pure integer function vector_slot(ndim, i)
+    integer, intent(in) :: ndim, i
+    integer, parameter :: slots(3, 2:3) = reshape([DOF_UX, DOF_UY, DOF_RZ, DOF_UX, DOF_UY, DOF_UZ], [3, 2])
+    vector_slot = slots(i, ndim)
+  end function vector_slot
+
+  !> Values of a parameter with 2 or 3 numbers (x, y[, rotation] in 2D, x, y[, z] in 3D) into their
+  !> DOF slots (vector_slot), each within ±MAX_COORD (1e100: their squares, the energies, stay finite).
+  subroutine get_vector(scn, st, key, v, mask, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: key
+    real(dp), intent(out) :: v(NODE_DOFS)
+    logical, intent(out) :: mask(NODE_DOFS)
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, i, j
     v = 0.0_dp
     mask = .false.
     k = find_param(st, key)
     do i = 1, size(st%params(k)%values)
-      call to_real(st%params(k)%values(i), st, v(i), stat, errmsg)
+      j = vector_slot(scn%mesh%ndim, i)
+      call to_real(st%params(k)%values(i), st, v(j), stat, errmsg)
       if (stat /= STAT_OK) return
-      if (abs(v(i)) > MAX_COORD) then
+      if (abs(v(j)) > MAX_COORD) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, key // ' values must be within ±1e100', &
           st%params(k)%values(i)))
         return
       end if
-      mask(i) = .true.
+      mask(j) = .true.
     end do
     stat = STAT_OK
   end subroutine get_vector
@@ -177,18 +214,23 @@ contains
     end if
     if (find_param(st, 'DISPLACEMENT') > 0) then
       ic%kind = INIT_DISPLACEMENT
-      call get_vector(st, 'DISPLACEMENT', ic%values, ic%mask, stat, errmsg)
+      call get_vector(scn, st, 'DISPLACEMENT', ic%values, ic%mask, stat, errmsg)
     else if (find_param(st, 'VELOCITY') > 0) then
       ic%kind = INIT_VELOCITY
-      call get_vector(st, 'VELOCITY', ic%values, ic%mask, stat, errmsg)
+      call get_vector(scn, st, 'VELOCITY', ic%values, ic%mask, stat, errmsg)
     else
       ic%kind = INIT_STATIC
+      if (scn%mesh%ndim == 3) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'INITIAL … STATIC is not available in DIMENSION 3 yet', &
+          st%params(find_param(st, 'STATIC'))%keytok))
+        return
+      end if
       if (find_param(st, 'FORCE') == 0) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'STATIC needs FORCE fx fy [mz]', &
           st%params(find_param(st, 'STATIC'))%keytok))
         return
       end if
-      call get_vector(st, 'FORCE', ic%values, ic%mask, stat, errmsg)
+      call get_vector(scn, st, 'FORCE', ic%values, ic%mask, stat, errmsg)
     end if
     if (stat /= STAT_OK) return
     if (ic%kind /= INIT_STATIC .and. find_param(st, 'FORCE') > 0) then
@@ -213,17 +255,28 @@ contains
     type(initial_t), intent(inout) :: ic
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: i, n
+    integer :: i, n, nd
     ic%kind = INIT_ANGULAR
-    call get_real(st, 'ANGULAR_VELOCITY', ic%values(3), stat, errmsg, lower=-MAX_COORD, lower_inclusive=.true., &
-      upper=MAX_COORD, upper_inclusive=.true.)
+    nd = scn%mesh%ndim
+    if (scn%mesh%ndim == 3) then                 ! ω = (wx, wy, wz) about the point x y z
+      call get_pair(st, 'ANGULAR_VELOCITY', ic%omega, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (any(abs(ic%omega) > MAX_COORD)) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ANGULAR_VELOCITY values must be within ±1e100', &
+          st%params(find_param(st, 'ANGULAR_VELOCITY'))%keytok))
+        return
+      end if
+    else
+      call get_real(st, 'ANGULAR_VELOCITY', ic%values(3), stat, errmsg, lower=-MAX_COORD, lower_inclusive=.true., &
+        upper=MAX_COORD, upper_inclusive=.true.)
+    end if
     if (stat /= STAT_OK) return
     if (find_param(st, 'ABOUT') == 0) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ANGULAR_VELOCITY needs ABOUT x y (the axis)', &
-        st%params(find_param(st, 'ANGULAR_VELOCITY'))%keytok))
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ANGULAR_VELOCITY needs ABOUT x y (3D: x y z), the ' // &
+        'axis', st%params(find_param(st, 'ANGULAR_VELOCITY'))%keytok))
       return
     end if
-    call get_point(st, 'ABOUT', ic%about, stat, errmsg)
+    call get_point(st, 'ABOUT', ic%about(1:nd), stat, errmsg)
     if (stat /= STAT_OK) return
     if (find_param(st, 'FUNCTION') > 0 .or. find_param(st, 'FORCE') > 0) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ANGULAR_VELOCITY takes no FUNCTION or FORCE', &
@@ -232,19 +285,19 @@ contains
     end if
     ic%mask = .true.
     if (.not. allocated(scn%initial_line)) then
-      allocate (scn%initial_line(7, scn%mesh%nnode))
+      allocate (scn%initial_line(SPIN_LINE, scn%mesh%nnode))
       scn%initial_line = 0
     end if
     associate (nodes => scn%mesh%ngroups(ic%ngroup)%items)
       do i = 1, size(nodes)
         n = nodes(i)
-        if (scn%initial_line(7, n) /= 0) then
+        if (scn%initial_line(SPIN_LINE, n) /= 0) then
           call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'node ' // str(scn%mesh%node_tag(n)) // &
-            ' already spins by INITIAL at line ' // str(scn%initial_line(7, n)) // ' (one ANGULAR_VELOCITY per node)', &
+            ' already spins by INITIAL at line ' // str(scn%initial_line(SPIN_LINE, n)) // ' (one ANGULAR_VELOCITY per node)', &
             st%lead(1)))
           return
         end if
-        scn%initial_line(7, n) = st%line
+        scn%initial_line(SPIN_LINE, n) = st%line
       end do
     end associate
     scn%initials = [scn%initials, ic]
@@ -261,24 +314,24 @@ contains
     type(initial_t), intent(in) :: ic
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=2), parameter :: comp(6) = ['ux', 'uy', 'rz', 'vx', 'vy', 'wz']
+    character(len=2), parameter :: comp(2 * NODE_DOFS) = ['ux', 'uy', 'rz', 'uz', 'vx', 'vy', 'wz', 'vz']
     integer :: k0, i, n, d
     stat = STAT_OK
     if (ic%kind == INIT_DISPLACEMENT) then
       k0 = 0
     else if (ic%kind == INIT_VELOCITY) then
-      k0 = 3
+      k0 = NODE_DOFS
     else
       return
     end if
     if (.not. allocated(scn%initial_line)) then
-      allocate (scn%initial_line(7, scn%mesh%nnode))   ! (7: ANGULAR_VELOCITY, do_initial_spin)
+      allocate (scn%initial_line(SPIN_LINE, scn%mesh%nnode))   ! (SPIN_LINE: ANGULAR_VELOCITY, do_initial_spin)
       scn%initial_line = 0
     end if
     associate (nodes => scn%mesh%ngroups(ic%ngroup)%items)
       do i = 1, size(nodes)
         n = nodes(i)
-        do d = 1, 3
+        do d = 1, NODE_DOFS
           if (.not. ic%mask(d) .or. ic%values(d) == 0.0_dp) cycle
           if (scn%initial_line(k0 + d, n) /= 0) then
             call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, trim(merge('DISPLACEMENT', 'VELOCITY    ', k0 == 0)) // &
@@ -293,8 +346,8 @@ contains
     end associate
   end subroutine initial_once
 
-  !> FUNCTION f ALONG X|Y (default X): the values vary with position, times f of the node's x
-  !> (or y), f a FUNCTION's piecewise-linear table read as a function of the coordinate.
+  !> FUNCTION f ALONG X|Y|Z (default X; Z in 3D): the values vary with position, times f of the node's
+  !> x (or y, z), f a FUNCTION's piecewise-linear table read as a function of the coordinate.
   subroutine initial_profile(scn, st, ic, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(statement_t), intent(in) :: st
@@ -322,8 +375,13 @@ contains
       ic%along = 1
     case ('Y')
       ic%along = 2
+    case ('Z')
+      ic%along = 3
+      if (scn%mesh%ndim /= 3) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'ALONG Z needs DIMENSION 3', &
+        st%params(find_param(st, 'ALONG'))%values(1)))
     case default
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected X or Y', st%params(find_param(st, 'ALONG'))%values(1)))
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected X, Y or Z', &
+        st%params(find_param(st, 'ALONG'))%values(1)))
     end select
   end subroutine initial_profile
 
@@ -338,6 +396,13 @@ contains
     call get_real(st, 'GY', scn%gravity(2), stat, errmsg, default=0.0_dp, lower=-MAX_COORD, lower_inclusive=.true., &
       upper=MAX_COORD, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
+    if (find_param(st, 'GZ') > 0 .and. scn%mesh%ndim /= 3) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'GZ needs DIMENSION 3', st%params(find_param(st, 'GZ'))%keytok))
+      return
+    end if
+    call get_real(st, 'GZ', scn%gravity(3), stat, errmsg, default=0.0_dp, lower=-MAX_COORD, lower_inclusive=.true., &
+      upper=MAX_COORD, upper_inclusive=.true.)
+    if (stat /= STAT_OK) return
     call get_function(scn, st, scn%gravity_func, stat, errmsg)
   end subroutine do_gravity
 
@@ -347,7 +412,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(load_t) :: ld
-    logical :: mask(3)
+    logical :: mask(NODE_DOFS)
     integer :: k
     ld%name = st%lead(1)%text
     k = find_param(st, 'NODES')
@@ -361,7 +426,7 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter FORCE', st%lead(1)))
       return
     end if
-    call get_vector(st, 'FORCE', ld%force, mask, stat, errmsg)
+    call get_vector(scn, st, 'FORCE', ld%force, mask, stat, errmsg)
     if (stat /= STAT_OK) return
     call get_function(scn, st, ld%func, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -378,15 +443,22 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(load_t) :: ld
     type(side_set_t) :: sides
-    logical :: mask(3)
+    type(face_set_t) :: faces
+    logical :: mask(NODE_DOFS)
+    real(dp) :: v(NODE_DOFS)
     ld%name = st%lead(1)%text
     call node_group(scn, st, st%lead(1), ld%ngroup, stat, errmsg)
     if (stat /= STAT_OK) return
-    call group_sides(scn%mesh, scn%mesh%ngroups(ld%ngroup)%items, sides, stat, errmsg)
-    if (stat /= STAT_OK) then
-      errmsg = stmt_error(st, errmsg // ' (' // st%keyword // ' acts on the sides of surface elements)', st%lead(1))
-      return
+    if (scn%mesh%ndim == 3) then
+      call group_faces(scn%mesh, scn%mesh%ngroups(ld%ngroup)%items, faces, stat, errmsg)
+      if (stat /= STAT_OK) errmsg = stmt_error(st, errmsg // ' (' // st%keyword // ' acts on the faces of solids)', &
+        st%lead(1))
+    else
+      call group_sides(scn%mesh, scn%mesh%ngroups(ld%ngroup)%items, sides, stat, errmsg)
+      if (stat /= STAT_OK) errmsg = stmt_error(st, errmsg // ' (' // st%keyword // ' acts on the sides of surface ' // &
+        'elements)', st%lead(1))
     end if
+    if (stat /= STAT_OK) return
     ld%kind = LOAD_PRESSURE
     if (st%keyword == 'TRACTION') ld%kind = LOAD_TRACTION
     ld%dead = find_param(st, 'DEAD') > 0                  ! (a PRESSURE on a SMALL model is dead anyway)
@@ -394,8 +466,14 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter VALUE', st%lead(1)))
       return
     end if
-    call get_vector(st, 'VALUE', ld%force, mask, stat, errmsg)
+    if (st%keyword == 'TRACTION' .and. size(st%params(find_param(st, 'VALUE'))%values) /= scn%mesh%ndim) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'TRACTION VALUE takes ' // str(scn%mesh%ndim) // &
+        ' numbers in a ' // str(scn%mesh%ndim) // 'D scene', st%params(find_param(st, 'VALUE'))%keytok))
+      return
+    end if
+    call get_vector(scn, st, 'VALUE', v, mask, stat, errmsg)        ! (p, or tx ty [tz] in slots UX UY [UZ])
     if (stat /= STAT_OK) return
+    ld%force(1:3) = [v(DOF_UX), v(DOF_UY), v(DOF_UZ)]
     call get_function(scn, st, ld%func, stat, errmsg)
     if (stat /= STAT_OK) return
     scn%loads = [scn%loads, ld]
@@ -409,12 +487,14 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(impose_t) :: im
-    logical :: flags(3)
+    logical :: flags(NODE_DOFS)
     call node_group(scn, st, st%lead(1), im%ngroup, stat, errmsg)
     if (stat /= STAT_OK) return
-    flags = [find_param(st, 'UX') > 0, find_param(st, 'UY') > 0, find_param(st, 'RZ') > 0]
+    call dof_words(scn, st, flags, stat, errmsg)
+    if (stat /= STAT_OK) return
     if (count(flags) /= 1) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give one DOF: UX, UY or RZ', st%lead(1)))
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'give one DOF: ' // &
+        trim(merge('UX, UY or UZ', 'UX, UY or RZ', scn%mesh%ndim == 3)), st%lead(1)))
       return
     end if
     im%dof = findloc(flags, .true., 1)
@@ -442,7 +522,6 @@ contains
     type(impose_t), intent(in) :: im
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=2), parameter :: names(3) = ['UX', 'UY', 'RZ']
     logical, allocatable :: held(:)
     integer :: k, i
     stat = STAT_OK
@@ -454,7 +533,7 @@ contains
       associate (b => scn%mesh%ngroups(im%ngroup)%items)
         do i = 1, size(b)
           if (.not. held(b(i))) cycle
-          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, names(im%dof) // ' of node ' // &
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, DOF_NAMES(im%dof) // ' of node ' // &
             str(scn%mesh%node_tag(b(i))) // ' already imposed by IMPOSE at line ' // str(scn%imposes(k)%line) // &
             ' (one IMPOSE per DOF)', st%lead(1)))
           return

@@ -10,6 +10,7 @@ module scene_contacts
   use contact_modes, only: IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC, IMPACT_NAMES, &
     SOLVER_AUTO, SOLVER_SCHUR
   use element_traits, only: ET_MASS, ET_SPRING
+  use material_law, only: law_is_linear, law_name
   use scene_helpers, only: node_group, get_point, model_size, get_unit, get_choice, check_modelled, get_function
   use mesh_segments, only: segment_set_t, segment_pair_t, group_segments, closest_segment, pair_segment, orient_lines, &
     node_stars, NO_PARTNER
@@ -26,8 +27,8 @@ contains
     type(schema_t), intent(inout) :: sch
     call sch%add_keyword('OBSTACLE', 1, 1)
     call sch%add_param('OBSTACLE', 'NODES', 1, 1)
-    call sch%add_param('OBSTACLE', 'POINT', 2, 2)
-    call sch%add_param('OBSTACLE', 'NORMAL', 2, 2)
+    call sch%add_param('OBSTACLE', 'POINT', 2, 3)
+    call sch%add_param('OBSTACLE', 'NORMAL', 2, 3)
     call sch%add_param('OBSTACLE', 'RESTITUTION', 1, 1)
     call sch%add_param('OBSTACLE', 'SPHERE', 2, 2)
     call sch%add_param('OBSTACLE', 'CYLINDER', 2, 2)
@@ -42,7 +43,7 @@ contains
     call sch%add_param('GAP', 'WITH', 1, 1)
     call sch%add_param('GAP', 'SEGMENTS', 1, 1)
     call sch%add_param('GAP', 'PAIRS', 2, -1)
-    call sch%add_param('GAP', 'NORMAL', 2, 2)
+    call sch%add_param('GAP', 'NORMAL', 2, 3)
     call sch%add_param('GAP', 'RESTITUTION', 1, 1)
     call sch%add_param('GAP', 'PAIRING', 1, 1)
     call sch%add_param('GAP', 'FRICTION', 1, 1)
@@ -58,6 +59,8 @@ contains
     integer :: first
     stat = STAT_OK
     first = size(scn%conditions) + 1
+    if (scn%mesh%ndim == 3 .and. (st%keyword == 'OBSTACLE' .or. st%keyword == 'GAP')) call check_3d_contact(st, stat, errmsg)
+    if (stat /= STAT_OK) return
     select case (st%keyword)
     case ('OBSTACLE')
       call do_obstacle(scn, st, stat, errmsg)
@@ -66,6 +69,26 @@ contains
     end select
     if (stat == STAT_OK) call get_friction(scn, st, first, stat, errmsg)
   end subroutine contacts_statement
+
+  !> What a DIMENSION 3 contact offers so far: plane obstacles and node-to-node gaps, frictionless;
+  !> the other forms are refused by name rather than ignored.
+  subroutine check_3d_contact(st, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=8), parameter :: refused(5) = [character(len=8) :: 'SPHERE', 'CYLINDER', 'VELOCITY', 'SEGMENTS', &
+      'FRICTION']
+    integer :: k, ip
+    stat = STAT_OK
+    do k = 1, size(refused)
+      ip = find_param(st, trim(refused(k)))
+      if (ip == 0) cycle
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, st%keyword // ' … ' // trim(refused(k)) // &
+        ' is not available in DIMENSION 3 yet (3D: plane OBSTACLE, GAP … WITH or PAIRS; frictionless)', &
+        st%params(ip)%keytok))
+      return
+    end do
+  end subroutine check_3d_contact
 
   !> FRICTION mu (mu >= 0, finite; default 0) on the conditions first.. of the statement just read:
   !> Coulomb friction (docs/contact.md, "Friction"). Refused where the tangent would have to follow
@@ -123,7 +146,7 @@ contains
     type(statement_t), intent(in) :: st
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    real(dp) :: p(2), n(2)
+    real(dp) :: p(scn%mesh%ndim), n(scn%mesh%ndim)
     integer :: ig, k, i
     type(condition_t) :: c
     type(condition_t), allocatable :: batch(:)
@@ -161,7 +184,8 @@ contains
       c%source = st%lead(1)%text
       c%node_a = 0
       c%node_b = scn%mesh%ngroups(ig)%items(i)
-      c%normal = n
+      c%normal = 0.0_dp
+      c%normal(1:size(n)) = n
       c%g0 = dot_product(n, scn%mesh%x(:, c%node_b) - p)
       c%line = st%line
       call check_penetration(scn, st, c, stat, errmsg)
@@ -252,7 +276,8 @@ contains
           ' is at the centre of the ' // word // ': no normal', st%params(k)%keytok))
         return
       end if
-      c%normal = s * d / r
+      c%normal = 0.0_dp
+      c%normal(1:2) = s * d / r
       c%g0 = s * (r - c%radius)
       c%curved = s
       c%center = ctr
@@ -275,7 +300,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: kn, kw, kp, ga, gb, i, j, a, b, best
-    real(dp) :: n(2), d, dbest
+    real(dp) :: n(scn%mesh%ndim), d, dbest
     logical :: given
     type(condition_t) :: c
     integer, allocatable :: pa(:), pb(:)
@@ -359,8 +384,9 @@ contains
       c%node_a = a
       c%node_b = b
       c%line = st%line
+      c%normal = 0.0_dp
       if (given) then
-        c%normal = n
+        c%normal(1:size(n)) = n
       else
         d = norm2(scn%mesh%x(:, b) - scn%mesh%x(:, a))
         if (d <= 1.0e-12_dp * model_size(scn%mesh)) then
@@ -368,9 +394,9 @@ contains
             str(scn%mesh%node_tag(b)) // ' coincide: give NORMAL', st%lead(1)))
           return
         end if
-        c%normal = (scn%mesh%x(:, b) - scn%mesh%x(:, a)) / d
+        c%normal(1:size(n)) = (scn%mesh%x(:, b) - scn%mesh%x(:, a)) / d
       end if
-      c%g0 = dot_product(c%normal, scn%mesh%x(:, b) - scn%mesh%x(:, a))
+      c%g0 = dot_product(c%normal(1:size(n)), scn%mesh%x(:, b) - scn%mesh%x(:, a))
       call check_penetration(scn, st, c, stat, errmsg)
       if (stat /= STAT_OK) return
       scn%conditions = [scn%conditions, c]
@@ -524,7 +550,8 @@ contains
         c%node_c = pr%nodes(3)                 ! 0 for a corner: node to node
       end if
       c%xi = xi
-      c%normal = n
+      c%normal = 0.0_dp
+      c%normal(1:2) = n
       c%g0 = g
       call check_penetration(scn, st, c, stat, errmsg)
       if (stat /= STAT_OK) return
@@ -594,13 +621,14 @@ contains
     type(token_t), intent(in) :: tok
     integer, intent(in) :: pa(:), pb(:), nb(:)
     logical, intent(in) :: given
-    real(dp), intent(in) :: ngiven(2)
+    real(dp), intent(in) :: ngiven(:)            !< (ndim)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     character(len=*), parameter :: hint = ': GAP NODES … WITH pairs the nodes of matching meshes ' // &
       '(non-matching meshes: GAP NODES ga SEGMENTS gb; PAIRS lists pairs explicitly)'
-    real(dp) :: n(2), t(2), tol, smin, smax, qmin, qmax, s, q, d
-    integer :: i, j
+    real(dp) :: n(scn%mesh%ndim), t(scn%mesh%ndim, 2), tol, smin(2), smax(2), qmin, qmax, s(2), q, d
+    integer :: i, j, k, nt
+    logical :: inside
     stat = STAT_OK
     do i = 2, size(pb)
       do j = 1, i - 1
@@ -623,17 +651,34 @@ contains
       if (norm2(n) < 0.5_dp) return
       n = n / norm2(n)
     end if
-    t = [-n(2), n(1)]
+    ! The tangents of the normal: in 2D n turned by +90°, in 3D two orthonormal ones.
+    nt = scn%mesh%ndim - 1
+    if (nt == 1) then
+      t(:, 1) = [-n(2), n(1)]
+    else
+      k = minloc(abs(n), 1)                      ! the axis least along n
+      t(:, 1) = 0.0_dp
+      t(k, 1) = 1.0_dp
+      t(:, 1) = t(:, 1) - dot_product(t(:, 1), n) * n
+      t(:, 1) = t(:, 1) / norm2(t(:, 1))
+      t(:, 2) = [n(2) * t(3, 1) - n(3) * t(2, 1), n(3) * t(1, 1) - n(1) * t(3, 1), n(1) * t(2, 1) - n(2) * t(1, 1)]
+    end if
     tol = 1.0e-6_dp * model_size(scn%mesh)
-    smin = minval([(dot_product(t, scn%mesh%x(:, pb(i))), i = 1, size(pb))])
-    smax = maxval([(dot_product(t, scn%mesh%x(:, pb(i))), i = 1, size(pb))])
+    do k = 1, nt
+      smin(k) = minval([(dot_product(t(:, k), scn%mesh%x(:, pb(i))), i = 1, size(pb))])
+      smax(k) = maxval([(dot_product(t(:, k), scn%mesh%x(:, pb(i))), i = 1, size(pb))])
+    end do
     qmin = minval([(dot_product(n, scn%mesh%x(:, pb(i))), i = 1, size(pb))])
     qmax = maxval([(dot_product(n, scn%mesh%x(:, pb(i))), i = 1, size(pb))])
     do j = 1, size(nb)
       if (any(pb == nb(j)) .or. any(pa == nb(j))) cycle
-      s = dot_product(t, scn%mesh%x(:, nb(j)))
+      inside = .true.
+      do k = 1, nt
+        s(k) = dot_product(t(:, k), scn%mesh%x(:, nb(j)))
+        inside = inside .and. s(k) > smin(k) + tol .and. s(k) < smax(k) - tol
+      end do
       q = dot_product(n, scn%mesh%x(:, nb(j)))
-      if (s > smin + tol .and. s < smax - tol .and. q > qmin - tol .and. q < qmax + tol) then
+      if (inside .and. q > qmin - tol .and. q < qmax + tol) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'non-matching meshes: node ' // str(nb(j)) // &
           ' lies between paired nodes and faces none' // hint, tok))
         return
@@ -653,8 +698,9 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     logical, allocatable :: contact(:)
     integer, allocatable :: nodes(:)
-    integer :: i, j
+    integer :: i, j, im
     character(len=:), allocatable :: why
+    logical, allocatable :: nonlinear(:)
     stat = STAT_OK
     if (scn%impact == IMPACT_MASSLESS .or. scn%impact == IMPACT_SYMMETRIC) then
       why = "IMPACT MASSLESS leaves no velocity at the contact nodes for Newton's law"
@@ -682,6 +728,24 @@ contains
     nodes = pack([(i, i = 1, size(contact))], contact)
     scn%locate_events = size(scn%conditions) > 0 .and. (scn%events == 2 .or. (scn%events == 1 .and. (scn%adaptive &
       .or. (size(nodes) > 0 .and. .not. on_models(scn, nodes, .not. scn%models%tuned_exact)))))
+    ! A nonlinear law at a contact node's element: MASSLESS's massless rows hold the law's correction
+    ! force of eq (9), Bσc, at n+1 where the other rows carry it over the step, and the momentum the
+    ! body keeps differs by h/2 Σ Bσc there (a plastic block's corner impact: tangential momentum
+    ! off by 8.5e-4 of it). AUTO takes PERSIST there; MASSLESS is refused.
+    nonlinear = [(scn%models(im)%material > 0, im = 1, size(scn%models))]
+    do im = 1, size(scn%models)
+      if (nonlinear(im)) nonlinear(im) = .not. law_is_linear(scn%materials(scn%models(im)%material))
+    end do
+    if (scn%impact == IMPACT_MASSLESS .and. size(nodes) > 0) then
+      if (on_models(scn, nodes, nonlinear)) then
+        im = findloc(nonlinear, .true., 1)
+        call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(scn%models(im)%line) // ': MODEL ' // &
+          scn%models(im)%group // ': IMPACT MASSLESS on a contact node of a nonlinear law (' // &
+          law_name(scn%materials(scn%models(im)%material)%law) // "): its correction force at the massless " // &
+          "nodes would change the body's momentum; IMPACT PERSIST, PAPER or SYMMETRIC, at '" // scn%models(im)%group // "'")
+        return
+      end if
+    end if
     if (scn%impact /= IMPACT_AUTO) return
     scn%impact_auto = .true.
     if (size(scn%conditions) == 0) then
@@ -703,6 +767,7 @@ contains
         ! which keeps the contact nodes' mass as it is, keeps it so (docs/contact.md, "A mass tuned to
         ! the step"); SYMMETRIC's lumped rows and MASSLESS's moved mass would not.
         if (.not. on_models(scn, nodes, .not. scn%models%tuned_exact)) scn%impact = IMPACT_PERSIST
+        if (scn%impact == IMPACT_MASSLESS .and. on_models(scn, nodes, nonlinear)) scn%impact = IMPACT_PERSIST
       end if
     end if
   end subroutine resolve_impact

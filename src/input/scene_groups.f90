@@ -29,11 +29,11 @@ contains
     call sch%add_keyword('GROUP', 1, 1)
     call sch%add_param('GROUP', 'NODES', 0, -1)
     call sch%add_param('GROUP', 'ELEMENTS', 0, -1)
-    call sch%add_param('GROUP', 'BOX', 4, 4)
-    call sch%add_param('GROUP', 'SPHERE', 2, 2)
+    call sch%add_param('GROUP', 'BOX', 4, 6)
+    call sch%add_param('GROUP', 'SPHERE', 2, 3)
     call sch%add_param('GROUP', 'RADIUS', 1, 1)
-    call sch%add_param('GROUP', 'PLANE', 2, 2)
-    call sch%add_param('GROUP', 'NORMAL', 2, 2)
+    call sch%add_param('GROUP', 'PLANE', 2, 3)
+    call sch%add_param('GROUP', 'NORMAL', 2, 3)
     call sch%add_param('GROUP', 'TOLERANCE', 1, 1)
     call sch%add_param('GROUP', 'OF', 1, 1)
     call sch%add_param('GROUP', 'INTERSECTION', 2, 2)
@@ -151,19 +151,27 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     logical, allocatable :: inside(:), cand(:)
-    real(dp) :: a(4), c(2), nrm(2), r, tol
-    integer :: i, e, k, ig
+    real(dp) :: a(6), c(scn%mesh%ndim), nrm(scn%mesh%ndim), r, tol
+    integer :: i, e, k, ig, nd
     stat = STAT_OK
+    nd = scn%mesh%ndim
     tol = zero_tol * model_size(scn%mesh)
     select case (sel)
-    case (1)
-      do i = 1, 4
-        call get_real(st, 'BOX', a(i), stat, errmsg, index=i, lower=-MAX_COORD, lower_inclusive=.true., &
-          upper=MAX_COORD, upper_inclusive=.true.)
+    case (1)                                  ! BOX x0 y0 [z0] x1 y1 [z1]: a(1:nd) the low corner, a(4:3+nd) the high
+      k = find_param(st, 'BOX')
+      if (size(st%params(k)%values) /= 2 * nd) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'BOX takes ' // str(2 * nd) // ' numbers in a ' // &
+          str(nd) // 'D scene', st%params(k)%keytok))
+        return
+      end if
+      do i = 1, 2 * nd
+        call get_real(st, 'BOX', a(merge(i, i - nd + 3, i <= nd)), stat, errmsg, index=i, lower=-MAX_COORD, &
+          lower_inclusive=.true., upper=MAX_COORD, upper_inclusive=.true.)
         if (stat /= STAT_OK) return
       end do
-      if (a(3) < a(1) .or. a(4) < a(2)) call set_error(stat, errmsg, STAT_INPUT, &
-        stmt_error(st, 'BOX x0 y0 x1 y1 with x0 <= x1 and y0 <= y1', st%params(find_param(st, 'BOX'))%keytok))
+      if (any(a(4:3 + nd) < a(1:nd))) call set_error(stat, errmsg, STAT_INPUT, &
+        stmt_error(st, 'BOX x0 y0 x1 y1 (3D: x0 y0 z0 x1 y1 z1) with x0 <= x1, y0 <= y1, z0 <= z1', &
+        st%params(find_param(st, 'BOX'))%keytok))
     case (2)
       call get_point(st, 'SPHERE', c, stat, errmsg)
       if (stat == STAT_OK) call get_real(st, 'RADIUS', r, stat, errmsg, lower=0.0_dp, lower_inclusive=.false., &
@@ -183,7 +191,7 @@ contains
       associate (x => scn%mesh%x(:, i))
         select case (sel)
         case (1)
-          inside(i) = x(1) >= a(1) - tol .and. x(1) <= a(3) + tol .and. x(2) >= a(2) - tol .and. x(2) <= a(4) + tol
+          inside(i) = all(x >= a(1:nd) - tol .and. x <= a(4:3 + nd) + tol)
         case (2)
           inside(i) = norm2(x - c) <= r + tol
         case default

@@ -142,27 +142,50 @@ contains
       st%params(find_param(st, key))%values(1)))
   end subroutine get_choice
 
-  !> Two numbers of a parameter.
+  !> size(p) numbers of a parameter (2, or 3 in a DIMENSION 3 scene): another count is an error
+  !> naming the parameter.
   subroutine get_pair(st, key, p, stat, errmsg)
     type(statement_t), intent(in) :: st
     character(len=*), intent(in) :: key
-    real(dp), intent(out) :: p(2)
+    real(dp), intent(out) :: p(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    call get_real(st, key, p(1), stat, errmsg, index=1)
+    integer :: k
+    call check_count(st, key, size(p), stat, errmsg)
     if (stat /= STAT_OK) return
-    call get_real(st, key, p(2), stat, errmsg, index=2)
+    do k = 1, size(p)
+      call get_real(st, key, p(k), stat, errmsg, index=k)
+      if (stat /= STAT_OK) return
+    end do
   end subroutine get_pair
+
+  !> A parameter's values are n numbers (2 in 2D, 3 in 3D: the coordinates of a point or vector).
+  subroutine check_count(st, key, n, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    character(len=*), intent(in) :: key
+    integer, intent(in) :: n
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k
+    stat = STAT_OK
+    k = find_param(st, key)
+    if (k == 0) return
+    if (size(st%params(k)%values) == n) return
+    call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, key // ' takes ' // str(n) // ' numbers in a ' // &
+      str(n) // 'D scene, not ' // str(size(st%params(k)%values)), st%params(k)%keytok))
+  end subroutine check_count
 
   !> A point (x y) of parameter key, each coordinate within ±MAX_COORD.
   subroutine get_point(st, key, p, stat, errmsg)
     type(statement_t), intent(in) :: st
     character(len=*), intent(in) :: key
-    real(dp), intent(out) :: p(2)
+    real(dp), intent(out) :: p(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: k
-    do k = 1, 2
+    call check_count(st, key, size(p), stat, errmsg)
+    if (stat /= STAT_OK) return
+    do k = 1, size(p)
       call get_real(st, key, p(k), stat, errmsg, index=k, lower=-MAX_COORD, lower_inclusive=.true., upper=MAX_COORD, &
         upper_inclusive=.true.)
       if (stat /= STAT_OK) return
@@ -181,7 +204,7 @@ contains
   subroutine get_unit(st, key, n, stat, errmsg)
     type(statement_t), intent(in) :: st
     character(len=*), intent(in) :: key
-    real(dp), intent(out) :: n(2)
+    real(dp), intent(out) :: n(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     call get_pair(st, key, n, stat, errmsg)

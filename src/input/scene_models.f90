@@ -13,7 +13,8 @@ module scene_models
   use scene_helpers, only: get_etype, model_size
   use number_text, only: real_text
   use element_traits, only: FAMILY_LINE, etype_family, etypes_of_family, etype_needs_material, etype_section_needs, &
-    etype_name, etype_nen, ET_MASS, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_TRI3, FAMILY_SURFACE
+    etype_name, etype_nen, ET_MASS, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_TRI3, FAMILY_SURFACE, etype_dimension, MAX_NEN, DOF_UX, &
+    ET_HEX8, ET_TET4
   implicit none
   private
   public :: models_schema, models_statement, default_mass, check_tuned
@@ -63,7 +64,7 @@ contains
     type(model_t) :: md
     integer :: ig, e, i, k, et0, isec, imodel
     character(len=:), allocatable :: w, msg
-    real(dp) :: x(2, 8), msize
+    real(dp) :: x(3, MAX_NEN), msize
     md%group = st%lead(1)%text
     msize = model_size(scn%mesh)
     md%line = st%line
@@ -94,6 +95,16 @@ contains
         if (stat /= STAT_OK) return
       end if
     end associate
+    if (etype_dimension(md%etype) /= scn%mesh%ndim) then
+      if (scn%mesh%ndim == 3) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, etype_name(md%etype) // ' elements in a DIMENSION 3 ' // &
+          'scene (3D elements: HEX8, TET4)', st%lead(1)))
+      else
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, etype_name(md%etype) // ' elements in a planar scene ' // &
+          '(they need DIMENSION 3)', st%lead(1)))
+      end if
+      return
+    end if
     ! Material (not for point masses).
     md%material = 0
     if (find_param(st, 'MATERIAL') > 0) then
@@ -167,6 +178,7 @@ contains
     if (md%material > 0) call check_model_law(st, md, scn%materials(md%material), stat, errmsg)
     if (stat == STAT_OK) call get_strain(st, md, scn, stat, errmsg)
     if (stat == STAT_OK) call get_formulation(st, md, scn, stat, errmsg)
+    if (stat == STAT_OK .and. scn%mesh%ndim == 3) call check_solid_model(st, md, stat, errmsg)
     if (stat /= STAT_OK) return
     imodel = size(scn%models) + 1
     associate (items => scn%mesh%egroups(ig)%items)
@@ -179,8 +191,8 @@ contains
           return
         end if
         scn%mesh%etype(e) = md%etype
-        x(:, 1:etype_nen(md%etype)) = scn%mesh%x(:, scn%mesh%conn(1:etype_nen(md%etype), e))
-        call elem_check_geometry(md%etype, x(:, 1:etype_nen(md%etype)), md%sec, stat, msg, size_ref=msize)
+        x(1:scn%mesh%ndim, 1:etype_nen(md%etype)) = scn%mesh%x(:, scn%mesh%conn(1:etype_nen(md%etype), e))
+        call elem_check_geometry(md%etype, x(1:scn%mesh%ndim, 1:etype_nen(md%etype)), md%sec, stat, msg, size_ref=msize)
         if (stat /= STAT_OK) then
           call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, etype_name(md%etype) // ' element ' // str(i) // &
             ' of group ' // md%group // ' (nodes ' // node_list([(scn%mesh%node_tag(scn%mesh%conn(k, e)), &
@@ -275,7 +287,8 @@ contains
     if (.not. any(on_axis)) return
     call scn%mesh%add_node_group('(axis of ' // md%group // ')', pack([(n, n = 1, scn%mesh%nnode)], on_axis))
     fx%ngroup = scn%mesh%nngroup
-    fx%dofs = [.true., .false., .false.]
+    fx%dofs = .false.
+    fx%dofs(DOF_UX) = .true.
     fx%line = st%line
     scn%fixes = [scn%fixes, fx]
   end subroutine axis_support
@@ -422,6 +435,29 @@ contains
     end do
   end function node_list
 
+  !> What a DIMENSION 3 model offers so far (HEX8 and TET4, ELASTIC and VON_MISES, small strain; B-bar
+  !> HEX8): its other options are refused by name rather than ignored.
+  subroutine check_solid_model(st, md, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    type(model_t), intent(in) :: md
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=16), parameter :: refused(4) = [character(len=16) :: 'PLANE', 'KINEMATICS', 'STRAIN_MEASURE', &
+      'AXISYMMETRIC']
+    integer :: k, ip
+    stat = STAT_OK
+    do k = 1, size(refused)
+      ip = find_param(st, trim(refused(k)))
+      if (ip == 0) cycle
+      if (trim(refused(k)) == 'KINEMATICS' .and. .not. md%large) cycle           ! KINEMATICS SMALL
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, trim(refused(k)) // ' is not available on ' // &
+        etype_name(md%etype) // ' yet (3D solids: KINEMATICS SMALL)', st%params(ip)%keytok))
+      return
+    end do
+    if (md%tuned .and. md%mass_said) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, &
+      'MASS TUNED is for 2-node bars (3D solids: CONSISTENT, LUMPED or MIXED)', st%params(find_param(st, 'MASS'))%keytok))
+  end subroutine check_solid_model
+
   !> The section characteristics an element type needs.
   subroutine check_section(st, md, stat, errmsg)
     type(statement_t), intent(in) :: st
@@ -552,7 +588,7 @@ contains
     integer :: k
     logical :: auto
     stat = STAT_OK
-    auto = md%etype == ET_QUAD4 .and. .not. md%sec%plane_stress .and. md%material > 0
+    auto = (md%etype == ET_QUAD4 .or. md%etype == ET_HEX8) .and. .not. md%sec%plane_stress .and. md%material > 0
     if (auto) auto = law_nearly_isochoric(scn%materials(md%material))
     md%bbar = auto
     k = find_param(st, 'FORMULATION')
@@ -565,12 +601,14 @@ contains
     case ('AUTO')
       md%bbar = auto
     case ('BBAR')
-      if (etype_family(md%etype) /= FAMILY_SURFACE .or. md%material == 0) then
+      if ((etype_family(md%etype) /= FAMILY_SURFACE .and. md%etype /= ET_HEX8 .and. md%etype /= ET_TET4) .or. &
+          md%material == 0) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORMULATION BBAR is for surface elements (QUAD4, ' // &
-          'QUAD8, TRI6) with a material', st%params(k)%values(1)))
-      else if (md%etype == ET_TRI3) then
-        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORMULATION BBAR on TRI3: its one point is its ' // &
-          'mean already (TRI3 locks under isochoric flow: use QUAD4, which takes BBAR, or TRI6)', st%params(k)%values(1)))
+          'QUAD8, TRI6) and HEX8 with a material', st%params(k)%values(1)))
+      else if (md%etype == ET_TRI3 .or. md%etype == ET_TET4) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORMULATION BBAR on ' // etype_name(md%etype) // &
+          ': its one point is its mean already (it locks under isochoric flow: use QUAD4 or HEX8, which take ' // &
+          'BBAR)', st%params(k)%values(1)))
       else if (md%sec%plane_stress) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORMULATION BBAR in plane stress: the thickness is ' // &
           'free, there is no volumetric locking to relieve (PLANE STRAIN takes it)', st%params(k)%values(1)))

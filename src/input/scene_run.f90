@@ -3,7 +3,7 @@
 module scene_run
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
-  use mesh, only: DOF_UX, DOF_UY, DOF_RZ
+  use mesh, only: DOF_UX, DOF_UY, DOF_RZ, DOF_UZ
   use statement, only: statement_t, token_t, stmt_error, find_param, count_param, get_real, get_int, to_int, to_real
   use statement_schema, only: schema_t
   use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_AUTO, IMPACT_SYMMETRIC, &
@@ -110,6 +110,10 @@ contains
     type(statement_t), intent(in) :: st
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    if (scn%mesh%ndim == 3) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'STATIC is not available in DIMENSION 3 yet'))
+      return
+    end if
     scn%static_line = st%line
     call get_int(st, 'STEPS', scn%static_steps, stat, errmsg, default=1, lower=1, lower_inclusive=.true., &
       upper=100000, upper_inclusive=.true.)
@@ -293,7 +297,7 @@ contains
           end if
           call node_group(scn, st, vals(i), ig, stat, errmsg)
           if (stat /= STAT_OK) return
-          call probe_dof(st, vals(i + 1), pr, stat, errmsg)
+          call probe_dof(st, vals(i + 1), pr, scn%mesh%ndim, stat, errmsg)
           if (stat /= STAT_OK) return
           if (size(scn%mesh%ngroups(ig)%items) /= 1 .and. .not. pr%reaction) then
             call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a probe of a displacement or a velocity needs a ' // &
@@ -348,16 +352,30 @@ contains
 
   !> The quantity of a PROBE pair: UX UY RZ (displacement), VX VY VRZ (velocity), RX RY RZ
   !> (support reaction; RZ is a rotation when displaced, a moment as a reaction: the reaction
-  !> is spelled MZ).
-  subroutine probe_dof(st, tok, pr, stat, errmsg)
+  !> is spelled MZ); in a DIMENSION 3 scene UX UY UZ, VX VY VZ, RX RY.
+  subroutine probe_dof(st, tok, pr, ndim, stat, errmsg)
     type(statement_t), intent(in) :: st
     type(token_t), intent(in) :: tok
     type(probe_t), intent(inout) :: pr
+    integer, intent(in) :: ndim
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
     pr%velocity = .false.
     pr%reaction = .false.
+    if (ndim == 2 .and. any(upper(tok%text) == ['UZ', 'VZ'])) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, upper(tok%text) // ' needs DIMENSION 3', tok))
+      return
+    else if (ndim == 3 .and. any(upper(tok%text) == ['RZ ', 'VRZ', 'MZ '])) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a DIMENSION 3 scene probes UX, UY, UZ, VX, VY, VZ, ' // &
+        'RX or RY', tok))
+      return
+    end if
+    if (any(upper(tok%text) == ['UZ', 'VZ'])) then
+      pr%dof = DOF_UZ
+      pr%velocity = upper(tok%text(1:1)) == 'V'
+      return
+    end if
     select case (upper(tok%text))
     case ('UX', 'VX', 'RX')
       pr%dof = DOF_UX

@@ -12,8 +12,8 @@ module law_types
   !> (MODEL … SUBSTEPS EXACT): sigbar . deps = psi(eps_n + deps) - psi(eps_n) exactly, one step.
   integer, parameter :: NSUB_EXACT = -1
 
-  !> Largest stress vector of a point (1D: 1, beam section: 2, quads: 4).
-  integer, parameter :: MAX_COMPONENTS = 4
+  !> Largest stress vector of a point (1D: 1, beam section: 2, quads: 4, solids: 6).
+  integer, parameter :: MAX_COMPONENTS = 6
 
   !> Material constants (SI). For springs young is the stiffness [N/m] and yield a force.
   type :: law_params_t

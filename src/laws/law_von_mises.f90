@@ -1,8 +1,9 @@
 !> J2 (von Mises) plasticity for plane strain and plane stress, with linear isotropic (h_iso)
 !> and kinematic (h_kin) hardening, calibrated so that a uniaxial stress path reproduces the
 !> 1D bilinear law: slope d sigma / d eps_p = h_iso + h_kin after yield at sy.
-!> Vectors have 4 components (xx, yy, zz, xy); strains carry the engineering shear gamma_xy,
-!> stress-like vectors (stress, back stress) the tensor xy component.
+!> Vectors have 4 components (xx, yy, zz, xy; plane and axisymmetric points) or 6 (xx, yy, zz, xy, yz,
+!> xz; 3D solids), nc = their size; strains carry the engineering shears, stress-like vectors
+!> (stress, back stress) the tensor components.
 !> Yield: f = sqrt(3/2) |dev(sigma) - beta| - (sy + h_iso alpha), |s|^2 = sxx^2+syy^2+szz^2+2 sxy^2.
 !> Flow: d eps_p = dlam n, n = xi/|xi|; d alpha = sqrt(2/3) dlam; d beta = (2/3) h_kin d eps_p.
 !> One increment is the closed-form radial return (backward Euler, exact for proportional
@@ -10,9 +11,9 @@
 !> szz = 0 is enforced by a local Newton iteration on the increment of ezz, using the zz-zz entry
 !> of the consistent tangent; the total ezz is kept in the state, the tangent is the 3D consistent
 !> tangent statically condensed on szz = 0.
-!> State q (VM_NSTATE = 10): q(1:4) plastic strain (engineering shear), q(5) alpha (accumulated
-!> equivalent plastic strain), q(6:9) back stress (deviatoric), q(10) total ezz (plane stress; 0 in
-!> plane strain).
+!> State q (vm_state_size(nc): 10 for 4 components, VM_NSTATE; 14 for 6): q(1:nc) plastic strain
+!> (engineering shear), q(nc+1) alpha (accumulated equivalent plastic strain), q(nc+2:2nc+1) back
+!> stress (deviatoric), q(2nc+2) total ezz (plane stress; 0 otherwise).
 module law_von_mises
   use kinds, only: dp
   use subincrement, only: return_map_t, subincrement_path
@@ -20,8 +21,10 @@ module law_von_mises
   implicit none
   private
   public :: VM_NSTATE, vm_d3, vm_dps, vm_return, vm_path, vm_trial_ratio, vm_stored, vm_dev, vm_norm, vm_map_t
+  public :: vm_state_size, vm_alpha_index
 
-  integer, parameter :: VM_NSTATE = 10
+  integer, parameter :: VM_NSTATE = 10               !< the state of a 4-component point (vm_state_size(4))
+  integer, parameter :: NCMAX = 6
   integer, parameter :: PS_MAXIT = 50                 !< plane stress: Newton iterations on ezz
   real(dp), parameter :: PS_RTOL = 1.0e-13_dp         !< plane stress: |szz| <= PS_RTOL (sy + |sigma|)
 
@@ -35,25 +38,46 @@ module law_von_mises
 
 contains
 
-  !> Deviator of a stress-like 4-vector.
+  !> The state size of a point with nc stress components: plastic strain, alpha, back stress, ezz.
+  pure integer function vm_state_size(nc)
+    integer, intent(in) :: nc
+    vm_state_size = 2 * nc + 2
+  end function vm_state_size
+
+  !> Where alpha (the accumulated equivalent plastic strain) is in the state of nc components.
+  pure integer function vm_alpha_index(nc)
+    integer, intent(in) :: nc
+    vm_alpha_index = nc + 1
+  end function vm_alpha_index
+
+  !> Deviator of a stress-like vector (4 or 6 components, the shears after the normals).
   pure function vm_dev(s) result(d)
-    real(dp), intent(in) :: s(4)
-    real(dp) :: d(4), p
+    real(dp), intent(in) :: s(:)
+    real(dp) :: d(size(s)), p
     p = (s(1) + s(2) + s(3)) / 3.0_dp
-    d = [s(1) - p, s(2) - p, s(3) - p, s(4)]
+    d(1:3) = [s(1) - p, s(2) - p, s(3) - p]
+    d(4:) = s(4:)
   end function vm_dev
 
-  !> Tensor norm of a stress-like 4-vector (the xy entry counts twice).
+  !> Tensor norm of a stress-like vector (each shear entry counts twice).
   pure real(dp) function vm_norm(s)
-    real(dp), intent(in) :: s(4)
-    vm_norm = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp * s(4)**2)
+    real(dp), intent(in) :: s(:)
+    real(dp) :: t
+    integer :: i
+    t = s(4)**2
+    do i = 5, size(s)
+      t = t + s(i)**2
+    end do
+    vm_norm = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp * t)
   end function vm_norm
 
-  !> Isotropic 3D elasticity restricted to (xx, yy, zz, gamma_xy): the plane-strain D.
+  !> Isotropic 3D elasticity on (xx, yy, zz, gamma_xy[, gamma_yz, gamma_xz]): 4 x 4, the plane-strain
+  !> D, or the whole 6 x 6 (size(d, 1)).
   pure subroutine vm_d3(e, nu, d)
     real(dp), intent(in) :: e, nu
-    real(dp), intent(out) :: d(4, 4)
+    real(dp), intent(out) :: d(:, :)
     real(dp) :: lam, mu
+    integer :: i
     mu = e / (2.0_dp * (1.0_dp + nu))
     lam = e * nu / ((1.0_dp + nu) * (1.0_dp - 2.0_dp * nu))
     d = 0.0_dp
@@ -61,7 +85,9 @@ contains
     d(1, 1) = lam + 2.0_dp * mu
     d(2, 2) = lam + 2.0_dp * mu
     d(3, 3) = lam + 2.0_dp * mu
-    d(4, 4) = mu
+    do i = 4, size(d, 1)
+      d(i, i) = mu
+    end do
   end subroutine vm_d3
 
   !> Plane-stress D (szz = 0: zz row and column zero), as elements' quad_elastic_d.
@@ -81,55 +107,66 @@ contains
   !> Trial stress increment d_el deps in yield stresses (von Mises equivalent / sy): the
   !> measure of the AUTO rule.
   pure real(dp) function vm_trial_ratio(d_el, deps, sy)
-    real(dp), intent(in) :: d_el(4, 4), deps(4), sy
+    real(dp), intent(in) :: d_el(:, :), deps(:), sy
     vm_trial_ratio = sqrt(1.5_dp) * vm_norm(vm_dev(matmul(d_el, deps))) / sy
   end function vm_trial_ratio
 
   !> Recoverable energy 1/2 sigma . C^-1 sigma (isotropic compliance; szz = 0 in plane stress).
   pure real(dp) function vm_stored(e, nu, sig)
-    real(dp), intent(in) :: e, nu, sig(4)
+    real(dp), intent(in) :: e, nu, sig(:)
+    real(dp) :: t
+    integer :: i
+    t = sig(4)**2
+    do i = 5, size(sig)
+      t = t + sig(i)**2
+    end do
     vm_stored = 0.5_dp * ((sig(1)**2 + sig(2)**2 + sig(3)**2 &
       - 2.0_dp * nu * (sig(1) * sig(2) + sig(2) * sig(3) + sig(3) * sig(1))) / e &
-      + 2.0_dp * (1.0_dp + nu) * sig(4)**2 / e)
+      + 2.0_dp * (1.0_dp + nu) * t / e)
   end function vm_stored
 
-  !> One 3D increment de (zz entry included) from (sig_n, q_n): elastic predictor with d3, radial
-  !> return. dep: plastic strain increment (engineering shear); cep: consistent tangent.
+  !> One 3D increment de (zz entry included) from (sig_n, q_n), nc = size(sig_n) components: elastic
+  !> predictor with d3, radial return. dep: plastic strain increment (engineering shear); cep:
+  !> consistent tangent.
   pure subroutine vm_return(p, sig_n, q_n, de, sig, q, dep, cep)
     type(law_params_t), intent(in) :: p
-    real(dp), intent(in) :: sig_n(4), q_n(:), de(4)
-    real(dp), intent(out) :: sig(4), q(:), dep(4), cep(4, 4)
-    real(dp) :: d3(4, 4), str(4), xi(4), n(4), nrm, f, g, kb, dpeq, dlam, th, thb, e, nu, sy, hi, hk
-    integer :: i, j
+    real(dp), intent(in) :: sig_n(:), q_n(:), de(:)
+    real(dp), intent(out) :: sig(:), q(:), dep(:), cep(:, :)
+    real(dp) :: d3(NCMAX, NCMAX), str(NCMAX), xi(NCMAX), n(NCMAX), nrm, f, g, kb, dpeq, dlam, th, thb, e, nu, sy, hi, hk
+    integer :: i, j, nc, ia, ib
+    nc = size(sig_n)
+    ia = vm_alpha_index(nc)
+    ib = ia + 1                                  ! the back stress: q(ib:ib + nc - 1)
     e = p%young
     nu = p%poisson
     sy = p%yield
     hi = p%h_iso
     hk = p%h_kin
-    call vm_d3(e, nu, d3)
-    str = sig_n + matmul(d3, de)
-    xi = vm_dev(str) - q_n(6:9)
-    nrm = vm_norm(xi)
-    f = sqrt(1.5_dp) * nrm - (sy + hi * q_n(5))
-    q(1:VM_NSTATE) = q_n(1:VM_NSTATE)
+    call vm_d3(e, nu, d3(1:nc, 1:nc))
+    str(1:nc) = sig_n + matmul(d3(1:nc, 1:nc), de)
+    xi(1:nc) = vm_dev(str(1:nc)) - q_n(ib:ib + nc - 1)
+    nrm = vm_norm(xi(1:nc))
+    f = sqrt(1.5_dp) * nrm - (sy + hi * q_n(ia))
+    q(1:vm_state_size(nc)) = q_n(1:vm_state_size(nc))
     if (f <= 0.0_dp) then
-      sig = str
+      sig = str(1:nc)
       dep = 0.0_dp
-      cep = d3
+      cep = d3(1:nc, 1:nc)
       return
     end if
     g = e / (2.0_dp * (1.0_dp + nu))
     kb = e / (3.0_dp * (1.0_dp - 2.0_dp * nu))
     dpeq = f / (3.0_dp * g + hi + hk)
     dlam = sqrt(1.5_dp) * dpeq
-    n = xi / nrm
-    sig = str - 2.0_dp * g * dlam * n
-    dep = dlam * [n(1), n(2), n(3), 2.0_dp * n(4)]
-    q(1:4) = q_n(1:4) + dep
-    q(5) = q_n(5) + dpeq
-    q(6:9) = q_n(6:9) + (2.0_dp / 3.0_dp) * hk * dlam * n
+    n(1:nc) = xi(1:nc) / nrm
+    sig = str(1:nc) - 2.0_dp * g * dlam * n(1:nc)
+    dep(1:3) = dlam * n(1:3)
+    dep(4:nc) = dlam * (2.0_dp * n(4:nc))
+    q(1:nc) = q_n(1:nc) + dep
+    q(ia) = q_n(ia) + dpeq
+    q(ib:ib + nc - 1) = q_n(ib:ib + nc - 1) + (2.0_dp / 3.0_dp) * hk * dlam * n(1:nc)
     ! C = K 1x1 + 2G th Idev - 2G thb n x n (Simo-Hughes box 3.2 with kinematic hardening);
-    ! in Voigt form the gamma column acts on 2 eps_xy, so Idev(4,4) = 1/2 and n x n has no factor.
+    ! in Voigt form the gamma columns act on 2 eps_ij, so Idev(i,i) = 1/2 there and n x n has no factor.
     th = 1.0_dp - 2.0_dp * g * dlam / nrm
     thb = 3.0_dp * g / (3.0_dp * g + hi + hk) - 2.0_dp * g * dlam / nrm
     cep = 0.0_dp
@@ -139,9 +176,11 @@ contains
       end do
       cep(j, j) = cep(j, j) + 2.0_dp * g * th
     end do
-    cep(4, 4) = g * th
-    do j = 1, 4
-      do i = 1, 4
+    do i = 4, nc
+      cep(i, i) = g * th
+    end do
+    do j = 1, nc
+      do i = 1, nc
         cep(i, j) = cep(i, j) - 2.0_dp * g * thb * n(i) * n(j)
       end do
     end do
@@ -152,7 +191,7 @@ contains
     type(law_params_t), intent(in) :: p
     real(dp), intent(in) :: sig_n(4), q_n(:), de(4)
     real(dp), intent(out) :: sig(4), q(:), dep(4), ctan(4, 4)
-    real(dp) :: d3(4, 4), cep(4, 4), z, d33(4)
+    real(dp) :: d3(4, 4), cep(4, 4), z, d33(4)   ! (plane stress: 4 components)
     integer :: it, i, j
     call vm_d3(p%young, p%poisson, d3)
     z = -(sig_n(3) + d3(3, 1) * de(1) + d3(3, 2) * de(2) + d3(3, 4) * de(4)) / d3(3, 3)
@@ -181,13 +220,13 @@ contains
     integer, intent(in) :: ns, nq, k, n
     real(dp), intent(in) :: eps_n(ns), deps(ns), de(ns), s0(ns), q0(nq)
     real(dp), intent(out) :: s1(ns), q1(nq), dep(ns), dtan(ns, ns)
-    real(dp) :: d(4)
-    d = de(1:4)
+    real(dp) :: d(NCMAX)
+    d(1:ns) = de(1:ns)
     if (self%plane_stress) then
       d(3) = 0.0_dp
-      call vm_return_ps(self%p, s0, q0, d, s1, q1, dep, dtan)
+      call vm_return_ps(self%p, s0, q0, d(1:4), s1, q1, dep, dtan)
     else
-      call vm_return(self%p, s0, q0, d, s1, q1, dep, dtan)
+      call vm_return(self%p, s0, q0, d(1:ns), s1, q1, dep, dtan)
     end if
   end subroutine vm_step
 
@@ -198,27 +237,33 @@ contains
   !> consistent tangent of one return over the whole increment (below).
   pure subroutine vm_path(p, plane_stress, nsub, d_el, sig_n, q_n, deps, q, r)
     type(law_params_t), intent(in) :: p
-    real(dp), intent(in) :: d_el(4, 4), sig_n(4), q_n(:), deps(4)
+    real(dp), intent(in) :: d_el(:, :), sig_n(:), q_n(:), deps(:)    !< nc = size(sig_n): 4, or 6 (3D)
     logical, intent(in) :: plane_stress
     integer, intent(in) :: nsub
     real(dp), intent(out) :: q(:)
     type(law_step_t), intent(out) :: r
-    real(dp) :: qn(VM_NSTATE), qk(VM_NSTATE), s1(4), q1(VM_NSTATE), dep(4), d(4), cel(4, 4), nu, g
-    r%sig = sig_n + matmul(d_el, deps)
-    if (sqrt(1.5_dp) * vm_norm(vm_dev(r%sig) - q_n(6:9)) - (p%yield + p%h_iso * q_n(5)) <= 0.0_dp) then
-      r%sigbar = 0.5_dp * (sig_n + r%sig)
-      q(1:VM_NSTATE) = q_n(1:VM_NSTATE)
+    real(dp) :: qn(2 * NCMAX + 2), qk(2 * NCMAX + 2), s1(NCMAX), q1(2 * NCMAX + 2), dep(NCMAX), d(NCMAX), &
+      cel(NCMAX, NCMAX), eps0(NCMAX), nu, g
+    integer :: nc, ns, ia, i
+    nc = size(sig_n)
+    ns = vm_state_size(nc)
+    ia = vm_alpha_index(nc)
+    r%sig(1:nc) = sig_n + matmul(d_el, deps)
+    if (sqrt(1.5_dp) * vm_norm(vm_dev(r%sig(1:nc)) - q_n(ia + 1:ia + nc)) - (p%yield + p%h_iso * q_n(ia)) <= 0.0_dp) then
+      r%sigbar(1:nc) = 0.5_dp * (sig_n + r%sig(1:nc))
+      q(1:ns) = q_n(1:ns)
       if (plane_stress) q(10) = q_n(10) - p%poisson / (1.0_dp - p%poisson) * (deps(1) + deps(2))
-      r%dtan = d_el
+      r%dtan(1:nc, 1:nc) = d_el
       return
     end if
     r%nused = max(1, nsub)
-    qn = q_n(1:VM_NSTATE)            ! contiguous locals: no temporary at the call
+    qn(1:ns) = q_n(1:ns)             ! contiguous locals: no temporary at the call
+    eps0 = 0.0_dp
     if (plane_stress) then
-      call subincrement_path(vm_map_t(p, plane_stress), r%nused, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
-        deps, sig_n, qn, r%sig, r%sigbar, qk, r%dissip, r%dtan, r%dbar(1:4, 1:4))
+      call subincrement_path(vm_map_t(p, plane_stress), r%nused, eps0(1:4), &
+        deps, sig_n, qn(1:ns), r%sig(1:4), r%sigbar(1:4), qk(1:ns), r%dissip, r%dtan(1:4, 1:4), r%dbar(1:4, 1:4))
     else
-      ! The isotropic compliance on [xx, yy, zz, 2xy] (the trial of every sub-increment's return).
+      ! The isotropic compliance on [xx, yy, zz, 2xy[, 2yz, 2xz]] (the trial of every sub-increment's return).
       nu = p%poisson
       g = 0.5_dp * p%young / (1.0_dp + nu)
       cel = 0.0_dp
@@ -226,11 +271,14 @@ contains
       cel(1, 1) = 1.0_dp / p%young
       cel(2, 2) = cel(1, 1)
       cel(3, 3) = cel(1, 1)
-      cel(4, 4) = 1.0_dp / g
-      call subincrement_path(vm_map_t(p, plane_stress), r%nused, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
-        deps, sig_n, qn, r%sig, r%sigbar, qk, r%dissip, r%dtan, r%dbar(1:4, 1:4), cel)
+      do i = 4, nc
+        cel(i, i) = 1.0_dp / g
+      end do
+      call subincrement_path(vm_map_t(p, plane_stress), r%nused, eps0(1:nc), &
+        deps, sig_n, qn(1:ns), r%sig(1:nc), r%sigbar(1:nc), qk(1:ns), r%dissip, r%dtan(1:nc, 1:nc), &
+        r%dbar(1:nc, 1:nc), cel(1:nc, 1:nc))
     end if
-    q(1:VM_NSTATE) = qk
+    q(1:ns) = qk(1:ns)
     ! The iteration's tangent: the consistent tangent of one return over the whole increment. The
     ! last sub-increment's, the tangent of a step N times smaller, misses how the flow direction turns
     ! with the increment (the 2 mu dgamma / |xi| part): with AUTO's sub-increments Newton took 30
@@ -239,17 +287,17 @@ contains
     ! sub-increment's (k/N): an increment that yields half-way is stiffer than its end tangent
     ! (Newton contracted by 0.6 per iteration on the 8 x 40 Taylor bar with the end tangent alone).
     if (r%nused > 1) then
-      d = deps
+      d(1:nc) = deps
       if (plane_stress) then
         d(3) = 0.0_dp
-        call vm_return_ps(p, sig_n, q_n, d, s1, q1, dep, r%dtan)
+        call vm_return_ps(p, sig_n, q_n, d(1:4), s1(1:4), q1, dep(1:4), r%dtan(1:4, 1:4))
       else
-        call vm_return(p, sig_n, q_n, d, s1, q1, dep, r%dtan)
+        call vm_return(p, sig_n, q_n, d(1:nc), s1(1:nc), q1, dep(1:nc), r%dtan(1:nc, 1:nc))
       end if
     end if
     ! (The chain X_k = D_k (cel X_(k-1) + I/N) is not symmetric: its symmetric part, as the
     ! iteration matrix takes it; half of each would depend on the equations' order.)
-    r%dbar(1:4, 1:4) = 0.5_dp * (r%dbar(1:4, 1:4) + transpose(r%dbar(1:4, 1:4)))
+    r%dbar(1:nc, 1:nc) = 0.5_dp * (r%dbar(1:nc, 1:nc) + transpose(r%dbar(1:nc, 1:nc)))
     r%has_dbar = .true.
   end subroutine vm_path
 end module law_von_mises

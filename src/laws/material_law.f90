@@ -4,12 +4,13 @@
 !> the new internal variables, the work per unit weight and its dissipated part.
 !> Material-point kinds: PK_1D (springs: force/elongation, bars: axial stress/strain),
 !> PK_BEAM (section resultants N, M against axial strain and curvature), PK_PSTRAIN and
-!> PK_PSTRESS (quads: xx, yy, zz, xy with engineering shear).
+!> PK_PSTRESS (quads: xx, yy, zz, xy with engineering shear), PK_SOLID (3D solids: xx, yy, zz, xy,
+!> yz, xz, engineering shears).
 !> Laws and where they apply (law_check rejects the other pairs):
 !>   ELASTIC            every kind; beams with sec%layers > 0 use the fibre-integrated D
 !>   NONLINEAR_ELASTIC  PK_1D, PK_BEAM with layers > 0   sigma = E eps (1 + nl_b eps^2)
 !>   ELASTOPLASTIC      PK_1D, PK_BEAM with layers > 0   bilinear, yield, h_iso, h_kin
-!>   VON_MISES          PK_PSTRAIN, PK_PSTRESS           J2, yield, h_iso, h_kin
+!>   VON_MISES          PK_PSTRAIN, PK_PSTRESS, PK_SOLID J2, yield, h_iso, h_kin
 !>   HYPERELASTIC       PK_PSTRAIN, PK_PSTRESS, LARGE    compressible neo-Hookean (law_hyperelastic;
 !>                      its stress is formed by the large-displacement kernel, not by law_update)
 !> User documentation: docs/materials.md.
@@ -22,7 +23,7 @@ module material_law
   use law_nonlinear_elastic, only: nle_path, nle_exact, nle_auto_nsub, nle_energy, nle_stress
   use law_plastic_1d, only: P1D_NSTATE, plastic_1d_path, plastic_auto_nsub
   use law_hyperelastic, only: nh_lame, nh_energy
-  use law_von_mises, only: VM_NSTATE, vm_path, vm_trial_ratio, vm_stored, vm_d3, vm_dps
+  use law_von_mises, only: vm_state_size, vm_path, vm_trial_ratio, vm_stored, vm_d3, vm_dps
   use beam_fibre, only: FIB_ELASTIC, FIB_NONLINEAR, FIB_PLASTIC, fibre_update, fibre_stored, &
                         fibre_elastic_matrix, fibre_nstate
   implicit none
@@ -30,11 +31,11 @@ module material_law
   public :: material_t, law_step_t, law_update, law_is_linear, law_nstate, law_name, law_code, law_check
   public :: law_stored, law_elastic_matrix, law_nearly_isochoric
   public :: LAW_ELASTIC, LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC, LAW_VON_MISES, LAW_HYPERELASTIC
-  public :: PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS, pk_nstrain
+  public :: PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS, PK_SOLID, pk_nstrain
 
   integer, parameter :: LAW_ELASTIC = 1, LAW_NONLINEAR_ELASTIC = 2, LAW_ELASTOPLASTIC = 3, LAW_VON_MISES = 4, &
     LAW_HYPERELASTIC = 5
-  integer, parameter :: PK_1D = 1, PK_BEAM = 2, PK_PSTRAIN = 3, PK_PSTRESS = 4
+  integer, parameter :: PK_1D = 1, PK_BEAM = 2, PK_PSTRAIN = 3, PK_PSTRESS = 4, PK_SOLID = 5
 
   !> A scene's material: its name, its law and density, and the law's constants (law_params_t:
   !> young, poisson, nl_b, yield, h_iso, h_kin), which the laws receive as mat%law_params_t.
@@ -84,6 +85,8 @@ contains
       pk_nstrain = 1
     case (PK_BEAM)
       pk_nstrain = 2
+    case (PK_SOLID)
+      pk_nstrain = 6
     case default
       pk_nstrain = 4
     end select
@@ -130,7 +133,7 @@ contains
       if (pk == PK_1D) law_nstate = P1D_NSTATE
       if (pk == PK_BEAM .and. sec%layers > 0) law_nstate = fibre_nstate(FIB_PLASTIC, sec)
     case (LAW_VON_MISES)
-      if (pk == PK_PSTRAIN .or. pk == PK_PSTRESS) law_nstate = VM_NSTATE
+      if (pk == PK_PSTRAIN .or. pk == PK_PSTRESS .or. pk == PK_SOLID) law_nstate = vm_state_size(pk_nstrain(pk))
     end select
   end function law_nstate
 
@@ -143,6 +146,8 @@ contains
     integer, intent(in) :: pk
     real(dp), intent(out) :: d(:, :)
     real(dp) :: d4(4, 4)
+    real(dp) :: mu, lam
+    integer :: i
     d = 0.0_dp
     select case (pk)
     case (PK_1D)
@@ -160,6 +165,14 @@ contains
     case (PK_PSTRESS)
       call vm_dps(mat%young, mat%poisson, d4)
       d(1:4, 1:4) = d4
+    case (PK_SOLID)
+      mu = mat%young / (2.0_dp * (1.0_dp + mat%poisson))
+      lam = mat%young * mat%poisson / ((1.0_dp + mat%poisson) * (1.0_dp - 2.0_dp * mat%poisson))
+      d(1:3, 1:3) = lam
+      do i = 1, 3
+        d(i, i) = lam + 2.0_dp * mu
+        d(i + 3, i + 3) = mu
+      end do
     end select
   end subroutine law_elastic_matrix
 
@@ -175,14 +188,18 @@ contains
     stat = STAT_OK
     if (.not. mat%young > 0.0_dp) then
       call set_error(stat, errmsg, STAT_INPUT, 'YOUNG must be > 0 (got ' // str(mat%young) // ')')
-    else if ((pk == PK_PSTRAIN .or. pk == PK_PSTRESS) .and. &
+    else if ((pk == PK_PSTRAIN .or. pk == PK_PSTRESS .or. pk == PK_SOLID) .and. &
              .not. (mat%poisson > -1.0_dp .and. mat%poisson < 0.5_dp)) then
       call set_error(stat, errmsg, STAT_INPUT, 'POISSON must be in (-1, 0.5) (got ' // str(mat%poisson) // ')')
+    else if (pk == PK_SOLID .and. mat%law /= LAW_ELASTIC .and. mat%law /= LAW_VON_MISES) then
+      call set_error(stat, errmsg, STAT_INPUT, law_name(mat%law) // ' is not available on 3D solids yet (HEX8, TET4: ' // &
+        'ELASTIC, VON_MISES)')
     else if (mat%law < LAW_ELASTIC .or. mat%law > LAW_HYPERELASTIC) then
       call set_error(stat, errmsg, STAT_INPUT, 'unknown law code ' // str(mat%law))
     else if (mat%law == LAW_HYPERELASTIC .and. pk /= PK_PSTRAIN .and. pk /= PK_PSTRESS) then
       call set_error(stat, errmsg, STAT_INPUT, 'HYPERELASTIC applies to QUAD4, QUAD8, TRI3 and TRI6 only')
-    else if (mat%law /= LAW_HYPERELASTIC .and. (mat%law == LAW_VON_MISES .neqv. (pk == PK_PSTRAIN .or. pk == PK_PSTRESS))) then
+    else if (mat%law /= LAW_HYPERELASTIC .and. pk /= PK_SOLID .and. &
+             (mat%law == LAW_VON_MISES .neqv. (pk == PK_PSTRAIN .or. pk == PK_PSTRESS))) then
       if (mat%law == LAW_VON_MISES) then
         call set_error(stat, errmsg, STAT_INPUT, 'VON_MISES applies to QUAD4, QUAD8, TRI3 and TRI6 only')
       else if (mat%law /= LAW_ELASTIC) then
@@ -227,7 +244,7 @@ contains
     real(dp), intent(in) :: d(:, :), eps_n(:), deps(:), sig_n(:), q_n(:)
     real(dp), intent(out) :: q(:)
     type(law_step_t), intent(out) :: r
-    real(dp) :: dl(4, 4)
+    real(dp) :: dl(6, 6)
     integer :: n, ns, nst
     ns = pk_nstrain(pk)
     nst = law_nstate(mat, pk, sec)
@@ -251,10 +268,10 @@ contains
           r%dtan(1, 1))
       end if
     case (LAW_VON_MISES)
-      dl = d(1:4, 1:4)             ! the caller's D is law_elastic_matrix's (not rebuilt at every point)
+      dl(1:ns, 1:ns) = d(1:ns, 1:ns)   ! the caller's D is law_elastic_matrix's (not rebuilt at every point)
       n = nsub
-      if (n <= 0) n = plastic_auto_nsub(vm_trial_ratio(dl, deps(1:4), mat%yield))
-      call vm_path(mat%law_params_t, pk == PK_PSTRESS, n, dl, sig_n(1:4), q_n, deps(1:4), q, r)
+      if (n <= 0) n = plastic_auto_nsub(vm_trial_ratio(dl(1:ns, 1:ns), deps(1:ns), mat%yield))
+      call vm_path(mat%law_params_t, pk == PK_PSTRESS, n, dl(1:ns, 1:ns), sig_n(1:ns), q_n, deps(1:ns), q, r)
     case default
       call elastic_update(d(1:ns, 1:ns), deps(1:ns), sig_n(1:ns), r%sig(1:ns), r%sigbar(1:ns))
       if (nst > 0) q(1:nst) = q_n(1:nst)
@@ -283,7 +300,7 @@ contains
         w = 0.5_dp * sig(1)**2 / mat%young
       end if
     case (LAW_VON_MISES)
-      w = vm_stored(mat%young, mat%poisson, sig(1:4))
+      w = vm_stored(mat%young, mat%poisson, sig(1:ns))
     case (LAW_HYPERELASTIC)
       w = nh_energy(nh_lame(mat%young, mat%poisson), eps(1:4), pk == PK_PSTRESS)
     case default

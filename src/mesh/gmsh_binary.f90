@@ -366,7 +366,7 @@ contains
       call bad(g, c, 'node counts beyond the file', stat, errmsg)
       return
     end if
-    allocate (g%x(2, nnode), g%tag_of(nnode), tags(nnode))
+    allocate (g%x(3, nnode), g%tag_of(nnode), tags(nnode))
     g%nnode = 0
     z0 = 0.0_dp
     do b = 1, nblock
@@ -393,11 +393,11 @@ contains
           return
         end if
         if (i0 + k == 1) z0 = xyz(3)
-        if (abs(xyz(3) - z0) > 1.0e-9_dp * max(1.0_dp, maxval(abs(xyz(1:2))))) then
-          call bad(g, c, 'node ' // str(tags(i0 + k)) // ' out of the xy plane', stat, errmsg)
+        if (abs(xyz(3) - z0) > 1.0e-9_dp * max(1.0_dp, maxval(abs(xyz(1:2)))) .and. g%ndim == 2) then
+          call bad(g, c, 'node ' // str(tags(i0 + k)) // ' out of the xy plane (a 3D mesh needs DIMENSION 3)', stat, errmsg)
           return
         end if
-        g%x(:, i0 + k) = xyz(1:2)
+        g%x(:, i0 + k) = xyz
       end do
       g%nnode = g%nnode + int(nb)
     end do
@@ -441,7 +441,7 @@ contains
       call bad(g, c, 'element counts beyond the file', stat, errmsg)
       return
     end if
-    allocate (g%etype(nelem), g%edim(nelem), g%eent(nelem), g%conn(8, nelem))
+    allocate (g%etype(nelem), g%edim(nelem), g%eent(nelem), g%conn(8, nelem), g%enen(nelem))
     g%nelem = 0
     do b = 1, nblock
       if (.not. has(c, 20_int64)) then

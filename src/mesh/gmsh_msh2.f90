@@ -37,7 +37,7 @@ contains
       call fail(g, stat, errmsg, 'the file is too small to hold the ' // tok(g, 1) // ' nodes announced')
       return
     end if
-    allocate (g%x(2, nnode), g%tag_of(nnode), stat=ios)
+    allocate (g%x(3, nnode), g%tag_of(nnode), stat=ios)
     if (ios /= 0) then
       call fail(g, stat, errmsg, 'cannot allocate ' // tok(g, 1) // ' nodes')
       return
@@ -56,12 +56,12 @@ contains
       call node_xyz(g, xyz, stat, errmsg)
       if (stat /= STAT_OK) return
       if (k == 1) z0 = xyz(3)
-      if (abs(xyz(3) - z0) > 1.0e-9_dp * max(1.0_dp, maxval(abs(xyz(1:2))))) then
+      if (abs(xyz(3) - z0) > 1.0e-9_dp * max(1.0_dp, maxval(abs(xyz(1:2)))) .and. g%ndim == 2) then
         call fail(g, stat, errmsg, 'node out of the xy plane: z differs by ' // str(abs(xyz(3) - z0)) // &
-          ' from the first node; expected a plane mesh with constant z')
+          ' from the first node; expected a plane mesh with constant z (a 3D mesh needs DIMENSION 3)')
         return
       end if
-      g%x(:, k) = xyz(1:2)
+      g%x(:, k) = xyz
       g%tag_of(k) = tag
     end do
     g%nnode = nnode

@@ -1,5 +1,8 @@
 !> Reader for Gmsh meshes, MSH formats 4.1 ($MeshFormat 4.1 0 8; binary 4.1 1 8 in gmsh_binary)
-!> and 2.2 (2.2 0 8; its $Nodes and $Elements in gmsh_msh2), in the xy plane.
+!> and 2.2 (2.2 0 8; its $Nodes and $Elements in gmsh_msh2), in the xy plane, or in a DIMENSION 3
+!> scene a volume mesh: 4 (4-node tetrahedron) -> TET4, 5 (8-node hexahedron) -> HEX8; its points,
+!> lines and surfaces are no elements there, their nodes join their physical groups (the faces
+!> for FIX and contact).
 !>
 !> Sections read: $MeshFormat, $PhysicalNames, $Entities, $Nodes, $Elements; any other section is
 !> skipped. Element types: 15 (point) -> MASS, 1 (2-node line) -> BAR2, 2 (3-node triangle) ->
@@ -53,6 +56,7 @@ contains
     if (stat /= STAT_OK) return
 
     inquire (unit=g%unit, size=g%fsize)
+    g%ndim = m%ndim
     call parse_file(g, m, prefix, stat, errmsg)
     call close_reader(g)
   end subroutine read_gmsh
@@ -358,9 +362,9 @@ contains
     range = int(g%tagmax, int64) - g%tagmin + 1
     g%dense = range <= max(10000000_int64, 4_int64 * nnode)
     if (g%dense) then
-      allocate (g%x(2, nnode), g%tag_of(nnode), g%node_of_tag(g%tagmin:g%tagmax), btag(0), stat=ios)
+      allocate (g%x(3, nnode), g%tag_of(nnode), g%node_of_tag(g%tagmin:g%tagmax), btag(0), stat=ios)
     else
-      allocate (g%x(2, nnode), g%tag_of(nnode), g%sorted_tag(nnode), btag(0), stat=ios)
+      allocate (g%x(3, nnode), g%tag_of(nnode), g%sorted_tag(nnode), btag(0), stat=ios)
     end if
     if (ios /= 0) then
       call fail(g, stat, errmsg, 'cannot allocate ' // tok(g, 2) // ' nodes with tags in [' // tok(g, 3) // ', ' // &
@@ -415,7 +419,7 @@ contains
       do k = 1, nb
         call node_coordinates(g, btag(k), 3 + param * min(edim, 3), xyz, stat, errmsg)
         if (stat /= STAT_OK) return
-        g%x(:, g%nnode + k) = xyz(1:2)
+        g%x(:, g%nnode + k) = xyz
         lo = min(lo, xyz(1:2))
         hi = max(hi, xyz(1:2))
         if (g%nnode + k == 1) z0 = xyz(3)
@@ -433,13 +437,13 @@ contains
         'blocks hold ' // str(g%nnode))
       return
     end if
-    ! rebond is 2D: the mesh must lie in a plane z = constant (normally z = 0).
+    ! A planar scene: the mesh must lie in a plane z = constant (normally z = 0).
     ext = 0.0_dp
     if (nnode > 0) ext = maxval(hi - lo)
-    if (zdev > 1.0e-9_dp * ext) then
+    if (zdev > 1.0e-9_dp * ext .and. g%ndim == 2) then
       g%lineno = zline
       call fail(g, stat, errmsg, 'node out of the xy plane: z differs by ' // str(zdev) // ' from the first node; ' // &
-        'expected a plane mesh with constant z')
+        'expected a plane mesh with constant z (a 3D mesh needs DIMENSION 3)')
       return
     end if
     call end_section(g, '$EndNodes', stat, errmsg)
@@ -588,7 +592,7 @@ contains
 
     allocate (nid(g%nnode), eid(g%nelem))
     do i = 1, g%nnode
-      call m%add_node(g%x(:, i), nid(i), g%tag_of(i))
+      call m%add_node(g%x(1:m%ndim, i), nid(i), g%tag_of(i))
     end do
     eid = 0
     do e = 1, g%nelem                          ! (a 3-node line is no element: its nodes join groups)
@@ -649,7 +653,7 @@ contains
       nn = 0
       do i = ptr(k), ptr(k + 1) - 1
         e = items(i)
-        do j = 1, merge(3, etype_nen(max(g%etype(e), 1)), g%etype(e) == LINE3)
+        do j = 1, g%enen(e)
           n = g%conn(j, e)
           if (mark(n) /= k) then
             mark(n) = k

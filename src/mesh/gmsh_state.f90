@@ -16,7 +16,8 @@ module gmsh_state
   public :: data_line, next_line_or_eof, header_ints, end_section, element_kind, store_element, index_tags
   public :: alloc_elements, begin_elements, repeated_name
 
-  !> The element kind of a 3-node line (Gmsh type 8, the boundary curves of second-order meshes):
+  !> The element kind of a 3-node line (Gmsh type 8, the boundary curves of second-order meshes), and
+  !> in a DIMENSION 3 scene of every point, line and surface element (the boundaries of the volumes):
   !> no rebond element, its nodes join its physical groups (node groups for FIX, PRESSURE ...).
   integer, parameter :: LINE3 = -8
 
@@ -37,7 +38,8 @@ module gmsh_state
     integer :: nphys = 0
     integer, allocatable :: ent_phys(:)
     integer :: nnode = 0
-    real(dp), allocatable :: x(:, :)               !< (2, nnode)
+    real(dp), allocatable :: x(:, :)               !< (3, nnode): x, y, z
+    integer :: ndim = 2                            !< the scene's dimension (m%ndim): 3 reads volumes
     integer(int64) :: fsize = -1                   !< file size in bytes (-1 if unknown), bounds allocations
     integer :: tagmin = 0, tagmax = -1
     logical :: dense = .true.                      !< node tags mapped by node_of_tag, else by sorted_tag
@@ -46,6 +48,7 @@ module gmsh_state
     integer, allocatable :: tag_of(:)              !< (nnode) the Gmsh tag of each local node
     integer :: nelem = 0
     integer, allocatable :: etype(:), edim(:), eent(:), conn(:, :)   !< etype LINE3: a boundary curve's 3-node line
+    integer, allocatable :: enen(:)                !< nodes of each element (LINE3 and 3D boundaries included)
     logical :: have_nodes = .false., have_elements = .false., have_entities = .false.
     integer :: version = 41                         !< MSH 4.1 (41) or 2.2 (22)
     logical :: binary = .false.                     !< file type 1 (MSH 4.1 binary, gmsh_binary)
@@ -80,7 +83,7 @@ contains
     if (et == 0) then
       call fail(g, stat, errmsg, 'unsupported Gmsh element type ' // str(gtype) // ' (' // gmsh_type_name(gtype) // &
         '); expected 15 (point), 1 (2-node line), 8 (3-node line), 2 (3-node triangle), 9 (6-node triangle), ' // &
-        '3 (4-node quadrangle) or 16 (8-node quadrangle)')
+        '3 (4-node quadrangle), 16 (8-node quadrangle); in DIMENSION 3 also 4 (4-node tetrahedron), 5 (8-node hexahedron)')
       return
     end if
     if (et == LINE3) then
@@ -88,7 +91,13 @@ contains
       dim = 1
     else
       nen = etype_nen(et)
-      dim = etype_family(et) - 1          ! point 0, line 1, surface 2
+      dim = etype_family(et) - 1          ! point 0, line 1, surface 2, volume 3
+    end if
+    if (dim == 3 .and. g%ndim /= 3) then
+      call fail(g, stat, errmsg, 'a volume element (' // gmsh_type_name(gtype) // ') in a planar scene: a Gmsh ' // &
+        'volume mesh needs DIMENSION 3')
+    else if (g%ndim == 3 .and. dim < 3) then
+      et = LINE3                          ! a boundary of the volumes: its nodes join its groups
     end if
   end subroutine element_kind
 
@@ -159,7 +168,7 @@ contains
       call fail(g, stat, errmsg, 'the file is too small to hold the ' // word // ' elements announced')
       return
     end if
-    allocate (g%etype(nelem), g%edim(nelem), g%eent(nelem), g%conn(8, nelem), stat=ios)
+    allocate (g%etype(nelem), g%edim(nelem), g%eent(nelem), g%conn(8, nelem), g%enen(nelem), stat=ios)
     if (ios /= 0) call fail(g, stat, errmsg, 'cannot allocate ' // word // ' elements')
   end subroutine alloc_elements
 
@@ -172,7 +181,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     stat = STAT_OK
-    if (dim == 2) then
+    if (dim == 2 .and. g%ndim == 2) then
       call orient_surface(g%x, nodes, stat)
       if (stat /= STAT_OK) then
         call fail(g, stat, errmsg, 'degenerate ' // gmsh_type_name(gtype) // ' (zero area), expected distinct corners')
@@ -185,6 +194,7 @@ contains
     g%eent(g%nelem) = ent
     g%conn(:, g%nelem) = 0
     g%conn(1:size(nodes), g%nelem) = nodes
+    g%enen(g%nelem) = size(nodes)
   end subroutine store_element
 
   !> The next line: "x y z" of node tag (at most maxtok words: parametric coordinates may

@@ -3,20 +3,18 @@
 !> statements all build a mesh_t through the procedures below.
 module mesh
   use kinds, only: dp
-  use element_traits, only: etype_nen, MAX_NEN
+  use element_traits, only: etype_nen, MAX_NEN, DOF_UX, DOF_UY, DOF_RZ, DOF_UZ, NODE_DOFS, DOF_NAMES, DOF_AXIS
   implicit none
   private
   public :: mesh_t, group_t
-  public :: DOF_UX, DOF_UY, DOF_RZ, DOF_NAMES, MAX_COORD
+  public :: DOF_UX, DOF_UY, DOF_RZ, DOF_UZ, NODE_DOFS, DOF_NAMES, DOF_AXIS, MAX_COORD
 
   !> Largest coordinate accepted (scene and Gmsh): squares, areas and r x (M v) stay finite.
   real(dp), parameter :: MAX_COORD = 1.0e100_dp
 
   ! Element types and their node order: element_traits.
 
-  ! Degrees of freedom of a node, in this order.
-  integer, parameter :: DOF_UX = 1, DOF_UY = 2, DOF_RZ = 3
-  character(len=2), parameter :: DOF_NAMES(3) = [character(len=2) :: 'UX', 'UY', 'RZ']
+  ! Degrees of freedom of a node (DOF_*, NODE_DOFS, DOF_NAMES): element_traits, re-exported here.
 
   !> A named list of node or element numbers (1-based, in the mesh's numbering).
   type :: group_t
@@ -32,9 +30,10 @@ module mesh
   end type group_index_t
 
   type :: mesh_t
+    integer :: ndim = 2                    !< space dimension (DIMENSION: 2 or 3)
     integer :: nnode = 0
     integer :: nelem = 0
-    real(dp), allocatable :: x(:, :)       !< (2, nnode) coordinates
+    real(dp), allocatable :: x(:, :)       !< (ndim, nnode) coordinates
     integer, allocatable :: tag(:)         !< (nnode) the user's number of each node (Gmsh's tag; else its index)
     integer, allocatable :: etype(:)       !< (nelem) element type ET_*
     integer, allocatable :: conn(:, :)     !< (MAX_NEN, nelem) node numbers, 0 past nen
@@ -67,21 +66,21 @@ contains
   !> Append a node; returns its number.
   subroutine add_node(self, xy, id, tag)
     class(mesh_t), intent(inout) :: self
-    real(dp), intent(in) :: xy(2)
+    real(dp), intent(in) :: xy(:)            !< (ndim) its coordinates
     integer, intent(out) :: id
     integer, intent(in), optional :: tag     !< the user's number (Gmsh's tag); default: id
     real(dp), allocatable :: tmp(:, :)
     integer, allocatable :: itmp(:)
-    if (.not. allocated(self%x)) allocate (self%x(2, 64), self%tag(64))
+    if (.not. allocated(self%x)) allocate (self%x(self%ndim, 64), self%tag(64))
     if (self%nnode == size(self%x, 2)) then
-      allocate (tmp(2, 2 * size(self%x, 2)), itmp(2 * size(self%x, 2)))
+      allocate (tmp(self%ndim, 2 * size(self%x, 2)), itmp(2 * size(self%x, 2)))
       tmp(:, 1:self%nnode) = self%x(:, 1:self%nnode)
       itmp(1:self%nnode) = self%tag(1:self%nnode)
       call move_alloc(tmp, self%x)
       call move_alloc(itmp, self%tag)
     end if
     self%nnode = self%nnode + 1
-    self%x(:, self%nnode) = xy
+    self%x(:, self%nnode) = xy(1:self%ndim)
     id = self%nnode
     self%tag(id) = id
     if (present(tag)) self%tag(id) = tag
@@ -95,6 +94,7 @@ contains
     type(mesh_t), intent(out) :: sub
     integer, allocatable :: newid(:)
     integer :: i, id, k
+    sub%ndim = self%ndim
     do i = 1, self%nnode
       call sub%add_node(self%x(:, i), id, self%node_tag(i))
     end do

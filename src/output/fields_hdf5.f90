@@ -1,7 +1,7 @@
 !> Field output: OUTDIR/fields.h5 (HDF5) plus OUTDIR/fields.xmf (XDMF 3, for ParaView).
 !>
 !> fields.h5 layout (HDF5 dimensions are the Fortran ones reversed):
-!>   /mesh/coordinates   float64 (3, nnode) in Fortran = (nnode, 3) in HDF5: x, y, z = 0
+!>   /mesh/coordinates   float64 (3, nnode) in Fortran = (nnode, 3) in HDF5: x, y, z (z = 0 in 2D)
 !>   /mesh/topology      int32 XDMF Mixed array, 0-based node ids:
 !>                       MASS -> 1 1 n; SPRING/BAR2/BEAM2 -> 2 2 a b; QUAD4 -> 5 a b c d;
 !>                       QUAD8 -> 37 (Quadrilateral_8) with the 4 corners then the 4 mid-sides
@@ -15,6 +15,9 @@
 !>                         z = 0 so that ParaView's "Warp By Vector" moves nodes in the plane only;
 !>                       rotation, angular_velocity [, reaction_moment] (nnode): the RZ component
 !>                         of u, v [, reaction];
+!>                       (DIMENSION 3: displacement, velocity [, reaction] (3, nnode) are (UX, UY, UZ), no
+!>                       rotation; stress (6, nelem) sxx, syy, szz, sxy, syz, sxz and its columns sigma_xx
+!>                       … sigma_xz; HEX8 and TET4 cells are XDMF Hexahedron and Tetrahedron)
 !>                       stress (4, nelem): element mean of Gauss-point values
 !>                       (spring: force; bar: sigma; beam: N, M; quads: sxx, syy, szz, sxy);
 !>                       every dataset has the string attributes `components` and `units`;
@@ -35,7 +38,7 @@ module fields_hdf5
     XDMF_POLYVERTEX, XDMF_POLYLINE, &
     XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
   use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic, SIGMA_NAMES, &
-    SIGMA_AXI, xdmf_points_grid, recovered_name
+    SIGMA_AXI, SIGMA_3D, xdmf_points_grid, recovered_name
   use os_utils, only: make_directory, room_for
   use hdf5_file, only: h5_file_t
   use text_file, only: text_file_t
@@ -56,6 +59,7 @@ module fields_hdf5
     integer :: nnode = 0, nelem = 0, ntopo = 0
     integer :: nsteps = 0
     logical :: axisymmetric = .false.        !< the hoop stress is named sigma_tt (x = r, y the axis)
+    integer :: ndim = 2                      !< 3: vectors (x, y, z) without a rotation, 6 stresses
     ! fields.xmf stays open: each step's grid replaces the closing tail and is followed by it
     ! again, in one write (text_file replace_tail): the file is a complete document at every
     ! moment, and neither the file nor the memory is rewritten per step.
@@ -142,7 +146,7 @@ contains
   end subroutine split_planar
 
   !> Write a (UX, UY, RZ) field a as the 3-vector dataset vname and the scalar dataset sname,
-  !> through the writer's work arrays.
+  !> through the writer's work arrays; in 3D a is (UX, UY, UZ), the vector alone.
   subroutine write_planar(self, grp, a, vname, sname, comps, units, stat, errmsg)
     class(fields_writer_t), intent(inout) :: self
     character(len=*), intent(in) :: grp, vname, sname
@@ -151,6 +155,11 @@ contains
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
     if (stat /= STAT_OK) return
+    if (self%ndim == 3) then                   ! (UX, UY, UZ): the vector itself
+      call self%h5%write(grp // '/' // vname, a, stat, errmsg)
+      call describe(self, grp // '/' // vname, trim(comps(1)), trim(units(1)), stat, errmsg)
+      return
+    end if
     call split_planar(a, self%vec, self%rz)
     call self%h5%write(grp // '/' // vname, self%vec, stat, errmsg)
     call describe(self, grp // '/' // vname, trim(comps(1)), trim(units(1)), stat, errmsg)
@@ -177,7 +186,7 @@ contains
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
     character(len=8) :: names(NUM_ETYPES)
-    character(len=64) :: comps(NUM_ETYPES)
+    character(len=80) :: comps(NUM_ETYPES)
     integer :: k
     do k = 1, NUM_ETYPES
       names(k) = etype_name(k)
@@ -257,6 +266,7 @@ contains
     self%xmfpath = join_path(outdir, XMF_NAME)
     self%axisymmetric = .false.
     if (present(axisymmetric)) self%axisymmetric = axisymmetric
+    self%ndim = mesh%ndim
     if (present(basename)) then
       ! A restarted run writes its fields beside the first part (basename.h5 / basename.xmf).
       self%h5name = basename // '.h5'
@@ -280,8 +290,8 @@ contains
     if (stat /= STAT_OK) return
     self%is_open = .true.
     allocate (xyz(3, mesh%nnode))
-    xyz(1:2, :) = mesh%x(1:2, 1:mesh%nnode)
     xyz(3, :) = 0.0_dp
+    xyz(1:mesh%ndim, :) = mesh%x(1:mesh%ndim, 1:mesh%nnode)
     call self%h5%create_group('mesh', stat, errmsg)
     call self%h5%write('mesh/coordinates', xyz, stat, errmsg)
     call self%h5%write('mesh/topology', topo, stat, errmsg)
@@ -338,10 +348,11 @@ contains
     real(dp), intent(in), optional :: nodal(:, :)     !< (6, nnode): the recovered nodal fields (stress_recovery)
     real(dp), intent(in), optional :: pvals(:, :)     !< (6, npt): the integration points' fields
     real(dp), intent(in), optional :: pdisp(:, :)     !< (3, npt): the displacement at the points
-    integer :: k
+    integer :: k, ncomp
     character(len=:), allocatable :: grp
 
     stat = STAT_OK
+    ncomp = merge(6, 4, self%ndim == 3)
     if (.not. self%is_open) then
       call set_error(stat, errmsg, STAT_RUN, 'field output: write_step before open')
       return
@@ -351,8 +362,9 @@ contains
                      str(self%nnode) // ') arrays')
       return
     end if
-    if (.not. has_shape(stress, 4, self%nelem)) then
-      call set_error(stat, errmsg, STAT_RUN, 'field output: stress must be a (4, ' // str(self%nelem) // ') array')
+    if (.not. has_shape(stress, ncomp, self%nelem)) then
+      call set_error(stat, errmsg, STAT_RUN, 'field output: stress must be a (' // str(ncomp) // ', ' // str(self%nelem) // &
+        ') array')
       return
     end if
     if (present(reaction)) then
@@ -386,9 +398,11 @@ contains
       'per element type: /mesh/stress_components', stat, errmsg)
     ! Each column also as its own dataset, which both of ParaView's XDMF readers show by name
     ! (Xdmf3ReaderS, the default, skips a hyperslab of /stress: "unrecognized array type").
-    do k = 1, 4
+    do k = 1, ncomp
       self%col = stress(k, :)
-      if (self%axisymmetric) then
+      if (self%ndim == 3) then
+        call self%h5%write(grp // '/' // trim(SIGMA_3D(k)), self%col, stat, errmsg)
+      else if (self%axisymmetric) then
         call self%h5%write(grp // '/' // trim(SIGMA_AXI(k)), self%col, stat, errmsg)   ! (described by stress's)
       else
         call self%h5%write(grp // '/' // trim(SIGMA_NAMES(k)), self%col, stat, errmsg)
@@ -434,7 +448,7 @@ contains
     self%nsteps = self%nsteps + 1
     call self%xmf%replace_tail(xdmf_step_grid(self%h5name, self%nnode, self%nelem, self%ntopo, &
       xdmf_step_t(step=step, time=time, has_reaction=present(reaction), has_scalars=present(escalar), &
-      has_support=present(support), axisymmetric=self%axisymmetric, has_nodal=present(nodal))) // &
+      has_support=present(support), axisymmetric=self%axisymmetric, has_nodal=present(nodal), solid=self%ndim == 3)) // &
       self%xtail, &
       len(self%xtail), stat, errmsg)
     if (stat == STAT_OK .and. present(pvals) .and. self%npt > 0) call self%pxmf%replace_tail(xdmf_points_grid(self%h5name, &

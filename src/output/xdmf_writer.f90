@@ -19,7 +19,7 @@ module xdmf_writer
   implicit none
   private
   public :: xdmf_step_t, xdmf_document, step_group_name, write_text_atomic, xml_escape, xdmf_real
-  public :: xdmf_head, xdmf_tail, xdmf_step_grid, xdmf_points_grid, SIGMA_NAMES, SIGMA_AXI, recovered_name
+  public :: xdmf_head, xdmf_tail, xdmf_step_grid, xdmf_points_grid, SIGMA_NAMES, SIGMA_AXI, SIGMA_3D, recovered_name
 
   !> What the XML needs to know about one written step.
   type :: xdmf_step_t
@@ -30,6 +30,7 @@ module xdmf_writer
     logical :: has_support = .false.          !< support_reaction and support_moment (nodal)
     logical :: axisymmetric = .false.         !< the third stress column is the hoop stress, sigma_tt
     logical :: has_nodal = .false.            !< nodal_sigma_xx … nodal_plastic_strain (stress_recovery)
+    logical :: solid = .false.                !< DIMENSION 3: no rotation scalars, six stresses
   end type xdmf_step_t
 
   !> Growable character buffer: appending is amortised O(1), so a document of many steps is
@@ -44,6 +45,9 @@ module xdmf_writer
   character(len=8), parameter :: SIGMA_NAMES(4) = [character(len=8) :: 'sigma_xx', 'sigma_yy', 'sigma_zz', 'sigma_xy']
   !> An axisymmetric scene's (x = r, y the axis): the hoop stress sigma_tt in the place of sigma_zz.
   character(len=8), parameter :: SIGMA_AXI(4) = [character(len=8) :: 'sigma_xx', 'sigma_yy', 'sigma_tt', 'sigma_xy']
+  !> A DIMENSION 3 scene's six stresses.
+  character(len=8), parameter :: SIGMA_3D(6) = [character(len=8) :: 'sigma_xx', 'sigma_yy', 'sigma_zz', 'sigma_xy', &
+    'sigma_yz', 'sigma_xz']
 
 contains
 
@@ -161,7 +165,7 @@ contains
 
     h5 = xml_escape(h5file)
     ndims = str(nnode) // ' 3'
-    cdims = str(nelem) // ' 4'
+    cdims = str(nelem) // ' ' // str(merge(6, 4, st%solid))
     grp = step_group_name(st%step)
     call put(tb, I2 // '<Grid Name="' // grp // '" GridType="Uniform">' // NL)
     call put(tb, I3 // '<Time Value="' // xdmf_real(st%time) // '"/>' // NL)
@@ -173,15 +177,15 @@ contains
     call put(tb, I3 // '</Geometry>' // NL)
     call node_attribute(tb, 'displacement', 'Vector', ndims, h5, grp)
     call node_attribute(tb, 'velocity', 'Vector', ndims, h5, grp)
-    call node_attribute(tb, 'rotation', 'Scalar', str(nnode), h5, grp)
-    call node_attribute(tb, 'angular_velocity', 'Scalar', str(nnode), h5, grp)
+    if (.not. st%solid) call node_attribute(tb, 'rotation', 'Scalar', str(nnode), h5, grp)
+    if (.not. st%solid) call node_attribute(tb, 'angular_velocity', 'Scalar', str(nnode), h5, grp)
     if (st%has_reaction) then
       call node_attribute(tb, 'reaction', 'Vector', ndims, h5, grp)
-      call node_attribute(tb, 'reaction_moment', 'Scalar', str(nnode), h5, grp)
+      if (.not. st%solid) call node_attribute(tb, 'reaction_moment', 'Scalar', str(nnode), h5, grp)
     end if
     if (st%has_support) then
       call node_attribute(tb, 'support_reaction', 'Vector', ndims, h5, grp)
-      call node_attribute(tb, 'support_moment', 'Scalar', str(nnode), h5, grp)
+      if (.not. st%solid) call node_attribute(tb, 'support_moment', 'Scalar', str(nnode), h5, grp)
     end if
     call put(tb, I3 // '<Attribute Name="stress" AttributeType="Matrix" Center="Cell">' // NL)
     call put(tb, data_item(I4, cdims, 'Float', '8', h5 // ':/' // grp // '/stress'))
@@ -189,8 +193,10 @@ contains
     ! Each stress column also as a named scalar, its own dataset: ParaView shows sigma_xx, not
     ! "stress 0" (for BAR2 the first column is the axial stress, for BEAM2 N, M), in both of its
     ! XDMF readers (Xdmf3ReaderS skipped a hyperslab of /stress).
-    do k = 1, 4
-      if (st%axisymmetric) then
+    do k = 1, merge(6, 4, st%solid)
+      if (st%solid) then
+        call cell_scalar(tb, trim(SIGMA_3D(k)), str(nelem), h5, grp)
+      else if (st%axisymmetric) then
         call cell_scalar(tb, trim(SIGMA_AXI(k)), str(nelem), h5, grp)
       else
         call cell_scalar(tb, trim(SIGMA_NAMES(k)), str(nelem), h5, grp)

@@ -4,7 +4,7 @@
 module contact_checks
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use scene, only: scene_t, condition_nodes, condition_keyword
+  use scene, only: scene_t, condition_nodes, condition_keyword, TRANSLATION_SLOT
   use assembly, only: system_t
   use contact, only: contact_set_t, contact_gaps
   implicit none
@@ -38,15 +38,15 @@ contains
         do k = 1, 3
           n = nodes(k)
           if (n <= 0) cycle
-          if (any(dm(pack(sys%dofs%eqn(1:2, n), sys%dofs%eqn(1:2, n) > 0)) > 0.0_dp)) then
+          if (any(dm(pack(sys%dofs%eqn(TRANSLATION_SLOT, n), sys%dofs%eqn(TRANSLATION_SLOT, n) > 0)) > 0.0_dp)) then
             call set_error(stat, errmsg, STAT_INPUT, scn%path // ':' // str(c%line) // ': ' // &
               condition_keyword(c) // ' ' // c%source // ': SCHEME IMPACT MASSLESS ' // &
               'cannot move the mass of node ' // str(n) // ' (its elements have contact nodes only: a point mass, or ' // &
               'a body touching with all its nodes); use IMPACT PAPER or PERSIST' // ", at '" // c%source // "'")
             return
           end if
-          do i = 1, 2
-            if (sys%dofs%eqn(i, n) > 0) mark(sys%dofs%eqn(i, n)) = .true.
+          do i = 1, 3                                  ! UX, UY[, UZ]
+            if (sys%dofs%eqn(TRANSLATION_SLOT(i), n) > 0) mark(sys%dofs%eqn(TRANSLATION_SLOT(i), n)) = .true.
           end do
         end do
       end associate

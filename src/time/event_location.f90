@@ -230,7 +230,8 @@ contains
     started = 0
     call ck%get('events_started', started, stat, errmsg)
     call ck%get('events_located', self%located, stat, errmsg)
-    self%started = started == 1 .and. allocated(self%rate) .and. size(self%rate) == nc
+    self%started = started == 1 .and. allocated(self%rate)
+    if (self%started) self%started = size(self%rate) == nc   ! (no size of an unallocated array: -fcheck)
     if (.not. self%started) return
     call ck%get('events_rate', self%rate, stat, errmsg)
     call ck%get('events_multiplier', self%lam, stat, errmsg)

@@ -111,11 +111,11 @@ contains
             c%velocity * function_integral(scn%functions, c%vfunc, scn%t_start, t1), c%velocity * f1)
           cycle
         end if
-        vn = dot_product(c%normal, c%velocity)
+        vn = dot_product(c%normal(1:2), c%velocity)          ! (moving obstacles: 2D)
         call contact_set_gap0(cs, j, c%g0 - vn * function_integral(scn%functions, c%vfunc, scn%t_start, t1))
         call cs%move_obstacle(j, vn * function_integral(scn%functions, c%vfunc, t0, t1), vn * f1, c%velocity * f1)
         if (cs%tangent_row(j) > 0) then        ! FRICTION: the slip is relative to the obstacle
-          vn = dot_product(condition_tangent(c), c%velocity)
+          vn = dot_product(c%velocity, [-c%normal(2), c%normal(1)])
           call cs%move_obstacle(cs%tangent_row(j), vn * function_integral(scn%functions, c%vfunc, t0, t1), vn * f1, &
             c%velocity * f1)
         end if

@@ -25,6 +25,7 @@ module modes
   use dense_solve, only: generalized_eigen
   use history_writer, only: csv_file_t
   use fields_hdf5, only: fields_writer_t
+  use mesh, only: DOF_UX, DOF_UY, DOF_UZ, DOF_RZ
   implicit none
   private
   public :: modes_t, compute_modes, write_modes, DENSE_BELOW, MODES_HEADER
@@ -32,7 +33,8 @@ module modes
   integer, parameter :: DENSE_BELOW = 200            !< equations: LAPACK's dense solver up to this size
   real(dp), parameter :: TWO_PI = 6.283185307179586476925286766559_dp
   character(len=*), parameter :: MODES_HEADER = 'mode,frequency,period,generalized_mass,effective_mass_x,' // &
-    'effective_mass_y'
+    'effective_mass_y,effective_mass_z'
+  integer, parameter :: TRANSLATIONS(3) = [DOF_UX, DOF_UY, DOF_UZ]   !< the DOF slots of x, y, z
 
   !> The modes found: ω², the shapes on the free equations, their masses.
   type :: modes_t
@@ -40,7 +42,7 @@ module modes
     real(dp), allocatable :: omega2(:)            !< ω² (rad²/s²), ascending
     real(dp), allocatable :: phi(:, :)            !< (neq, n) shapes, largest translation 1
     real(dp), allocatable :: genmass(:)           !< φ'Mφ (kg)
-    real(dp), allocatable :: effmass(:, :)        !< (2, n) effective masses along x, y (kg)
+    real(dp), allocatable :: effmass(:, :)        !< (3, n) effective masses along x, y, z (kg; z: 3D)
     real(dp) :: sigma = 0.0_dp                    !< the shift (< 0)
     real(dp) :: residual = 0.0_dp                 !< max over the modes of |K0 φ - ω² M φ| / (|K0 φ| + ω² |M φ|)
     character(len=:), allocatable :: method       !< how they were computed (stdout)
@@ -225,12 +227,12 @@ contains
     real(dp), allocatable :: mphi(:), kphi(:), r(:, :)
     integer :: k, n, d, j, big
     real(dp) :: amax
-    allocate (mphi(sys%dofs%neq), kphi(sys%dofs%neq), r(sys%dofs%neq, 2), md%genmass(md%n), md%effmass(2, md%n))
+    allocate (mphi(sys%dofs%neq), kphi(sys%dofs%neq), r(sys%dofs%neq, 3), md%genmass(md%n), md%effmass(3, md%n))
     md%residual = 0.0_dp
     r = 0.0_dp
     do n = 1, scn%mesh%nnode
-      do d = 1, 2
-        j = sys%dofs%eqn(d, n)
+      do d = 1, 3
+        j = sys%dofs%eqn(TRANSLATIONS(d), n)
         if (j > 0) r(j, d) = 1.0_dp
       end do
     end do
@@ -238,8 +240,8 @@ contains
       big = 0
       amax = -1.0_dp
       do n = 1, scn%mesh%nnode
-        do d = 1, 2
-          j = sys%dofs%eqn(d, n)
+        do d = 1, 3
+          j = sys%dofs%eqn(TRANSLATIONS(d), n)
           if (j <= 0) cycle
           if (abs(md%phi(j, k)) > amax) then
             amax = abs(md%phi(j, k))
@@ -254,7 +256,7 @@ contains
       md%residual = max(md%residual, norm2(kphi - md%omega2(k) * mphi) / &
         (norm2(kphi) + abs(md%omega2(k)) * norm2(mphi) + tiny(1.0_dp)))
       md%genmass(k) = dot_product(md%phi(:, k), mphi)
-      do d = 1, 2
+      do d = 1, 3
         md%effmass(d, k) = dot_product(r(:, d), mphi)**2 / md%genmass(k)
       end do
       if (scene_axisymmetric(scn)) md%effmass(1, k) = 0.0_dp
@@ -275,7 +277,7 @@ contains
     type(mesh_t) :: shown
     real(dp), allocatable :: u(:, :), v(:, :), sig(:, :)
     integer, allocatable :: kept(:)
-    integer :: k, n, d, i
+    integer :: k, n, d, i, slots(3)
     real(dp) :: f, period
     call csv%open(outdir // '/modes.csv', MODES_HEADER, stat, errmsg)
     if (stat /= STAT_OK) return
@@ -283,7 +285,8 @@ contains
       f = md%frequency(k)
       period = 0.0_dp
       if (f > 0.0_dp) period = 1.0_dp / f
-      call csv%write_row(k, [f, period, md%genmass(k), md%effmass(1, k), md%effmass(2, k)], [integer ::], stat, errmsg)
+      call csv%write_row(k, [f, period, md%genmass(k), md%effmass(1, k), md%effmass(2, k), md%effmass(3, k)], &
+        [integer ::], stat, errmsg)
       if (stat /= STAT_OK) return
     end do
     call csv%close(stat, errmsg)
@@ -292,14 +295,15 @@ contains
     call scn%mesh%subset_elements(kept, shown)
     call fw%open(outdir, shown, stat, errmsg, basename='modes', axisymmetric=scene_axisymmetric(scn))
     if (stat /= STAT_OK) return
-    allocate (u(3, scn%mesh%nnode), v(3, scn%mesh%nnode), sig(4, size(kept)))
+    allocate (u(3, scn%mesh%nnode), v(3, scn%mesh%nnode), sig(merge(6, 4, scn%mesh%ndim == 3), size(kept)))
     v = 0.0_dp
     sig = 0.0_dp
+    slots = [DOF_UX, DOF_UY, merge(DOF_UZ, DOF_RZ, scn%mesh%ndim == 3)]   ! (fields: UX UY RZ, 3D UX UY UZ)
     do k = 1, md%n
       u = 0.0_dp
       do n = 1, scn%mesh%nnode
         do d = 1, 3
-          if (sys%dofs%eqn(d, n) > 0) u(d, n) = md%phi(sys%dofs%eqn(d, n), k)
+          if (sys%dofs%eqn(slots(d), n) > 0) u(d, n) = md%phi(sys%dofs%eqn(slots(d), n), k)
         end do
       end do
       call fw%write_step(k, md%frequency(k), u, v, sig, stat, errmsg)

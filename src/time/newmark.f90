@@ -27,6 +27,7 @@ module newmark
     STEP_NONFINITE, STEP_INVERTED, STEP_INDEFINITE
   use run_outputs, only: output_set_t, HISTORY_HEADER, EVENTS_HEADER
   use mesh_segments, only: node_stars
+  use model_modes, only: rigid_modes, rotation_mode
   use os_utils, only: make_directory, install_signal_handlers, signal_received
   use run_state, only: run_state_t, save_checkpoint, load_checkpoint, steps_for, init_levels, select_level
   implicit none
@@ -118,7 +119,7 @@ contains
     call rs%zone%build(scn, sys, rs%mat%factor%solve_flops())
     call rs%zone%columns(rs%mat%factor, stat, errmsg)
     if (stat /= STAT_OK) return
-    call rigid_modes(scn, sys, rs)
+    call rigid_modes(scn, sys, rs%rig, rs%mrig)
     if (size(scn%conditions) > 0 .or. size(scn%imposes) > 0) then
       call setup_contact(scn, sys, rs, stat, errmsg)
       if (stat /= STAT_OK) return
@@ -178,9 +179,9 @@ contains
     type(run_state_t), intent(inout) :: rs
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, eqs(6)
+    integer :: j, eqs(9)
     integer, allocatable :: sptr(:), star(:)
-    real(dp) :: coefs(6), lscale
+    real(dp) :: coefs(9), lscale
     character(len=:), allocatable :: msg
     real(dp), allocatable :: circ(:, :)
     logical, allocatable :: free(:, :)
@@ -200,7 +201,7 @@ contains
       call contact_add_friction(rs%cs, j, eqs, coefs, scn%conditions(j)%friction)
     end do
     associate (x => scn%mesh%x(:, 1:scn%mesh%nnode))
-      lscale = max(maxval(x(1, :)) - minval(x(1, :)), maxval(x(2, :)) - minval(x(2, :)))
+      lscale = maxval(maxval(x, dim=2) - minval(x, dim=2))
     end associate
     if (lscale <= 0.0_dp) lscale = 1.0_dp
     rs%cs%settings%solver = scn%multipliers
@@ -253,52 +254,6 @@ contains
     rs%lam = 0.0_dp
   end subroutine setup_contact
 
-  !> The rigid modes of the model on the free equations: translations x and y, and the rotation
-  !> about the origin (-y, x on the translations, 1 on RZ; reference configuration: the
-  !> kinematics are linearized), with M times them. Their products with M v are the linear and
-  !> angular momenta (history.csv); PERSIST scales a group about its rigid motion.
-  subroutine rigid_modes(scn, sys, rs)
-    type(scene_t), intent(in) :: scn
-    type(system_t), intent(in) :: sys
-    type(run_state_t), intent(inout) :: rs
-    integer :: j, k
-    allocate (rs%rig(sys%dofs%neq, 3), rs%mrig(sys%dofs%neq, 3))
-    rs%rig = 0.0_dp
-    do j = 1, scn%mesh%nnode
-      associate (e => sys%dofs%eqn(:, j))
-        if (e(1) > 0) rs%rig(e(1), 1) = 1.0_dp
-        if (e(2) > 0) rs%rig(e(2), 2) = 1.0_dp
-      end associate
-    end do
-    call rotation_mode(scn, sys, rs%rig(:, 3))
-    do k = 1, 3
-      call mass_times(sys, rs%rig(:, k), rs%mrig(:, k))
-    end do
-  end subroutine rigid_modes
-
-  !> The rotation about the origin on the free equations, r (neq): -y on UX, x on UY, 1 on RZ, at the
-  !> positions X, or X + u + du when given (end_geometry: the end of a step). Other entries untouched.
-  pure subroutine rotation_mode(scn, sys, r, u, du)
-    type(scene_t), intent(in) :: scn
-    type(system_t), intent(in) :: sys
-    real(dp), intent(inout) :: r(:)
-    real(dp), intent(in), optional :: u(:), du(:)
-    real(dp) :: p(2)
-    integer :: j, d
-    do j = 1, scn%mesh%nnode
-      associate (e => sys%dofs%eqn(:, j))
-        p = scn%mesh%x(:, j)
-        if (present(u) .and. present(du)) then
-          do d = 1, 2
-            if (e(d) > 0) p(d) = p(d) + (u(e(d)) + du(e(d)))
-          end do
-        end if
-        if (e(1) > 0) r(e(1)) = -p(2)
-        if (e(2) > 0) r(e(2)) = p(1)
-        if (e(3) > 0) r(e(3)) = 1.0_dp
-      end associate
-    end do
-  end subroutine rotation_mode
 
   !> Integrate from START to END, writing history, probes and fields under opts%outdir.
   subroutine run_newmark(scn, sys, rs, opts, summary, stat, errmsg)

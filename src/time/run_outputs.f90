@@ -6,7 +6,7 @@ module run_outputs
   use kinds, only: dp
   use errors, only: STAT_OK
   use scene, only: scene_t, condition_nodes, condition_tangent, scene_axisymmetric
-  use mesh, only: mesh_t
+  use mesh, only: mesh_t, DOF_UX, DOF_UY, DOF_UZ, DOF_RZ
   use assembly, only: system_t, stored_energy
   use point_fields, only: element_stress, element_scalars, nodal_values
   use stress_recovery, only: recovery_t, NREC
@@ -22,11 +22,12 @@ module run_outputs
 
   character(len=*), parameter :: HISTORY_HEADER = &
     'step,time,kinetic,internal,external,correction,balance,iterations,active_contacts,dissipated,stored,' // &
-    'impact_dissipated,momentum_x,momentum_y,angular_momentum,damping,substeps,contact_held,h,friction_dissipated'
+    'impact_dissipated,momentum_x,momentum_y,angular_momentum,damping,substeps,contact_held,h,friction_dissipated,' // &
+    'momentum_z,angular_momentum_x,angular_momentum_y'
   character(len=*), parameter :: EVENTS_HEADER = 'step,time,constraint,nodes,event,gap_start,multiplier,energy_restored,' &
     // 'contact'
   character(len=*), parameter :: CONTACTS_HEADER = 'step,time,contact,active,force_x,force_y,impulse_x,impulse_y,' // &
-    'min_gap,moment,impulse_moment,slip'
+    'min_gap,moment,impulse_moment,slip,force_z,impulse_z'
 
   type :: output_set_t
     private
@@ -34,6 +35,9 @@ module run_outputs
     type(fields_writer_t) :: fields
     logical :: with_events = .false., with_fields = .false.
     logical :: axisymmetric = .false.   !< the scene is axisymmetric (momentum_x, angular_momentum: 0)
+    integer :: ndim = 2                 !< the scene's dimension
+    integer :: ncomp = 4                !< stress components of fields.h5 (4; 6 in 3D)
+    integer :: slots(3) = [1, 2, 3]     !< the DOF slots of the nodal fields' rows (UX UY RZ; 3D: UX UY UZ)
     integer :: last_step = 0                 !< the run's last step: always written
     ! contacts.csv: the contact statements (names, in order of appearance), the statement of
     ! each condition, the impulse each gave its NODES group since the last row, that row's time.
@@ -50,7 +54,8 @@ module run_outputs
     logical :: rec_built = .false.
     real(dp), allocatable :: nodal(:, :), pvals(:, :), pdisp(:, :)   !< (NREC, nnode), (NREC, npt), (3, npt)
     real(dp) :: h_row = 0.0_dp               !< the length of the step the next row ends (history.csv h)
-    real(dp) :: htail2(3) = 0.0_dp           !< contact_held, h, friction_dissipated
+    !> contact_held, h, friction_dissipated, momentum_z, angular_momentum_x, angular_momentum_y
+    real(dp) :: htail2(6) = 0.0_dp
     real(dp), allocatable :: preals(:), hreals(:), htail(:)   !< htail: dissipated, stored, impact_dissipated, momenta, damping
   contains
     procedure :: open => outputs_open
@@ -110,12 +115,15 @@ contains
     self%with_events = with_events
     self%with_fields = scn%fields_every /= 0
     self%axisymmetric = scene_axisymmetric(scn)
+    self%ndim = scn%mesh%ndim
     header = 'step,time'
     do i = 1, size(scn%probes)
       header = header // ',' // csv_field(scn%probes(i)%label)
     end do
     allocate (self%escalar(scn%mesh%nelem, 2))
-    allocate (self%nodal_u(3, scn%mesh%nnode), self%nodal_v(3, scn%mesh%nnode), self%estress(4, scn%mesh%nelem), &
+    self%ncomp = merge(6, 4, scn%mesh%ndim == 3)
+    self%slots = [DOF_UX, DOF_UY, merge(DOF_UZ, DOF_RZ, scn%mesh%ndim == 3)]
+    allocate (self%nodal_u(3, scn%mesh%nnode), self%nodal_v(3, scn%mesh%nnode), self%estress(self%ncomp, scn%mesh%nelem), &
       self%reaction(3, scn%mesh%nnode), self%preals(1 + size(scn%probes)), self%hreals(6), self%htail(7))
     self%reaction = 0.0_dp
     self%h = scn%dt
@@ -138,7 +146,7 @@ contains
     if (stat /= STAT_OK .or. .not. self%with_fields) return
     ! Cells of no MODEL (Gmsh boundary lines and points, ...) are not shown as stress-free elements.
     self%kept = pack([(i, i = 1, scn%mesh%nelem)], scn%elem_model(1:scn%mesh%nelem) > 0)
-    allocate (self%wstress(4, size(self%kept)), self%wscalar(size(self%kept), 2), self%support(3, scn%mesh%nnode))
+    allocate (self%wstress(self%ncomp, size(self%kept)), self%wscalar(size(self%kept), 2), self%support(3, scn%mesh%nnode))
     self%support = 0.0_dp
     part = ''
     if (step0 > 0) write (part, '(a,i6.6)') 'fields_restart_', step0
@@ -221,13 +229,17 @@ contains
       do k = 1, 3
         self%htail(3 + k) = dot_product(rig(:, k), mv)
       end do
+      self%htail2(4:6) = 0.0_dp
+      do k = 4, size(rig, 2)                   ! (3D: z, and the rotations about x and y)
+        self%htail2(k) = dot_product(rig(:, k), mv)
+      end do
       ! KINEMATICS LARGE: the angular momentum about the origin of the current configuration.
       if (any(scn%models%large)) self%htail(6) = current_angular_momentum(scn, sys, u, mv)
       ! Axisymmetric: the whole ring's radial momentum and its angular momentum about z are zero
       ! (Σ M v_r over the nodes is not a momentum: each ring's points move in all radial directions).
       if (self%axisymmetric) self%htail([4, 6]) = 0.0_dp
       self%htail(7) = en%damping()
-      self%htail2 = [en%contact_held(), self%h_row, en%friction()]
+      self%htail2(1:3) = [en%contact_held(), self%h_row, en%friction()]
       call self%hist%write_row(step, self%hreals, [iter, nactive], stat, errmsg, self%htail, [nsub], self%htail2)
       if (stat /= STAT_OK) return
       self%preals(1) = t
@@ -251,8 +263,8 @@ contains
     if (self%writes_fields(scn, step)) then
       if (.not. self%rec_built) call build_recovery(self, scn, sys, stat, errmsg)
       if (stat /= STAT_OK) return
-      call nodal_values(sys, u, self%nodal_u)
-      call nodal_values(sys, v, self%nodal_v)
+      call nodal_values(sys, u, self%slots, self%nodal_u)
+      call nodal_values(sys, v, self%slots, self%nodal_v)
       call element_stress(sys, self%estress)
       call element_scalars(scn, sys, self%estress, self%escalar)
       do k = 1, size(self%kept)                 ! (a loop: no temporary)
@@ -260,8 +272,19 @@ contains
         self%wscalar(k, :) = self%escalar(self%kept(k), :)
       end do
       do k = 1, sys%react%nslot - sys%react%nprobe   ! the support_reaction field's slots
-        self%support(sys%react%fdof(k), sys%react%fnode(k)) = sys%react%value(sys%react%nprobe + k)
+        self%support(findloc(self%slots, sys%react%fdof(k), 1), sys%react%fnode(k)) = sys%react%value(sys%react%nprobe + k)
       end do
+      if (self%ndim == 3) then                 ! (the recovered nodal and point fields: surfaces only)
+        if (present(cs)) call contact_reactions(self, scn, cs)
+        if (present(cs)) then
+          call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%wstress, stat, errmsg, &
+            reaction=self%reaction, escalar=self%wscalar, support=self%support)
+        else
+          call self%fields%write_step(step, t, self%nodal_u, self%nodal_v, self%wstress, stat, errmsg, &
+            escalar=self%wscalar, support=self%support)
+        end if
+        return
+      end if
       call self%rec%points(scn, sys, self%nodal_u, self%pvals, self%pdisp)
       call self%rec%nodal(scn, self%pvals, self%nodal, stat, errmsg)
       if (stat /= STAT_OK) return
@@ -324,9 +347,10 @@ contains
     type(output_set_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     type(contact_set_t), intent(in) :: cs
-    integer :: j, k, nodes(3)
-    real(dp) :: f, w(3), ft, slip, imp_t
+    integer :: j, k, nodes(3), nd
+    real(dp) :: f, w(3), ft, slip, imp_t, tg(3)
     self%reaction = 0.0_dp
+    nd = self%ndim                             ! (rows x, y[, z]; row 3 is the moment in 2D)
     do j = 1, size(scn%conditions)
       if (cs%follows(j)) then                  ! the step's pairing, then the end's for the correction
         call spread_force(self, cs%step_geometry(j), 0.5_dp * cs%multiplier(j))
@@ -337,10 +361,11 @@ contains
         f = step_impulse(self, cs, j) / self%h
         call cs%tangential(j, ft, slip, imp_t)     ! (FRICTION: the tangential force along t)
         ft = 0.5_dp * ft + imp_t / self%h
+        tg = condition_tangent(c)                ! (x, y, 0; FRICTION is 2D)
         call condition_nodes(c, nodes, w)
         do k = 1, 3
-          if (nodes(k) > 0) self%reaction(1:2, nodes(k)) = self%reaction(1:2, nodes(k)) + w(k) * (f * c%normal + &
-            ft * condition_tangent(c))
+          if (nodes(k) > 0) self%reaction(1:nd, nodes(k)) = self%reaction(1:nd, nodes(k)) + w(k) * (f * c%normal(1:nd) &
+            + ft * tg(1:nd))
         end do
       end associate
     end do
@@ -377,7 +402,7 @@ contains
     real(dp), intent(in) :: f(2)
     real(dp) :: p(2)
     integer :: d
-    p = scn%mesh%x(:, n)
+    p = scn%mesh%x(1:2, n)                     ! (the moment about z: x, y)
     if (any(scn%models%large)) then
       do d = 1, 2
         if (sys%dofs%eqn(d, n) > 0) p(d) = p(d) + u(sys%dofs%eqn(d, n)) - back * du(sys%dofs%eqn(d, n))
@@ -412,7 +437,7 @@ contains
       end if
     end do
     self%cnames = self%cnames(1:k)
-    allocate (self%cimp(3, k), self%cforce(3, k), self%cslip(k))
+    allocate (self%cimp(4, k), self%cforce(4, k), self%cslip(k))   ! x, y, the moment, z
     self%cimp = 0.0_dp
     self%cslip = 0.0_dp
   end subroutine contact_statements
@@ -428,29 +453,30 @@ contains
     real(dp), intent(in) :: u(:), du(:)
     type(contact_set_t), intent(in) :: cs
     type(row_geometry_t) :: gs, ge
-    real(dp) :: istep(2), icorr(2), sgn, lam_t, slip, imp_t
+    real(dp) :: istep(3), icorr(3), sgn, lam_t, slip, imp_t
     integer :: j, node
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j), s => self%cstat(j))
         if (cs%follows(j)) then                ! on b, along the step's normal, then the end's
           gs = cs%step_geometry(j)
           ge = cs%end_geometry(j)
-          istep = 0.5_dp * self%h * cs%multiplier(j) * gs%normal
-          icorr = cs%correction_impulse(j) * ge%normal + cs%body_impulse(j)
+          istep = [0.5_dp * self%h * cs%multiplier(j) * gs%normal(1:2), 0.0_dp]
+          icorr = [cs%correction_impulse(j) * ge%normal(1:2), 0.0_dp] + cs%body_impulse(j)
           node = c%node_b
         else
           ! on the NODES group: node b of an OBSTACLE or GAP … SEGMENTS, node a of GAP … WITH or PAIRS
           sgn = merge(-1.0_dp, 1.0_dp, c%node_a > 0 .and. c%node_c == 0)
           call cs%tangential(j, lam_t, slip, imp_t)   ! (FRICTION: along t = n turned by +90°)
-          istep = sgn * 0.5_dp * self%h * (cs%multiplier(j) * c%normal + lam_t * condition_tangent(c))
+          istep = sgn * 0.5_dp * self%h * (cs%multiplier(j) * c%normal + lam_t * condition_tangent(c))   ! (x, y, z)
           self%cslip(s) = self%cslip(s) + slip
           icorr = sgn * (cs%correction_impulse(j) * c%normal + imp_t * condition_tangent(c)) + cs%body_impulse(j)
           node = merge(c%node_a, c%node_b, c%node_a > 0 .and. c%node_c == 0)
         end if
-        self%cimp(1:2, s) = self%cimp(1:2, s) + istep + icorr
+        self%cimp(1:2, s) = self%cimp(1:2, s) + istep(1:2) + icorr(1:2)
+        self%cimp(4, s) = self%cimp(4, s) + istep(3) + icorr(3)
         ! The step's impulse acts at the step's midpoint configuration, the correction's at its end.
-        self%cimp(3, s) = self%cimp(3, s) + moment_at(scn, sys, u, du, 0.5_dp, node, istep) + &
-          moment_at(scn, sys, u, du, 0.0_dp, node, icorr)
+        self%cimp(3, s) = self%cimp(3, s) + moment_at(scn, sys, u, du, 0.5_dp, node, istep(1:2)) + &
+          moment_at(scn, sys, u, du, 0.0_dp, node, icorr(1:2))
       end associate
     end do
   end subroutine outputs_add_contact_impulses
@@ -500,6 +526,10 @@ contains
       call put_es(self%row, pos, self%cimp(3, k))
       call put_text(self%row, pos, ',')
       call put_es(self%row, pos, self%cslip(k))
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, self%cforce(4, k))
+      call put_text(self%row, pos, ',')
+      call put_es(self%row, pos, self%cimp(4, k))
       call self%contacts%write_line(self%row(1:pos), stat, errmsg)
       if (stat /= STAT_OK) return
     end do

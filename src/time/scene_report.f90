@@ -19,7 +19,7 @@ module scene_report
   use assembly, only: system_t, mass_times
   use cholmod_binding, only: cholmod_factor_t
   use elements, only: elem_mass, elem_dof_mask, elem_ndof, MAX_EDOF
-  use element_traits, only: ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6
+  use element_traits, only: ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, ET_HEX8, ET_TET4, NODE_DOFS
   use dof_map, only: equation_bodies, body_rigid_freedom
   use lapack_pure, only: dsyev
   use material_law, only: law_nearly_isochoric
@@ -81,9 +81,9 @@ contains
   subroutine masses_and_waves(scn, rep)
     type(scene_t), intent(in) :: scn
     type(report_t), intent(inout) :: rep
-    real(dp) :: me(MAX_EDOF, MAX_EDOF), tx(MAX_EDOF), rho, c, dx, x(2, 8)
-    logical :: mask(3)
-    integer :: e, im, nen, nd, a, d, k, i, j, nm
+    real(dp) :: me(MAX_EDOF, MAX_EDOF), tx(MAX_EDOF), rho, c, dx, x(3, 8)
+    logical :: mask(NODE_DOFS)
+    integer :: e, im, nen, nd, a, d, k, i, j, nm, ns
     nm = size(scn%models)
     allocate (rep%model_mass(nm), rep%wave(nm), rep%chdx(2, nm))
     rep%model_mass = 0.0_dp
@@ -96,16 +96,17 @@ contains
       im = scn%elem_model(e)
       if (im == 0) cycle
       nen = scn%mesh%nen(e)
-      x(:, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
+      ns = scn%mesh%ndim
+      x(1:ns, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
       rho = 0.0_dp
       if (scn%models(im)%material > 0) rho = scn%materials(scn%models(im)%material)%density
       nd = elem_ndof(scn%mesh%etype(e))
-      call elem_mass(scn%mesh%etype(e), x(:, 1:nen), scn%models(im)%sec, rho, .false., me(1:nd, 1:nd))
+      call elem_mass(scn%mesh%etype(e), x(1:ns, 1:nen), scn%models(im)%sec, rho, .false., me(1:nd, 1:nd))
       mask = elem_dof_mask(scn%mesh%etype(e))
       tx(1:nd) = 0.0_dp
       k = 0
       do a = 1, nen
-        do d = 1, 3
+        do d = 1, NODE_DOFS
           if (.not. mask(d)) cycle
           k = k + 1
           if (d == 1) tx(k) = 1.0_dp
@@ -117,7 +118,7 @@ contains
         dx = huge(1.0_dp)
         do i = 1, nen
           do j = i + 1, nen
-            dx = min(dx, norm2(x(:, j) - x(:, i)))
+            dx = min(dx, norm2(x(1:ns, j) - x(1:ns, i)))
           end do
         end do
         if (dx > 0.0_dp) then
@@ -130,7 +131,7 @@ contains
   end subroutine masses_and_waves
 
   !> The dilatational wave speed of model im (m/s): sqrt(E/ρ) in bars and beams, the plane
-  !> strain or plane stress P wave in surface elements; 0 for masses, springs, ρ = 0.
+  !> strain or plane stress P wave in surface elements, the P wave in solids; 0 for masses, springs, ρ = 0.
   pure real(dp) function wave_speed(scn, im) result(c)
     type(scene_t), intent(in) :: scn
     integer, intent(in) :: im
@@ -144,7 +145,7 @@ contains
     select case (scn%models(im)%etype)
     case (ET_BAR2, ET_BEAM2)
       c = sqrt(e / rho)
-    case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6)
+    case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, ET_HEX8, ET_TET4)
       if (scn%models(im)%sec%plane_stress) then
         c = sqrt(e / (rho * (1.0_dp - nu * nu)))
       else if (nu < 0.5_dp) then
@@ -303,11 +304,11 @@ contains
     real(dp), intent(in) :: rig(:, :), mrig(:, :)
     real(dp), intent(inout) :: x(:)
     real(dp), allocatable :: g(:, :, :), p(:, :), a(:, :)
-    real(dp) :: gb(3, 3), lam(3), work(16), c
+    real(dp) :: gb(6, 6), lam(6), work(64), c
     integer :: nb, i, k, l, b, info, nm
     nb = size(free, 2)
-    nm = size(rig, 2)
-    allocate (g(3, 3, nb), p(3, nb), a(3, nb))
+    nm = size(rig, 2)                            ! (3 in 2D, 6 in 3D)
+    allocate (g(nm, nm, nb), p(nm, nb), a(nm, nb))
     g = 0.0_dp
     p = 0.0_dp
     do i = 1, size(x)
@@ -324,8 +325,8 @@ contains
     a = 0.0_dp
     do b = 1, nb
       if (.not. any(free(1:nm, b))) cycle
-      gb = g(:, :, b)
-      call dsyev('V', 'U', nm, gb, 3, lam, work, size(work), info)
+      gb(1:nm, 1:nm) = g(:, :, b)
+      call dsyev('V', 'U', nm, gb, 6, lam, work, size(work), info)
       if (info /= 0) cycle
       do l = 1, nm                               ! pseudo-inverse: dependent modes (a lone node) dropped
         if (.not. (lam(l) > 1.0e-12_dp * maxval(lam(1:nm)))) cycle
@@ -407,18 +408,19 @@ contains
       if (rep%wave(im) < WAVE_MIN .or. rep%wave(im) > WAVE_MAX) w = w // 'MODEL ' // scn%models(im)%group // &
         ': wave speed ' // fmt(rep%wave(im)) // ' m/s, outside 10 to 20 000 m/s: check the units (YOUNG in Pa, ' // &
         'DENSITY in kg/m3)' // new_line('a')
-      if (tri3_locks(scn, im)) w = w // 'MODEL ' // scn%models(im)%group // ': TRI3 in plane strain locks under ' // &
+      if (tri3_locks(scn, im)) w = w // 'MODEL ' // scn%models(im)%group // ': ' // &
+        trim(merge('TRI3 in plane strain', 'TET4                ', scn%models(im)%etype == ET_TRI3)) // ' locks under ' // &
         'isochoric flow or a nearly incompressible law (its one point must keep its volume; FORMULATION BBAR has ' // &
-        'nothing to average there): mesh with QUAD4, which takes BBAR, or TRI6 (docs/locking.md)' // new_line('a')
+        'nothing to average there): mesh with QUAD4 or HEX8, which take BBAR, or TRI6 (docs/locking.md)' // new_line('a')
     end do
   end function report_warnings
 
-  !> Model im is TRI3 in plane strain with a law that keeps the volume (law_nearly_isochoric).
+  !> Model im is TRI3 in plane strain or TET4 with a law that keeps the volume (law_nearly_isochoric).
   logical function tri3_locks(scn, im)
     type(scene_t), intent(in) :: scn
     integer, intent(in) :: im
     tri3_locks = .false.
-    if (scn%models(im)%etype /= ET_TRI3 .or. scn%models(im)%material == 0) return
+    if ((scn%models(im)%etype /= ET_TRI3 .and. scn%models(im)%etype /= ET_TET4) .or. scn%models(im)%material == 0) return
     if (scn%models(im)%sec%plane_stress) return
     tri3_locks = law_nearly_isochoric(scn%materials(scn%models(im)%material))
   end function tri3_locks

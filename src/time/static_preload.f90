@@ -284,8 +284,8 @@ contains
     real(dp), intent(in) :: kappa
     logical, intent(in) :: held(:)
     real(dp), intent(inout) :: sval(:)
-    integer :: j, k, l, eqs(6), ki, ii, nimp, jc
-    real(dp) :: coefs(6), ke(6, 6)
+    integer :: j, k, l, eqs(9), ki, ii, nimp, jc
+    real(dp) :: coefs(9), ke(9, 9)
     logical :: fits
     ki = 1
     ii = 0
@@ -319,8 +319,8 @@ contains
         end associate
       end if
       fits = .true.
-      do k = 1, 6
-        do l = 1, 6
+      do k = 1, size(eqs)
+        do l = 1, size(eqs)
           if (eqs(k) > 0 .and. eqs(l) > 0) fits = fits .and. sys%ops%pat%locate(eqs(k), eqs(l)) > 0
           ke(k, l) = kappa * coefs(k) * coefs(l)
         end do

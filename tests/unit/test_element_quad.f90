@@ -105,7 +105,7 @@ contains
     f = 0.0_dp
     do ig = 1, elem_ngauss(ET_QUAD4, sec)
       call elem_gauss_b(ET_QUAD4, xq8, sec, ig, b, wt)
-      f = f + matmul(transpose(b(:, 1:8)), sig) * wt
+      f = f + matmul(transpose(b(1:4, 1:8)), sig) * wt
     end do
     s2 = reshape([sig(1), sig(4), sig(4), sig(2)], [2, 2])
     do a = 1, 4

@@ -155,10 +155,10 @@ contains
     type(law_step_t) :: r
     call vm_path(law_params_t(young=e, poisson=nu, yield=sy, h_iso=hi, h_kin=hk), plane_stress, nsub, d_el, sig_n, q_n, &
       deps, q, r)
-    sig = r%sig
-    sigbar = r%sigbar
+    sig = r%sig(1:4)
+    sigbar = r%sigbar(1:4)
     dissip = r%dissip
     nused = r%nused
-    dtan = r%dtan
+    dtan = r%dtan(1:4, 1:4)
   end subroutine vm_path_args
 end program test_law_von_mises

@@ -6,9 +6,9 @@
 program test_loads
   use kinds, only: dp
   use testing, only: check, check_close, test_summary
-  use loads, only: side_forces, side_pressure_stiffness
+  use loads, only: side_forces, side_pressure_stiffness, face_forces
   implicit none
-  real(dp) :: x(2, 3), f(2, 3), t, p, l, c, s, n(2)
+  real(dp) :: x(2, 3), f(2, 3), t, p, l, c, s, n(2), x3(3, 4), f3(3, 4), va(3)
   integer :: i
 
   t = 0.1_dp
@@ -57,9 +57,32 @@ program test_loads
   call check_close(sum(f(2, :)), -5.0_dp * t * 2.0e5_dp, 1e-14_dp, 'traction, 3-node side: total')
   call test_follower_stiffness()
   call test_closed_contour()
+  ! 3D faces (face_forces): a warped 4-node face, counter-clockwise seen from outside. The pressure's
+  ! total is -p times its vector area 1/2 (x3 - x1) x (x4 - x2), exactly; on a flat square each node
+  ! takes a quarter; a triangle's nodes a third of -p A n + A t.
+  x3 = reshape([0.0_dp, 0.0_dp, 0.0_dp, 2.0_dp, 0.1_dp, 0.3_dp, 2.2_dp, 1.5_dp, -0.2_dp, -0.1_dp, 1.2_dp, 0.1_dp], [3, 4])
+  call face_forces(4, x3, p, [0.0_dp, 0.0_dp, 0.0_dp], f3)
+  va = 0.5_dp * cross(x3(:, 3) - x3(:, 1), x3(:, 4) - x3(:, 2))
+  do i = 1, 3
+    call check_close(sum(f3(i, :)), -p * va(i), 1e-13_dp, 'pressure, warped 4-node face: total = -p x vector area')
+  end do
+  x3 = reshape([0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp], [3, 4])
+  call face_forces(4, x3, p, [1.0_dp, 2.0_dp, 3.0_dp], f3)
+  call check(all(abs(f3(:, 2) - [0.25_dp, 0.5_dp, 0.75_dp - 0.25_dp * p]) <= 1e-12_dp * p), &
+    'flat unit square: a quarter of -p n + t on each node')
+  call face_forces(3, x3, p, [0.0_dp, 0.0_dp, 3.0_dp], f3)
+  call check(all(abs(f3(:, 1:3) - spread([0.0_dp, 0.0_dp, (3.0_dp - p) / 6.0_dp], 2, 3)) <= 1e-12_dp * p), &
+    'triangle: a third of (-p n + t) A on each node')
   call test_summary('test_loads')
 
 contains
+
+  pure function cross(u, v) result(w)
+    real(dp), intent(in) :: u(3), v(3)
+    real(dp) :: w(3)
+    w = [u(2) * v(3) - u(3) * v(2), u(3) * v(1) - u(1) * v(3), u(1) * v(2) - u(2) * v(1)]
+  end function cross
+
 
   !> side_pressure_stiffness is -sym(∂f/∂x) of side_forces: f is linear in the nodes, so a central
   !> difference is exact to round-off; on a curved 3-node side and a straight 2-node one.

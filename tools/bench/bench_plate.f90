@@ -1,5 +1,7 @@
 !> QUAD4 plane-strain plate benchmark of the core solver (make bench, tools/bench.sh).
-!> usage: bench_plate NX NY NSTEPS NSOLVE WORKDIR [NREP]
+!> usage: bench_plate NX NY NSTEPS NSOLVE WORKDIR [NREP [NZ]]
+!> (NZ > 0: a 3D steel block of NX x NY x NZ HEX8 instead of the plate, 1 m x 1 m x NZ/NX m, clamped on
+!> x = 0 and its face x = 1 launched: DIMENSION 3, the same library calls.)
 !> Writes WORKDIR/plate_NXxNY.dat (a steel plate clamped on its left edge, its right edge
 !> launched with an initial velocity, no output in the loop), then times through the library:
 !> load_scene, build_system, prepare_run (analysis + factorization of S = K0 + 4M/h²), NREP
@@ -36,7 +38,7 @@ program bench_plate
   type(run_summary_t) :: summary
   character(len=:), allocatable :: errmsg, workdir, path, ordname
   character(len=512), allocatable :: overrides(:)
-  integer :: nx, ny, nsteps, nsolve, nrep, rep, stat, i, k, minor, unit
+  integer :: nx, ny, nz, nsteps, nsolve, nrep, rep, stat, i, k, minor, unit
   real(dp) :: lnz, xsize, fl
   type(factor_stats_t) :: fst
   real(dp) :: t0, t_load, t_build, t_analyze, t_prepare, t_factor, t_step, t_solve, h, dw, kin
@@ -52,20 +54,36 @@ program bench_plate
   workdir = str_arg(5)
   nrep = 3
   if (command_argument_count() >= 6) nrep = int_arg(6)
+  nz = 0
+  if (command_argument_count() >= 7) nz = int_arg(7)
   h = 1.0e-6_dp
   allocate (overrides(0))
 
-  ! Scene: 1 m x 1 m steel plate, 10 mm thick, plane strain, consistent mass.
+  ! Scene: 1 m x 1 m steel plate, 10 mm thick, plane strain, consistent mass (NZ > 0: the 3D block).
   path = workdir // '/plate_' // itoa(nx) // 'x' // itoa(ny) // '.dat'
   open (newunit=unit, file=path, status='replace', action='write')
-  write (unit, '(a)') 'TITLE "QUAD4 plane-strain plate benchmark"'
-  write (unit, '(a)') 'DIMENSION 2'
-  write (unit, '(a)') 'RECTANGLE plate ORIGIN 0 0 SIZE 1 1 ELEMENTS ' // itoa(nx) // ' ' // itoa(ny) // ' TYPE QUAD4'
-  write (unit, '(a)') 'MATERIAL steel ELASTIC YOUNG 2.1e11 POISSON 0.3 DENSITY 7800'
-  write (unit, '(a)') 'SECTION plate_sec THICKNESS 0.01'
-  write (unit, '(a)') 'MODEL plate MATERIAL steel SECTION plate_sec MASS CONSISTENT PLANE STRAIN'
-  write (unit, '(a)') 'FIX plate.left UX UY'
-  write (unit, '(a)') 'INITIAL plate.right VELOCITY 0 -1'
+  if (nz > 0) then
+    path = workdir // '/block_' // itoa(nx) // 'x' // itoa(ny) // 'x' // itoa(nz) // '.dat'
+    close (unit, status='delete')
+    open (newunit=unit, file=path, status='replace', action='write')
+    write (unit, '(a)') 'TITLE "HEX8 block benchmark"'
+    write (unit, '(a)') 'DIMENSION 3'
+    write (unit, '(a,es23.16,a)') 'BOX plate ORIGIN 0 0 0 SIZE 1 1 ', real(nz, dp) / nx, ' ELEMENTS ' // itoa(nx) // ' ' // &
+      itoa(ny) // ' ' // itoa(nz) // ' TYPE HEX8'
+    write (unit, '(a)') 'MATERIAL steel ELASTIC YOUNG 2.1e11 POISSON 0.3 DENSITY 7800'
+    write (unit, '(a)') 'MODEL plate MATERIAL steel MASS CONSISTENT'
+    write (unit, '(a)') 'FIX plate.xmin UX UY UZ'
+    write (unit, '(a)') 'INITIAL plate.xmax VELOCITY 0 -1 0'
+  else
+    write (unit, '(a)') 'TITLE "QUAD4 plane-strain plate benchmark"'
+    write (unit, '(a)') 'DIMENSION 2'
+    write (unit, '(a)') 'RECTANGLE plate ORIGIN 0 0 SIZE 1 1 ELEMENTS ' // itoa(nx) // ' ' // itoa(ny) // ' TYPE QUAD4'
+    write (unit, '(a)') 'MATERIAL steel ELASTIC YOUNG 2.1e11 POISSON 0.3 DENSITY 7800'
+    write (unit, '(a)') 'SECTION plate_sec THICKNESS 0.01'
+    write (unit, '(a)') 'MODEL plate MATERIAL steel SECTION plate_sec MASS CONSISTENT PLANE STRAIN'
+    write (unit, '(a)') 'FIX plate.left UX UY'
+    write (unit, '(a)') 'INITIAL plate.right VELOCITY 0 -1'
+  end if
   write (unit, '(a,es23.16,a,es23.16)') 'TIME STEP ', h, ' END ', nsteps * h
   write (unit, '(a)') 'SCHEME NEWMARK'
   write (unit, '(a)') 'OUTPUT HISTORY 0 FIELDS 0'
@@ -215,7 +233,8 @@ program bench_plate
   write (*, '(a,a,a,a)') '  VmHWM after prepare_run ', trim(hw_prepare), ' kB, at end ', trim(vm_hwm()) // ' kB'
   write (*, '(a,es10.3,a,es10.3,a)') '  (replay end: kinetic energy ', kin, ' J, last external work ', dw, ' J)'
 
-  write (*, '(a)', advance='no') 'RESULT nx=' // itoa(nx) // ' ny=' // itoa(ny) // ' ndof=' // itoa(sys%dofs%neq) // &
+  write (*, '(a)', advance='no') 'RESULT nx=' // itoa(nx) // ' ny=' // itoa(ny) // ' nz=' // itoa(nz) // &
+    ' ndof=' // itoa(sys%dofs%neq) // &
     ' nnzk=' // itoa(sys%ops%pat%nnz) // ' steps=' // itoa(summary%steps) // ' nsolve=' // itoa(nsolve) // &
     ' lnz=' // rtoa(lnz) // ' xsize=' // rtoa(xsize) // ' flops=' // rtoa(fl) // ' ordering=' // ordname // &
     ' t_load=' // rtoa(t_load) // ' t_build=' // rtoa(t_build) // ' t_analyze=' // rtoa(t_analyze) // &

@@ -35,7 +35,7 @@ sc.report('probes.csv: the header names the probe "ball, left.UY" as one field',
           repr(p[0]))
 sc.report('probes.csv: every row has the header\'s columns', all(len(r) == len(p[0]) for r in p), '')
 c = rows('contacts.csv')
-sc.report('contacts.csv: every row has the header\'s columns (12)', len(c[0]) == 12 and all(len(r) == 12 for r in c),
+sc.report('contacts.csv: every row has the header\'s columns (14)', len(c[0]) == 14 and all(len(r) == 14 for r in c),
           repr(c[:2]))
 sc.report('contacts.csv: the contact name read back whole', all(r[2] == 'wall, north' for r in c[1:]), repr(c[1][2]))
 e = rows('events.csv')

@@ -69,6 +69,7 @@ CASES = [  # scene, N, what the window must contain, --set arguments
     ('tests/scenes/friction/oscillator.dat', 100, 'impact', []),
     ('tests/scenes/friction/block_slide.dat', 30, 'impact', []),
     ('tests/scenes/friction/oblique.dat', 20, 'impact', []),
+    ('inputs/sdnv100_3d.dat', 30, 'impact', []),                  # 3D: HEX8 through the generic point path
 ]
 
 
