@@ -112,6 +112,7 @@ bench: bin/rebond
 	@/usr/bin/python3 tools/bench_taylor.py
 	@/usr/bin/python3 tools/bench_taylor.py bin/rebond docs/taylor-axisymmetric.md --scene inputs/taylor_bar.dat
 	@/usr/bin/python3 tools/bench_friction.py
+	@/usr/bin/python3 tools/bench_zone3d.py bin/rebond docs/performance-zone3d.md
 
 clean:
 	rm -rf $(BUILD) bin/rebond

@@ -85,7 +85,9 @@ for s in $SIZES; do
   steps=${BENCH_STEPS:-$steps}
   solves=${BENCH_SOLVES:-$solves}
   echo "bench: ~$n DOFs: plate $nx x $nx (x $nz in 3D), $steps steps, $solves bare solves"
-  "$BIN" "$nx" "$nx" "$steps" "$solves" "$WORK" "${BENCH_REPEATS:-3}" "$nz" | tee "$WORK/log_$nx.txt"
+  args=("$nx" "$nx" "$steps" "$solves" "$WORK" "${BENCH_REPEATS:-3}")
+  (( nz > 0 )) && args+=("$nz")                     # (a 7th argument: the HEX8 block's nz)
+  "$BIN" "${args[@]}" | tee "$WORK/log_$nx.txt"
   grep '^RESULT ' "$WORK/log_$nx.txt" >> "$RESULTS"
 done
 

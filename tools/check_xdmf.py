@@ -9,7 +9,7 @@ dataset of the declared dimensions, number type and precision (a HyperSlab DataI
 selection inside its source dataset). The Mixed topology array is
 walked to check its element count and node ids. Attribute sizes are checked against the grid
 (Node: nnode rows, Cell: nelem rows; Vector: 3 components, Scalar: 1). rebond is 2-D, so a
-nodal Vector must have a zero z component (ParaView's "Warp By Vector" then stays in the
+nodal Vector must have a zero z component (a 3D mesh, z not all zero: any) (ParaView's "Warp By Vector" then stays in the
 plane); the rotational part lives in a nodal Scalar named after its vector (displacement ->
 rotation, velocity -> angular_velocity, reaction -> reaction_moment), which must be present
 whenever the vector is. Prints one line per problem and exits 1 if there is any, else prints
@@ -119,6 +119,8 @@ def main(argv):
         nnode = gd.shape[0] if gd is not None and len(gd.shape) == 2 and gd.shape[1] == 3 else None
         if nnode is None:
             err(f"{name}: geometry is not an (nnode, 3) array")
+        # A DIMENSION 3 mesh (z not all zero): vectors are (x, y, z), no rotation scalars.
+        solid = nnode is not None and bool(np.any(np.asarray(gd[:, 2]) != 0.0))
         if topo.get("TopologyType") != "Mixed":
             err(f"{name}: TopologyType is not Mixed")
         nelem = int(topo.get("NumberOfElements", "-1"))
@@ -177,13 +179,13 @@ def main(argv):
             need = {"Scalar": 1, "Vector": 3, "Tensor": 9, "Tensor6": 6}.get(atype)
             if need is not None and ncomp != need:
                 err(f"{name}/{aname}: {ncomp} components for AttributeType={atype}")
-            if center == "Node" and atype == "Vector" and ncomp == 3 and len(d.shape) == 2:
+            if center == "Node" and atype == "Vector" and ncomp == 3 and len(d.shape) == 2 and not solid:
                 z = np.asarray(d[:, 2])
                 if np.any(z != 0.0):
                     err(f"{name}/{aname}: nodal Vector has a non-zero z component "
                         f"(max |z| = {np.max(np.abs(z))}); a 2-D field must be (x, y, 0)")
         for vec, rot in ROTATIONAL_PART.items():
-            if vec in kinds and kinds.get(rot) != ("Node", "Scalar"):
+            if vec in kinds and kinds.get(rot) != ("Node", "Scalar") and not solid:
                 err(f"{name}: {vec} present but {rot} is not a nodal Scalar attribute")
     if want_grids is not None and len(grids) != want_grids:
         err(f"{len(grids)} grids, expected {want_grids}")

@@ -5,7 +5,7 @@ module assembly
   use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, check_alloc
   use mesh, only: DOF_NAMES, NODE_DOFS, DOF_AXIS
-  use element_traits, only: ET_BEAM2, etype_needs_material, etype_family, FAMILY_SURFACE, MAX_NEN
+  use element_traits, only: ET_BEAM2, etype_needs_material, etype_family, FAMILY_SURFACE, FAMILY_VOLUME, MAX_NEN
   use contact_modes, only: IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use loads, only: load_nodal_forces
   use follower_loads, only: follower_set_t
@@ -183,7 +183,8 @@ contains
     if (scn%tangent .and. .not. sys%elems%linear) then
       allocate (sys%ops%tval(sys%ops%pat%nnz))
       sys%ops%tval = sys%ops%kval
-      if (any([(scn%models(k)%large .and. etype_family(scn%models(k)%etype) == FAMILY_SURFACE, k = 1, size(scn%models))])) then
+      if (any([(scn%models(k)%large .and. (etype_family(scn%models(k)%etype) == FAMILY_SURFACE .or. &
+          etype_family(scn%models(k)%etype) == FAMILY_VOLUME), k = 1, size(scn%models))])) then
         allocate (sys%ops%gval(sys%ops%pat%nnz))
         sys%ops%gval = 0.0_dp
       end if

@@ -143,7 +143,8 @@ contains
       end do
     end do
     do k = 1, size(scn%models)        ! (once, whatever the number of such models)
-      if (scn%models(k)%large .and. etype_family(scn%models(k)%etype) == FAMILY_SURFACE) then
+      if (scn%models(k)%large .and. (etype_family(scn%models(k)%etype) == FAMILY_SURFACE .or. &
+          etype_family(scn%models(k)%etype) == FAMILY_VOLUME)) then
         elems%bref = elems%bmat
         exit
       end if

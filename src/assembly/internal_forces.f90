@@ -13,6 +13,7 @@ module internal_forces
   use element_table, only: element_table_t, add_btdb
   use large_kinematics, only: large_axial_element, large_beam_element
   use large_plane, only: large_plane_element
+  use large_solid, only: large_solid_element
   use subincrement, only: correction_stress
   implicit none
   private
@@ -120,8 +121,13 @@ contains
           call large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
         else
           if (tangent) kg(1:ndof, 1:ndof) = 0.0_dp
-          call large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, any_c, &
-            wsum, dsum)
+          if (nstr == 6) then
+            call large_solid_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, any_c, &
+              wsum, dsum)
+          else
+            call large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, any_c, &
+              wsum, dsum)
+          end if
           if (tangent .and. allocated(sys%ops%gval)) call sys%ops%pat%add_element(sys%ops%gval, &
             sys%elems%edof(e0:e0 + ndof - 1), kg(1:ndof, 1:ndof))
         end if

@@ -72,7 +72,7 @@ contains
     integer, intent(in) :: nodes(:)
     real(dp), intent(inout) :: fn(:, :)
     type(face_set_t) :: faces
-    real(dp) :: x(3, 4), f(3, 4), p, tr(3)
+    real(dp) :: x(3, 8), f(3, 8), p, tr(3)
     integer :: k, i, stat
     integer, parameter :: slot(3) = [DOF_UX, DOF_UY, DOF_UZ]
     character(len=:), allocatable :: msg
@@ -96,19 +96,21 @@ contains
   end subroutine face_loads
 
   !> Consistent nodal forces f(:, 1:nfn) of a face with nodes x(:, 1:nfn) counter-clockwise seen from
-  !> outside, under a pressure p (into the body) and a traction tr per unit area:
-  !> f_i = ∫ N_i (-p n + tr) dA. A 3-node face (flat, constant normal): f_i = (-p A n + A tr)/3. A
-  !> 4-node face (bilinear, warped or not): 2 x 2 Gauss on n dA = (∂x/∂ξ × ∂x/∂η) dξ dη, exact for the
-  !> pressure (degree <= 2 in each variable) and for the traction of a parallelogram. The pressure's
-  !> total is -p times the face's vector area whatever its shape.
+  !> outside (the corners, then a quadratic face's mid-edge nodes), under a pressure p (into the body)
+  !> and a traction tr per unit area: f_i = ∫ N_i (-p n + tr) dA with n dA = (∂x/∂r × ∂x/∂s) dr ds.
+  !> 3-node face (flat): f_i = (-p A n + A tr)/3. 4- and 8-node faces: 2 x 2 and 3 x 3 Gauss on
+  !> [-1, 1]²; 6-node faces: a collapsed 3 x 3 Gauss product on the triangle (r = u, s = v (1 - u)).
+  !> The pressure's integrand is a polynomial these rules integrate exactly (its total is -p times the
+  !> face's vector area, whatever its shape); the traction's is, for a flat face with straight edges.
   pure subroutine face_forces(nfn, x, p, tr, f)
     integer, intent(in) :: nfn
-    real(dp), intent(in) :: x(3, 4), p, tr(3)
-    real(dp), intent(out) :: f(3, 4)
-    real(dp), parameter :: g = 0.57735026918962576450914878050196_dp
-    real(dp), parameter :: xn(4) = [-1.0_dp, 1.0_dp, 1.0_dp, -1.0_dp], yn(4) = [-1.0_dp, -1.0_dp, 1.0_dp, 1.0_dp]
-    real(dp) :: a(3), b(3), na(3), n(4), s, t
-    integer :: ig, i
+    real(dp), intent(in) :: x(:, :), p, tr(3)
+    real(dp), intent(out) :: f(3, 8)
+    real(dp), parameter :: g2 = 0.57735026918962576450914878050196_dp
+    real(dp), parameter :: g3(3) = [-0.77459666924148337703585307995648_dp, 0.0_dp, 0.77459666924148337703585307995648_dp]
+    real(dp), parameter :: w3(3) = [5.0_dp / 9.0_dp, 8.0_dp / 9.0_dp, 5.0_dp / 9.0_dp]
+    real(dp) :: na(3), n(8), dn(2, 8), r, s, w, a(3), b(3)
+    integer :: ig, i, npt
     f = 0.0_dp
     if (nfn == 3) then
       na = 0.5_dp * cross(x(:, 2) - x(:, 1), x(:, 3) - x(:, 1))
@@ -117,28 +119,86 @@ contains
       end do
       return
     end if
-    do ig = 1, 4
-      s = g * xn(ig)
-      t = g * yn(ig)
-      n = 0.25_dp * (1.0_dp + xn * s) * (1.0_dp + yn * t)
-      a = 0.0_dp
-      b = 0.0_dp
-      do i = 1, 4
-        a = a + 0.25_dp * xn(i) * (1.0_dp + yn(i) * t) * x(:, i)
-        b = b + 0.25_dp * yn(i) * (1.0_dp + xn(i) * s) * x(:, i)
-      end do
+    npt = merge(4, 9, nfn == 4)
+    do ig = 1, npt
+      if (nfn == 4) then
+        r = g2 * merge(1.0_dp, -1.0_dp, mod(ig - 1, 2) == 1)
+        s = g2 * merge(1.0_dp, -1.0_dp, (ig - 1) / 2 == 1)
+        w = 1.0_dp
+      else if (nfn == 8) then
+        r = g3(mod(ig - 1, 3) + 1)
+        s = g3((ig - 1) / 3 + 1)
+        w = w3(mod(ig - 1, 3) + 1) * w3((ig - 1) / 3 + 1)
+      else                                      ! the triangle, collapsed from [0, 1]²
+        r = 0.5_dp * (1.0_dp + g3(mod(ig - 1, 3) + 1))
+        s = 0.5_dp * (1.0_dp + g3((ig - 1) / 3 + 1)) * (1.0_dp - r)
+        w = 0.25_dp * w3(mod(ig - 1, 3) + 1) * w3((ig - 1) / 3 + 1) * (1.0_dp - r)
+      end if
+      call face_shape(nfn, r, s, n, dn)
+      a = matmul(x(:, 1:nfn), dn(1, 1:nfn))
+      b = matmul(x(:, 1:nfn), dn(2, 1:nfn))
       na = cross(a, b)
-      do i = 1, 4
-        f(:, i) = f(:, i) + n(i) * (-p * na + norm2(na) * tr)
+      do i = 1, nfn
+        f(:, i) = f(:, i) + w * n(i) * (-p * na + norm2(na) * tr)
       end do
     end do
   contains
-    pure function cross(u, v) result(w)
+    pure function cross(u, v) result(c)
       real(dp), intent(in) :: u(3), v(3)
-      real(dp) :: w(3)
-      w = [u(2) * v(3) - u(3) * v(2), u(3) * v(1) - u(1) * v(3), u(1) * v(2) - u(2) * v(1)]
+      real(dp) :: c(3)
+      c = [u(2) * v(3) - u(3) * v(2), u(3) * v(1) - u(1) * v(3), u(1) * v(2) - u(2) * v(1)]
     end function cross
   end subroutine face_forces
+
+  !> Shape functions of a face: 4-node bilinear and 8-node serendipity quadrangle on [-1, 1]² (corners
+  !> (-1,-1), (1,-1), (1,1), (-1,1), then the mid-edge nodes of sides 1-2, 2-3, 3-4, 4-1); 6-node
+  !> triangle on r, s >= 0, r + s <= 1 (corners, then sides 1-2, 2-3, 3-1).
+  pure subroutine face_shape(nfn, r, s, n, dn)
+    integer, intent(in) :: nfn
+    real(dp), intent(in) :: r, s
+    real(dp), intent(out) :: n(8), dn(2, 8)
+    real(dp), parameter :: cr(8) = [-1.0_dp, 1.0_dp, 1.0_dp, -1.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, -1.0_dp]
+    real(dp), parameter :: cs(8) = [-1.0_dp, -1.0_dp, 1.0_dp, 1.0_dp, -1.0_dp, 0.0_dp, 1.0_dp, 0.0_dp]
+    real(dp) :: l(3), dl(2, 3)
+    integer :: i
+    integer, parameter :: te(2, 3) = reshape([1, 2, 2, 3, 3, 1], [2, 3])
+    n = 0.0_dp
+    dn = 0.0_dp
+    select case (nfn)
+    case (4)
+      do i = 1, 4
+        n(i) = 0.25_dp * (1.0_dp + cr(i) * r) * (1.0_dp + cs(i) * s)
+        dn(1, i) = 0.25_dp * cr(i) * (1.0_dp + cs(i) * s)
+        dn(2, i) = 0.25_dp * cs(i) * (1.0_dp + cr(i) * r)
+      end do
+    case (8)
+      do i = 1, 4
+        n(i) = 0.25_dp * (1.0_dp + cr(i) * r) * (1.0_dp + cs(i) * s) * (cr(i) * r + cs(i) * s - 1.0_dp)
+        dn(1, i) = 0.25_dp * cr(i) * (1.0_dp + cs(i) * s) * (2.0_dp * cr(i) * r + cs(i) * s)
+        dn(2, i) = 0.25_dp * cs(i) * (1.0_dp + cr(i) * r) * (cr(i) * r + 2.0_dp * cs(i) * s)
+      end do
+      do i = 5, 8
+        if (cr(i) == 0.0_dp) then
+          n(i) = 0.5_dp * (1.0_dp - r * r) * (1.0_dp + cs(i) * s)
+          dn(1, i) = -r * (1.0_dp + cs(i) * s)
+          dn(2, i) = 0.5_dp * cs(i) * (1.0_dp - r * r)
+        else
+          n(i) = 0.5_dp * (1.0_dp - s * s) * (1.0_dp + cr(i) * r)
+          dn(1, i) = 0.5_dp * cr(i) * (1.0_dp - s * s)
+          dn(2, i) = -s * (1.0_dp + cr(i) * r)
+        end if
+      end do
+    case (6)
+      l = [1.0_dp - r - s, r, s]
+      dl = reshape([-1.0_dp, -1.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 3])
+      do i = 1, 3
+        n(i) = l(i) * (2.0_dp * l(i) - 1.0_dp)
+        dn(:, i) = (4.0_dp * l(i) - 1.0_dp) * dl(:, i)
+        n(3 + i) = 4.0_dp * l(te(1, i)) * l(te(2, i))
+        dn(:, 3 + i) = 4.0_dp * (l(te(1, i)) * dl(:, te(2, i)) + l(te(2, i)) * dl(:, te(1, i)))
+      end do
+    end select
+  end subroutine face_shape
 
   !> True when the side of element e under load ld follows the deformation: a PRESSURE not said
   !> DEAD on an element of a KINEMATICS LARGE model (follower_loads takes it).

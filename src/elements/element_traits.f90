@@ -8,13 +8,18 @@
 !>   as Cast3M's QUA8 and Gmsh's 8-node quadrangle; TRI3 3 corners counter-clockwise; TRI6 3
 !>   corners then 3 mid-side nodes (side 1-2, 2-3, 3-1), as Cast3M's TRI6 and Gmsh's 6-node triangle.
 !>   HEX8 (DIMENSION 3) the 4 corners of its bottom face counter-clockwise seen from above, then the
-!>   4 above them; TET4 corners 1 2 3 counter-clockwise seen from corner 4 (Gmsh's and VTK's order).
+!>   4 above them; TET4 corners 1 2 3 counter-clockwise seen from corner 4 (Gmsh's and VTK's order);
+!>   HEX20 and TET10 then their mid-edge nodes in Gmsh's order (element_solid), which XDMF's differs
+!>   from (etype_xdmf_order); WEDGE6 (a prism) the corners 1 2 3 of a triangle counter-clockwise seen
+!>   from the opposite one, then 4 5 6 above them (Gmsh's order; VTK's runs the triangles the other way).
 module element_traits
   use material_law, only: PK_1D, PK_BEAM, PK_PSTRAIN, PK_PSTRESS, PK_SOLID
   implicit none
   private
   public :: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, NUM_ETYPES, MAX_NEN
-  public :: ET_HEX8, ET_TET4, DOF_UX, DOF_UY, DOF_RZ, DOF_UZ, NODE_DOFS, DOF_NAMES, DOF_AXIS
+  public :: ET_HEX8, ET_TET4, ET_HEX20, ET_TET10, ET_WEDGE6, XDMF_WEDGE, XDMF_TETRAHEDRON_10, XDMF_HEXAHEDRON_20, &
+    etype_xdmf_order, &
+    DOF_UX, DOF_UY, DOF_RZ, DOF_UZ, NODE_DOFS, DOF_NAMES, DOF_AXIS
   public :: FAMILY_POINT, FAMILY_LINE, FAMILY_SURFACE, FAMILY_VOLUME
   public :: XDMF_POLYVERTEX, XDMF_POLYLINE, XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8, XDMF_TRIANGLE, XDMF_TRIANGLE_6
   public :: XDMF_TETRAHEDRON, XDMF_HEXAHEDRON, etype_dimension
@@ -24,9 +29,9 @@ module element_traits
     etype_stress_names
 
   integer, parameter :: ET_MASS = 1, ET_SPRING = 2, ET_BAR2 = 3, ET_BEAM2 = 4, ET_QUAD4 = 5, ET_QUAD8 = 6, ET_TRI3 = 7, &
-    ET_TRI6 = 8, ET_HEX8 = 9, ET_TET4 = 10
-  integer, parameter :: NUM_ETYPES = 10
-  integer, parameter :: MAX_NEN = 8
+    ET_TRI6 = 8, ET_HEX8 = 9, ET_TET4 = 10, ET_HEX20 = 11, ET_TET10 = 12, ET_WEDGE6 = 13
+  integer, parameter :: NUM_ETYPES = 13
+  integer, parameter :: MAX_NEN = 20
 
   !> Degrees of freedom of a node, in this order (their equations are numbered node by node in it):
   !> UX UY and RZ (planar beams) in 2D, UX UY UZ in 3D; NODE_DOFS slots per node.
@@ -40,7 +45,8 @@ module element_traits
   integer, parameter :: FAMILY_POINT = 1, FAMILY_LINE = 2, FAMILY_SURFACE = 3, FAMILY_VOLUME = 4
   !> XDMF cell codes of a Mixed topology array.
   integer, parameter :: XDMF_POLYVERTEX = 1, XDMF_POLYLINE = 2, XDMF_TRIANGLE = 4, XDMF_QUADRILATERAL = 5, &
-    XDMF_TRIANGLE_6 = 36, XDMF_QUADRILATERAL_8 = 37, XDMF_TETRAHEDRON = 6, XDMF_HEXAHEDRON = 9
+    XDMF_TRIANGLE_6 = 36, XDMF_QUADRILATERAL_8 = 37, XDMF_TETRAHEDRON = 6, XDMF_HEXAHEDRON = 9, &
+    XDMF_TETRAHEDRON_10 = 38, XDMF_HEXAHEDRON_20 = 48, XDMF_WEDGE = 8
 
   character(len=*), parameter :: SIGMA2D = 'sigma_xx, sigma_yy, sigma_zz, sigma_xy (Pa)'
   character(len=*), parameter :: SIGMA3D = 'sigma_xx, sigma_yy, sigma_zz, sigma_xy, sigma_yz, sigma_xz (Pa)'
@@ -69,7 +75,10 @@ module element_traits
     etraits_t('TRI3', 3, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_TRIANGLE, 2, SIGMA2D), &
     etraits_t('TRI6', 6, FAMILY_SURFACE, .true., '', PK_PSTRAIN, XDMF_TRIANGLE_6, 9, SIGMA2D), &
     etraits_t('HEX8', 8, FAMILY_VOLUME, .true., '', PK_SOLID, XDMF_HEXAHEDRON, 5, SIGMA3D), &
-    etraits_t('TET4', 4, FAMILY_VOLUME, .true., '', PK_SOLID, XDMF_TETRAHEDRON, 4, SIGMA3D)]
+    etraits_t('TET4', 4, FAMILY_VOLUME, .true., '', PK_SOLID, XDMF_TETRAHEDRON, 4, SIGMA3D), &
+    etraits_t('HEX20', 20, FAMILY_VOLUME, .true., '', PK_SOLID, XDMF_HEXAHEDRON_20, 17, SIGMA3D), &
+    etraits_t('TET10', 10, FAMILY_VOLUME, .true., '', PK_SOLID, XDMF_TETRAHEDRON_10, 11, SIGMA3D), &
+    etraits_t('WEDGE6', 6, FAMILY_VOLUME, .true., '', PK_SOLID, XDMF_WEDGE, 6, SIGMA3D)]
 
 contains
 
@@ -196,24 +205,51 @@ contains
 
   !> The faces of a solid as local node lists face(1:nfn(k), k), k = 1..nface, counter-clockwise seen
   !> from outside (the outward normal along (x2 - x1) x (x3 - x1)): HEX8 six 4-node faces, TET4 four
-  !> triangles. Other types have none (nface = 0).
+  !> triangles, WEDGE6 two triangles and three quadrangles. Other types have none (nface = 0).
   pure subroutine etype_faces(et, face, nfn, nface)
     integer, intent(in) :: et
-    integer, intent(out) :: face(4, 6), nfn(6), nface
+    integer, intent(out) :: face(8, 6), nfn(6), nface
     face = 0
     nfn = 0
     nface = 0
     select case (et)
-    case (ET_HEX8)
+    case (ET_HEX8, ET_HEX20)                     ! HEX20: the corners, then the mid-edge nodes along them
       nface = 6
-      nfn = 4
-      face = reshape([1, 4, 3, 2, 5, 6, 7, 8, 1, 2, 6, 5, 2, 3, 7, 6, 3, 4, 8, 7, 4, 1, 5, 8], [4, 6])
-    case (ET_TET4)
+      nfn = merge(8, 4, et == ET_HEX20)
+      face(1:4, :) = reshape([1, 4, 3, 2, 5, 6, 7, 8, 1, 2, 6, 5, 2, 3, 7, 6, 3, 4, 8, 7, 4, 1, 5, 8], [4, 6])
+      face(5:8, :) = reshape([10, 14, 12, 9, 17, 19, 20, 18, 9, 13, 17, 11, 12, 15, 19, 13, 14, 16, 20, 15, &
+        10, 11, 18, 16], [4, 6])
+      if (et == ET_HEX8) face(5:8, :) = 0
+    case (ET_TET4, ET_TET10)                     ! TET10: the corners, then the mid-edge nodes along them
       nface = 4
-      nfn(1:4) = 3
+      nfn(1:4) = merge(6, 3, et == ET_TET10)
       face(1:3, 1:4) = reshape([1, 3, 2, 1, 2, 4, 2, 3, 4, 1, 4, 3], [3, 4])
+      face(4:6, 1:4) = reshape([7, 6, 5, 5, 10, 8, 6, 9, 10, 8, 9, 7], [3, 4])
+      if (et == ET_TET4) face(4:6, :) = 0
+    case (ET_WEDGE6)                             ! the two triangles, then the three quadrangles
+      nface = 5
+      nfn(1:5) = [3, 3, 4, 4, 4]
+      face(1:4, 1:5) = reshape([1, 3, 2, 0, 4, 5, 6, 0, 1, 2, 5, 4, 2, 3, 6, 5, 1, 4, 6, 3], [4, 5])
     end select
   end subroutine etype_faces
+
+  !> The XDMF (VTK) node order of a cell of type et as positions in ours: XDMF's node k is our
+  !> order(k). Gmsh's (ours) and XDMF's differ on the mid-edge nodes of HEX20 and TET10 and on the
+  !> way WEDGE6's triangles run.
+  pure subroutine etype_xdmf_order(et, order)
+    integer, intent(in) :: et
+    integer, intent(out) :: order(MAX_NEN)
+    integer :: k
+    order = [(k, k = 1, MAX_NEN)]
+    select case (et)
+    case (ET_TET10)
+      order(9:10) = [10, 9]
+    case (ET_HEX20)
+      order(9:20) = [9, 12, 14, 10, 17, 19, 20, 18, 11, 13, 15, 16]
+    case (ET_WEDGE6)                             ! VTK: the base's right-hand normal points away from the top
+      order(1:6) = [1, 3, 2, 4, 6, 5]
+    end select
+  end subroutine etype_xdmf_order
 
   !> The straight pieces of an element's outline, as local node pairs seg(:, 1:nseg), for
   !> contact segments: a line element is one piece; a surface element's sides (etype_sides) run

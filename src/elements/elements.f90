@@ -14,7 +14,8 @@ module elements
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use element_traits, only: ET_MASS, ET_SPRING, ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, MAX_NEN, &
-    ET_HEX8, ET_TET4, etype_nen, etype_name, etype_dimension, NODE_DOFS, DOF_UX, DOF_UY, DOF_UZ, DOF_RZ
+    ET_HEX8, ET_TET4, ET_HEX20, ET_TET10, ET_WEDGE6, etype_nen, etype_name, etype_dimension, NODE_DOFS, DOF_UX, &
+    DOF_UY, DOF_UZ, DOF_RZ
   use section, only: section_t
   use element_mass, only: mass_mass
   use element_spring, only: spring_b, spring_check
@@ -29,9 +30,9 @@ module elements
   public :: elem_dof_mask, elem_nen, elem_ndof, elem_nstrain, elem_ngauss
   public :: elem_gauss_b, elem_gauss_shape, elem_mass, elem_elastic_d, elem_check_geometry, elem_check_section, elem_stiffness
 
-  integer, parameter :: MAX_EDOF = 24     !< HEX8: 8 nodes x 3
+  integer, parameter :: MAX_EDOF = 60     !< HEX20: 20 nodes x 3
   integer, parameter :: MAX_NSTRAIN = 6   !< solids
-  integer, parameter :: MAX_GAUSS = 9     !< QUAD8 3 x 3
+  integer, parameter :: MAX_GAUSS = 27    !< HEX20 3 x 3 x 3
 
 contains
 
@@ -68,7 +69,7 @@ contains
       elem_nstrain = 2
     case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6)
       elem_nstrain = 4
-    case (ET_HEX8, ET_TET4)
+    case (ET_HEX8, ET_TET4, ET_HEX20, ET_TET10, ET_WEDGE6)
       elem_nstrain = 6
     case default
       elem_nstrain = 0
@@ -92,7 +93,7 @@ contains
       elem_ngauss = tri_ngauss(3)
     case (ET_TRI6)
       elem_ngauss = tri_ngauss(6)
-    case (ET_HEX8, ET_TET4)
+    case (ET_HEX8, ET_TET4, ET_HEX20, ET_TET10, ET_WEDGE6)
       elem_ngauss = solid_ngauss(etype_nen(et))
     case default
       elem_ngauss = 0
@@ -127,7 +128,7 @@ contains
     integer, intent(in) :: et, ig
     real(dp), intent(out) :: n(:)
     logical, intent(out) :: ok
-    real(dp) :: nq(8), nt(6)
+    real(dp) :: nq(8), nt(6), ns(20)
     n = 0.0_dp
     ok = .true.
     select case (et)
@@ -137,9 +138,9 @@ contains
     case (ET_TRI3, ET_TRI6)
       call tri_point_shape(etype_nen(et), ig, nt)
       n(1:etype_nen(et)) = nt(1:etype_nen(et))
-    case (ET_HEX8, ET_TET4)
-      call solid_point_shape(etype_nen(et), ig, nq)
-      n(1:etype_nen(et)) = nq(1:etype_nen(et))
+    case (ET_HEX8, ET_TET4, ET_HEX20, ET_TET10, ET_WEDGE6)
+      call solid_point_shape(etype_nen(et), ig, ns)
+      n(1:etype_nen(et)) = ns(1:etype_nen(et))
     case default
       ok = .false.
     end select
@@ -206,7 +207,8 @@ contains
     logical, intent(in), optional :: large
     real(dp) :: xl(2, MAX_NEN), ml(MAX_EDOF, MAX_EDOF), m2(2, 2), m4(4, 4), m6(6, 6), x3(3, MAX_NEN), m16(16, 16)
     integer :: nd
-    ml = 0.0_dp
+    nd = elem_ndof(et)
+    ml(1:nd, 1:nd) = 0.0_dp              ! (the element's block: a 60 x 60 zero per element cost more than its mass)
     if (etype_dimension(et) == 3) then
       call local_coords_3(et, x, x3)
       call solid_mass(etype_nen(et), x3, rho, lumped, ml)
@@ -234,7 +236,6 @@ contains
     case (ET_TRI6)
       call tri_mass(6, xl(:, 1:6), sec%thickness, sec%axisymmetric, rho, lumped, ml(1:12, 1:12))
     end select
-    nd = elem_ndof(et)
     me = 0.0_dp
     me(1:nd, 1:nd) = ml(1:nd, 1:nd)
   end subroutine elem_mass
@@ -259,7 +260,7 @@ contains
     case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6)
       call quad_elastic_d(young, poisson, sec%plane_stress, dq)
       d(1:4, 1:4) = dq
-    case (ET_HEX8, ET_TET4)
+    case (ET_HEX8, ET_TET4, ET_HEX20, ET_TET10, ET_WEDGE6)
       call solid_elastic_d(young, poisson, ds)
       d(1:6, 1:6) = ds
     end select

@@ -9,7 +9,7 @@ module scene_conditions
     LOAD_TRACTION, INIT_ANGULAR, SPIN_LINE
   use mesh_segments, only: side_set_t, group_sides
   use mesh_faces, only: face_set_t, group_faces
-  use scene_helpers, only: node_group, check_modelled, get_point, get_function, get_pair
+  use scene_helpers, only: node_group, check_modelled, get_point, get_function, get_pair, check_count
   use mesh, only: MAX_COORD, NODE_DOFS, DOF_UX, DOF_UY, DOF_RZ, DOF_UZ, DOF_NAMES
   implicit none
   private
@@ -106,6 +106,9 @@ contains
       if (any(scn%models%large .and. scn%models%sec%axisymmetric)) call set_error(stat, errmsg, STAT_INPUT, &
         stmt_error(st, 'a PRESSURE that follows the sides of an axisymmetric KINEMATICS LARGE model is not ' // &
         'available: say DEAD (the pressure then keeps its reference direction and ring)', st%lead(1)))
+      if (scn%mesh%ndim == 3 .and. any(scn%models%large)) call set_error(stat, errmsg, STAT_INPUT, &
+        stmt_error(st, 'a PRESSURE that follows the faces of a 3D KINEMATICS LARGE model is not available yet: ' // &
+        'say DEAD (the pressure then keeps its reference direction and area)', st%lead(1)))
     end select
   end subroutine loads_modelled
 
@@ -466,10 +469,9 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter VALUE', st%lead(1)))
       return
     end if
-    if (st%keyword == 'TRACTION' .and. size(st%params(find_param(st, 'VALUE'))%values) /= scn%mesh%ndim) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'TRACTION VALUE takes ' // str(scn%mesh%ndim) // &
-        ' numbers in a ' // str(scn%mesh%ndim) // 'D scene', st%params(find_param(st, 'VALUE'))%keytok))
-      return
+    if (st%keyword == 'TRACTION') then
+      call check_count(st, 'VALUE', scn%mesh%ndim, stat, errmsg)
+      if (stat /= STAT_OK) return
     end if
     call get_vector(scn, st, 'VALUE', v, mask, stat, errmsg)        ! (p, or tx ty [tz] in slots UX UY [UZ])
     if (stat /= STAT_OK) return

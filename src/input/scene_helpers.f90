@@ -11,7 +11,7 @@ module scene_helpers
   implicit none
   private
   public :: get_etype, node_group, get_choice, get_pair, get_point, model_size, get_unit, check_modelled, resolve_path, &
-    get_function
+    get_function, check_count
 
 contains
 
@@ -171,6 +171,11 @@ contains
     k = find_param(st, key)
     if (k == 0) return
     if (size(st%params(k)%values) == n) return
+    if (size(st%params(k)%values) > n) then           ! (the first word too many is the one at fault)
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, key // ' takes ' // str(n) // ' numbers in a ' // &
+        str(n) // 'D scene, not ' // str(size(st%params(k)%values)), st%params(k)%values(n + 1)))
+      return
+    end if
     call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, key // ' takes ' // str(n) // ' numbers in a ' // &
       str(n) // 'D scene, not ' // str(size(st%params(k)%values)), st%params(k)%keytok))
   end subroutine check_count

@@ -439,21 +439,37 @@ contains
   !> HEX8): its other options are refused by name rather than ignored.
   subroutine check_solid_model(st, md, stat, errmsg)
     type(statement_t), intent(in) :: st
-    type(model_t), intent(in) :: md
+    type(model_t), intent(inout) :: md
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=16), parameter :: refused(4) = [character(len=16) :: 'PLANE', 'KINEMATICS', 'STRAIN_MEASURE', &
-      'AXISYMMETRIC']
+    character(len=16), parameter :: refused(2) = [character(len=16) :: 'PLANE', 'AXISYMMETRIC']
     integer :: k, ip
     stat = STAT_OK
     do k = 1, size(refused)
       ip = find_param(st, trim(refused(k)))
       if (ip == 0) cycle
-      if (trim(refused(k)) == 'KINEMATICS' .and. .not. md%large) cycle           ! KINEMATICS SMALL
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, trim(refused(k)) // ' is not available on ' // &
-        etype_name(md%etype) // ' yet (3D solids: KINEMATICS SMALL)', st%params(ip)%keytok))
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, trim(refused(k)) // ' is not a property of ' // &
+        etype_name(md%etype) // ' elements (3D solids)', st%params(ip)%keytok))
       return
     end do
+    ! KINEMATICS LARGE on solids: St Venant-Kirchhoff or J2 on (E, S), FORMULATION STANDARD (large_solid).
+    ip = find_param(st, 'STRAIN_MEASURE')
+    if (md%log_strain) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'STRAIN_MEASURE LOG is not available on ' // &
+        etype_name(md%etype) // ' yet (3D solids: GREEN)', st%params(ip)%values(1)))
+      return
+    end if
+    if (md%large .and. md%bbar) then
+      ip = find_param(st, 'FORMULATION')
+      if (ip > 0) then
+        if (upper(st%params(ip)%values(1)%text) == 'BBAR') then
+          call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'FORMULATION BBAR with KINEMATICS LARGE is not ' // &
+            'available on ' // etype_name(md%etype) // ' yet (STANDARD)', st%params(ip)%values(1)))
+          return
+        end if
+      end if
+    end if
+    if (md%large) md%bbar = .false.              ! (AUTO: STANDARD, the only LARGE solid formulation)
     if (md%tuned .and. md%mass_said) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, &
       'MASS TUNED is for 2-node bars (3D solids: CONSISTENT, LUMPED or MIXED)', st%params(find_param(st, 'MASS'))%keytok))
   end subroutine check_solid_model
@@ -521,7 +537,7 @@ contains
       if (md%etype == ET_MASS) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'KINEMATICS LARGE has no form for ' // &
           etype_name(md%etype) // ' elements (a point mass has no strain; BAR2, SPRING, BEAM2, QUAD4, QUAD8, TRI3 ' // &
-          'and TRI6 have one)', &
+          'and TRI6 and the solids have one)', &
           st%params(find_param(st, 'KINEMATICS'))%values(1)))
       else if (md%sec%has_direction) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'KINEMATICS LARGE: a SPRING with a DIRECTION has no ' // &

@@ -8,7 +8,7 @@
 module beam_fibre
   use kinds, only: dp
   use section, only: section_t
-  use law_types, only: law_params_t, law_step_t, NSUB_EXACT
+  use law_types, only: law_params_t, law_step_t, NSUB_EXACT, law_step_reset
   use law_plastic_1d, only: P1D_NSTATE, plastic_1d_inside, plastic_1d_path, plastic_auto_nsub
   use law_nonlinear_elastic, only: nle_stress, nle_energy, nle_auto_nsub, nle_path, nle_exact
   implicit none
@@ -72,6 +72,10 @@ contains
     integer :: f, n, i0, nf
     logical :: inside
     e = p%young
+    call law_step_reset(r)
+    r%sig(1:2) = 0.0_dp                          ! (the layers add into these)
+    r%sigbar(1:2) = 0.0_dp
+    r%dtan(1:2, 1:2) = 0.0_dp
     select case (kind)
     case (FIB_PLASTIC)
       inside = .true.

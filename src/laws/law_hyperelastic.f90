@@ -8,14 +8,17 @@
 !> mu and lambda the Lame constants of YOUNG and POISSON (at small strain: the ELASTIC law).
 !> psi grows without bound as J -> 0: unlike St Venant-Kirchhoff, which softens in compression and
 !> lets an element collapse, a neo-Hookean element resists being squashed.
-!> Strains and stresses as the surface elements store them: [xx, yy, zz, 2xy] and [xx, yy, zz, xy].
+!> Strains and stresses as the surface elements store them: [xx, yy, zz, 2xy] and [xx, yy, zz, xy];
+!> the 3D solids' (nh_solid_*: C the whole 3 x 3) [xx, yy, zz, 2xy, 2yz, 2xz] and [xx, yy, zz, xy, yz, xz].
 !> The step of eq (9) uses nh_discrete_stress, S̄ with S̄ : ΔE = Δpsi exactly (Gonzalez's midpoint
 !> discrete gradient in E, which keeps S̄ symmetric and so the angular momentum): docs/materials.md.
 module law_hyperelastic
   use kinds, only: dp
+  use small_matrix, only: adjugate3
   implicit none
   private
   public :: nh_lame, nh_energy, nh_stress, nh_tangent, nh_discrete_stress, nh_c33, log1p_, gonzalez_stress, nh_mean_energy
+  public :: nh_solid_energy, nh_solid_stress, nh_solid_tangent, nh_solid_discrete_stress
 
 contains
 
@@ -169,13 +172,101 @@ contains
   !> neo-Hookean discrete stress and STRAIN_MEASURE LOG's step stress (plane_point) use it.
   pure function gonzalez_stress(sa, de, w, noise) result(sbar)
     real(dp), intent(in) :: sa(4), de(4), w, noise
-    real(dp) :: sbar(4), dd(4), den, gap
-    dd = [de(1), de(2), de(3), 0.5_dp * de(4)]
-    den = dot_product(dd, de)
+    real(dp) :: sbar(4)
+    call gonzalez_n(4, sa, de, w, noise, sbar)
+  end function gonzalez_stress
+
+  !> gonzalez_stress on n = 4 (surfaces) or 6 (solids) components, the shears after the normals.
+  pure subroutine gonzalez_n(n, sa, de, w, noise, sbar)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: sa(n), de(n), w, noise
+    real(dp), intent(out) :: sbar(n)
+    real(dp) :: dd(6), den, gap             ! (a fixed size: no heap array in the laws' loop)
+    dd(1:3) = de(1:3)
+    dd(4:n) = 0.5_dp * de(4:n)
+    den = dot_product(dd(1:n), de)
     gap = w - dot_product(sa, de)
     sbar = sa
-    if (den > 0.0_dp .and. abs(gap) > noise) sbar = sa + (gap / den) * dd
-  end function gonzalez_stress
+    if (den > 0.0_dp .and. abs(gap) > noise) sbar = sa + (gap / den) * dd(1:n)
+  end subroutine gonzalez_n
+
+  !> 3D solids: the tensor 2E of a strain vector [xx, yy, zz, 2xy, 2yz, 2xz], det C - 1 = i1 + i2 + i3
+  !> (the invariants of A = C - I = 2E: no cancellation at small strain), ln J, and C^-1.
+  pure subroutine solid_parts(e, dm1, lnj, ci)
+    real(dp), intent(in) :: e(6)
+    real(dp), intent(out) :: dm1, lnj, ci(3, 3)
+    real(dp) :: a(3, 3), c(3, 3), i1, i2, i3
+    a = reshape([2.0_dp * e(1), e(4), e(6), e(4), 2.0_dp * e(2), e(5), e(6), e(5), 2.0_dp * e(3)], [3, 3])
+    i1 = a(1, 1) + a(2, 2) + a(3, 3)
+    i2 = a(1, 1) * a(2, 2) + a(2, 2) * a(3, 3) + a(1, 1) * a(3, 3) - a(1, 2)**2 - a(2, 3)**2 - a(1, 3)**2
+    i3 = a(1, 1) * (a(2, 2) * a(3, 3) - a(2, 3)**2) - a(1, 2) * (a(1, 2) * a(3, 3) - a(2, 3) * a(1, 3)) + &
+      a(1, 3) * (a(1, 2) * a(2, 3) - a(2, 2) * a(1, 3))
+    dm1 = i1 + i2 + i3
+    lnj = 0.5_dp * log1p_(dm1)
+    c = a
+    c(1, 1) = c(1, 1) + 1.0_dp
+    c(2, 2) = c(2, 2) + 1.0_dp
+    c(3, 3) = c(3, 3) + 1.0_dp
+    ci = adjugate3(c)
+    ci = ci / (1.0_dp + dm1)
+  end subroutine solid_parts
+
+  !> 3D: psi = mu (tr E - ln J) + lambda/2 (ln J)^2 per unit reference volume.
+  pure real(dp) function nh_solid_energy(lm, e) result(psi)
+    real(dp), intent(in) :: lm(2), e(6)
+    real(dp) :: dm1, lnj, ci(3, 3)
+    call solid_parts(e, dm1, lnj, ci)
+    psi = lm(2) * ((e(1) + e(2) + e(3)) - lnj) + 0.5_dp * lm(1) * lnj**2
+  end function nh_solid_energy
+
+  !> 3D: S = mu 2E C^-1 + lambda ln J C^-1 (I - C^-1 = 2E C^-1, symmetric: E and C commute) as
+  !> [xx, yy, zz, xy, yz, xz].
+  pure function nh_solid_stress(lm, e) result(s)
+    real(dp), intent(in) :: lm(2), e(6)
+    real(dp) :: s(6), dm1, lnj, ci(3, 3), a(3, 3), m(3, 3)
+    integer, parameter :: ii(6) = [1, 2, 3, 1, 2, 1], jj(6) = [1, 2, 3, 2, 3, 3]
+    integer :: k
+    call solid_parts(e, dm1, lnj, ci)
+    a = reshape([2.0_dp * e(1), e(4), e(6), e(4), 2.0_dp * e(2), e(5), e(6), e(5), 2.0_dp * e(3)], [3, 3])
+    m = matmul(a, ci)
+    do k = 1, 6
+      s(k) = lm(2) * 0.5_dp * (m(ii(k), jj(k)) + m(jj(k), ii(k))) + lm(1) * lnj * ci(ii(k), jj(k))
+    end do
+  end function nh_solid_stress
+
+  !> 3D: dS/dE, 6 x 6 on [xx, yy, zz, 2xy, 2yz, 2xz]: C_IJKL = lambda Ci_IJ Ci_KL + g (Ci_IK Ci_JL +
+  !> Ci_IL Ci_JK), g = mu - lambda ln J.
+  pure function nh_solid_tangent(lm, e) result(d)
+    real(dp), intent(in) :: lm(2), e(6)
+    real(dp) :: d(6, 6), dm1, lnj, ci(3, 3), g
+    integer, parameter :: ii(6) = [1, 2, 3, 1, 2, 1], jj(6) = [1, 2, 3, 2, 3, 3]
+    integer :: a, b
+    call solid_parts(e, dm1, lnj, ci)
+    g = lm(2) - lm(1) * lnj
+    do b = 1, 6
+      do a = 1, 6
+        d(a, b) = lm(1) * ci(ii(a), jj(a)) * ci(ii(b), jj(b)) + &
+          g * (ci(ii(a), ii(b)) * ci(jj(a), jj(b)) + ci(ii(a), jj(b)) * ci(jj(a), ii(b)))
+      end do
+    end do
+  end function nh_solid_tangent
+
+  !> 3D: the step's stress S̄ = S(E_mid) + Gonzalez's term (gonzalez_n), S̄ . ΔE = psi(E1) - psi(En)
+  !> exactly: Δpsi = mu (Δ tr E - Δ ln J) + lambda/2 (ln J1 + ln Jn) Δ ln J, Δ ln J = ½ log1p((det C1 -
+  !> det Cn) / det Cn); the round-off of the difference of the two det C - 1 is in the noise.
+  pure function nh_solid_discrete_stress(lm, en, e1) result(sb)
+    real(dp), intent(in) :: lm(2), en(6), e1(6)
+    real(dp) :: sb(6), de(6), sm(6), dn, d1, ln, l1, dlnj, dpsi, noise, ci(3, 3)
+    de = e1 - en
+    sm = nh_solid_stress(lm, 0.5_dp * (en + e1))
+    call solid_parts(en, dn, ln, ci)
+    call solid_parts(e1, d1, l1, ci)
+    dlnj = 0.5_dp * log1p_((d1 - dn) / (1.0_dp + dn))
+    dpsi = lm(2) * ((de(1) + de(2) + de(3)) - dlnj) + 0.5_dp * lm(1) * (l1 + ln) * dlnj
+    noise = 64.0_dp * epsilon(1.0_dp) * (lm(2) * (abs(de(1) + de(2) + de(3)) + abs(dlnj)) + &
+      lm(1) * abs((l1 + ln) * dlnj) + sum(abs(sm * de)) + (lm(2) + lm(1) * abs(l1 + ln)) * (abs(d1) + abs(dn)))
+    call gonzalez_n(6, sm, de, dpsi, noise, sb)
+  end function nh_solid_discrete_stress
 
   !> The energy of a plane-strain element under FORMULATION BBAR (docs/locking.md): its points' ψ
   !> with the volumetric term on the element's mean ln J, Σ w [μ/2 (tr C - 3) - μ ln J] + Σ w λ/2 <ln J>²,

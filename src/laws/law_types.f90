@@ -6,7 +6,7 @@ module law_types
   use kinds, only: dp
   implicit none
   private
-  public :: law_params_t, law_step_t, MAX_COMPONENTS, NSUB_EXACT
+  public :: law_params_t, law_step_t, MAX_COMPONENTS, NSUB_EXACT, law_step_reset
 
   !> The sub-increment count that asks a law with a potential for its discrete gradient
   !> (MODEL … SUBSTEPS EXACT): sigbar . deps = psi(eps_n + deps) - psi(eps_n) exactly, one step.
@@ -29,16 +29,31 @@ module law_types
   !> sigbar (method.md section 2), the tangent dtan = d sig / d deps (material_law: law_update),
   !> the work sigbar . deps and its dissipated part (per unit weight), the sub-increments used
   !> (0: none were needed, the step was elastic and sigma_c = 0 bit for bit).
+  !> No component carries a default value (the laws set what they produce: sig(1:ns), sigbar(1:ns),
+  !> dtan(1:ns, 1:ns), work, dissip, nused, and dbar with has_dbar; law_step_reset the scalars): a
+  !> step is a point's every iteration, and an intent(out) of a default-initialized 6 x 6 type was
+  !> built and copied whole at each call, a quarter of the 2D laws' time.
   type :: law_step_t
-    real(dp) :: sig(MAX_COMPONENTS) = 0.0_dp
-    real(dp) :: sigbar(MAX_COMPONENTS) = 0.0_dp
-    real(dp) :: dtan(MAX_COMPONENTS, MAX_COMPONENTS) = 0.0_dp
-    real(dp) :: work = 0.0_dp
-    real(dp) :: dissip = 0.0_dp
-    integer :: nused = 0
+    real(dp) :: sig(MAX_COMPONENTS)
+    real(dp) :: sigbar(MAX_COMPONENTS)
+    real(dp) :: dtan(MAX_COMPONENTS, MAX_COMPONENTS)
+    real(dp) :: work
+    real(dp) :: dissip
+    integer :: nused
     !> With has_dbar: dbar = d(2 sigbar)/d(deps), the tangent of the force eq (9) carries with the
     !> correction (Bσ(n+1) + Bσc = 2 Bσ̄ - Bσ(n)); otherwise dtan stands for it.
-    real(dp) :: dbar(MAX_COMPONENTS, MAX_COMPONENTS) = 0.0_dp
-    logical :: has_dbar = .false.
+    real(dp) :: dbar(MAX_COMPONENTS, MAX_COMPONENTS)
+    logical :: has_dbar
   end type law_step_t
+
+contains
+
+  !> The scalars of a step before a law fills it: no work, no dissipation, no sub-increment, no dbar.
+  pure subroutine law_step_reset(r)
+    type(law_step_t), intent(inout) :: r
+    r%work = 0.0_dp
+    r%dissip = 0.0_dp
+    r%nused = 0
+    r%has_dbar = .false.
+  end subroutine law_step_reset
 end module law_types

@@ -17,7 +17,7 @@
 module law_von_mises
   use kinds, only: dp
   use subincrement, only: return_map_t, subincrement_path
-  use law_types, only: law_params_t, law_step_t
+  use law_types, only: law_params_t, law_step_t, law_step_reset
   implicit none
   private
   public :: VM_NSTATE, vm_d3, vm_dps, vm_return, vm_path, vm_trial_ratio, vm_stored, vm_dev, vm_norm, vm_map_t
@@ -50,14 +50,70 @@ contains
     vm_alpha_index = nc + 1
   end function vm_alpha_index
 
-  !> Deviator of a stress-like vector (4 or 6 components, the shears after the normals).
+  !> Deviator of a stress-like vector (4 or 6 components, the shears after the normals) in d(1:size(s));
+  !> the rest of d is 0 (a fixed size: no run-time-sized temporary in the laws' loop).
   pure function vm_dev(s) result(d)
     real(dp), intent(in) :: s(:)
-    real(dp) :: d(size(s)), p
+    real(dp) :: d(NCMAX), p
+    integer :: i
     p = (s(1) + s(2) + s(3)) / 3.0_dp
-    d(1:3) = [s(1) - p, s(2) - p, s(3) - p]
-    d(4:) = s(4:)
+    d = 0.0_dp
+    d(1) = s(1) - p
+    d(2) = s(2) - p
+    d(3) = s(3) - p
+    do i = 4, size(s)
+      d(i) = s(i)
+    end do
   end function vm_dev
+
+  !> The trial stress s(1:nc) = s_n + D de (nc = 4 or 6) and the relative stress xi = dev(s) - beta
+  !> (beta = q(nc+2:2nc+1)); explicit shapes and constant sizes: the laws run at every point of every
+  !> iteration.
+  pure subroutine trial_state(nc, ldd, d, de, s_n, q, s, xi)
+    integer, intent(in) :: nc, ldd                              ! (ldd: d's leading dimension, >= nc)
+    real(dp), intent(in) :: d(ldd, nc), de(nc), s_n(nc), q(2 * nc + 2)
+    real(dp), intent(out) :: s(nc), xi(nc)
+    real(dp) :: pm
+    integer :: i
+    if (nc == 4) then             ! (constant sizes: the product unrolled)
+      s(1:4) = s_n(1:4) + matmul(d(1:4, 1:4), de(1:4))
+    else
+      s(1:6) = s_n(1:6) + matmul(d(1:6, 1:6), de(1:6))
+    end if
+    pm = (s(1) + s(2) + s(3)) / 3.0_dp
+    do i = 1, 3
+      xi(i) = (s(i) - pm) - q(nc + 1 + i)
+    end do
+    do i = 4, nc
+      xi(i) = s(i) - q(nc + 1 + i)
+    end do
+  end subroutine trial_state
+
+  !> |s| of an nc-vector (explicit shape; vm_norm's value).
+  pure real(dp) function norm_nc(nc, s)
+    integer, intent(in) :: nc
+    real(dp), intent(in) :: s(nc)
+    real(dp) :: t
+    integer :: i
+    t = s(4)**2
+    do i = 5, nc
+      t = t + s(i)**2
+    end do
+    norm_nc = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp * t)
+  end function norm_nc
+
+  !> t(1:n) = d(1:n, 1:n) v(1:n) by loops (a fixed-size result: no temporary).
+  pure function mat_vec(d, v) result(t)
+    real(dp), intent(in) :: d(:, :), v(:)
+    real(dp) :: t(NCMAX)
+    integer :: i, j
+    t = 0.0_dp
+    do j = 1, size(v)
+      do i = 1, size(v)
+        t(i) = t(i) + d(i, j) * v(j)
+      end do
+    end do
+  end function mat_vec
 
   !> Tensor norm of a stress-like vector (each shear entry counts twice).
   pure real(dp) function vm_norm(s)
@@ -76,6 +132,15 @@ contains
   pure subroutine vm_d3(e, nu, d)
     real(dp), intent(in) :: e, nu
     real(dp), intent(out) :: d(:, :)
+    real(dp) :: t(NCMAX, NCMAX)
+    call d3_full(e, nu, t)
+    d = t(1:size(d, 1), 1:size(d, 2))
+  end subroutine vm_d3
+
+  !> vm_d3's whole 6 x 6 (a fixed shape: the return map builds it at every sub-increment).
+  pure subroutine d3_full(e, nu, d)
+    real(dp), intent(in) :: e, nu
+    real(dp), intent(out) :: d(NCMAX, NCMAX)
     real(dp) :: lam, mu
     integer :: i
     mu = e / (2.0_dp * (1.0_dp + nu))
@@ -85,10 +150,10 @@ contains
     d(1, 1) = lam + 2.0_dp * mu
     d(2, 2) = lam + 2.0_dp * mu
     d(3, 3) = lam + 2.0_dp * mu
-    do i = 4, size(d, 1)
+    do i = 4, NCMAX
       d(i, i) = mu
     end do
-  end subroutine vm_d3
+  end subroutine d3_full
 
   !> Plane-stress D (szz = 0: zz row and column zero), as elements' quad_elastic_d.
   pure subroutine vm_dps(e, nu, d)
@@ -108,7 +173,11 @@ contains
   !> measure of the AUTO rule.
   pure real(dp) function vm_trial_ratio(d_el, deps, sy)
     real(dp), intent(in) :: d_el(:, :), deps(:), sy
-    vm_trial_ratio = sqrt(1.5_dp) * vm_norm(vm_dev(matmul(d_el, deps))) / sy
+    real(dp) :: t(NCMAX), dv(NCMAX)
+    real(dp) :: z(2 * NCMAX + 2)
+    z = 0.0_dp
+    call trial_state(size(deps), size(d_el, 1), d_el, deps, z, z, t, dv)
+    vm_trial_ratio = sqrt(1.5_dp) * norm_nc(size(deps), dv) / sy
   end function vm_trial_ratio
 
   !> Recoverable energy 1/2 sigma . C^-1 sigma (isotropic compliance; szz = 0 in plane stress).
@@ -125,16 +194,16 @@ contains
       + 2.0_dp * (1.0_dp + nu) * t / e)
   end function vm_stored
 
-  !> One 3D increment de (zz entry included) from (sig_n, q_n), nc = size(sig_n) components: elastic
+  !> One 3D increment de (zz entry included) from (sig_n, q_n), nc = 4 or 6 components: elastic
   !> predictor with d3, radial return. dep: plastic strain increment (engineering shear); cep:
-  !> consistent tangent.
-  pure subroutine vm_return(p, sig_n, q_n, de, sig, q, dep, cep)
+  !> consistent tangent. (Explicit shapes: it runs at every sub-increment of every yielding point.)
+  pure subroutine vm_return(p, nc, sig_n, q_n, de, sig, q, dep, cep)
     type(law_params_t), intent(in) :: p
-    real(dp), intent(in) :: sig_n(:), q_n(:), de(:)
-    real(dp), intent(out) :: sig(:), q(:), dep(:), cep(:, :)
+    integer, intent(in) :: nc
+    real(dp), intent(in) :: sig_n(nc), q_n(2 * nc + 2), de(nc)
+    real(dp), intent(out) :: sig(nc), q(2 * nc + 2), dep(nc), cep(nc, nc)
     real(dp) :: d3(NCMAX, NCMAX), str(NCMAX), xi(NCMAX), n(NCMAX), nrm, f, g, kb, dpeq, dlam, th, thb, e, nu, sy, hi, hk
-    integer :: i, j, nc, ia, ib
-    nc = size(sig_n)
+    integer :: i, j, ia, ib
     ia = vm_alpha_index(nc)
     ib = ia + 1                                  ! the back stress: q(ib:ib + nc - 1)
     e = p%young
@@ -142,12 +211,11 @@ contains
     sy = p%yield
     hi = p%h_iso
     hk = p%h_kin
-    call vm_d3(e, nu, d3(1:nc, 1:nc))
-    str(1:nc) = sig_n + matmul(d3(1:nc, 1:nc), de)
-    xi(1:nc) = vm_dev(str(1:nc)) - q_n(ib:ib + nc - 1)
-    nrm = vm_norm(xi(1:nc))
+    call d3_full(e, nu, d3)                      ! (the 6 x 6; plane strain's D is its leading 4 x 4)
+    call trial_state(nc, NCMAX, d3, de, sig_n, q_n, str, xi)
+    nrm = norm_nc(nc, xi)
     f = sqrt(1.5_dp) * nrm - (sy + hi * q_n(ia))
-    q(1:vm_state_size(nc)) = q_n(1:vm_state_size(nc))
+    q = q_n
     if (f <= 0.0_dp) then
       sig = str(1:nc)
       dep = 0.0_dp
@@ -197,7 +265,7 @@ contains
     z = -(sig_n(3) + d3(3, 1) * de(1) + d3(3, 2) * de(2) + d3(3, 4) * de(4)) / d3(3, 3)
     do it = 1, PS_MAXIT
       d33 = [de(1), de(2), z, de(4)]
-      call vm_return(p, sig_n, q_n, d33, sig, q, dep, cep)
+      call vm_return(p, 4, sig_n, q_n, d33, sig, q, dep, cep)
       if (abs(sig(3)) <= PS_RTOL * (p%yield + vm_norm(sig))) exit
       z = z - sig(3) / cep(3, 3)
     end do
@@ -226,7 +294,7 @@ contains
       d(3) = 0.0_dp
       call vm_return_ps(self%p, s0, q0, d(1:4), s1, q1, dep, dtan)
     else
-      call vm_return(self%p, s0, q0, d(1:ns), s1, q1, dep, dtan)
+      call vm_return(self%p, ns, s0, q0, d(1:ns), s1, q1, dep, dtan)
     end if
   end subroutine vm_step
 
@@ -235,21 +303,22 @@ contains
   !> plane stress D) and the frozen state -> exact chord, nused = 0; else subincrement_path:
   !> trapezoid mean stress, trapezoid dissipation sum 1/2 (sig_{k-1} + sig_k) . dep_k, and the
   !> consistent tangent of one return over the whole increment (below).
-  pure subroutine vm_path(p, plane_stress, nsub, d_el, sig_n, q_n, deps, q, r)
+  pure subroutine vm_path(p, plane_stress, nsub, nc, d_el, sig_n, q_n, deps, q, r)
     type(law_params_t), intent(in) :: p
-    real(dp), intent(in) :: d_el(:, :), sig_n(:), q_n(:), deps(:)    !< nc = size(sig_n): 4, or 6 (3D)
+    integer, intent(in) :: nc                       !< stress components: 4, or 6 (3D)
+    real(dp), intent(in) :: d_el(nc, nc), sig_n(nc), q_n(:), deps(nc)   ! (explicit shapes: the hot path's loops)
     logical, intent(in) :: plane_stress
     integer, intent(in) :: nsub
     real(dp), intent(out) :: q(:)
     type(law_step_t), intent(out) :: r
     real(dp) :: qn(2 * NCMAX + 2), qk(2 * NCMAX + 2), s1(NCMAX), q1(2 * NCMAX + 2), dep(NCMAX), d(NCMAX), &
-      cel(NCMAX, NCMAX), eps0(NCMAX), nu, g
-    integer :: nc, ns, ia, i
-    nc = size(sig_n)
+      cel(NCMAX, NCMAX), eps0(NCMAX), nu, g, xi(NCMAX), dt4(4, 4), t, de(NCMAX), sn(NCMAX)
+    integer :: ns, ia, i, j
+    call law_step_reset(r)
     ns = vm_state_size(nc)
     ia = vm_alpha_index(nc)
-    r%sig(1:nc) = sig_n + matmul(d_el, deps)
-    if (sqrt(1.5_dp) * vm_norm(vm_dev(r%sig(1:nc)) - q_n(ia + 1:ia + nc)) - (p%yield + p%h_iso * q_n(ia)) <= 0.0_dp) then
+    call trial_state(nc, nc, d_el, deps, sig_n, q_n, r%sig, xi)
+    if (sqrt(1.5_dp) * norm_nc(nc, xi) - (p%yield + p%h_iso * q_n(ia)) <= 0.0_dp) then
       r%sigbar(1:nc) = 0.5_dp * (sig_n + r%sig(1:nc))
       q(1:ns) = q_n(1:ns)
       if (plane_stress) q(10) = q_n(10) - p%poisson / (1.0_dp - p%poisson) * (deps(1) + deps(2))
@@ -257,11 +326,14 @@ contains
       return
     end if
     r%nused = max(1, nsub)
-    qn(1:ns) = q_n(1:ns)             ! contiguous locals: no temporary at the call
+    qn(1:ns) = q_n(1:ns)             ! contiguous locals: no temporary at the calls
+    de(1:nc) = deps
+    sn(1:nc) = sig_n
     eps0 = 0.0_dp
     if (plane_stress) then
       call subincrement_path(vm_map_t(p, plane_stress), r%nused, eps0(1:4), &
-        deps, sig_n, qn(1:ns), r%sig(1:4), r%sigbar(1:4), qk(1:ns), r%dissip, r%dtan(1:4, 1:4), r%dbar(1:4, 1:4))
+        de(1:4), sn(1:4), qn(1:ns), r%sig(1:4), r%sigbar(1:4), qk(1:ns), r%dissip, dt4, r%dbar(1:4, 1:4))
+      r%dtan(1:4, 1:4) = dt4
     else
       ! The isotropic compliance on [xx, yy, zz, 2xy[, 2yz, 2xz]] (the trial of every sub-increment's return).
       nu = p%poisson
@@ -274,9 +346,15 @@ contains
       do i = 4, nc
         cel(i, i) = 1.0_dp / g
       end do
-      call subincrement_path(vm_map_t(p, plane_stress), r%nused, eps0(1:nc), &
-        deps, sig_n, qn(1:ns), r%sig(1:nc), r%sigbar(1:nc), qk(1:ns), r%dissip, r%dtan(1:nc, 1:nc), &
-        r%dbar(1:nc, 1:nc), cel(1:nc, 1:nc))
+      if (nc == 4) then                          ! (a contiguous tangent: no copy at the call)
+        call subincrement_path(vm_map_t(p, plane_stress), r%nused, eps0(1:4), &
+          de(1:4), sn(1:4), qn(1:ns), r%sig(1:4), r%sigbar(1:4), qk(1:ns), r%dissip, dt4, r%dbar(1:4, 1:4), &
+          cel(1:4, 1:4))
+        r%dtan(1:4, 1:4) = dt4
+      else
+        call subincrement_path(vm_map_t(p, plane_stress), r%nused, eps0(1:nc), &
+          de(1:nc), sn(1:nc), qn(1:ns), r%sig(1:nc), r%sigbar(1:nc), qk(1:ns), r%dissip, r%dtan, r%dbar, cel(1:nc, 1:nc))
+      end if
     end if
     q(1:ns) = qk(1:ns)
     ! The iteration's tangent: the consistent tangent of one return over the whole increment. The
@@ -288,16 +366,26 @@ contains
     ! (Newton contracted by 0.6 per iteration on the 8 x 40 Taylor bar with the end tangent alone).
     if (r%nused > 1) then
       d(1:nc) = deps
-      if (plane_stress) then
+      if (plane_stress) then                     ! (contiguous tangents: no copy at the calls)
         d(3) = 0.0_dp
-        call vm_return_ps(p, sig_n, q_n, d(1:4), s1(1:4), q1, dep(1:4), r%dtan(1:4, 1:4))
+        call vm_return_ps(p, sn(1:4), qn, d(1:4), s1(1:4), q1, dep(1:4), dt4)
+        r%dtan(1:4, 1:4) = dt4
+      else if (nc == 4) then
+        call vm_return(p, 4, sn(1:4), qn, d(1:4), s1(1:4), q1, dep(1:4), dt4)
+        r%dtan(1:4, 1:4) = dt4
       else
-        call vm_return(p, sig_n, q_n, d(1:nc), s1(1:nc), q1, dep(1:nc), r%dtan(1:nc, 1:nc))
+        call vm_return(p, 6, sn(1:6), qn, d(1:6), s1(1:6), q1, dep(1:6), r%dtan)
       end if
     end if
     ! (The chain X_k = D_k (cel X_(k-1) + I/N) is not symmetric: its symmetric part, as the
     ! iteration matrix takes it; half of each would depend on the equations' order.)
-    r%dbar(1:nc, 1:nc) = 0.5_dp * (r%dbar(1:nc, 1:nc) + transpose(r%dbar(1:nc, 1:nc)))
+    do j = 1, nc
+      do i = 1, j
+        t = 0.5_dp * (r%dbar(i, j) + r%dbar(j, i))
+        r%dbar(i, j) = t
+        r%dbar(j, i) = t
+      end do
+    end do
     r%has_dbar = .true.
   end subroutine vm_path
 end module law_von_mises

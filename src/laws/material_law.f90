@@ -11,18 +11,18 @@
 !>   NONLINEAR_ELASTIC  PK_1D, PK_BEAM with layers > 0   sigma = E eps (1 + nl_b eps^2)
 !>   ELASTOPLASTIC      PK_1D, PK_BEAM with layers > 0   bilinear, yield, h_iso, h_kin
 !>   VON_MISES          PK_PSTRAIN, PK_PSTRESS, PK_SOLID J2, yield, h_iso, h_kin
-!>   HYPERELASTIC       PK_PSTRAIN, PK_PSTRESS, LARGE    compressible neo-Hookean (law_hyperelastic;
+!>   HYPERELASTIC       PK_PSTRAIN, PK_PSTRESS, PK_SOLID compressible neo-Hookean, LARGE (law_hyperelastic;
 !>                      its stress is formed by the large-displacement kernel, not by law_update)
 !> User documentation: docs/materials.md.
 module material_law
   use kinds, only: dp
   use section, only: section_t
-  use law_types, only: law_params_t, law_step_t, NSUB_EXACT
+  use law_types, only: law_params_t, law_step_t, NSUB_EXACT, law_step_reset
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use law_elastic, only: elastic_update
   use law_nonlinear_elastic, only: nle_path, nle_exact, nle_auto_nsub, nle_energy, nle_stress
   use law_plastic_1d, only: P1D_NSTATE, plastic_1d_path, plastic_auto_nsub
-  use law_hyperelastic, only: nh_lame, nh_energy
+  use law_hyperelastic, only: nh_lame, nh_energy, nh_solid_energy
   use law_von_mises, only: vm_state_size, vm_path, vm_trial_ratio, vm_stored, vm_d3, vm_dps
   use beam_fibre, only: FIB_ELASTIC, FIB_NONLINEAR, FIB_PLASTIC, fibre_update, fibre_stored, &
                         fibre_elastic_matrix, fibre_nstate
@@ -191,13 +191,14 @@ contains
     else if ((pk == PK_PSTRAIN .or. pk == PK_PSTRESS .or. pk == PK_SOLID) .and. &
              .not. (mat%poisson > -1.0_dp .and. mat%poisson < 0.5_dp)) then
       call set_error(stat, errmsg, STAT_INPUT, 'POISSON must be in (-1, 0.5) (got ' // str(mat%poisson) // ')')
-    else if (pk == PK_SOLID .and. mat%law /= LAW_ELASTIC .and. mat%law /= LAW_VON_MISES) then
-      call set_error(stat, errmsg, STAT_INPUT, law_name(mat%law) // ' is not available on 3D solids yet (HEX8, TET4: ' // &
-        'ELASTIC, VON_MISES)')
+    else if (pk == PK_SOLID .and. mat%law /= LAW_ELASTIC .and. mat%law /= LAW_VON_MISES .and. mat%law /= LAW_HYPERELASTIC) &
+      then
+      call set_error(stat, errmsg, STAT_INPUT, law_name(mat%law) // ' is not available on 3D solids yet (ELASTIC, ' // &
+        'VON_MISES, HYPERELASTIC)')
     else if (mat%law < LAW_ELASTIC .or. mat%law > LAW_HYPERELASTIC) then
       call set_error(stat, errmsg, STAT_INPUT, 'unknown law code ' // str(mat%law))
-    else if (mat%law == LAW_HYPERELASTIC .and. pk /= PK_PSTRAIN .and. pk /= PK_PSTRESS) then
-      call set_error(stat, errmsg, STAT_INPUT, 'HYPERELASTIC applies to QUAD4, QUAD8, TRI3 and TRI6 only')
+    else if (mat%law == LAW_HYPERELASTIC .and. pk /= PK_PSTRAIN .and. pk /= PK_PSTRESS .and. pk /= PK_SOLID) then
+      call set_error(stat, errmsg, STAT_INPUT, 'HYPERELASTIC applies to surface and solid elements only')
     else if (mat%law /= LAW_HYPERELASTIC .and. pk /= PK_SOLID .and. &
              (mat%law == LAW_VON_MISES .neqv. (pk == PK_PSTRAIN .or. pk == PK_PSTRESS))) then
       if (mat%law == LAW_VON_MISES) then
@@ -244,10 +245,11 @@ contains
     real(dp), intent(in) :: d(:, :), eps_n(:), deps(:), sig_n(:), q_n(:)
     real(dp), intent(out) :: q(:)
     type(law_step_t), intent(out) :: r
-    real(dp) :: dl(6, 6)
+    real(dp) :: dl4(4, 4), dl6(6, 6)
     integer :: n, ns, nst
     ns = pk_nstrain(pk)
     nst = law_nstate(mat, pk, sec)
+    call law_step_reset(r)
     if (size(q) > 0) q = 0.0_dp
     select case (mat%law)
     case (LAW_NONLINEAR_ELASTIC, LAW_ELASTOPLASTIC)
@@ -268,10 +270,16 @@ contains
           r%dtan(1, 1))
       end if
     case (LAW_VON_MISES)
-      dl(1:ns, 1:ns) = d(1:ns, 1:ns)   ! the caller's D is law_elastic_matrix's (not rebuilt at every point)
-      n = nsub
-      if (n <= 0) n = plastic_auto_nsub(vm_trial_ratio(dl(1:ns, 1:ns), deps(1:ns), mat%yield))
-      call vm_path(mat%law_params_t, pk == PK_PSTRESS, n, dl(1:ns, 1:ns), sig_n(1:ns), q_n, deps(1:ns), q, r)
+      n = nsub                      ! the caller's D is law_elastic_matrix's (not rebuilt at every point),
+      if (ns == 4) then             ! here as a whole contiguous array of the point's size
+        dl4 = d(1:4, 1:4)
+        if (n <= 0) n = plastic_auto_nsub(vm_trial_ratio(dl4, deps(1:4), mat%yield))
+        call vm_path(mat%law_params_t, pk == PK_PSTRESS, n, 4, dl4, sig_n(1:4), q_n, deps(1:4), q, r)
+      else
+        dl6 = d(1:6, 1:6)
+        if (n <= 0) n = plastic_auto_nsub(vm_trial_ratio(dl6, deps(1:6), mat%yield))
+        call vm_path(mat%law_params_t, .false., n, 6, dl6, sig_n(1:6), q_n, deps(1:6), q, r)
+      end if
     case default
       call elastic_update(d(1:ns, 1:ns), deps(1:ns), sig_n(1:ns), r%sig(1:ns), r%sigbar(1:ns))
       if (nst > 0) q(1:nst) = q_n(1:nst)
@@ -302,7 +310,11 @@ contains
     case (LAW_VON_MISES)
       w = vm_stored(mat%young, mat%poisson, sig(1:ns))
     case (LAW_HYPERELASTIC)
-      w = nh_energy(nh_lame(mat%young, mat%poisson), eps(1:4), pk == PK_PSTRESS)
+      if (pk == PK_SOLID) then
+        w = nh_solid_energy(nh_lame(mat%young, mat%poisson), eps(1:6))
+      else
+        w = nh_energy(nh_lame(mat%young, mat%poisson), eps(1:4), pk == PK_PSTRESS)
+      end if
     case default
       w = 0.5_dp * dot_product(sig(1:ns), eps(1:ns))
     end select

@@ -14,6 +14,7 @@ module gmsh_binary
   use array_utils, only: grow
   use words, only: is_blank, word_end
   use gmsh_state, only: gmsh_t, pname_t, node_of, element_kind, store_element, index_tags, repeated_name
+  use element_traits, only: MAX_NEN
   implicit none
   private
   public :: read_msh41_binary
@@ -424,7 +425,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer(int64) :: nblock, nelem, nb, b, k
-    integer :: edim, etag, gtype, et, nen, dim, ent, j, tag, nd(8)
+    integer :: edim, etag, gtype, et, nen, dim, ent, j, tag, nd(MAX_NEN)
     stat = STAT_OK
     if (.not. g%have_nodes) then
       call bad(g, c, '$Elements before $Nodes', stat, errmsg)
@@ -441,7 +442,7 @@ contains
       call bad(g, c, 'element counts beyond the file', stat, errmsg)
       return
     end if
-    allocate (g%etype(nelem), g%edim(nelem), g%eent(nelem), g%conn(8, nelem), g%enen(nelem))
+    allocate (g%etype(nelem), g%edim(nelem), g%eent(nelem), g%conn(MAX_NEN, nelem), g%enen(nelem))
     g%nelem = 0
     do b = 1, nblock
       if (.not. has(c, 20_int64)) then

@@ -8,6 +8,7 @@ module gmsh_msh2
   use kinds, only: dp
   use errors, only: STAT_OK, str
   use line_reader, only: get_int, fail, tok, clip
+  use element_traits, only: MAX_NEN
   use gmsh_state, only: gmsh_t, node_of, too_many, gmsh_type_name, data_line, header_ints, end_section, &
     element_kind, store_element, index_tags, alloc_elements, begin_elements
   implicit none
@@ -96,7 +97,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: nelem, k, j, tag, gtype, ntag, phys, et, nen, dim, ent, node
-    integer :: nodes(8)
+    integer :: nodes(MAX_NEN)
     call begin_elements(g, stat, errmsg)
     if (stat /= STAT_OK) return
     call header_ints(g, 1, 'the number of elements', stat, errmsg)

@@ -1,6 +1,7 @@
 !> Reader for Gmsh meshes, MSH formats 4.1 ($MeshFormat 4.1 0 8; binary 4.1 1 8 in gmsh_binary)
 !> and 2.2 (2.2 0 8; its $Nodes and $Elements in gmsh_msh2), in the xy plane, or in a DIMENSION 3
-!> scene a volume mesh: 4 (4-node tetrahedron) -> TET4, 5 (8-node hexahedron) -> HEX8; its points,
+!> scene a volume mesh: 4 (4-node tetrahedron) -> TET4, 5 (8-node hexahedron) -> HEX8, 11 -> TET10,
+!> 17 -> HEX20, 6 (6-node prism) -> WEDGE6 (an inverted volume is refused, named); its points,
 !> lines and surfaces are no elements there, their nodes join their physical groups (the faces
 !> for FIX and contact).
 !>
@@ -19,7 +20,7 @@ module gmsh_reader
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use mesh, only: mesh_t, MAX_COORD
-  use element_traits, only: etype_nen
+  use element_traits, only: etype_nen, MAX_NEN
   use number_text, only: parse_real_text, NUM_OK
   use array_utils, only: heap_sort, sort_by_key, grow
   use line_reader, only: open_reader, close_reader, next_line, get_int, get_real_tok, fail, tok, clip
@@ -468,7 +469,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: nblock, nelem, b, edim, etag, gtype, nb, k, j, et, nen, dim, ent, tag, node, etag_dummy
-    integer :: nodes(8)
+    integer :: nodes(MAX_NEN)
 
     call begin_elements(g, stat, errmsg)
     if (stat /= STAT_OK) return

@@ -7,7 +7,7 @@ module gmsh_state
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, str
   use mesh, only: MAX_COORD
-  use element_traits, only: etype_nen, etype_gmsh, etype_family
+  use element_traits, only: etype_nen, etype_gmsh, etype_family, MAX_NEN
   use line_reader, only: line_reader_t, next_line, get_reals, fail, tok, clip
   use array_utils, only: sort_by_key
   implicit none
@@ -83,7 +83,8 @@ contains
     if (et == 0) then
       call fail(g, stat, errmsg, 'unsupported Gmsh element type ' // str(gtype) // ' (' // gmsh_type_name(gtype) // &
         '); expected 15 (point), 1 (2-node line), 8 (3-node line), 2 (3-node triangle), 9 (6-node triangle), ' // &
-        '3 (4-node quadrangle), 16 (8-node quadrangle); in DIMENSION 3 also 4 (4-node tetrahedron), 5 (8-node hexahedron)')
+        '3 (4-node quadrangle), 16 (8-node quadrangle); in DIMENSION 3 also 4, 11 (4- and 10-node tetrahedra), ' // &
+        '5, 17 (8- and 20-node hexahedra), 6 (6-node prism)')
       return
     end if
     if (et == LINE3) then
@@ -168,7 +169,7 @@ contains
       call fail(g, stat, errmsg, 'the file is too small to hold the ' // word // ' elements announced')
       return
     end if
-    allocate (g%etype(nelem), g%edim(nelem), g%eent(nelem), g%conn(8, nelem), g%enen(nelem), stat=ios)
+    allocate (g%etype(nelem), g%edim(nelem), g%eent(nelem), g%conn(MAX_NEN, nelem), g%enen(nelem), stat=ios)
     if (ios /= 0) call fail(g, stat, errmsg, 'cannot allocate ' // word // ' elements')
   end subroutine alloc_elements
 

@@ -1,5 +1,5 @@
 !> The free faces of a node group in a DIMENSION 3 mesh (PRESSURE and TRACTION on solids): the faces
-!> of its HEX8 and TET4 elements (element_traits' etype_faces, outward) whose nodes are all in the
+!> of its solids (element_traits' etype_faces, outward; 3, 4, 6 or 8 nodes) whose nodes are all in the
 !> group and that no other element shares (a face listed twice lies inside the body).
 module mesh_faces
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
@@ -9,7 +9,8 @@ module mesh_faces
   private
   public :: face_set_t, group_faces
 
-  !> Face k: nodes node(1:nfn(k), k) counter-clockwise seen from outside, of element elem(k).
+  !> Face k: nodes node(1:nfn(k), k) counter-clockwise seen from outside (the corners, then the
+  !> mid-edge nodes of a quadratic face), of element elem(k).
   type :: face_set_t
     integer :: n = 0
     integer, allocatable :: node(:, :), nfn(:), elem(:)
@@ -26,7 +27,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     logical, allocatable :: in(:), on(:), shared(:)
     integer, allocatable :: cn(:, :), key(:, :), ce(:), cnf(:), first(:), next(:)
-    integer :: e, k, face(4, 6), nfn(6), nface, nc, i, j, lo
+    integer :: e, k, face(8, 6), nfn(6), nface, nc, i, j, lo
     stat = STAT_OK
     allocate (in(m%nnode), on(m%nnode))
     in = .false.
@@ -38,7 +39,7 @@ contains
         if (all(in(m%conn(face(1:nfn(k), k), e)))) nc = nc + 1
       end do
     end do
-    allocate (cn(4, nc), key(4, nc), ce(nc), cnf(nc), shared(nc), first(m%nnode), next(nc))
+    allocate (cn(8, nc), key(4, nc), ce(nc), cnf(nc), shared(nc), first(m%nnode), next(nc))
     nc = 0
     first = 0
     do e = 1, m%nelem
@@ -48,7 +49,7 @@ contains
         nc = nc + 1
         cn(:, nc) = 0
         cn(1:nfn(k), nc) = m%conn(face(1:nfn(k), k), e)
-        key(:, nc) = sorted4(cn(:, nc), nfn(k))
+        key(:, nc) = sorted4(cn(1:4, nc), merge(3, 4, nfn(k) == 3 .or. nfn(k) == 6))   ! (its corners)
         ce(nc) = e
         cnf(nc) = nfn(k)
         lo = key(1, nc)                         ! buckets by the smallest node: few faces each
@@ -68,7 +69,7 @@ contains
       end do
     end do
     faces%n = count(.not. shared)
-    allocate (faces%node(4, faces%n), faces%nfn(faces%n), faces%elem(faces%n))
+    allocate (faces%node(8, faces%n), faces%nfn(faces%n), faces%elem(faces%n))
     on = .false.
     j = 0
     do i = 1, nc

@@ -34,7 +34,8 @@ module fields_hdf5
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, set_error, str
   use mesh, only: mesh_t
-  use element_traits, only: NUM_ETYPES, etype_nen, etype_xdmf_cell, etype_name, etype_stress_names, &
+  use element_traits, only: NUM_ETYPES, etype_nen, etype_xdmf_cell, etype_name, etype_stress_names, etype_xdmf_order, &
+    MAX_NEN, &
     XDMF_POLYVERTEX, XDMF_POLYLINE, &
     XDMF_QUADRILATERAL, XDMF_QUADRILATERAL_8
   use xdmf_writer, only: xdmf_step_t, xdmf_head, xdmf_tail, xdmf_step_grid, step_group_name, write_text_atomic, SIGMA_NAMES, &
@@ -95,7 +96,7 @@ contains
     integer, allocatable, intent(out) :: topo(:)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: e, n, k, nen, head(2), nhead
+    integer :: e, n, k, nen, head(2), nhead, order(MAX_NEN)
     stat = STAT_OK
     n = 0
     do e = 1, msh%nelem
@@ -117,7 +118,8 @@ contains
     do e = 1, msh%nelem
       call cell_head(msh%etype(e), head, nhead, nen)
       topo(k + 1:k + nhead) = head(1:nhead)
-      topo(k + nhead + 1:k + nhead + nen) = msh%conn(1:nen, e) - 1
+      call etype_xdmf_order(msh%etype(e), order)             ! (XDMF's node order: HEX20, TET10 differ)
+      topo(k + nhead + 1:k + nhead + nen) = msh%conn(order(1:nen), e) - 1
       k = k + nhead + nen
     end do
   end subroutine mixed_topology

@@ -218,6 +218,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     type(contact_set_t), intent(in), optional :: cs
     integer :: k, r
+    real(dp) :: lc(3)
     stat = STAT_OK
     if (self%writes_history(scn, step)) then
       self%hreals = [t, en%kinetic, en%internal(), en%external(), en%correction(), en%balance()]
@@ -234,7 +235,11 @@ contains
         self%htail2(k) = dot_product(rig(:, k), mv)
       end do
       ! KINEMATICS LARGE: the angular momentum about the origin of the current configuration.
-      if (any(scn%models%large)) self%htail(6) = current_angular_momentum(scn, sys, u, mv)
+      if (any(scn%models%large)) then
+        lc = current_angular_momentum(scn, sys, u, mv)
+        self%htail(6) = lc(3)
+        if (scn%mesh%ndim == 3) self%htail2(5:6) = lc(1:2)
+      end if
       ! Axisymmetric: the whole ring's radial momentum and its angular momentum about z are zero
       ! (Σ M v_r over the nodes is not a momentum: each ring's points move in all radial directions).
       if (self%axisymmetric) self%htail([4, 6]) = 0.0_dp
@@ -316,27 +321,34 @@ contains
   end subroutine build_recovery
 
   !> Σ (x + u) × (M v) over the nodes' free translations, plus the rotations' M v: the angular
-  !> momentum about the origin in the current configuration (KINEMATICS LARGE).
-  pure real(dp) function current_angular_momentum(scn, sys, u, mv) result(am)
+  !> momentum about the origin in the current configuration (KINEMATICS LARGE), its x, y and z
+  !> components (x and y zero in 2D).
+  pure function current_angular_momentum(scn, sys, u, mv) result(am)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
     real(dp), intent(in) :: u(:), mv(:)
-    real(dp) :: pos(2), p(2)
-    integer :: n, d, j
+    real(dp) :: am(3)
+    integer, parameter :: slot(3) = [DOF_UX, DOF_UY, DOF_UZ]
+    real(dp) :: pos(3), p(3)
+    integer :: n, d, j, nd
     am = 0.0_dp
+    nd = scn%mesh%ndim
     do n = 1, scn%mesh%nnode
-      pos = scn%mesh%x(:, n)
+      pos = 0.0_dp
+      pos(1:nd) = scn%mesh%x(1:nd, n)
       p = 0.0_dp
-      do d = 1, 2
-        j = sys%dofs%eqn(d, n)
+      do d = 1, 3
+        j = sys%dofs%eqn(slot(d), n)
         if (j > 0) then
           pos(d) = pos(d) + u(j)
           p(d) = mv(j)
         end if
       end do
-      am = am + pos(1) * p(2) - pos(2) * p(1)
-      j = sys%dofs%eqn(3, n)
-      if (j > 0) am = am + mv(j)
+      am(1) = am(1) + pos(2) * p(3) - pos(3) * p(2)
+      am(2) = am(2) + pos(3) * p(1) - pos(1) * p(3)
+      am(3) = am(3) + pos(1) * p(2) - pos(2) * p(1)        ! (2D: the order of the sums as ever)
+      j = sys%dofs%eqn(DOF_RZ, n)
+      if (j > 0) am(3) = am(3) + mv(j)
     end do
   end function current_angular_momentum
 

@@ -19,7 +19,8 @@ module scene_report
   use assembly, only: system_t, mass_times
   use cholmod_binding, only: cholmod_factor_t
   use elements, only: elem_mass, elem_dof_mask, elem_ndof, MAX_EDOF
-  use element_traits, only: ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, ET_HEX8, ET_TET4, NODE_DOFS
+  use element_traits, only: ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, ET_HEX8, ET_TET4, NODE_DOFS, MAX_NEN, &
+    ET_HEX20, ET_TET10, ET_WEDGE6
   use dof_map, only: equation_bodies, body_rigid_freedom
   use lapack_pure, only: dsyev
   use material_law, only: law_nearly_isochoric
@@ -81,7 +82,7 @@ contains
   subroutine masses_and_waves(scn, rep)
     type(scene_t), intent(in) :: scn
     type(report_t), intent(inout) :: rep
-    real(dp) :: me(MAX_EDOF, MAX_EDOF), tx(MAX_EDOF), rho, c, dx, x(3, 8)
+    real(dp) :: me(MAX_EDOF, MAX_EDOF), tx(MAX_EDOF), rho, c, dx, x(3, MAX_NEN)
     logical :: mask(NODE_DOFS)
     integer :: e, im, nen, nd, a, d, k, i, j, nm, ns
     nm = size(scn%models)
@@ -145,7 +146,7 @@ contains
     select case (scn%models(im)%etype)
     case (ET_BAR2, ET_BEAM2)
       c = sqrt(e / rho)
-    case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, ET_HEX8, ET_TET4)
+    case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, ET_HEX8, ET_TET4, ET_HEX20, ET_TET10, ET_WEDGE6)
       if (scn%models(im)%sec%plane_stress) then
         c = sqrt(e / (rho * (1.0_dp - nu * nu)))
       else if (nu < 0.5_dp) then

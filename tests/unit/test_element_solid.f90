@@ -1,4 +1,4 @@
-!> Unit tests of the 3D solids HEX8 and TET4 through the element dispatcher (elements) on
+!> Unit tests of the 3D solids HEX8, HEX20, TET4, TET10 and WEDGE6 through the element dispatcher (elements) on
 !> distorted geometries: the patch test (a linear displacement gives its constant strain exactly at
 !> every point), the six rigid-body modes (exactly six zero eigenvalues of the stiffness, the others
 !> positive), the mass rho V (consistent, lumped and their translations), the elastic D, and the
@@ -7,7 +7,7 @@ program test_element_solid
   use kinds, only: dp
   use testing, only: check, check_close, test_summary
   use errors, only: STAT_OK, STAT_INPUT
-  use element_traits, only: ET_HEX8, ET_TET4, DOF_UX, DOF_UY, DOF_UZ, DOF_RZ, etype_dimension
+  use element_traits, only: ET_HEX8, ET_TET4, ET_HEX20, ET_TET10, ET_WEDGE6, DOF_UX, DOF_UY, DOF_UZ, DOF_RZ, etype_dimension
   use section, only: section_t
   use lapack_pure, only: dsyev
   use elements, only: MAX_EDOF, MAX_NSTRAIN, elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, &
@@ -27,7 +27,16 @@ program test_element_solid
   call test_patch(ET_TET4, tet())
   call test_rigid(ET_HEX8, hex_warped())
   call test_rigid(ET_TET4, tet())
+  call test_patch(ET_HEX20, hex20())
+  call test_patch(ET_TET10, tet10())
+  call test_rigid(ET_HEX20, hex20())
+  call test_rigid(ET_TET10, tet10())
+  call test_patch(ET_WEDGE6, wedge_affine())
+  call test_patch(ET_WEDGE6, wedge_warped())
+  call test_rigid(ET_WEDGE6, wedge_warped())
   call test_mass()
+  call test_mass_quadratic()
+  call test_mass_wedge()
   call test_checks()
   call test_summary('element_solid')
 
@@ -44,6 +53,44 @@ contains
     x = hex_affine()
     x(:, 7) = x(:, 7) + [0.15_dp, 0.1_dp, 0.2_dp]
   end function hex_warped
+
+  !> A HEX20: the affine hexahedron with its mid-edge nodes (Gmsh's edges) moved off the straight
+  !> edges a little (curved edges: not affine).
+  function hex20() result(x)
+    real(dp) :: x(3, 20)
+    integer, parameter :: ed(2, 12) = reshape([1, 2, 1, 4, 1, 5, 2, 3, 2, 6, 3, 4, 3, 7, 4, 8, 5, 6, 5, 8, 6, 7, 7, 8], &
+      [2, 12])
+    integer :: a
+    x(:, 1:8) = hex_affine()
+    do a = 1, 12
+      x(:, 8 + a) = 0.5_dp * (x(:, ed(1, a)) + x(:, ed(2, a))) + 0.01_dp * [sin(1.0_dp * a), cos(2.0_dp * a), 0.5_dp]
+    end do
+  end function hex20
+
+  !> A straight-sided TET10 (its mid-edge nodes at the middles, Gmsh's edges).
+  function tet10() result(x)
+    real(dp) :: x(3, 10)
+    integer, parameter :: ed(2, 6) = reshape([1, 2, 2, 3, 3, 1, 4, 1, 4, 3, 4, 2], [2, 6])
+    integer :: a
+    x(:, 1:4) = tet()
+    do a = 1, 6
+      x(:, 4 + a) = 0.5_dp * (x(:, ed(1, a)) + x(:, ed(2, a)))
+    end do
+  end function tet10
+
+  !> A WEDGE6: the prism (0,0,0) (1,0,0) (0,1,0) and the same at z = 1 through the affine map (volume
+  !> det A / 2).
+  function wedge_affine() result(x)
+    real(dp) :: x(3, 6)
+    x = matmul(amap, cube(:, [1, 2, 4, 5, 6, 8])) + spread([0.5_dp, -1.0_dp, 2.0_dp], 2, 6)
+  end function wedge_affine
+
+  !> Not affine: corner 6 pulled out (its two quadrangles warped).
+  function wedge_warped() result(x)
+    real(dp) :: x(3, 6)
+    x = wedge_affine()
+    x(:, 6) = x(:, 6) + [0.1_dp, 0.15_dp, -0.1_dp]
+  end function wedge_warped
 
   function tet() result(x)
     real(dp) :: x(3, 4)
@@ -84,10 +131,12 @@ contains
       err = max(err, maxval(abs(eps - exact)))
       wsum = wsum + wt
     end do
-    call check(err <= 1.0e-15_dp, 'patch test ' // trim(merge('HEX8', 'TET4', et == ET_HEX8)) // &
-      ': constant strain exact at every point')
-    if (et == ET_TET4) then
+    call check(err <= 1.0e-15_dp, 'patch test ' // name_of(et) // ': constant strain exact at every point')
+    if (et == ET_TET4 .or. et == ET_TET10) then
       call check_close(wsum, tet_volume(x), 1.0e-14_dp, 'TET4 weights sum to the volume')
+    else if (et == ET_WEDGE6) then
+      if (all(x == wedge_affine())) call check_close(wsum, 0.5_dp * det3(amap), 1.0e-14_dp, &
+        'WEDGE6 weights sum to the volume (affine)')
     else if (all(x == hex_affine())) then
       call check_close(wsum, det3(amap), 1.0e-14_dp, 'HEX8 weights sum to the volume (affine)')
     end if
@@ -106,7 +155,7 @@ contains
     call dsyev('N', 'U', nd, k, MAX_EDOF, lam, work, size(work), info)
     nzero = count(abs(lam(1:nd)) <= 1.0e-12_dp * maxval(lam(1:nd)))
     call check(info == 0 .and. nzero == 6 .and. all(lam(1:nd) > -1.0e-12_dp * maxval(lam(1:nd))), &
-      trim(merge('HEX8', 'TET4', et == ET_HEX8)) // ': six rigid-body modes, the other eigenvalues positive', &
+      name_of(et) // ': six rigid-body modes, the other eigenvalues positive', &
       'zero eigenvalues ' // char(48 + nzero))
   end subroutine test_rigid
 
@@ -145,7 +194,7 @@ contains
 
   subroutine test_checks()
     type(section_t) :: sec
-    real(dp) :: x(3, 8), xt(3, 4)
+    real(dp) :: x(3, 8), xt(3, 4), xw(3, 6)
     integer :: stat
     character(len=:), allocatable :: msg
     call elem_check_geometry(ET_HEX8, hex_warped(), sec, stat, msg)
@@ -166,7 +215,104 @@ contains
     xt(:, 4) = 0.5_dp * (xt(:, 2) + xt(:, 3))
     call elem_check_geometry(ET_TET4, xt, sec, stat, msg)
     call check(stat == STAT_INPUT, 'a flat TET4 refused')
+    call elem_check_geometry(ET_WEDGE6, wedge_warped(), sec, stat, msg)
+    call check(stat == STAT_OK, 'a warped WEDGE6 accepted')
+    xw = wedge_affine()
+    xw(:, [2, 3, 5, 6]) = xw(:, [3, 2, 6, 5])                             ! the triangles run the other way
+    call elem_check_geometry(ET_WEDGE6, xw, sec, stat, msg)
+    call check(stat == STAT_INPUT .and. index(msg, 'WEDGE6') > 0, 'an inverted WEDGE6 refused, named')
   end subroutine test_checks
+
+  function name_of(et) result(s)
+    integer, intent(in) :: et
+    character(len=:), allocatable :: s
+    select case (et)
+    case (ET_HEX8)
+      s = 'HEX8'
+    case (ET_HEX20)
+      s = 'HEX20'
+    case (ET_TET10)
+      s = 'TET10'
+    case (ET_WEDGE6)
+      s = 'WEDGE6'
+    case default
+      s = 'TET4'
+    end select
+  end function name_of
+
+  !> WEDGE6: rho V in each direction, consistent and lumped, and the consistent mass of an affine prism
+  !> against its closed form rho V Mt x Ml (the triangle's (1 + δ)/12, the segment's (1 + δ)/6).
+  subroutine test_mass_wedge()
+    type(section_t) :: sec
+    real(dp) :: me(MAX_EDOF, MAX_EDOF), t(MAX_EDOF), v
+    integer :: l, dir
+    logical :: lumped
+    v = 0.5_dp * det3(amap)
+    do l = 0, 1
+      lumped = l == 1
+      call elem_mass(ET_WEDGE6, wedge_warped(), sec, rho, lumped, me)
+      do dir = 1, 3
+        t = 0.0_dp
+        t(dir:18:3) = 1.0_dp
+        call check(dot_product(t(1:18), matmul(me(1:18, 1:18), t(1:18))) > 0.0_dp, 'WEDGE6 warped mass positive')
+      end do
+      call elem_mass(ET_WEDGE6, wedge_affine(), sec, rho, lumped, me)
+      do dir = 1, 3
+        t = 0.0_dp
+        t(dir:18:3) = 1.0_dp
+        call check_close(dot_product(t(1:18), matmul(me(1:18, 1:18), t(1:18))), rho * v, 1.0e-13_dp, &
+          'WEDGE6 mass rho V, direction ' // char(48 + dir) // merge(' lumped    ', ' consistent', lumped))
+      end do
+    end do
+    call elem_mass(ET_WEDGE6, wedge_affine(), sec, rho, .false., me)
+    call check_close(me(1, 1), rho * v / 18, 1.0e-13_dp, 'WEDGE6 consistent: diagonal rho V/18')
+    call check_close(me(1, 4), rho * v / 36, 1.0e-13_dp, 'WEDGE6 consistent: corners of a triangle rho V/36')
+    call check_close(me(1, 10), rho * v / 36, 1.0e-13_dp, 'WEDGE6 consistent: corners of an edge along zeta rho V/36')
+    call check_close(me(1, 13), rho * v / 72, 1.0e-13_dp, 'WEDGE6 consistent: opposite corners rho V/72')
+    call check(me(1, 2) == 0.0_dp, 'WEDGE6 directions uncoupled')
+  end subroutine test_mass_wedge
+
+  !> HEX20 and TET10: rho V in each direction (the straight TET10 and the affine HEX20 corners'
+  !> volume: a curved HEX20 moves it), consistent and lumped; TET10's consistent mass against the
+  !> closed form rho V/420 (6, 1 corner pairs; -4, -6 corner-edge, adjacent or not; 32, 16, 8 edge
+  !> pairs: the same edge, sharing a corner, opposite).
+  subroutine test_mass_quadratic()
+    type(section_t) :: sec
+    real(dp) :: me(MAX_EDOF, MAX_EDOF), t(MAX_EDOF), v, x(3, 20)
+    integer :: l, dir, a
+    logical :: lumped
+    integer, parameter :: he1(12) = [1, 1, 1, 2, 2, 3, 3, 4, 5, 5, 6, 7], he2(12) = [2, 4, 5, 3, 6, 4, 7, 8, 6, 8, 7, 8]
+    v = tet_volume(tet())
+    do l = 0, 1
+      lumped = l == 1
+      call elem_mass(ET_TET10, tet10(), sec, rho, lumped, me)
+      do dir = 1, 3
+        t = 0.0_dp
+        t(dir:30:3) = 1.0_dp
+        call check_close(dot_product(t(1:30), matmul(me(1:30, 1:30), t(1:30))), rho * v, 1.0e-13_dp, &
+          'TET10 mass rho V, direction ' // char(48 + dir) // merge(' lumped    ', ' consistent', lumped))
+      end do
+    end do
+    call elem_mass(ET_TET10, tet10(), sec, rho, .false., me)
+    call check_close(me(1, 1), 6 * rho * v / 420, 1.0e-13_dp, 'TET10 consistent: corner diagonal 6/420')
+    call check_close(me(1, 4), rho * v / 420, 1.0e-13_dp, 'TET10 consistent: corner pair 1/420')
+    call check_close(me(1, 13), -4 * rho * v / 420, 1.0e-13_dp, 'TET10 consistent: corner 1, its edge 1-2: -4/420')
+    call check_close(me(1, 16), -6 * rho * v / 420, 1.0e-13_dp, 'TET10 consistent: corner 1, edge 2-3: -6/420')
+    call check_close(me(13, 13), 32 * rho * v / 420, 1.0e-13_dp, 'TET10 consistent: edge diagonal 32/420')
+    call check_close(me(13, 16), 16 * rho * v / 420, 1.0e-13_dp, 'TET10 consistent: edges sharing a corner 16/420')
+    call check_close(me(13, 25), 8 * rho * v / 420, 1.0e-13_dp, 'TET10 consistent: opposite edges 8/420')
+    x = hex20()
+    x(:, 9:20) = 0.0_dp
+    do a = 1, 12                                 ! straight edges: the affine volume det A
+      x(:, 8 + a) = 0.5_dp * (x(:, he1(a)) + x(:, he2(a)))
+    end do
+    call elem_mass(ET_HEX20, x, sec, rho, .true., me)
+    t = 0.0_dp
+    t(1:60:3) = 1.0_dp
+    call check_close(dot_product(t(1:60), matmul(me(1:60, 1:60), t(1:60))), rho * det3(amap), 1.0e-13_dp, &
+      'HEX20 lumped mass rho V (positive diagonal)')
+    call check(all([(me(a, a) > 0.0_dp, a = 1, 60)]), 'HEX20 lumped: every diagonal term positive')
+  end subroutine test_mass_quadratic
 
   pure real(dp) function det3(a)
     real(dp), intent(in) :: a(3, 3)

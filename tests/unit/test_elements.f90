@@ -40,7 +40,7 @@ contains
     sec%gauss = 5
     call check(elem_ngauss(ET_BEAM2, sec) == 5, 'ngauss BEAM2 from section')
     call check(elem_nen(ET_QUAD8) == 8 .and. elem_nen(ET_MASS) == 1, 'nen')
-    call check(MAX_EDOF == 24 .and. MAX_NSTRAIN == 6 .and. MAX_GAUSS == 9, 'max parameters (HEX8: 24 DOFs, 6 strains)')
+    call check(MAX_EDOF == 60 .and. MAX_NSTRAIN == 6 .and. MAX_GAUSS == 27, 'max parameters (HEX20: 60 DOFs, 27 points)')
   end subroutine test_sizes
 
   !> Plane strain: 3D isotropic law with ezz = 0; plane stress: szz = 0 and uniaxial stress.

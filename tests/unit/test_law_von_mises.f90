@@ -153,8 +153,8 @@ contains
     real(dp), intent(out) :: sig(4), sigbar(4), q(:), dissip, dtan(4, 4)
     integer, intent(out) :: nused
     type(law_step_t) :: r
-    call vm_path(law_params_t(young=e, poisson=nu, yield=sy, h_iso=hi, h_kin=hk), plane_stress, nsub, d_el, sig_n, q_n, &
-      deps, q, r)
+    call vm_path(law_params_t(young=e, poisson=nu, yield=sy, h_iso=hi, h_kin=hk), plane_stress, nsub, 4, d_el, sig_n, &
+      q_n, deps, q, r)
     sig = r%sig(1:4)
     sigbar = r%sigbar(1:4)
     dissip = r%dissip

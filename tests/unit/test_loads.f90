@@ -8,7 +8,7 @@ program test_loads
   use testing, only: check, check_close, test_summary
   use loads, only: side_forces, side_pressure_stiffness, face_forces
   implicit none
-  real(dp) :: x(2, 3), f(2, 3), t, p, l, c, s, n(2), x3(3, 4), f3(3, 4), va(3)
+  real(dp) :: x(2, 3), f(2, 3), t, p, l, c, s, n(2), x3(3, 4), f3(3, 8), va(3)
   integer :: i
 
   t = 0.1_dp

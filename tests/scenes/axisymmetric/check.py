@@ -15,8 +15,11 @@ Exact cases, each element type:
 - an elastic cylinder (ν = 0) dropped on a rigid plane at the defaults: the balance to 1e-10 of E, the
   axial momentum's change equal to the contact impulse, the contact lasting 2L/c, and the same
   rebound as the plane-stress bar of the same length (the 1D wave, whatever the section).
+- Lamé in 3D: the same cylinder as a HEX20 quarter (tools/cylinder_mesh.py, GMSH) against Lamé (1e-5)
+  and against the axisymmetric QUAD8 run at every output step, transient included (1e-4).
 """
 import os
+import subprocess
 import sys
 
 import h5py
@@ -265,3 +268,36 @@ for tag, msh in (('125 TRI6', os.path.join(HERE, 'hertz_coarse.msh')), ('475 TRI
                        'duration %.2f us (%+.2f %%), peak %.0f N (%+.2f %%), rebound %.5f m/s, balance %.1e'
                        % (1e6 * dur, 100 * (dur / t_hertz - 1), force.max(), 100 * (force.max() / f_hertz - 1),
                           h['momentum_y'][-1] / m_s, bal))
+
+# --- Lamé in 3D: the thick cylinder as a HEX20 quarter against the axisymmetric model ------------------
+# tools/cylinder_mesh.py: a = 0.1, b = 0.2 m, 90 degrees, L = 0.02 m, 10 x 8 x 1 HEX20 (mid-edge nodes on
+# the arcs), the symmetry planes and the ends held, the same damped pressure ramp as LAME (QUAD8 10 x 2).
+msh = os.path.join(sc.new_dir('cyl'), 'cyl.msh')
+os.makedirs(os.path.dirname(msh), exist_ok=True)
+subprocess.run(['/usr/bin/python3', os.path.join(sc.ROOT, 'tools', 'cylinder_mesh.py'), msh, '0.1', '0.2', '90', '0.02',
+                '10', '8', '1'], check=True, capture_output=True)
+LAME3D = sc.write_scene('lame3d.dat', """DIMENSION 3
+GMSH      cyl FILE %s
+MATERIAL  st ELASTIC YOUNG 2e11 POISSON 0.3 DENSITY 7800
+MODEL     cyl.body MATERIAL st DAMPING ALPHA 2e4
+FIX       cyl.theta0 UY
+FIX       cyl.theta1 UX
+FIX       cyl.bottom UZ
+FIX       cyl.top UZ
+FUNCTION  ramp POINTS 0 0 1e-3 1
+PRESSURE  cyl.inner VALUE 1e8 FUNCTION ramp
+GROUP     ia NODES BOX 0.0999 -1e-6 -1e-6 0.1001 1e-6 1e-6 OF cyl.body
+GROUP     ib NODES BOX 0.1999 -1e-6 -1e-6 0.2001 1e-6 1e-6 OF cyl.body
+TIME      STEP 2e-6 END 6e-3
+OUTPUT    HISTORY EVERY 100 FIELDS EVERY 0 PROBE ia UX PROBE ib UX
+""" % msh)
+p3 = sc.probes(sc.run_ok(LAME3D))
+pa = sc.probes(sc.run_ok(LAME, ['RECTANGLE.ELEMENTS=10 2']))
+ca = list(pa)[2:]
+err3 = max(abs(p3['ia.UX'][-1] / u_lame(A) - 1), abs(p3['ib.UX'][-1] / u_lame(B) - 1))
+sc.report_measured('Lamé 3D (HEX20 quarter, 10 x 8 x 1): u_r(a), u_r(b) within 1e-5 of Lamé', err3 <= 1e-5,
+                   'u(a) %.7e, u(b) %.7e: %.1e' % (p3['ia.UX'][-1], p3['ib.UX'][-1], err3))
+scale = abs(pa[ca[0]]).max()
+dev = max(np.abs(p3['ia.UX'] - pa[ca[0]]).max(), np.abs(p3['ib.UX'] - pa[ca[1]]).max()) / scale
+sc.report_measured('Lamé: the 3D HEX20 and the axisymmetric QUAD8 runs agree at every output step (the transient '
+                   'included) to 1e-4 of u_r(a)', dev <= 1e-4, '%.1e' % dev)

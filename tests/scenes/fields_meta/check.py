@@ -26,7 +26,7 @@ def cantilever():
     with h5py.File(os.path.join(out, 'fields.h5'), 'r') as f:
         names = [text(x) for x in f['mesh/element_type_names'][()]]
         sc.report('element type codes named', names == ['MASS', 'SPRING', 'BAR2', 'BEAM2', 'QUAD4', 'QUAD8', 'TRI3',
-                                                        'TRI6', 'HEX8', 'TET4'], str(names))
+                                                        'TRI6', 'HEX8', 'TET4', 'HEX20', 'TET10', 'WEDGE6'], str(names))
         codes = set(int(c) for c in f['mesh/element_type'][()])
         sc.report('the cantilever is BEAM2 by name', [names[c - 1] for c in codes] == ['BEAM2'], str(codes))
         comps = [text(x) for x in f['mesh/stress_components'][()]]
