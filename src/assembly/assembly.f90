@@ -175,8 +175,7 @@ contains
       allocate (sys%fint_q(sys%dofs%neq))
       sys%fint_q = 0.0_qp
     end if
-    ! (3D: the element loop; the product's rigid modes are the planar ones)
-    if (sys%elems%linear .and. .not. (sys%extended .or. scn%forces_points) .and. scn%mesh%ndim == 2) then
+    if (sys%elems%linear .and. .not. (sys%extended .or. scn%forces_points)) then
       call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, body)
       call sys%ops%k0u%setup(sys%ops%pat, sys%ops%kval, sys%dofs%eqn, scn%mesh%x, body, held_modes(scn, sys, body))
     end if
@@ -191,23 +190,26 @@ contains
     end if
   end subroutine build_system
 
-  !> held(k, b): body b has an element acting on a fixed DOF where its rigid mode k (UX, UY, the
-  !> rotation about the origin) does not vanish, so mode k is not a motion the body can make
-  !> freely (stiffness_product). Structural, whatever the stiffness: a spring to a support 1e-12
-  !> times as stiff as the body still holds it. held(4, b): the supports leave body b a rigid
-  !> motion that is none of the free modes 1-3 (a pin, or rollers and a pin on other lines: the
-  !> rigid motions vanishing at its fixed DOFs, the null space of their 3-column constraint rows,
-  !> outnumber its modes not held): stiffness_product then keeps the element loop.
+  !> held(k, b): body b has an element acting on a fixed DOF where its rigid mode k (2D: UX, UY, the
+  !> rotation about the origin; 3D: UX, UY, UZ, the rotations about x, y, z) does not vanish, so
+  !> mode k is not a motion the body can make freely (stiffness_product). Structural, whatever the
+  !> stiffness: a spring to a support 1e-12 times as stiff as the body still holds it. held(nm + 1, b)
+  !> (nm = 3 or 6 modes): the supports leave body b a rigid motion that is none of its free modes (a
+  !> pin, or rollers and a pin on other lines: the rigid motions vanishing at its fixed DOFs, the
+  !> null space of their constraint rows, outnumber its modes not held): stiffness_product then keeps
+  !> the element loop.
   function held_modes(scn, sys, body) result(held)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
     integer, intent(in) :: body(:)
     logical, allocatable :: held(:, :)
     real(dp), allocatable :: g(:, :, :)
-    real(dp) :: row(3), w(3), work(16), xy(2)
+    real(dp) :: row(6), w(6), work(48), p(3)
     logical :: mask(NODE_DOFS)
-    integer :: e, a, n, b, d, info
-    allocate (held(4, maxval(body)), g(3, 3, maxval(body)))
+    integer :: e, a, n, b, d, info, nm, nd
+    nd = scn%mesh%ndim
+    nm = merge(6, 3, nd == 3)                  ! 2D: x, y, the rotation; 3D: x, y, z, rotations x, y, z
+    allocate (held(nm + 1, maxval(body)), g(nm, nm, maxval(body)))
     held = .false.
     g = 0.0_dp
     do e = 1, scn%mesh%nelem
@@ -222,33 +224,50 @@ contains
       if (b == 0) cycle
       do a = 1, scn%mesh%nen(e)
         n = scn%mesh%conn(a, e)
-        xy = scn%mesh%x(:, n)
-        do d = 1, 3    ! (2D only: the product K0 u is not set up in 3D)
+        p = 0.0_dp
+        p(1:nd) = scn%mesh%x(1:nd, n)
+        do d = 1, NODE_DOFS
           if (.not. (mask(d) .and. sys%dofs%eqn(d, n) == DOF_FIXED)) cycle
-          ! The fixed DOF's row: modes 1-3 there (UX: 1, 0, -y; UY: 0, 1, x; RZ: 0, 0, 1).
-          row = [merge(1.0_dp, 0.0_dp, d == 1), merge(1.0_dp, 0.0_dp, d == 2), merge(-xy(2), merge(xy(1), 1.0_dp, d == 2), d == 1)]
-          held(1:3, b) = held(1:3, b) .or. row /= 0.0_dp
-          call dsyr_3(row, g(:, :, b))
+          ! The fixed DOF's row: the modes there (2D, UX: 1, 0, -y; UY: 0, 1, x; RZ: 0, 0, 1; 3D, the
+          ! translations, then the rotations' e_k x X along the DOF's axis).
+          row = 0.0_dp
+          if (nd == 2) then
+            row(1:3) = [merge(1.0_dp, 0.0_dp, d == 1), merge(1.0_dp, 0.0_dp, d == 2), &
+              merge(-p(2), merge(p(1), 1.0_dp, d == 2), d == 1)]
+          else
+            row(DOF_AXIS(d)) = 1.0_dp
+            select case (DOF_AXIS(d))
+            case (1)
+              row(4:6) = [0.0_dp, p(3), -p(2)]
+            case (2)
+              row(4:6) = [-p(3), 0.0_dp, p(1)]
+            case (3)
+              row(4:6) = [p(2), -p(1), 0.0_dp]
+            end select
+          end if
+          held(1:nm, b) = held(1:nm, b) .or. row(1:nm) /= 0.0_dp
+          call dsyr_n(nm, row, g(:, :, b))
         end do
       end do
     end do
     do b = 1, size(held, 2)
-      if (.not. any(held(1:3, b))) cycle      ! free body: its three modes
-      call dsyev('N', 'U', 3, g(:, :, b), 3, w, work, size(work), info)
-      held(4, b) = info /= 0
-      if (info == 0) held(4, b) = count(w <= 1.0e-12_dp * max(w(3), tiny(1.0_dp))) > count(.not. held(1:3, b))
+      if (.not. any(held(1:nm, b))) cycle      ! free body: all its modes
+      call dsyev('N', 'U', nm, g(:, :, b), nm, w, work, size(work), info)
+      held(nm + 1, b) = info /= 0
+      if (info == 0) held(nm + 1, b) = count(w(1:nm) <= 1.0e-12_dp * max(w(nm), tiny(1.0_dp))) > count(.not. held(1:nm, b))
     end do
   contains
-    pure subroutine dsyr_3(r, gb)
-      real(dp), intent(in) :: r(3)
-      real(dp), intent(inout) :: gb(3, 3)
+    pure subroutine dsyr_n(m, r, gb)
+      integer, intent(in) :: m
+      real(dp), intent(in) :: r(:)
+      real(dp), intent(inout) :: gb(:, :)
       integer :: i, j
-      do j = 1, 3
-        do i = 1, 3
+      do j = 1, m
+        do i = 1, m
           gb(i, j) = gb(i, j) + r(i) * r(j)
         end do
       end do
-    end subroutine dsyr_3
+    end subroutine dsyr_n
   end function held_modes
 
   !> Per model: the elastic matrix D (K0 uses it, and the laws), the point kind, linearity and

@@ -131,8 +131,7 @@ contains
           if (tangent .and. allocated(sys%ops%gval)) call sys%ops%pat%add_element(sys%ops%gval, &
             sys%elems%edof(e0:e0 + ndof - 1), kg(1:ndof, 1:ndof))
         end if
-      else if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1 .or. &
-               (nstr == 6 .and. sys%elems%gr_ptr(g0) > 0))) then
+      else if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1 .or. nstr == 6)) then
         call linear_element(sys%elems, sys%pts%eps_t, sys%pts%sig_t, g0, ng, ndof, nstr, mv%im, ue, tangent, fe, ke, esum)
       else
         call nonlinear_element(scn, sys, mv, g0, ng, ndof, nstr, ue, correct, tangent, fe, fc, ke, any_c, wsum, dsum, &
@@ -298,9 +297,18 @@ contains
     integer :: p, igp
     p = elems%b_ptr(g0)
     select case (nstr)
-    case (6)                                   ! (solids: from their gradients, linear_element's callers check)
-      call linear_points_solid(ndof / 3, ng, elems%grad(elems%gr_ptr(g0)), elems%wt(g0), ue, elems%dmat(1, 1, im), &
-        eps(1, g0), sig(1, g0), fe, esum)
+    case (6)                                   ! solids: from their gradients, or their stored B (BBAR)
+      if (elems%gr_ptr(g0) > 0) then
+        call linear_points_solid(ndof / 3, ng, elems%grad(elems%gr_ptr(g0)), elems%wt(g0), ue, elems%dmat(1, 1, im), &
+          eps(1, g0), sig(1, g0), fe, esum)
+      else
+        do igp = g0, g0 + ng - 1
+          call b_times(6, ndof, elems%bmat(p + 6 * ndof * (igp - g0)), ue, eps(1, igp))
+          sig(1:6, igp) = matmul(elems%dmat(1:6, 1:6, im), eps(1:6, igp))
+          esum = esum + 0.5_dp * elems%wt(igp) * dot_product(sig(1:6, igp), eps(1:6, igp))
+          call add_btsig(6, ndof, elems%bmat(p + 6 * ndof * (igp - g0)), sig(1, igp), elems%wt(igp), fe)
+        end do
+      end if
     case (4)
       if (elems%gr_ptr(g0) > 0) then
         call linear_points_plane(ndof / 2, ng, elems%grad(elems%gr_ptr(g0)), elems%wt(g0), ue, &
