@@ -74,15 +74,19 @@ contains
     total = total + dm
   end subroutine iso_add_mass
 
-  !> The mass matrix me (2 nen x 2 nen, x and y uncoupled) from the scalar consistent one
-  !> ms(1:nen, 1:nen) of total mass total: itself (consistent), or its diagonal scaled to total.
-  pure subroutine iso_mass(nen, ms, total, lumped, me)
+  !> The mass matrix me (nd nen x nd nen, the nd = 2 (default) or 3 directions uncoupled) from the
+  !> scalar consistent one ms(1:nen, 1:nen) of total mass total: itself (consistent), or its diagonal
+  !> scaled to total (HRZ: every term positive).
+  pure subroutine iso_mass(nen, ms, total, lumped, me, ndir)
     integer, intent(in) :: nen
     real(dp), intent(in) :: ms(:, :), total
     logical, intent(in) :: lumped
     real(dp), intent(out) :: me(:, :)
+    integer, intent(in), optional :: ndir
     real(dp) :: diag
-    integer :: i, j
+    integer :: i, j, d, nd
+    nd = 2
+    if (present(ndir)) nd = ndir
     me = 0.0_dp
     if (lumped) then
       diag = 0.0_dp
@@ -90,14 +94,16 @@ contains
         diag = diag + ms(i, i)
       end do
       do i = 1, nen
-        me(2 * i - 1, 2 * i - 1) = ms(i, i) * total / diag
-        me(2 * i, 2 * i) = ms(i, i) * total / diag
+        do d = 1, nd
+          me(nd * i - nd + d, nd * i - nd + d) = ms(i, i) * total / diag
+        end do
       end do
     else
       do j = 1, nen
         do i = 1, nen
-          me(2 * i - 1, 2 * j - 1) = ms(i, j)
-          me(2 * i, 2 * j) = ms(i, j)
+          do d = 1, nd
+            me(nd * i - nd + d, nd * j - nd + d) = ms(i, j)
+          end do
         end do
       end do
     end if

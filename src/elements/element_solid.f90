@@ -18,6 +18,7 @@ module element_solid
   use kinds, only: dp, zero_tol
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use small_matrix, only: adjugate3
+  use element_iso, only: iso_mass, iso_add_mass
   implicit none
   private
   public :: solid_ngauss, solid_b, solid_mass, solid_check, solid_elastic_d, solid_point_shape, SOLID_MAX_NEN
@@ -271,9 +272,8 @@ contains
     real(dp), intent(in) :: x(:, :), rho
     logical, intent(in) :: lumped
     real(dp), intent(out) :: me(:, :)
-    real(dp) :: ms(SOLID_MAX_NEN, SOLID_MAX_NEN), total, diag, xi(3), w, n(SOLID_MAX_NEN), dnx(3, SOLID_MAX_NEN), &
-      detj, dm
-    integer :: ig, i, j, d, npt
+    real(dp) :: ms(SOLID_MAX_NEN, SOLID_MAX_NEN), total, xi(3), w, n(SOLID_MAX_NEN), dnx(3, SOLID_MAX_NEN), detj
+    integer :: ig, i, npt
     ms = 0.0_dp
     total = 0.0_dp
     if (nen == 4) then
@@ -290,33 +290,10 @@ contains
       do ig = 1, npt
         call mass_point(nen, ig, xi, w)
         call solid_cartesian(nen, x, xi, n, dnx, detj)
-        dm = rho * w * detj
-        do j = 1, nen
-          ms(1:nen, j) = ms(1:nen, j) + dm * n(1:nen) * n(j)
-        end do
-        total = total + dm
+        call iso_add_mass(nen, n, rho * w * detj, ms, total)
       end do
     end if
-    me = 0.0_dp
-    if (lumped) then
-      diag = 0.0_dp
-      do i = 1, nen
-        diag = diag + ms(i, i)
-      end do
-      do i = 1, nen
-        do d = 1, 3
-          me(3 * i - 3 + d, 3 * i - 3 + d) = ms(i, i) * total / diag
-        end do
-      end do
-    else
-      do j = 1, nen
-        do i = 1, nen
-          do d = 1, 3
-            me(3 * i - 3 + d, 3 * j - 3 + d) = ms(i, j)
-          end do
-        end do
-      end do
-    end if
+    call iso_mass(nen, ms, total, lumped, me, 3)
   end subroutine solid_mass
 
   !> Reject a zero-volume or inverted solid: det J <= zero_tol ref^3 at an integration point or at a

@@ -211,7 +211,7 @@ contains
     ml(1:nd, 1:nd) = 0.0_dp              ! (the element's block: a 60 x 60 zero per element cost more than its mass)
     if (etype_dimension(et) == 3) then
       call local_coords_3(et, x, x3)
-      call solid_mass(etype_nen(et), x3, rho, lumped, ml)
+      call solid_mass(etype_nen(et), x3, rho, lumped, ml(1:nd, 1:nd))
     else
       call local_coords(et, x, xl)
     end if
