@@ -223,14 +223,9 @@ contains
       call get_vector(scn, st, 'VELOCITY', ic%values, ic%mask, stat, errmsg)
     else
       ic%kind = INIT_STATIC
-      if (scn%mesh%ndim == 3) then
-        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'INITIAL … STATIC is not available in DIMENSION 3 yet', &
-          st%params(find_param(st, 'STATIC'))%keytok))
-        return
-      end if
       if (find_param(st, 'FORCE') == 0) then
-        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'STATIC needs FORCE fx fy [mz]', &
-          st%params(find_param(st, 'STATIC'))%keytok))
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'STATIC needs FORCE ' // &
+          trim(merge('fx fy fz  ', 'fx fy [mz]', scn%mesh%ndim == 3)), st%params(find_param(st, 'STATIC'))%keytok))
         return
       end if
       call get_vector(scn, st, 'FORCE', ic%values, ic%mask, stat, errmsg)

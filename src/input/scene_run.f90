@@ -110,10 +110,6 @@ contains
     type(statement_t), intent(in) :: st
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    if (scn%mesh%ndim == 3) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'STATIC is not available in DIMENSION 3 yet'))
-      return
-    end if
     scn%static_line = st%line
     call get_int(st, 'STEPS', scn%static_steps, stat, errmsg, default=1, lower=1, lower_inclusive=.true., &
       upper=100000, upper_inclusive=.true.)

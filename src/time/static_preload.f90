@@ -42,8 +42,10 @@ module static_preload
     logical :: shifted = .false.         !< some rigid mode was held by contact only (Kt + εM)
   end type static_report_t
 
-  character(len=*), parameter :: MODE_NAMES(3) = [character(len=25) :: 'free translation along x', &
-    'free translation along y', 'free rotation about z']
+  !> The rigid modes in model_modes' order: 2D x, y, the rotation; 3D then z and the rotations about x and y.
+  character(len=*), parameter :: MODE_NAMES(6) = [character(len=25) :: 'free translation along x', &
+    'free translation along y', 'free rotation about z', 'free translation along z', 'free rotation about x', &
+    'free rotation about y']
 
 contains
 
@@ -375,8 +377,8 @@ contains
     integer, allocatable :: body(:)
     logical, allocatable :: free(:, :)
     real(dp), allocatable :: ct(:, :), g0(:), tm(:, :)
-    logical :: dropped(3)
-    integer :: ib, k, l, nf, rank, idx(3), nc, nin, j, e2(2)
+    logical :: dropped(6)
+    integer :: ib, k, l, nf, rank, idx(6), nc, nin, j, e2(2)
     stat = STAT_OK
     shifted = .false.
     call equation_bodies(scn, sys%dofs%eqn, sys%dofs%neq, body)
@@ -386,7 +388,7 @@ contains
     ! A bowl (a curved obstacle, INSIDE) also holds its node along the tangent (its curvature):
     ! one more row each, t'u at the node.
     nin = count(scn%conditions%curved == -1)
-    allocate (ct(nc + nin, 3), g0(nc), tm(sys%dofs%neq, 3))
+    allocate (ct(nc + nin, 6), g0(nc), tm(sys%dofs%neq, 6))
     tm = 0.0_dp                                  ! (g0 from u = 0: 0 x an unset value may be a NaN)
     if (nc > 0) call contact_gaps(cs, tm(:, 1), g0)
     do ib = 1, size(free, 2)
@@ -436,13 +438,13 @@ contains
     end do
   end subroutine held_modes_check
 
-  !> The rank of the (at most 3, non-zero) columns of a: a pivoted Cholesky of their normalized Gram
+  !> The rank of the (at most 6, non-zero) columns of a: a pivoted Cholesky of their normalized Gram
   !> matrix (dense_solve's spsd_solve), dropped(k): column k depends on the others.
   subroutine column_rank(a, rank, dropped)
     real(dp), intent(in) :: a(:, :)
     integer, intent(out) :: rank
     logical, intent(out), optional :: dropped(:)
-    real(dp) :: gram(3, 3), b(3), x(3), nrm(3)
+    real(dp) :: gram(6, 6), b(6), x(6), nrm(6)
     integer :: m, i, l
     m = size(a, 2)
     do i = 1, m

@@ -21,6 +21,8 @@ exactness and every momentum the physics fixes, on the one code path of 2D.
 - HEX20 and TET10: a cantilever's first bending frequencies against beam theory; their XDMF cells.
 - WEDGE6: a free bar's rigid and axial modes, a cantilever converging, PRESSURE on its two kinds of
   faces, its XDMF cells in VTK's order; a Gmsh prism mesh runs as the BOX.
+- STATIC and INITIAL … STATIC in 3D: a cantilever under gravity and a tip force against beam theory,
+  a block resting on a plane, a block free to slide (input error).
 - GRAVITY GZ: a free block falls with momentum_z = -m g t (1e-12).
 - Node-to-node GAP … WITH between two blocks in every IMPACT mode: the six momenta kept (1e-12).
 - GMSH in DIMENSION 3: a Gmsh 4.1 volume mesh of the bar (HEX8 and TET4) runs byte for byte as the BOX;
@@ -430,6 +432,48 @@ def wedges():
               '%d good, %d bad' % (good, bad))
 
 
+def static_3d():
+    """STATIC and INITIAL … STATIC in 3D: a HEX20 steel cantilever (1 m, 50 x 50 mm, 20 cells, nu = 0)
+    under gravity GZ takes Euler-Bernoulli's tip deflection q L^4 / (8 E I) within 0.5 % and stays at
+    rest in the dynamics (the tip moves by less than 1e-9 of it); a tip force released at t = 0
+    (INITIAL … STATIC FORCE) starts the tip at P L^3 / (3 E I) within 0.5 %; a block resting on a
+    frictionless plane, held in x and y by FIX, carries its weight on the contact (the contact
+    force = m g to 1e-9), and the same block without the FIX is an input error naming its free
+    translation along x."""
+    base = ('DIMENSION 3\nBOX c ORIGIN 0 0 0 SIZE 1 0.05 0.05 ELEMENTS 20 1 1 TYPE HEX20\n'
+            'MATERIAL st ELASTIC YOUNG 2e11 POISSON 0 DENSITY 8000\nMODEL c MATERIAL st\nFIX c.xmin UX UY UZ\n'
+            'GROUP tip NODES BOX 0.999 -1e-6 -1e-6 1.001 1e-6 1e-6 OF c\n')
+    ei = 2e11 * 0.05 ** 4 / 12
+    q = 8000 * 0.05 ** 2 * 9.81
+    out = sc.run_ok(sc.write_scene('static_cantilever.dat', base + 'GRAVITY GZ -9.81\nSTATIC\n'
+                                   'TIME STEP 1e-4 END 1e-2\nOUTPUT HISTORY EVERY 1 FIELDS EVERY 0 PROBE tip UZ\n'))
+    uz = sc.probes(out)['tip.UZ']
+    w = q / (8 * ei)
+    sc.report_measured('STATIC 3D: HEX20 cantilever under gravity, tip within 0.5 % of q L^4/(8EI), at rest after',
+                       abs(-uz[0] / w - 1) <= 5e-3 and np.abs(uz - uz[0]).max() <= 1e-9 * abs(uz[0]),
+                       'tip %.6e m (beam %.6e), moves by %.1e of it' % (-uz[0], w, np.abs(uz - uz[0]).max() / abs(uz[0])))
+    out = sc.run_ok(sc.write_scene('initial_static_3d.dat', base + 'INITIAL tip STATIC FORCE 0 0 -100\n'
+                                   'TIME STEP 1e-4 END 1e-3\nOUTPUT HISTORY EVERY 1 FIELDS EVERY 0 PROBE tip UZ\n'))
+    uz = sc.probes(out)['tip.UZ']
+    w = 100 / (3 * ei)
+    sc.report_measured('INITIAL … STATIC FORCE in 3D: the tip starts at P L^3/(3EI) (0.5 %)', abs(-uz[0] / w - 1) <= 5e-3,
+                       'tip %.6e m (beam %.6e)' % (-uz[0], w))
+    block = ('DIMENSION 3\nBOX b ORIGIN 0 0 0.001 SIZE 0.1 0.1 0.05 ELEMENTS 2 2 1 TYPE HEX8\n'
+             'MATERIAL st ELASTIC YOUNG 2e11 POISSON 0.3 DENSITY 8000\nMODEL b MATERIAL st\n'
+             'OBSTACLE floor NODES b.zmin POINT 0 0 0.001 NORMAL 0 0 1\nGRAVITY GZ -9.81\nSTATIC\n'
+             'TIME STEP 1e-5 END 1e-4\nOUTPUT HISTORY EVERY 1 FIELDS EVERY 0\n')
+    out = sc.run_ok(sc.write_scene('static_block.dat', block.replace('STATIC\n', 'STATIC\nFIX b UX UY\n')))
+    c = sc.contacts(out)
+    m = 8000 * 0.1 * 0.1 * 0.05
+    f0 = c['force_z'][c['step'] == 1].sum()
+    sc.report_measured('STATIC 3D: a block on a frictionless plane carries m g on its contacts (1e-9)',
+                       abs(f0 / (m * 9.81) - 1) <= 1e-9, 'contact force %.10g N, m g %.10g N' % (f0, m * 9.81))
+    path = sc.write_scene('static_block_free.dat', block)
+    rc, err, _ = sc.run(path, outdir=os.path.join(sc.new_dir('bad3d'), 'never'))
+    sc.report('STATIC 3D: a block free to slide on a frictionless plane is an input error naming the mode',
+              rc == 2 and 'free translation along x' in err and 'STATIC' in err, err.strip()[:200])
+
+
 def falling():
     text = ('DIMENSION 3\nBOX blk ORIGIN 0 0 0 SIZE 0.06 0.04 0.04 ELEMENTS 3 2 2 TYPE HEX8\n'
             'MATERIAL alu ELASTIC YOUNG 7e10 POISSON 0.33 DENSITY 2700\nMODEL blk MATERIAL alu\n'
@@ -616,6 +660,7 @@ locking()
 modes_3d()
 quadratic()
 wedges()
+static_3d()
 falling()
 fields()
 bad_inputs()
