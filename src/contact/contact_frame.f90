@@ -21,8 +21,8 @@ contains
   !> velocity vel. The driver sets g0 at the step's end (contact_set_gap0 or contact_rewrite).
   module procedure cs_move_obstacle
     if (.not. allocated(self%wshift)) then
-      allocate (self%wshift(self%nc), self%wrate(self%nc), self%wvel(2, self%nc), self%vframe(self%neq), &
-        self%mvframe(self%neq), self%fr_framed(max(self%neq, 1)), self%fr_wb(2, max(self%neq, 1)), &
+      allocate (self%wshift(self%nc), self%wrate(self%nc), self%wvel(3, self%nc), self%vframe(self%neq), &
+        self%mvframe(self%neq), self%fr_framed(max(self%neq, 1)), self%fr_wb(3, max(self%neq, 1)), &
         self%fr_gain(self%nc), self%fr_target(self%nc), self%fr_conds(self%nc))   ! (bodies <= equations)
       self%wshift = 0.0_dp
       self%wrate = 0.0_dp
@@ -32,7 +32,8 @@ contains
     self%moving = .true.
     self%wshift(j) = shift
     self%wrate(j) = rate
-    self%wvel(:, j) = vel(1:2)
+    self%wvel(:, j) = 0.0_dp
+    self%wvel(1:size(vel), j) = vel             ! (x, y[, z]: a 2D one has z = 0)
   end procedure cs_move_obstacle
 
   !> enter: v <- v - V, mv <- mv - M V with V the frame of the obstacles of the conditions active

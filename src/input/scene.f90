@@ -53,7 +53,7 @@ module scene
     !> OBSTACLE … VELOCITY vx vy [FUNCTION f]: the obstacle translates rigidly at velocity x f(t),
     !> its displacement velocity x ∫ f from the start time (function_integral); vfunc 0: f = 1.
     logical :: moving = .false.
-    real(dp) :: velocity(2) = 0.0_dp
+    real(dp) :: velocity(3) = 0.0_dp          !< (vx, vy[, vz])
     integer :: vfunc = 0
   end type condition_t
 

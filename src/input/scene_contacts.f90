@@ -35,7 +35,7 @@ contains
     call sch%add_param('OBSTACLE', 'RADIUS', 1, 1)
     call sch%add_param('OBSTACLE', 'INSIDE', 0, 0)
     call sch%add_param('OBSTACLE', 'OUTSIDE', 0, 0)
-    call sch%add_param('OBSTACLE', 'VELOCITY', 2, 2)
+    call sch%add_param('OBSTACLE', 'VELOCITY', 2, 3)
     call sch%add_param('OBSTACLE', 'FUNCTION', 1, 1)
     call sch%add_param('OBSTACLE', 'FRICTION', 1, 1)
     call sch%add_keyword('GAP', 1, 1)
@@ -76,15 +76,15 @@ contains
     type(statement_t), intent(in) :: st
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=8), parameter :: refused(5) = [character(len=8) :: 'SPHERE', 'CYLINDER', 'VELOCITY', 'SEGMENTS', &
-      'FRICTION']
+    character(len=8), parameter :: refused(4) = [character(len=8) :: 'SPHERE', 'CYLINDER', 'SEGMENTS', 'FRICTION']
     integer :: k, ip
     stat = STAT_OK
     do k = 1, size(refused)
       ip = find_param(st, trim(refused(k)))
       if (ip == 0) cycle
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, st%keyword // ' … ' // trim(refused(k)) // &
-        ' is not available in DIMENSION 3 yet (3D: plane OBSTACLE, GAP … WITH or PAIRS; frictionless)', &
+        ' is not available in DIMENSION 3 yet (3D: plane OBSTACLE, fixed or moving, GAP … WITH or PAIRS; ' // &
+        'frictionless)', &
         st%params(ip)%keytok))
       return
     end do
@@ -195,7 +195,7 @@ contains
     scn%conditions = [scn%conditions, batch]        ! (once per statement: linear in the group)
   end subroutine do_obstacle
 
-  !> OBSTACLE … VELOCITY vx vy [FUNCTION f]: the obstacle's rigid translation at velocity (vx, vy)
+  !> OBSTACLE … VELOCITY vx vy [vz] [FUNCTION f]: the obstacle's rigid translation at velocity (vx, vy[, vz])
   !> x f(t) (f = 1 without FUNCTION), each component within ±1e100; FUNCTION alone is an error.
   subroutine get_motion(scn, st, c, stat, errmsg)
     type(scene_t), intent(in) :: scn
@@ -209,7 +209,8 @@ contains
         'FUNCTION scales the obstacle''s VELOCITY vx vy, which is missing', st%params(find_param(st, 'FUNCTION'))%keytok))
       return
     end if
-    call get_point(st, 'VELOCITY', c%velocity, stat, errmsg)
+    c%velocity = 0.0_dp
+    call get_point(st, 'VELOCITY', c%velocity(1:scn%mesh%ndim), stat, errmsg)
     if (stat == STAT_OK) call get_function(scn, st, c%vfunc, stat, errmsg)
     c%moving = stat == STAT_OK
   end subroutine get_motion

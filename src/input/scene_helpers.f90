@@ -200,9 +200,14 @@ contains
   !> Largest extent of the mesh, the length scale of the gap tolerance.
   pure real(dp) function model_size(m)
     type(mesh_t), intent(in) :: m
+    integer :: d
     model_size = 1.0_dp
-    if (m%nnode > 0) model_size = max(maxval(m%x(1, 1:m%nnode)) - minval(m%x(1, 1:m%nnode)), &
+    if (m%nnode == 0) return
+    model_size = max(maxval(m%x(1, 1:m%nnode)) - minval(m%x(1, 1:m%nnode)), &
       maxval(m%x(2, 1:m%nnode)) - minval(m%x(2, 1:m%nnode)), tiny(1.0_dp))
+    do d = 3, m%ndim                           ! (3D: z too)
+      model_size = max(model_size, maxval(m%x(d, 1:m%nnode)) - minval(m%x(d, 1:m%nnode)))
+    end do
   end function model_size
 
   !> A unit vector from parameter key.

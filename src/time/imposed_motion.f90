@@ -107,15 +107,15 @@ contains
         if (.not. c%moving) cycle
         f1 = function_value(scn%functions, c%vfunc, t1)
         if (c%follow) then                     ! a circle: its centre's motion (contact_geometry)
-          call follow%move(j, c%velocity * function_integral(scn%functions, c%vfunc, scn%t_start, t0), &
-            c%velocity * function_integral(scn%functions, c%vfunc, scn%t_start, t1), c%velocity * f1)
+          call follow%move(j, c%velocity(1:2) * function_integral(scn%functions, c%vfunc, scn%t_start, t0), &
+            c%velocity(1:2) * function_integral(scn%functions, c%vfunc, scn%t_start, t1), c%velocity(1:2) * f1)
           cycle
         end if
-        vn = dot_product(c%normal(1:2), c%velocity)          ! (moving obstacles: 2D)
+        vn = dot_product(c%normal(1:scn%mesh%ndim), c%velocity(1:scn%mesh%ndim))
         call contact_set_gap0(cs, j, c%g0 - vn * function_integral(scn%functions, c%vfunc, scn%t_start, t1))
         call cs%move_obstacle(j, vn * function_integral(scn%functions, c%vfunc, t0, t1), vn * f1, c%velocity * f1)
         if (cs%tangent_row(j) > 0) then        ! FRICTION: the slip is relative to the obstacle
-          vn = dot_product(c%velocity, [-c%normal(2), c%normal(1)])
+          vn = dot_product(c%velocity(1:2), [-c%normal(2), c%normal(1)])   ! (friction: 2D)
           call cs%move_obstacle(cs%tangent_row(j), vn * function_integral(scn%functions, c%vfunc, t0, t1), vn * f1, &
             c%velocity * f1)
         end if
