@@ -362,9 +362,13 @@ contains
     if (ndim == 2 .and. any(upper(tok%text) == ['UZ', 'VZ'])) then
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, upper(tok%text) // ' needs DIMENSION 3', tok))
       return
-    else if (ndim == 3 .and. any(upper(tok%text) == ['RZ ', 'VRZ', 'MZ '])) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a DIMENSION 3 scene probes UX, UY, UZ, VX, VY, VZ, ' // &
-        'RX or RY', tok))
+    else if (ndim == 3 .and. upper(tok%text) == 'RZ') then   ! (3D: no rotation DOF; RZ is the reaction along z)
+      pr%dof = DOF_UZ
+      pr%reaction = .true.
+      return
+    else if (ndim == 3 .and. any(upper(tok%text) == ['VRZ', 'MZ '])) then
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'a DIMENSION 3 scene probes UX, UY, UZ (displacements), ' // &
+        'VX, VY, VZ (velocities) or RX, RY, RZ (support reactions)', tok))
       return
     end if
     if (any(upper(tok%text) == ['UZ', 'VZ'])) then

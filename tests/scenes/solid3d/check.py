@@ -437,7 +437,8 @@ def wedges():
 def static_3d():
     """STATIC and INITIAL … STATIC in 3D: a HEX20 steel cantilever (1 m, 50 x 50 mm, 20 cells, nu = 0)
     under gravity GZ takes Euler-Bernoulli's tip deflection q L^4 / (8 E I) within 0.5 % and stays at
-    rest in the dynamics (the tip moves by less than 1e-9 of it); a tip force released at t = 0
+    rest in the dynamics (the tip moves by less than 1e-9 of it), its support reactions (PROBE RX, RY,
+    RZ) the weight along each axis (gravity GX, GY too); a tip force released at t = 0
     (INITIAL … STATIC FORCE) starts the tip at P L^3 / (3 E I) within 0.5 %; a block resting on a
     frictionless plane, held in x and y by FIX, carries its weight on the contact (the contact
     force = m g to 1e-9), and the same block without the FIX is an input error naming its free
@@ -447,13 +448,19 @@ def static_3d():
             'GROUP tip NODES BOX 0.999 -1e-6 -1e-6 1.001 1e-6 1e-6 OF c\n')
     ei = 2e11 * 0.05 ** 4 / 12
     q = 8000 * 0.05 ** 2 * 9.81
-    out = sc.run_ok(sc.write_scene('static_cantilever.dat', base + 'GRAVITY GZ -9.81\nSTATIC\n'
-                                   'TIME STEP 1e-4 END 1e-2\nOUTPUT HISTORY EVERY 1 FIELDS EVERY 0 PROBE tip UZ\n'))
-    uz = sc.probes(out)['tip.UZ']
+    out = sc.run_ok(sc.write_scene('static_cantilever.dat', base + 'GRAVITY GX -1 GY -2 GZ -9.81\nSTATIC\n'
+                                   'TIME STEP 1e-4 END 1e-2\nOUTPUT HISTORY EVERY 1 FIELDS EVERY 0 PROBE tip UZ '
+                                   'PROBE c.xmin RX PROBE c.xmin RY PROBE c.xmin RZ\n'))
+    p = sc.probes(out)
+    uz = p['tip.UZ']
     w = q / (8 * ei)
     sc.report_measured('STATIC 3D: HEX20 cantilever under gravity, tip within 0.5 % of q L^4/(8EI), at rest after',
                        abs(-uz[0] / w - 1) <= 5e-3 and np.abs(uz - uz[0]).max() <= 1e-9 * abs(uz[0]),
                        'tip %.6e m (beam %.6e), moves by %.1e of it' % (-uz[0], w, np.abs(uz - uz[0]).max() / abs(uz[0])))
+    mass = 8000 * 0.05 ** 2
+    err = max(np.abs(p['c.xmin.R' + d] - mass * g).max() / (mass * 9.81) for d, g in zip('XYZ', (1.0, 2.0, 9.81)))
+    sc.report_measured('PROBE RX, RY, RZ in 3D: the support carries the weight m (1, 2, 9.81) N/kg (1e-8)', err <= 1e-8,
+                       '%.1e' % err)
     out = sc.run_ok(sc.write_scene('initial_static_3d.dat', base + 'INITIAL tip STATIC FORCE 0 0 -100\n'
                                    'TIME STEP 1e-4 END 1e-3\nOUTPUT HISTORY EVERY 1 FIELDS EVERY 0 PROBE tip UZ\n'))
     uz = sc.probes(out)['tip.UZ']
