@@ -4,7 +4,7 @@
 module assembly
   use kinds, only: dp, qp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, check_alloc
-  use mesh, only: DOF_NAMES, NODE_DOFS, DOF_AXIS
+  use mesh, only: DOF_NAMES, NODE_DOFS, DOF_AXIS, rigid_mode_row
   use element_traits, only: ET_BEAM2, etype_needs_material, etype_family, FAMILY_SURFACE, FAMILY_VOLUME, MAX_NEN
   use contact_modes, only: IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use loads, only: load_nodal_forces
@@ -230,21 +230,7 @@ contains
           if (.not. (mask(d) .and. sys%dofs%eqn(d, n) == DOF_FIXED)) cycle
           ! The fixed DOF's row: the modes there (2D, UX: 1, 0, -y; UY: 0, 1, x; RZ: 0, 0, 1; 3D, the
           ! translations, then the rotations' e_k x X along the DOF's axis).
-          row = 0.0_dp
-          if (nd == 2) then
-            row(1:3) = [merge(1.0_dp, 0.0_dp, d == 1), merge(1.0_dp, 0.0_dp, d == 2), &
-              merge(-p(2), merge(p(1), 1.0_dp, d == 2), d == 1)]
-          else
-            row(DOF_AXIS(d)) = 1.0_dp
-            select case (DOF_AXIS(d))
-            case (1)
-              row(4:6) = [0.0_dp, p(3), -p(2)]
-            case (2)
-              row(4:6) = [-p(3), 0.0_dp, p(1)]
-            case (3)
-              row(4:6) = [p(2), -p(1), 0.0_dp]
-            end select
-          end if
+          row = rigid_mode_row(d, p(1:nd))
           held(1:nm, b) = held(1:nm, b) .or. row(1:nm) /= 0.0_dp
           call dsyr_n(nm, row, g(:, :, b))
         end do

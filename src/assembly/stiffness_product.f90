@@ -22,7 +22,7 @@ module stiffness_product
   use kinds, only: dp
   use sparse_matrix, only: sym_csc_t
   use pair_blocks, only: pair_block_t
-  use mesh, only: DOF_AXIS, DOF_UX, DOF_UY
+  use mesh, only: DOF_AXIS, rigid_mode_row
   implicit none
   private
   public :: k0_product_t
@@ -72,7 +72,8 @@ contains
     logical, intent(in) :: held(:, :)
     real(dp), allocatable :: r(:, :), g(:, :), a(:, :), kabs(:), gmax(:, :), amax(:, :)
     integer, allocatable :: comp(:), local(:)
-    integer :: n, nbody, i, j, d, k, b, m, nd, nm, ax
+    integer :: n, nbody, i, j, d, k, b, m, nd, nm
+    real(dp) :: rowm(6)
     n = pat%n
     nd = size(x, 1)
     self%ntr = nd
@@ -89,21 +90,9 @@ contains
       do d = 1, size(eqn, 1)
         i = eqn(d, j)
         if (i <= 0) cycle
-        ax = DOF_AXIS(d)
-        comp(i) = ax
-        if (ax > 0) r(i, ax) = 1.0_dp
-        if (nd == 2) then
-          r(i, 3) = merge(-x(2, j), merge(x(1, j), 1.0_dp, d == DOF_UY), d == DOF_UX)
-        else
-          select case (ax)
-          case (1)
-            r(i, 4:6) = [0.0_dp, x(3, j), -x(2, j)]
-          case (2)
-            r(i, 4:6) = [-x(3, j), 0.0_dp, x(1, j)]
-          case (3)
-            r(i, 4:6) = [x(2, j), -x(1, j), 0.0_dp]
-          end select
-        end if
+        comp(i) = DOF_AXIS(d)
+        rowm = rigid_mode_row(d, x(:, j))
+        r(i, :) = rowm(1:nm)
       end do
     end do
     kabs = abs(kval)

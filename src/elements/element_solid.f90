@@ -21,7 +21,7 @@ module element_solid
   use element_iso, only: iso_mass, iso_add_mass
   implicit none
   private
-  public :: solid_ngauss, solid_b, solid_mass, solid_check, solid_elastic_d, solid_point_shape, SOLID_MAX_NEN
+  public :: solid_ngauss, solid_b, solid_mass, solid_check, solid_point_shape, SOLID_MAX_NEN
 
   integer, parameter :: SOLID_MAX_NEN = 20
   ! Natural coordinates of the HEX corners, then of HEX20's mid-edge nodes (Gmsh's edges).
@@ -347,20 +347,4 @@ contains
       s = 'TET4'
     end select
   end function solid_name
-
-  !> Isotropic elasticity on (exx, eyy, ezz, gxy, gyz, gxz).
-  pure subroutine solid_elastic_d(young, poisson, d)
-    real(dp), intent(in) :: young, poisson
-    real(dp), intent(out) :: d(6, 6)
-    real(dp) :: lam, mu
-    integer :: i
-    mu = young / (2.0_dp * (1.0_dp + poisson))
-    lam = young * poisson / ((1.0_dp + poisson) * (1.0_dp - 2.0_dp * poisson))
-    d = 0.0_dp
-    d(1:3, 1:3) = lam
-    do i = 1, 3
-      d(i, i) = lam + 2.0_dp * mu
-      d(i + 3, i + 3) = mu
-    end do
-  end subroutine solid_elastic_d
 end module element_solid

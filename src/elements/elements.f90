@@ -23,7 +23,8 @@ module elements
   use element_beam2, only: beam2_ngauss, beam2_b, beam2_mass, BEAM2_MAX_GAUSS
   use element_quad, only: quad_ngauss, quad_b, quad_mass, quad_check, quad_elastic_d, quad_point_shape
   use element_tri, only: tri_ngauss, tri_b, tri_mass, tri_check, tri_point_shape
-  use element_solid, only: solid_ngauss, solid_b, solid_mass, solid_check, solid_elastic_d, solid_point_shape
+  use element_solid, only: solid_ngauss, solid_b, solid_mass, solid_check, solid_point_shape
+  use law_von_mises, only: vm_d3
   implicit none
   private
   public :: MAX_EDOF, MAX_NSTRAIN, MAX_GAUSS
@@ -260,8 +261,8 @@ contains
     case (ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6)
       call quad_elastic_d(young, poisson, sec%plane_stress, dq)
       d(1:4, 1:4) = dq
-    case (ET_HEX8, ET_TET4, ET_HEX20, ET_TET10, ET_WEDGE6)
-      call solid_elastic_d(young, poisson, ds)
+    case (ET_HEX8, ET_TET4, ET_HEX20, ET_TET10, ET_WEDGE6)   ! (isotropic 3D: the laws' own D)
+      call vm_d3(young, poisson, ds)
       d(1:6, 1:6) = ds
     end select
   end subroutine elem_elastic_d

@@ -20,7 +20,7 @@ module law_von_mises
   use law_types, only: law_params_t, law_step_t, law_step_reset
   implicit none
   private
-  public :: VM_NSTATE, vm_d3, vm_dps, vm_return, vm_path, vm_trial_ratio, vm_stored, vm_dev, vm_norm, vm_map_t
+  public :: VM_NSTATE, vm_d3, vm_dps, vm_return, vm_path, vm_trial_ratio, vm_stored, vm_map_t
   public :: vm_state_size, vm_alpha_index
 
   integer, parameter :: VM_NSTATE = 10               !< the state of a 4-component point (vm_state_size(4))
@@ -50,22 +50,6 @@ contains
     vm_alpha_index = nc + 1
   end function vm_alpha_index
 
-  !> Deviator of a stress-like vector (4 or 6 components, the shears after the normals) in d(1:size(s));
-  !> the rest of d is 0 (a fixed size: no run-time-sized temporary in the laws' loop).
-  pure function vm_dev(s) result(d)
-    real(dp), intent(in) :: s(:)
-    real(dp) :: d(NCMAX), p
-    integer :: i
-    p = (s(1) + s(2) + s(3)) / 3.0_dp
-    d = 0.0_dp
-    d(1) = s(1) - p
-    d(2) = s(2) - p
-    d(3) = s(3) - p
-    do i = 4, size(s)
-      d(i) = s(i)
-    end do
-  end function vm_dev
-
   !> The trial stress s(1:nc) = s_n + D de (nc = 4 or 6) and the relative stress xi = dev(s) - beta
   !> (beta = q(nc+2:2nc+1)); explicit shapes and constant sizes: the laws run at every point of every
   !> iteration.
@@ -89,7 +73,7 @@ contains
     end do
   end subroutine trial_state
 
-  !> |s| of an nc-vector (explicit shape; vm_norm's value).
+  !> Tensor norm |s| of a stress-like nc-vector (each shear entry counts twice).
   pure real(dp) function norm_nc(nc, s)
     integer, intent(in) :: nc
     real(dp), intent(in) :: s(nc)
@@ -101,31 +85,6 @@ contains
     end do
     norm_nc = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp * t)
   end function norm_nc
-
-  !> t(1:n) = d(1:n, 1:n) v(1:n) by loops (a fixed-size result: no temporary).
-  pure function mat_vec(d, v) result(t)
-    real(dp), intent(in) :: d(:, :), v(:)
-    real(dp) :: t(NCMAX)
-    integer :: i, j
-    t = 0.0_dp
-    do j = 1, size(v)
-      do i = 1, size(v)
-        t(i) = t(i) + d(i, j) * v(j)
-      end do
-    end do
-  end function mat_vec
-
-  !> Tensor norm of a stress-like vector (each shear entry counts twice).
-  pure real(dp) function vm_norm(s)
-    real(dp), intent(in) :: s(:)
-    real(dp) :: t
-    integer :: i
-    t = s(4)**2
-    do i = 5, size(s)
-      t = t + s(i)**2
-    end do
-    vm_norm = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp * t)
-  end function vm_norm
 
   !> Isotropic 3D elasticity on (xx, yy, zz, gamma_xy[, gamma_yz, gamma_xz]): 4 x 4, the plane-strain
   !> D, or the whole 6 x 6 (size(d, 1)).
@@ -266,7 +225,7 @@ contains
     do it = 1, PS_MAXIT
       d33 = [de(1), de(2), z, de(4)]
       call vm_return(p, 4, sig_n, q_n, d33, sig, q, dep, cep)
-      if (abs(sig(3)) <= PS_RTOL * (p%yield + vm_norm(sig))) exit
+      if (abs(sig(3)) <= PS_RTOL * (p%yield + norm_nc(4, sig))) exit
       z = z - sig(3) / cep(3, 3)
     end do
     sig(3) = 0.0_dp

@@ -139,15 +139,13 @@ contains
 
   !> The elastic matrix of a point (nstr x nstr, at least): the one the laws use and K0 should
   !> use. PK_1D: young; PK_BEAM: diag(E A, E I), or for sec%layers > 0 the fibre-integrated
-  !> diag(sum E A_f, sum E y_f^2 A_f); PK_PSTRAIN / PK_PSTRESS: as elements' elem_elastic_d.
+  !> diag(sum E A_f, sum E y_f^2 A_f); PK_PSTRAIN / PK_PSTRESS / PK_SOLID: as elements' elem_elastic_d.
   pure subroutine law_elastic_matrix(mat, sec, pk, d)
     type(material_t), intent(in) :: mat
     type(section_t), intent(in) :: sec
     integer, intent(in) :: pk
     real(dp), intent(out) :: d(:, :)
-    real(dp) :: d4(4, 4)
-    real(dp) :: mu, lam
-    integer :: i
+    real(dp) :: d4(4, 4), d6(6, 6)
     d = 0.0_dp
     select case (pk)
     case (PK_1D)
@@ -166,13 +164,8 @@ contains
       call vm_dps(mat%young, mat%poisson, d4)
       d(1:4, 1:4) = d4
     case (PK_SOLID)
-      mu = mat%young / (2.0_dp * (1.0_dp + mat%poisson))
-      lam = mat%young * mat%poisson / ((1.0_dp + mat%poisson) * (1.0_dp - 2.0_dp * mat%poisson))
-      d(1:3, 1:3) = lam
-      do i = 1, 3
-        d(i, i) = lam + 2.0_dp * mu
-        d(i + 3, i + 3) = mu
-      end do
+      call vm_d3(mat%young, mat%poisson, d6)
+      d(1:6, 1:6) = d6
     end select
   end subroutine law_elastic_matrix
 

@@ -7,7 +7,7 @@ module mesh
   implicit none
   private
   public :: mesh_t, group_t
-  public :: DOF_UX, DOF_UY, DOF_RZ, DOF_UZ, NODE_DOFS, DOF_NAMES, DOF_AXIS, MAX_COORD
+  public :: DOF_UX, DOF_UY, DOF_RZ, DOF_UZ, NODE_DOFS, DOF_NAMES, DOF_AXIS, MAX_COORD, rigid_mode_row
 
   !> Largest coordinate accepted (scene and Gmsh): squares, areas and r x (M v) stay finite.
   real(dp), parameter :: MAX_COORD = 1.0e100_dp
@@ -276,4 +276,27 @@ contains
     ig = 0
     if (allocated(self%egroups)) ig = lookup(self%egroups, self%negroup, self%eindex, name)
   end function find_elem_group
+  !> The rigid modes about the origin at DOF slot d of a node at x (nd = size(x) = 2 or 3), as one row:
+  !> 2D (translation x, translation y, rotation about z): UX 1, 0, -y; UY 0, 1, x; RZ 0, 0, 1.
+  !> 3D (translations x, y, z, rotations about x, y, z: e_k x X along the slot's axis), row(1:6).
+  pure function rigid_mode_row(d, x) result(row)
+    integer, intent(in) :: d
+    real(dp), intent(in) :: x(:)
+    real(dp) :: row(6)
+    row = 0.0_dp
+    if (size(x) == 2) then
+      row(1:3) = [merge(1.0_dp, 0.0_dp, d == DOF_UX), merge(1.0_dp, 0.0_dp, d == DOF_UY), &
+        merge(-x(2), merge(x(1), 1.0_dp, d == DOF_UY), d == DOF_UX)]
+      return
+    end if
+    if (DOF_AXIS(d) > 0) row(DOF_AXIS(d)) = 1.0_dp
+    select case (DOF_AXIS(d))
+    case (1)
+      row(4:6) = [0.0_dp, x(3), -x(2)]
+    case (2)
+      row(4:6) = [-x(3), 0.0_dp, x(1)]
+    case (3)
+      row(4:6) = [x(2), -x(1), 0.0_dp]
+    end select
+  end function rigid_mode_row
 end module mesh

@@ -5,6 +5,7 @@ module mesh_faces
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use mesh, only: mesh_t
   use element_traits, only: etype_faces
+  use array_utils, only: heap_sort
   implicit none
   private
   public :: face_set_t, group_faces
@@ -90,19 +91,10 @@ contains
   contains
     pure function sorted4(v, n) result(s)
       integer, intent(in) :: v(4), n
-      integer :: s(4), a, b, t
+      integer :: s(4)
       s = 0
       s(1:n) = v(1:n)
-      do a = 2, n                               ! insertion sort of n <= 4
-        t = s(a)
-        b = a - 1
-        do while (b >= 1)
-          if (s(b) <= t) exit
-          s(b + 1) = s(b)
-          b = b - 1
-        end do
-        s(b + 1) = t
-      end do
+      call heap_sort(s(1:n))
     end function sorted4
   end subroutine group_faces
 end module mesh_faces
