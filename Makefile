@@ -19,7 +19,12 @@ CFLAGS  += -Wall -Wextra -I/usr/include/suitesparse
 MPI_FFLAGS = $(shell mpifort --showme:compile 2>/dev/null)
 MPI_LIBS   = $(shell mpifort --showme:link 2>/dev/null)
 override FFLAGS += $(MPI_FFLAGS)
-LDLIBS  = $(HDF5_LIB) -lumfpack -lcholmod -lamd -lsuitesparseconfig -larpack -llapack -lblas $(MPI_LIBS)
+# MUMPS (Debian's libmumps-ptscotch-dev: built on Open MPI with Scotch and PT-Scotch orderings):
+# its Fortran include dmumps_struc.h.
+MUMPS_INC := /usr/include
+MUMPS_LIB := -ldmumps_ptscotch -lmumps_common_ptscotch -lpord_ptscotch
+override FFLAGS += -I$(MUMPS_INC)
+LDLIBS  = $(HDF5_LIB) $(MUMPS_LIB) -lumfpack -lcholmod -lamd -lsuitesparseconfig -larpack -llapack -lblas $(MPI_LIBS)
 PY      := /usr/bin/python3
 
 # Sources live in src/<concern>/ (README: the module tour); objects and .mod files go flat
@@ -43,7 +48,7 @@ help:
 	@echo "make run     install what is missing, build, run the default scene"
 	@echo "make test    build and run every test; ends with 'N passed, M failed'"
 	@echo "make test T=NAME   only the suites whose name contains NAME (e.g. T=contact, T=scene_bar)"
-	@echo "make bench   QUAD4 plate benchmark (writes docs/performance.md)"
+	@echo "make bench   QUAD4 plate benchmark (writes docs/performance.md), and the others (docs/performance-*.md)"
 	@echo "make studies run every studies/*.sweep under mpirun (results/studies/, docs/sweep.md)"
 	@echo "make check-debug  unit tests and every scene with -fcheck=all and FPE traps (build-debug/)"
 	@echo "make valgrind     memcheck of four short scenes and a sweep with bin/rebond (docs/reliability.md)"
@@ -113,6 +118,7 @@ bench: bin/rebond
 	@/usr/bin/python3 tools/bench_taylor.py bin/rebond docs/taylor-axisymmetric.md --scene inputs/taylor_bar.dat
 	@/usr/bin/python3 tools/bench_friction.py
 	@/usr/bin/python3 tools/bench_zone3d.py bin/rebond docs/performance-zone3d.md
+	@/usr/bin/python3 tools/bench_mumps.py bin/rebond docs/performance-mumps.md
 
 clean:
 	rm -rf $(BUILD) bin/rebond

@@ -10,15 +10,19 @@ program rebond
   use scene, only: scene_t
   use contact_modes, only: IMPACT_NAMES
   use cholmod_binding, only: ORDERING_NAMES
+  use spd_factor, only: LIBRARY_AUTO
   use scene_loader, only: load_scene
   use assembly, only: system_t, build_system
   use newmark, only: run_options_t, run_summary_t, run_state_t, prepare_run, run_newmark
+  use run_state, only: release_matrices
   use sweep, only: run_sweep
-  use os_utils, only: path_stem, exit_with, make_directory
+  use os_utils, only: path_stem, exit_with, make_directory, install_signal_handlers
   use hdf5_file, only: hdf5_failed
   use text_file, only: say, stdout_error
   use scene_report, only: report_t, measure_scene, say_report, report_warnings
   use modes, only: modes_t, compute_modes, write_modes
+  use parallel, only: launched_ranks, parallel_start, parallel_stop, scene_comm, scene_ranks, scene_rank
+  use mumps_binding, only: mumps_serve, mumps_stop_serving
   implicit none
 
   character(len=*), parameter :: VERSION = '0.1.0'
@@ -109,6 +113,7 @@ program rebond
   else
     call run_scene()
   end if
+  call finish_parallel()
 
 contains
 
@@ -117,6 +122,19 @@ contains
     integer :: im, nmod
     if (len(scene_path) == 0) call fail_usage('no scene file given')
     if (len(outdir) == 0) outdir = 'results/' // path_stem(scene_path)
+    ! Under mpirun with more than one rank, the ranks share the scene's linear solves (SCHEME
+    ! SOLVER, docs/parallel.md): rank 0 runs the scene, the others take part in its MUMPS calls.
+    if (launched_ranks() > 1) then
+      call parallel_start(share=.true.)
+      if (scene_rank() > 0) then
+        ! (SIGINT/SIGTERM, which mpirun forwards to every rank, only noted: rank 0 ends the step,
+        ! writes its checkpoint and releases this rank; Open MPI's SIGKILL follows after
+        ! odls_base_sigkill_timeout, 1 s by default)
+        call install_signal_handlers(stat, errmsg)
+        call mumps_serve(scene_comm())
+        return
+      end if
+    end if
 
     call load_scene(scene_path, overrides(1:nset), scn, stat, errmsg)
     if (stat /= STAT_OK) call fail(stat, errmsg)
@@ -150,6 +168,9 @@ contains
         if (scn%models(im)%tuned .and. .not. scn%models(im)%mass_said) call say('  MODEL ' // &
           scn%models(im)%group // ': mass tuned to the step (BAR2 default at c h/dx <= 1; MASS CONSISTENT for the classic)')
       end do
+      if (said_solver()) call say('  linear solves: ' // &
+        rs%mat%factor%library() // ' on ' // str(rs%mat%factor%ranks()) // ' rank(s) of ' // str(scene_ranks()) // &
+        trim(merge(' (SCHEME SOLVER AUTO)', '                     ', scn%linear_solver == LIBRARY_AUTO)))
       if (scn%static_steps > 0) call say_static()
       if (.not. sys%elems%linear) call say('  nonlinear zone: ' // rs%zone%why)
       if (sys%ops%k0u%active()) call say('  internal forces: K0 u (linear elastic model; SCHEME FORCES POINTS for the ' // &
@@ -243,6 +264,7 @@ contains
     if (len(why) > 0) then
       write (error_unit, '(a)') 'rebond: error: cannot write the run''s report to standard output: ' // why // &
         ' (the results in ' // outdir // '/ are complete)'
+      call finish_parallel()
       call exit_with(1)
     end if
   end subroutine check_stdout
@@ -258,6 +280,22 @@ contains
       write (line, '(a,i0,a,f0.3,a)') '  factor of S: nnz(L) = ', nint(summary%factor%nnz, 8), ', ' // &
         trim(ORDERING_NAMES(summary%factor%ordering)) // ' ordering (analysis ', summary%factor%analysis_cpu, ' s CPU)'
       call say(trim(line))
+    end if
+    if (said_solver()) then
+      associate (t => rs%mat%factor%times)
+        write (line, '(a,i0,a,f0.3,a,f0.3,a,i0,a,f0.3,a,f0.3,a)') '  linear solves (' // rs%mat%factor%library() // &
+          '): ', t%factorizations, ' factorizations in ', t%factor_cpu, ' s CPU (', t%factor_wall, ' s wall), ', &
+          t%solves, ' solves in ', t%solve_cpu, ' s CPU (', t%solve_wall, ' s wall) on rank 0'
+      end associate
+      call say(trim(line))
+      if (rs%mat%factor%library() == 'MUMPS') then
+        associate (e => rs%mat%factor%estimates())
+          write (line, '(a,es9.2,a,es9.2,a,i0,a,i0,a,i0,a,i0,a)') '  MUMPS''s estimates: ', e(1), ' flops, ', e(2), &
+            ' factor entries; in core ', nint(e(3)), ' MB on the busiest rank (', nint(e(4)), ' MB in all), out of core ', &
+            nint(e(5)), ' MB (', nint(e(6)), ' MB)'
+        end associate
+        call say(trim(line))
+      end if
     end if
     if (summary%factorizations > 1) call say('  iteration matrix factorized ' // str8(int(summary%factorizations, 8)) // &
       ' times (ITERATION TANGENT or AUTO, SCHEME RETRY, EVENTS)')
@@ -287,6 +325,11 @@ contains
       ' changes of partner')
     call say('  results in ' // outdir // '/')
   end subroutine print_summary
+
+  !> Whether stdout names the linear solver: SCHEME SOLVER given, MUMPS, or more than one rank.
+  logical function said_solver()
+    said_solver = rs%mat%factor%library() == 'MUMPS' .or. scene_ranks() > 1 .or. scn%linear_solver /= LIBRARY_AUTO
+  end function said_solver
 
   !> An integer of any kind as I0 (the summary's counters are 8-byte).
   function str8(i) result(t)
@@ -345,10 +388,19 @@ contains
     call exit_with(2)
   end subroutine fail_usage
 
+  !> The factors of S freed (MUMPS's on every rank, its out-of-core files removed), the other ranks
+  !> released and MPI finalized where this run started it (every exit of rank 0).
+  subroutine finish_parallel()
+    if (scene_rank() == 0) call release_matrices(rs)
+    if (scene_ranks() > 1 .and. scene_rank() == 0) call mumps_stop_serving(scene_comm())
+    call parallel_stop()
+  end subroutine finish_parallel
+
   subroutine fail(code, msg)
     integer, intent(in) :: code
     character(len=*), intent(in) :: msg
     write (0, '(a)') 'rebond: error: ' // msg
+    call finish_parallel()
     if (code == STAT_INPUT) call exit_with(2, now=hdf5_failed())
     call exit_with(1, now=hdf5_failed())
   end subroutine fail

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Install (or with --check, verify) the Debian packages rebond builds and runs with.
 set -euo pipefail
-PKGS=(gfortran gcc make libsuitesparse-dev libarpack2-dev liblapack-dev libblas-dev libopenblas0-pthread libhdf5-dev python3 python3-numpy python3-matplotlib python3-h5py python3-scipy libopenmpi-dev openmpi-bin valgrind)
+PKGS=(gfortran gcc make libsuitesparse-dev libarpack2-dev liblapack-dev libblas-dev libopenblas0-pthread libhdf5-dev python3 python3-numpy python3-matplotlib python3-h5py python3-scipy libopenmpi-dev openmpi-bin libmumps-ptscotch-dev valgrind)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

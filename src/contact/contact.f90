@@ -26,7 +26,7 @@ module contact
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use sparse_matrix, only: sym_csc_t
-  use cholmod_binding, only: cholmod_factor_t
+  use spd_factor, only: spd_factor_t
   use inverse_ops, only: inverse_op_t, diag_inverse_t, chol_inverse_t, chol_ref_t
   use lcp, only: lcp_pivot
   use checkpoint, only: ckpt_file_t
@@ -813,7 +813,7 @@ contains
   !> and values of S) enable the augmented system; without them only SOLVER_SCHUR works.
   subroutine prepare_chol(cs, s, stat, errmsg, pat, sval)
     type(contact_set_t), intent(inout), target :: cs
-    type(cholmod_factor_t), intent(inout), target :: s
+    type(spd_factor_t), intent(inout), target :: s
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     type(sym_csc_t), intent(in), optional :: pat
@@ -883,7 +883,7 @@ contains
   !> update du = du_free + S⁻¹C'Λ; s is the factor of the S given to contact_prepare.
   subroutine solve_step_chol(cs, s, u_n, du_free, du, lambda, stat, errmsg)
     type(contact_set_t), intent(inout), target :: cs
-    type(cholmod_factor_t), intent(inout), target :: s
+    type(spd_factor_t), intent(inout), target :: s
     real(dp), intent(in) :: u_n(:), du_free(:)
     real(dp), intent(out) :: du(:)
     real(dp), intent(out) :: lambda(:)

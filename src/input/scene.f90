@@ -12,6 +12,7 @@ module scene
   use section, only: section_t
   use material_law, only: material_t
   use contact_modes, only: IMPACT_AUTO, SOLVER_AUTO, SWITCH_DEFAULT
+  use spd_factor, only: LIBRARY_AUTO
   implicit none
   private
   public :: scene_t, model_t, fix_t, initial_t, load_t, function_t, probe_t
@@ -204,6 +205,8 @@ module scene
     logical :: impact_auto = .false.                  !< the treatment was chosen by IMPACT AUTO
     integer :: multipliers = SOLVER_AUTO              !< SCHEME MULTIPLIERS (contact_modes)
     integer :: augmented_above = SWITCH_DEFAULT       !< SCHEME AUGMENTED_ABOVE (AUTO's switch)
+    integer :: linear_solver = LIBRARY_AUTO           !< SCHEME SOLVER (spd_factor's LIBRARY_*)
+    logical :: out_of_core = .false.                  !< SCHEME SOLVER MUMPS OUT_OF_CORE
     character(len=:), allocatable :: fingerprint      !< what a checkpoint's state means (scene_fingerprint)
   end type scene_t
 

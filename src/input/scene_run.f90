@@ -9,6 +9,7 @@ module scene_run
   use contact_modes, only: IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_AUTO, IMPACT_SYMMETRIC, &
     SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED, SWITCH_DEFAULT
   use scene, only: scene_t, probe_t
+  use spd_factor, only: LIBRARY_AUTO, LIBRARY_CHOLMOD, LIBRARY_MUMPS
   use scene_helpers, only: node_group, get_choice
   implicit none
   private
@@ -18,6 +19,7 @@ module scene_run
   integer, parameter :: IMPACT_MODES(6) = [IMPACT_AUTO, IMPACT_PAPER, IMPACT_PERSIST, IMPACT_OFF, IMPACT_MASSLESS, &
     IMPACT_SYMMETRIC]
   integer, parameter :: SOLVERS(3) = [SOLVER_AUTO, SOLVER_SCHUR, SOLVER_AUGMENTED]
+  integer, parameter :: LIBRARIES(3) = [LIBRARY_AUTO, LIBRARY_CHOLMOD, LIBRARY_MUMPS]
   integer, parameter :: MAX_MODES = 10000         !< MODES n at most (each mode a vector of the model's size)
 
 contains
@@ -47,6 +49,7 @@ contains
     call sch%add_param('SCHEME', 'ZONE', 1, 1)
     call sch%add_param('SCHEME', 'FORCES', 1, 1)
     call sch%add_param('SCHEME', 'EVENTS', 1, 1)
+    call sch%add_param('SCHEME', 'SOLVER', 1, 2)
     call sch%add_keyword('OUTPUT', 0, 0, once=.true.)
     call sch%add_param('OUTPUT', 'HISTORY', 1, 2)
     call sch%add_param('OUTPUT', 'FIELDS', 1, 2)
@@ -242,7 +245,33 @@ contains
     call get_int(st, 'AUGMENTED_ABOVE', scn%augmented_above, stat, errmsg, default=SWITCH_DEFAULT, lower=0, &
       lower_inclusive=.true.)
     if (stat /= STAT_OK) return
+    call do_solver(scn, st, stat, errmsg)
   end subroutine do_scheme
+
+  !> SOLVER AUTO|CHOLMOD|MUMPS [OUT_OF_CORE]: the library of the SPD factorizations; OUT_OF_CORE
+  !> (MUMPS's factors on disk) only with MUMPS.
+  subroutine do_solver(scn, st, stat, errmsg)
+    type(scene_t), intent(inout) :: scn
+    type(statement_t), intent(in) :: st
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k
+    call get_choice(st, 'SOLVER', ['AUTO   ', 'CHOLMOD', 'MUMPS  '], 'AUTO', k, stat, errmsg)
+    if (stat /= STAT_OK) return
+    scn%linear_solver = LIBRARIES(k)
+    k = find_param(st, 'SOLVER')
+    if (k == 0) return
+    if (size(st%params(k)%values) < 2) return
+    associate (w => st%params(k)%values(2))
+      if (upper(w%text) /= 'OUT_OF_CORE') then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'expected OUT_OF_CORE after the library', w))
+      else if (scn%linear_solver /= LIBRARY_MUMPS) then
+        call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'OUT_OF_CORE is MUMPS''s (SOLVER MUMPS OUT_OF_CORE)', w))
+      else
+        scn%out_of_core = .true.
+      end if
+    end associate
+  end subroutine do_solver
 
   !> "[EVERY] k" of OUTPUT HISTORY / FIELDS.
   subroutine get_every(st, key, every, stat, errmsg)

@@ -23,6 +23,7 @@ module cholmod_binding
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
   use sparse_matrix, only: sym_csc_t
+  use sparse_factor, only: sparse_factor_t, factor_stats_t, ORDERING_NAMES
   use c_interfaces, only: rb_chol_new, rb_chol_free, rb_chol_is_factored, rb_chol_version, rb_chol_factorize, rb_chol_cost_ratio, &
     rb_chol_solve_flops, rb_chol_stats, rb_blas_threads, &
     rb_chol_solve, rb_umf_new, rb_umf_free, rb_umf_is_factored, rb_umf_version, rb_umf_analyze, rb_umf_factorize, &
@@ -31,21 +32,7 @@ module cholmod_binding
   private
   public :: cholmod_factor_t, cholmod_version, umfpack_factor_t, umfpack_version, factor_stats_t, ORDERING_NAMES, blas_threads
 
-  !> The fill-reducing orderings a factor's analysis may use (factor_stats_t%ordering).
-  character(len=*), parameter :: ORDERING_NAMES(3) = [character(len=35) :: 'AMD', 'METIS', &
-    'nested dissection of supervariables']
-
-  !> What CHOLMOD's analysis made, for reports (zeros before the first factorization).
-  type :: factor_stats_t
-    real(dp) :: nnz = 0.0_dp                 !< nonzeros of L
-    real(dp) :: stored = 0.0_dp              !< entries stored (supernodal blocks)
-    real(dp) :: flops = 0.0_dp               !< of a numeric factorization
-    real(dp) :: analysis_cpu = 0.0_dp        !< CPU seconds of the ordering and symbolic analysis
-    integer :: ordering = 0                  !< index in ORDERING_NAMES
-    logical :: supernodal = .false.
-  end type factor_stats_t
-
-  type :: cholmod_factor_t
+  type, extends(sparse_factor_t) :: cholmod_factor_t
     private
     type(c_ptr) :: handle = c_null_ptr
   contains
@@ -177,7 +164,7 @@ contains
     if (c_associated(self%handle)) solve_flops = real(rb_chol_solve_flops(self%handle), dp)
   end function solve_flops
 
-  !> What CHOLMOD's analysis made (factor_stats_t; zeros before the first factorization).
+  !> What CHOLMOD's analysis made (sparse_factor's factor_stats_t; zeros before the first factorization).
   function stats(self) result(s)
     class(cholmod_factor_t), intent(in) :: self
     type(factor_stats_t) :: s

@@ -1,9 +1,10 @@
-!> x = A⁻¹ b for a fixed SPD matrix A, behind one abstract type: a CHOLMOD factor (owned or
-!> borrowed), a diagonal, or any test double. Used by contact for S⁻¹ (S = K0 + 4M/h²) and M⁻¹.
+!> x = A⁻¹ b for a fixed SPD matrix A, behind one abstract type: a CHOLMOD factor (owned) or
+!> the scene's factor of S (borrowed), a diagonal, or any test double. Used by contact for S⁻¹ (S = K0 + 4M/h²) and M⁻¹.
 module inverse_ops
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
   use cholmod_binding, only: cholmod_factor_t
+  use spd_factor, only: spd_factor_t
   implicit none
   private
   public :: inverse_op_t, diag_inverse_t, chol_inverse_t, chol_ref_t
@@ -42,9 +43,9 @@ module inverse_ops
     procedure :: apply => chol_apply
   end type chol_inverse_t
 
-  !> Borrows the caller's CHOLMOD factor for the duration of one call.
+  !> Borrows the caller's factor of S (CHOLMOD or MUMPS) for the duration of one call.
   type, extends(inverse_op_t) :: chol_ref_t
-    type(cholmod_factor_t), pointer :: f => null()
+    type(spd_factor_t), pointer :: f => null()
   contains
     procedure :: apply => chol_ref_apply
   end type chol_ref_t

@@ -13,7 +13,7 @@ module iteration_matrix
   use kinds, only: dp
   use errors, only: STAT_OK
   use assembly, only: system_t
-  use cholmod_binding, only: cholmod_factor_t
+  use spd_factor, only: spd_factor_t
   use checkpoint, only: ckpt_file_t
   implicit none
   private
@@ -21,7 +21,7 @@ module iteration_matrix
 
   type :: iteration_matrix_t
     private
-    type(cholmod_factor_t), public :: factor     !< CHOLMOD factor of the current S (contact solves with it)
+    type(spd_factor_t), public :: factor     !< CHOLMOD factor of the current S (contact solves with it)
     real(dp), allocatable, public :: sval(:)     !< values of S on the system's pattern (read only)
     real(dp) :: c4 = 0.0_dp                      !< 4/h²
     real(dp) :: h = 0.0_dp                       !< the step

@@ -20,7 +20,7 @@ module nonlinear_zone
   use scene, only: scene_t
   use assembly, only: system_t
   use internal_forces, only: internal_force
-  use cholmod_binding, only: cholmod_factor_t
+  use spd_factor, only: spd_factor_t
   use step_state, only: step_state_t
   use lapack_pure, only: dgetrf, dgetrs
   implicit none
@@ -251,7 +251,7 @@ contains
   !> W = S⁻¹ P_Z for the factor of S (after each factorization of K0 + 4M/h², h changed).
   subroutine zone_columns(self, factor, stat, errmsg)
     class(zone_t), intent(inout) :: self
-    type(cholmod_factor_t), intent(inout) :: factor
+    type(spd_factor_t), intent(inout) :: factor
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: c, i

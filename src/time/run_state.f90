@@ -175,7 +175,7 @@ contains
   subroutine init_levels(rs, scn)
     type(run_state_t), intent(inout) :: rs
     type(scene_t), intent(in) :: scn
-    integer :: k_hi
+    integer :: k_hi, k
     rs%k_lo = 0
     k_hi = 0
     if (scn%adaptive) then
@@ -184,6 +184,11 @@ contains
     end if
     allocate (rs%levels(k_hi - rs%k_lo + 1))
     rs%mat => rs%levels(1 - rs%k_lo)
+    ! SCHEME SOLVER: each S factorized by CHOLMOD or MUMPS (its instance started at its first use).
+    do k = 1, size(rs%levels)
+      call rs%levels(k)%factor%choose(scn%linear_solver, scn%out_of_core)
+    end do
+    call rs%mat_sub%factor%choose(scn%linear_solver, scn%out_of_core)
   end subroutine init_levels
 
   !> mat becomes S at h = STEP 2^k, factorized now if this level has not been yet or was left on a
@@ -206,7 +211,7 @@ contains
     if (rs%mat%n_factor == 0 .or. rs%mat%on_tangent_now()) call rs%mat%setup(sys, h, stat, errmsg, minor, scn%iter_auto)
   end subroutine select_level
 
-  !> The CHOLMOD factors freed (gfortran does not finalize locals: a sweep runs many cases).
+  !> The factors of S freed (gfortran does not finalize locals: a sweep runs many cases).
   subroutine release_matrices(rs)
     type(run_state_t), intent(inout) :: rs
     integer :: k

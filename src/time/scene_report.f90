@@ -17,7 +17,7 @@ module scene_report
   use text_file, only: say
   use scene, only: scene_t
   use assembly, only: system_t, mass_times
-  use cholmod_binding, only: cholmod_factor_t
+  use spd_factor, only: spd_factor_t
   use elements, only: elem_mass, elem_dof_mask, elem_ndof, MAX_EDOF
   use element_traits, only: ET_BAR2, ET_BEAM2, ET_QUAD4, ET_QUAD8, ET_TRI3, ET_TRI6, ET_HEX8, ET_TET4, NODE_DOFS, MAX_NEN, &
     ET_HEX20, ET_TET10, ET_WEDGE6
@@ -58,7 +58,7 @@ contains
   subroutine measure_scene(scn, sys, s, nsteps, rig, rep, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
-    type(cholmod_factor_t), intent(inout) :: s
+    type(spd_factor_t), intent(inout) :: s
     integer, intent(in) :: nsteps
     real(dp), intent(in) :: rig(:, :)
     type(report_t), intent(out) :: rep
@@ -231,14 +231,14 @@ contains
   subroutine lowest(scn, sys, s, nsteps, rig, rep, stat, errmsg)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(in) :: sys
-    type(cholmod_factor_t), intent(inout), target :: s
+    type(spd_factor_t), intent(inout), target :: s
     integer, intent(in) :: nsteps
     real(dp), intent(in) :: rig(:, :)
     type(report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    type(cholmod_factor_t), target :: f
-    type(cholmod_factor_t), pointer :: op
+    type(spd_factor_t), target :: f
+    type(spd_factor_t), pointer :: op
     integer, allocatable :: body(:)
     logical, allocatable :: free(:, :)
     real(dp), allocatable :: x(:), mx(:), kx(:), mrig(:, :), fval(:)

@@ -19,7 +19,7 @@ module static_preload
   use assembly, only: system_t, external_force, commit_state
   use internal_forces, only: internal_force, work_increment_t
   use dof_map, only: equation_bodies, body_rigid_freedom
-  use cholmod_binding, only: cholmod_factor_t
+  use spd_factor, only: spd_factor_t
   use contact, only: contact_set_t, contact_prepare, contact_solve_step, contact_add_force, contact_gaps, &
     contact_set_resting, contact_schur_only
   use dense_solve, only: spsd_solve
@@ -68,7 +68,7 @@ contains
     !> rows that follow the configuration (curved obstacles, GAP … SEGMENTS PAIRING STEP): linearized
     !> at each iterate, the contact solved about it (Newton on the gaps)
     type(following_t), intent(inout), optional :: follow
-    type(cholmod_factor_t) :: fac
+    type(spd_factor_t) :: fac
     type(work_increment_t) :: inc
     real(dp), allocatable :: f(:), fprev(:), fint(:), fcorr(:), r(:), du(:), ddu(:), un(:), sval(:), res(:), uk(:), &
       dcorr(:)
@@ -78,6 +78,7 @@ contains
     logical, allocatable :: held(:), held_f(:)
 
     n = sys%dofs%neq
+    call fac%choose(scn%linear_solver, scn%out_of_core)      ! (SCHEME SOLVER)
     call held_modes_check(scn, sys, rig, rep%shifted, stat, errmsg, cs)
     if (stat /= STAT_OK) return
     eps_m = 0.0_dp
@@ -213,7 +214,7 @@ contains
     real(dp), intent(in) :: eps_m, kappa
     logical, intent(in) :: held(:)
     real(dp), allocatable, intent(inout) :: sval(:)
-    type(cholmod_factor_t), intent(inout) :: fac
+    type(spd_factor_t), intent(inout) :: fac
     type(static_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
