@@ -4,6 +4,7 @@ blocks, run by `make bench`; writes docs/performance-mumps.md.
 
     tools/bench_mumps.py [REBOND] [OUT.md] [--sizes 1e4,1e5]
 
+Also the communication between the 2 ranks per step (Open MPI's pml/coll monitoring components).
 The block: a cube of n x n x n HEX8, ELASTIC steel, fixed at its base, a pulse of pressure-like
 nodal forces on its top, STEPS steps of TIME STEP 1e-6 (linear: one solve a step with K0 u).
 For each size and solver: the analysis CPU (rank 0, from the run's summary), the factorization
@@ -146,6 +147,29 @@ def fmt_time(sec):
     return '%.1f h' % (sec / 3600)
 
 
+def comm_volume(mpirun, rebond, scene_text, work, steps):
+    """Bytes and messages the ranks send each other in a run of `steps` steps (Open MPI's monitoring
+    components: point to point, MUMPS's own and inside collectives, summed over both ranks)."""
+    scene = os.path.join(work, 'mon_%d.dat' % steps)
+    with open(scene, 'w') as f:
+        f.write(scene_text.replace('END {end}', 'END %r' % (steps * 1e-6)))
+    prefix = os.path.join(work, 'mon_%d' % steps)
+    cmd = [mpirun, '--oversubscribe', '--mca', 'pml_monitoring_enable', '2', '--mca', 'pml_monitoring_enable_output',
+           '3', '--mca', 'pml_monitoring_filename', prefix, '-np', '2', rebond, scene, '-o', work + '/mon', '-q']
+    p = subprocess.run(cmd, capture_output=True, text=True, env=ENV)
+    if p.returncode != 0:
+        raise RuntimeError('%s: exit %d\n%s' % (' '.join(cmd), p.returncode, p.stderr[-800:]))
+    nbytes = nmsg = 0
+    for rank in (0, 1):
+        with open('%s.%d.prof' % (prefix, rank)) as f:
+            for line in f:
+                m = re.match(r'^[EI]\t\d+\t\d+\t(\d+) bytes\t(\d+) msgs sent', line)
+                if m:
+                    nbytes += int(m.group(1))
+                    nmsg += int(m.group(2))
+    return nbytes, nmsg
+
+
 def main(argv):
     args = [a for a in argv[1:] if not a.startswith('--')]
     rebond = args[0] if args else 'bin/rebond'
@@ -173,6 +197,12 @@ def main(argv):
             r.update(case=name, size=size, n=n, cpu=cpu, rss=rss)
             rows.append(r)
             print(name, size, r, flush=True)
+        # Communication per step on 2 ranks: runs of 10 and 20 steps, the difference over 10.
+        b10, m10 = comm_volume(mpirun, rebond, SCENE.format(n=n, end='{end}'), work, 10)
+        b20, m20 = comm_volume(mpirun, rebond, SCENE.format(n=n, end='{end}'), work, 20)
+        rows[-1].update(comm_step=(b20 - b10) / 10.0, msg_step=(m20 - m10) / 10.0, comm_setup=b10 - (b20 - b10),
+                        msg_setup=m10 - (m20 - m10))
+        print('communication', size, rows[-1]['comm_step'], rows[-1]['comm_setup'], flush=True)
     write_report(rows, out_md)
     return 0
 
@@ -198,6 +228,17 @@ def write_report(rows, out_md):
         lines.append('| %d | %s | %s | %d | %.2f | %s | %s | %s | %.1f | %s |'
                      % (r['neq'], r['case'], r['ordering'], r['nnz'], r['analysis'], fac, sol, ratio, r['cpu'],
                         ' + '.join('%.0f' % x for x in r['rss'])))
+    lines += ['', 'Communication between the 2 ranks (Open MPI\'s monitoring components, point to point and inside',
+              'collectives, both directions; per step: the difference of 10- and 20-step runs over 10 steps; set-up:',
+              'the 10-step run less 10 steps, i.e. the analysis, the factorization and the report\'s solves):', '',
+              '| equations | per step | messages per step | set-up |', '|---:|---:|---:|---:|']
+    for r in rows:
+        if 'comm_step' in r:
+            lines.append('| %d | %.3g MB | %.0f | %.3g MB |' % (r['neq'], r['comm_step'] / 1e6, r['msg_step'],
+                                                             r['comm_setup'] / 1e6))
+    lines += ['', 'A solve moves the right-hand side to the ranks and the solution back, and the factors\' blocks',
+              'between them: a few times the system\'s vector (%.1f MB at the largest size) a step.'
+              % (8.0 * rows[-1]['neq'] / 1e6)]
     lines += reading(rows)
     lines += projection(rows)
     with open(out_md, 'w') as f:

@@ -39,7 +39,7 @@ program test_contact
   use testing, only: check, check_close, test_summary
   use dense_solve, only: spd_solve
   use sparse_matrix, only: sym_csc_t, to_dense
-  use cholmod_binding, only: cholmod_factor_t
+  use spd_factor, only: spd_factor_t
   use inverse_ops, only: chol_ref_t
   use contact, only: contact_set_t, contact_event_t, contact_report_t, IMPACT_OFF, IMPACT_PAPER, IMPACT_PERSIST, &
     EVENT_ESTABLISH, EVENT_RELEASE, contact_add, contact_finalize, contact_set_mass, contact_prepare, &
@@ -833,7 +833,7 @@ contains
   subroutine test_cholmod()
     integer, parameter :: n = 40
     type(sym_csc_t) :: pat
-    type(cholmod_factor_t), target :: f
+    type(spd_factor_t), target :: f
     type(contact_set_t) :: cs
     type(contact_event_t), allocatable :: ev(:)
     real(dp), allocatable :: kval(:), mval(:), sval(:), sd(:, :), zd(:, :), cd(:, :), wd(:, :), md(:, :), amd(:, :)
@@ -942,7 +942,7 @@ contains
   subroutine test_column_cache()
     integer, parameter :: n = 40, nw = 20
     type(sym_csc_t) :: pat
-    type(cholmod_factor_t), target :: f
+    type(spd_factor_t), target :: f
     type(contact_set_t) :: cs
     type(chol_ref_t) :: fop
     real(dp), allocatable :: kval(:), mval(:), sval(:)
