@@ -15,6 +15,7 @@ module parallel
 
   type(MPI_Comm), save :: comm = MPI_COMM_SELF
   logical, save :: shared = .false.
+  integer, save :: nranks = 1, myrank = 0        !< of comm, set when it becomes MPI_COMM_WORLD
 
 contains
 
@@ -40,6 +41,8 @@ contains
     if (share .and. .not. shared) then
       comm = MPI_COMM_WORLD
       shared = .true.
+      call MPI_Comm_size(comm, nranks)
+      call MPI_Comm_rank(comm, myrank)
     end if
   end subroutine parallel_start
 
@@ -60,17 +63,11 @@ contains
 
   !> The ranks sharing the scene (1 without MPI or on MPI_COMM_SELF).
   integer function scene_ranks()
-    logical :: inited
-    scene_ranks = 1
-    call MPI_Initialized(inited)
-    if (inited .and. shared) call MPI_Comm_size(comm, scene_ranks)
+    scene_ranks = nranks
   end function scene_ranks
 
   !> This process's rank among those sharing the scene (0 without MPI).
   integer function scene_rank()
-    logical :: inited
-    scene_rank = 0
-    call MPI_Initialized(inited)
-    if (inited .and. shared) call MPI_Comm_rank(comm, scene_rank)
+    scene_rank = myrank
   end function scene_rank
 end module parallel

@@ -36,6 +36,7 @@ module cholmod_binding
     private
     type(c_ptr) :: handle = c_null_ptr
   contains
+    procedure :: name => chol_name
     procedure :: factorize
     procedure :: solve
     procedure :: is_factored
@@ -102,6 +103,12 @@ contains
     if (rc == RB_NOT_POSDEF .and. present(minor)) minor = int(cminor)
     call shim_status(rc, cmsg, stat, errmsg)
   end subroutine factorize
+
+  function chol_name(self) result(s)
+    class(cholmod_factor_t), intent(in) :: self
+    character(len=:), allocatable :: s
+    s = 'CHOLMOD'
+  end function chol_name
 
   !> x = A^{-1} b with the current factor. No allocation after the first call on success.
   subroutine solve(self, b, x, stat, errmsg)

@@ -44,12 +44,11 @@ module mumps_binding
     character(len=:), allocatable :: tmpdir
     integer :: nproc = 1
     integer :: slot = 0
-    integer :: n = 0
-    integer :: nnz = 0
     logical :: analysed = .false.
     logical :: factored = .false.
     real(dp) :: analysis_cpu = 0.0_dp
   contains
+    procedure :: name => mf_name
     procedure :: settings => mf_settings
     procedure :: factorize => mf_factorize
     procedure :: solve => mf_solve
@@ -70,6 +69,12 @@ module mumps_binding
   external :: dmumps
 
 contains
+
+  function mf_name(self) result(s)
+    class(mumps_factor_t), intent(in) :: self
+    character(len=:), allocatable :: s
+    s = 'MUMPS'
+  end function mf_name
 
   !> Where the instance will run: comm (every rank of it joins through mumps_serve); out_of_core:
   !> the factors on disk in tmpdir (ICNTL(22) = 1; blank: MUMPS's default). The instance starts at
@@ -165,7 +170,7 @@ contains
       return
     end if
     self%factored = .false.
-    if (.not. self%analysed .or. pat%n /= self%n .or. pat%nnz /= self%nnz) then
+    if (.not. self%analysed .or. pat%n /= self%id%n .or. int(pat%nnz, 8) /= self%id%nnz) then
       call cpu_time(c0)
       call set_pattern(self, pat)
       call command(self, CMD_ANALYSE, 0)
@@ -207,8 +212,6 @@ contains
     self%id%nnz = int(pat%nnz, 8)
     self%id%nrhs = 1
     self%id%lrhs = pat%n
-    self%n = pat%n
-    self%nnz = pat%nnz
   end subroutine set_pattern
 
   !> JOB = 2, the workspace doubled (ICNTL(14)) and the factorization taken again while MUMPS
@@ -224,7 +227,8 @@ contains
     end do
   end subroutine factor_job
 
-  !> x = A^{-1} b on every rank (b and x on the host). No allocation.
+  !> x = A^{-1} b on every rank (b and x on the host). None of ours is allocated here; MUMPS
+  !> allocates inside each call (docs/parallel.md, "Allocations").
   subroutine mf_solve(self, b, x, stat, errmsg)
     class(mumps_factor_t), intent(inout) :: self
     real(dp), intent(in), contiguous :: b(:)
@@ -236,18 +240,18 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, 'MUMPS solve: matrix not factorized')
       return
     end if
-    if (size(b) /= self%n .or. size(x) /= self%n) then
+    if (size(b) /= self%id%n .or. size(x) /= self%id%n) then
       call set_error(stat, errmsg, STAT_INPUT, 'MUMPS solve: sizes ' // str(size(b)) // ' and ' // str(size(x)) // &
-        ' for ' // str(self%n) // ' equations')
+        ' for ' // str(self%id%n) // ' equations')
       return
     end if
-    self%id%rhs(1:self%n) = b
+    self%id%rhs(1:self%id%n) = b
     call command(self, CMD_SOLVE, 0)
     self%id%job = 3
     call dmumps(self%id)
     call check_info(self%id, 'solve', stat, errmsg)
     if (stat /= STAT_OK) return
-    x = self%id%rhs(1:self%n)
+    x = self%id%rhs(1:self%id%n)
   end subroutine mf_solve
 
   logical function mf_is_factored(self)
@@ -327,8 +331,6 @@ contains
     self%slot = 0
     self%analysed = .false.
     self%factored = .false.
-    self%n = 0
-    self%nnz = 0
   end subroutine mf_destroy
 
   !> The host tells the other ranks what it calls next (nothing on one rank).

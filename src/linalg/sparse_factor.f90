@@ -26,9 +26,14 @@ module sparse_factor
   !> A factorization of a symmetric positive definite sym_csc_t matrix: factorize (the first call
   !> analyses the pattern, later ones with the same pattern refactorize; not positive definite:
   !> stat = STAT_RUN, minor the failing column where the library says it, else 0), solve (no
-  !> allocation of ours after the first), the costs of a factorization and a solve, destroy.
+  !> allocation of ours after the first), the costs of a factorization and a solve, destroy; the
+  !> library's name, the processes it runs on (1 unless it says) and its own estimates of its cost
+  !> (none unless it has them).
   type, abstract :: sparse_factor_t
   contains
+    procedure(name_i), deferred :: name
+    procedure :: ranks => one_rank
+    procedure :: estimates => no_estimates
     procedure(factorize_i), deferred :: factorize
     procedure(solve_i), deferred :: solve
     procedure(logical_i), deferred :: is_factored
@@ -39,6 +44,11 @@ module sparse_factor
   end type sparse_factor_t
 
   abstract interface
+    function name_i(self) result(s)
+      import :: sparse_factor_t
+      class(sparse_factor_t), intent(in) :: self
+      character(len=:), allocatable :: s
+    end function name_i
     subroutine factorize_i(self, pat, values, stat, errmsg, minor)
       import :: sparse_factor_t, sym_csc_t, dp
       class(sparse_factor_t), intent(inout) :: self
@@ -74,4 +84,19 @@ module sparse_factor
       class(sparse_factor_t), intent(inout) :: self
     end subroutine destroy_i
   end interface
+
+contains
+
+  !> A library that runs in this process alone.
+  integer function one_rank(self)
+    class(sparse_factor_t), intent(in) :: self
+    one_rank = 1
+  end function one_rank
+
+  !> A library without estimates of its own (mumps_binding's mf_estimates lists what they are).
+  function no_estimates(self) result(e)
+    class(sparse_factor_t), intent(in) :: self
+    real(dp) :: e(6)
+    e = 0.0_dp
+  end function no_estimates
 end module sparse_factor

@@ -72,38 +72,23 @@ contains
     class(spd_factor_t), intent(in) :: self
     character(len=:), allocatable :: s
     s = 'CHOLMOD'
-    if (allocated(self%lib)) then
-      select type (f => self%lib)
-      type is (mumps_factor_t)
-        s = 'MUMPS'
-      end select
-    end if
+    if (allocated(self%lib)) s = self%lib%name()
   end function library
 
   !> The processes a factorization and a solve run on.
   integer function ranks(self)
     class(spd_factor_t), intent(in) :: self
     ranks = 1
-    if (allocated(self%lib)) then
-      select type (f => self%lib)
-      type is (mumps_factor_t)
-        ranks = f%ranks()
-      end select
-    end if
+    if (allocated(self%lib)) ranks = self%lib%ranks()
   end function ranks
 
-  !> MUMPS's estimates (mumps_binding's mf_estimates: flops, factor entries, MB per rank and in all,
-  !> in core and out of core); zeros with CHOLMOD.
+  !> The library's estimates (mumps_binding's mf_estimates: flops, factor entries, MB per rank and
+  !> in all, in core and out of core); zeros with CHOLMOD.
   function estimates(self) result(e)
     class(spd_factor_t), intent(in) :: self
     real(dp) :: e(6)
     e = 0.0_dp
-    if (allocated(self%lib)) then
-      select type (f => self%lib)
-      type is (mumps_factor_t)
-        e = f%estimates()
-      end select
-    end if
+    if (allocated(self%lib)) e = self%lib%estimates()
   end function estimates
 
   !> Factorize (pat, values): the first call analyses, later ones with the same pattern only
