@@ -7,7 +7,8 @@ program test_element_solid
   use kinds, only: dp
   use testing, only: check, check_close, test_summary
   use errors, only: STAT_OK, STAT_INPUT
-  use element_traits, only: ET_HEX8, ET_TET4, ET_HEX20, ET_TET10, ET_WEDGE6, DOF_UX, DOF_UY, DOF_UZ, DOF_RZ, etype_dimension
+  use element_traits, only: ET_HEX8, ET_TET4, ET_HEX20, ET_TET10, ET_WEDGE6, DOF_UX, DOF_UY, DOF_UZ, DOF_RZ, etype_dimension, &
+    etype_name
   use section, only: section_t
   use lapack_pure, only: dsyev
   use elements, only: MAX_EDOF, MAX_NSTRAIN, elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, &
@@ -131,7 +132,7 @@ contains
       err = max(err, maxval(abs(eps - exact)))
       wsum = wsum + wt
     end do
-    call check(err <= 1.0e-15_dp, 'patch test ' // name_of(et) // ': constant strain exact at every point')
+    call check(err <= 1.0e-15_dp, 'patch test ' // etype_name(et) // ': constant strain exact at every point')
     if (et == ET_TET4 .or. et == ET_TET10) then
       call check_close(wsum, tet_volume(x), 1.0e-14_dp, 'TET4 weights sum to the volume')
     else if (et == ET_WEDGE6) then
@@ -155,36 +156,18 @@ contains
     call dsyev('N', 'U', nd, k, MAX_EDOF, lam, work, size(work), info)
     nzero = count(abs(lam(1:nd)) <= 1.0e-12_dp * maxval(lam(1:nd)))
     call check(info == 0 .and. nzero == 6 .and. all(lam(1:nd) > -1.0e-12_dp * maxval(lam(1:nd))), &
-      name_of(et) // ': six rigid-body modes, the other eigenvalues positive', &
+      etype_name(et) // ': six rigid-body modes, the other eigenvalues positive', &
       'zero eigenvalues ' // char(48 + nzero))
   end subroutine test_rigid
 
   !> rho V in each direction, consistent and lumped; the consistent mass's translation sum exact.
   subroutine test_mass()
     type(section_t) :: sec
-    real(dp) :: me(MAX_EDOF, MAX_EDOF), t(MAX_EDOF), x(3, 8), v
-    integer :: dir, a
-    logical :: lumped
-    integer :: l
+    real(dp) :: me(MAX_EDOF, MAX_EDOF), x(3, 8), v
     x = hex_affine()
     v = det3(amap)
-    do l = 0, 1
-      lumped = l == 1
-      call elem_mass(ET_HEX8, x, sec, rho, lumped, me)
-      do dir = 1, 3
-        t = 0.0_dp
-        do a = 1, 8
-          t(3 * a - 3 + dir) = 1.0_dp
-        end do
-        call check_close(dot_product(t(1:24), matmul(me(1:24, 1:24), t(1:24))), rho * v, 1.0e-13_dp, &
-          'HEX8 mass rho V, direction ' // char(48 + dir) // merge(' lumped    ', ' consistent', lumped))
-      end do
-      call elem_mass(ET_TET4, tet(), sec, rho, lumped, me)
-      t = 0.0_dp
-      t(3:12:3) = 1.0_dp
-      call check_close(dot_product(t(1:12), matmul(me(1:12, 1:12), t(1:12))), rho * tet_volume(tet()), 1.0e-13_dp, &
-        'TET4 mass rho V' // merge(' lumped    ', ' consistent', lumped))
-    end do
+    call check_rho_v(ET_HEX8, x, v)
+    call check_rho_v(ET_TET4, tet(), tet_volume(tet()))
     ! The consistent TET4 mass is rho V (1 + δij)/20 per direction.
     call elem_mass(ET_TET4, tet(), sec, rho, .false., me)
     call check_close(me(1, 1), rho * tet_volume(tet()) / 10.0_dp, 1.0e-14_dp, 'TET4 consistent diagonal rho V/10')
@@ -223,22 +206,24 @@ contains
     call check(stat == STAT_INPUT .and. index(msg, 'WEDGE6') > 0, 'an inverted WEDGE6 refused, named')
   end subroutine test_checks
 
-  function name_of(et) result(s)
+  !> t'M t = rho V for the rigid translation t along each direction, consistent and lumped.
+  subroutine check_rho_v(et, x, v)
     integer, intent(in) :: et
-    character(len=:), allocatable :: s
-    select case (et)
-    case (ET_HEX8)
-      s = 'HEX8'
-    case (ET_HEX20)
-      s = 'HEX20'
-    case (ET_TET10)
-      s = 'TET10'
-    case (ET_WEDGE6)
-      s = 'WEDGE6'
-    case default
-      s = 'TET4'
-    end select
-  end function name_of
+    real(dp), intent(in) :: x(:, :), v
+    type(section_t) :: sec
+    real(dp) :: me(MAX_EDOF, MAX_EDOF), t(MAX_EDOF)
+    integer :: l, dir, n
+    n = 3 * size(x, 2)
+    do l = 0, 1
+      call elem_mass(et, x, sec, rho, l == 1, me)
+      do dir = 1, 3
+        t = 0.0_dp
+        t(dir:n:3) = 1.0_dp
+        call check_close(dot_product(t(1:n), matmul(me(1:n, 1:n), t(1:n))), rho * v, 1.0e-13_dp, &
+          etype_name(et) // ' mass rho V, direction ' // char(48 + dir) // merge(' lumped    ', ' consistent', l == 1))
+      end do
+    end do
+  end subroutine check_rho_v
 
   !> WEDGE6: rho V in each direction, consistent and lumped, and the consistent mass of an affine prism
   !> against its closed form rho V Mt x Ml (the triangle's (1 + δ)/12, the segment's (1 + δ)/6).
@@ -256,14 +241,8 @@ contains
         t(dir:18:3) = 1.0_dp
         call check(dot_product(t(1:18), matmul(me(1:18, 1:18), t(1:18))) > 0.0_dp, 'WEDGE6 warped mass positive')
       end do
-      call elem_mass(ET_WEDGE6, wedge_affine(), sec, rho, lumped, me)
-      do dir = 1, 3
-        t = 0.0_dp
-        t(dir:18:3) = 1.0_dp
-        call check_close(dot_product(t(1:18), matmul(me(1:18, 1:18), t(1:18))), rho * v, 1.0e-13_dp, &
-          'WEDGE6 mass rho V, direction ' // char(48 + dir) // merge(' lumped    ', ' consistent', lumped))
-      end do
     end do
+    call check_rho_v(ET_WEDGE6, wedge_affine(), v)
     call elem_mass(ET_WEDGE6, wedge_affine(), sec, rho, .false., me)
     call check_close(me(1, 1), rho * v / 18, 1.0e-13_dp, 'WEDGE6 consistent: diagonal rho V/18')
     call check_close(me(1, 4), rho * v / 36, 1.0e-13_dp, 'WEDGE6 consistent: corners of a triangle rho V/36')
@@ -279,20 +258,10 @@ contains
   subroutine test_mass_quadratic()
     type(section_t) :: sec
     real(dp) :: me(MAX_EDOF, MAX_EDOF), t(MAX_EDOF), v, x(3, 20)
-    integer :: l, dir, a
-    logical :: lumped
+    integer :: a
     integer, parameter :: he1(12) = [1, 1, 1, 2, 2, 3, 3, 4, 5, 5, 6, 7], he2(12) = [2, 4, 5, 3, 6, 4, 7, 8, 6, 8, 7, 8]
     v = tet_volume(tet())
-    do l = 0, 1
-      lumped = l == 1
-      call elem_mass(ET_TET10, tet10(), sec, rho, lumped, me)
-      do dir = 1, 3
-        t = 0.0_dp
-        t(dir:30:3) = 1.0_dp
-        call check_close(dot_product(t(1:30), matmul(me(1:30, 1:30), t(1:30))), rho * v, 1.0e-13_dp, &
-          'TET10 mass rho V, direction ' // char(48 + dir) // merge(' lumped    ', ' consistent', lumped))
-      end do
-    end do
+    call check_rho_v(ET_TET10, tet10(), v)
     call elem_mass(ET_TET10, tet10(), sec, rho, .false., me)
     call check_close(me(1, 1), 6 * rho * v / 420, 1.0e-13_dp, 'TET10 consistent: corner diagonal 6/420')
     call check_close(me(1, 4), rho * v / 420, 1.0e-13_dp, 'TET10 consistent: corner pair 1/420')
