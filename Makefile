@@ -217,6 +217,7 @@ studies: bin/rebond
 	$(PY) tools/accuracy_speed.py --results results/studies --template studies/accuracy-speed.md.in \
 	  --doc docs/accuracy-speed.md --figures docs/figures --np $(STUDY_NP)
 	$(PY) tools/adaptive_study.py --out results/studies/adaptive --doc docs/adaptive-step.md --figures docs/figures
+	$(PY) tools/sphere_spin.py --out results/studies/sphere_spin --doc docs/friction-sphere.md --figures docs/figures
 
 # Stability at the extremes (issue 5, docs/extremes.md): every case of tests/extremes/matrix.py
 # (steps 1e-8 s ... 10 periods, E over 12 decades, mass ratios 1e-6 ... 1e6, tiny gaps, grazing,

@@ -214,7 +214,7 @@ contains
     g = 0.0_dp
     do e = 1, scn%mesh%nelem
       if (scn%elem_model(e) == 0) cycle
-      mask = elem_dof_mask(scn%mesh%etype(e))
+      mask = elem_dof_mask(scn%mesh%etype(e), scn%mesh%ndim)
       b = 0
       do a = 1, scn%mesh%nen(e)                ! the element's body: that of any free equation
         do d = 1, NODE_DOFS
@@ -324,7 +324,7 @@ contains
       if (im == 0) cycle
       et = scn%mesh%etype(e)
       nen = scn%mesh%nen(e)
-      ndof = elem_ndof(et)
+      ndof = elem_ndof(et, scn%mesh%ndim)
       nstr = elem_nstrain(et)
       associate (dofs => sys%elems%edof(sys%elems%edof_ptr(e):sys%elems%edof_ptr(e + 1) - 1))
         ke(1:ndof, 1:ndof) = 0.0_dp
@@ -347,14 +347,14 @@ contains
             norm2(x(1:nd, 2) - x(1:nd, 1)))
           me(1:ndof, 1:ndof) = mix * me(1:ndof, 1:ndof) + (1 - mix) * mlump(1:ndof, 1:ndof)
         end if
-        if (allocated(massless)) call move_contact_mass(scn%mesh%conn(1:nen, e), elem_dof_mask(et), massless, &
+        if (allocated(massless)) call move_contact_mass(scn%mesh%conn(1:nen, e), elem_dof_mask(et, scn%mesh%ndim), massless, &
           me(1:ndof, 1:ndof))
-        if (allocated(lumped_rows)) call lump_contact_rows(scn%mesh%conn(1:nen, e), elem_dof_mask(et), lumped_rows, &
+        if (allocated(lumped_rows)) call lump_contact_rows(scn%mesh%conn(1:nen, e), elem_dof_mask(et, scn%mesh%ndim), lumped_rows, &
           me(1:ndof, 1:ndof))
         call sys%ops%pat%add_element(sys%ops%mval, dofs, me(1:ndof, 1:ndof))
         if (damped) call sys%ops%pat%add_element(sys%ops%cval, dofs, scn%models(im)%alpha * me(1:ndof, 1:ndof) + &
           scn%models(im)%beta * ke(1:ndof, 1:ndof))
-        mask = elem_dof_mask(et)
+        mask = elem_dof_mask(et, scn%mesh%ndim)
         k = 0
         do a = 1, nen
           do d = 1, NODE_DOFS
@@ -573,7 +573,7 @@ contains
     do e = 1, scn%mesh%nelem
       sys%react%ent_ptr(e + 1) = sys%react%ent_ptr(e)
       if (scn%elem_model(e) == 0) cycle
-      mask = elem_dof_mask(scn%mesh%etype(e))
+      mask = elem_dof_mask(scn%mesh%etype(e), scn%mesh%ndim)
       loc = 0
       do a = 1, scn%mesh%nen(e)
         n = scn%mesh%conn(a, e)

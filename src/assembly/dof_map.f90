@@ -27,7 +27,7 @@ contains
     present = .false.
     do e = 1, scn%mesh%nelem
       if (scn%elem_model(e) == 0) cycle
-      mask = elem_dof_mask(scn%mesh%etype(e))
+      mask = elem_dof_mask(scn%mesh%etype(e), scn%mesh%ndim)
       do a = 1, scn%mesh%nen(e)
         n = scn%mesh%conn(a, e)
         present(:, n) = present(:, n) .or. mask

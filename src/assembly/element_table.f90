@@ -66,7 +66,7 @@ contains
       im = scn%elem_model(e)
       if (im > 0) then
         et = scn%mesh%etype(e)
-        ndof = elem_ndof(et)
+        ndof = elem_ndof(et, scn%mesh%ndim)
         ngp = elem_ngauss(et, scn%models(im)%sec)
         if (plane_gradients(scn, elems, im, et)) then
           ngr = ngr + ngp * ndof
@@ -95,7 +95,7 @@ contains
       et = scn%mesh%etype(e)
       elems%nstr(e) = elem_nstrain(et)
       nen = scn%mesh%nen(e)
-      mask = elem_dof_mask(et)
+      mask = elem_dof_mask(et, scn%mesh%ndim)
       k = elems%edof_ptr(e)
       do a = 1, nen
         n = scn%mesh%conn(a, e)
@@ -107,7 +107,7 @@ contains
       end do
       nd = scn%mesh%ndim
       x(1:nd, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
-      ndof = elem_ndof(et)
+      ndof = elem_ndof(et, scn%mesh%ndim)
       nstr = elem_nstrain(et)
       do ig = 1, elems%gp_ptr(e + 1) - elems%gp_ptr(e)
         igp = elems%gp_ptr(e) + ig - 1

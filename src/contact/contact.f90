@@ -186,6 +186,17 @@ module contact
 
 
   interface
+    !> Check the conditions against neq free equations, set the model size and allocate the
+    !> state and the workspaces (contact_setup).
+    module subroutine contact_finalize(cs, neq, length_scale, stat, errmsg, mode)
+      type(contact_set_t), intent(inout), target :: cs
+      integer, intent(in) :: neq
+      real(dp), intent(in) :: length_scale
+      integer, intent(in), optional :: mode
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+    end subroutine contact_finalize
+
     !> End of a converged step, after eq (3) gave v = v(n+1) and mv = M v(n+1) (contact_impact).
     module subroutine contact_end_step(cs, mode, u_n, du, v, mv, energy_restored, stat, errmsg, body, report, step)
       type(contact_set_t), intent(inout) :: cs
@@ -199,6 +210,17 @@ module contact
       type(contact_report_t), intent(out), optional :: report
       real(dp), intent(in), optional :: step           !< h: FRICTION's stuck contacts (stick_velocities)
     end subroutine contact_end_step
+
+    !> FRICTION on the correction's impulses, then the sticking contacts' slip rates, after the
+    !> energy restored is measured (contact_friction).
+    module subroutine friction_impulses(cs, h, v, mv, rep, stat, errmsg)
+      type(contact_set_t), intent(inout) :: cs
+      real(dp), intent(in) :: h
+      real(dp), intent(inout) :: v(:), mv(:)
+      type(contact_report_t), intent(inout) :: rep
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+    end subroutine friction_impulses
 
     !> What the impact correction of the step that just converged would leave in the energy
     !> balance (MASSLESS; 0 otherwise), before anything is committed (contact_impact).
@@ -354,29 +376,37 @@ contains
     cs_multiplier = self%lam_step(j)
   end function cs_multiplier
 
-  !> FRICTION on condition j: its tangential step multiplier Λ_T (along t = n turned by +90°),
-  !> the slip of the last step c_T du and the tangential impulse of its impact correction (all 0
-  !> on a frictionless condition).
-  pure subroutine cs_tangential(self, j, lambda_t, slip, impulse_t)
+  !> FRICTION on condition j: its tangential step multiplier Λ_T (along t = n turned by +90°;
+  !> in 3D along t1, or t2 with k = 2), the slip of the last step c_T du and the tangential
+  !> impulse of its impact correction (all 0 on a frictionless condition).
+  pure subroutine cs_tangential(self, j, lambda_t, slip, impulse_t, k)
     class(contact_set_t), intent(in) :: self
     integer, intent(in) :: j
     real(dp), intent(out) :: lambda_t, slip, impulse_t
+    integer, intent(in), optional :: k
     integer :: t
     lambda_t = 0.0_dp
     slip = 0.0_dp
     impulse_t = 0.0_dp
     t = self%fr%tangent_of(j)
+    if (present(k)) then
+      if (k == 2) t = self%fr%tangent2_of(j)
+    end if
     if (t == 0) return
     lambda_t = self%st%lambda(t)
     slip = self%gend(t) - self%gn(t)
     impulse_t = self%cimp(t)
   end subroutine cs_tangential
 
-  !> FRICTION: the tangential row of condition j (0: frictionless).
-  pure integer function cs_tangent_row(self, j) result(t)
+  !> FRICTION: the tangential row of condition j (0: frictionless); k = 2: the second one (3D).
+  pure integer function cs_tangent_row(self, j, k) result(t)
     class(contact_set_t), intent(in) :: self
     integer, intent(in) :: j
+    integer, intent(in), optional :: k
     t = self%fr%tangent_of(j)
+    if (present(k)) then
+      if (k == 2) t = self%fr%tangent2_of(j)
+    end if
   end function cs_tangent_row
 
   !> Impulse of the end-of-step correction of the last step along c_j (0 without one).
@@ -561,14 +591,23 @@ contains
   end subroutine contact_add
 
   !> FRICTION mu > 0 on condition j (added): its tangential row Σ coefs(k) u(eqs(k)) (the slip,
-  !> along the tangent t = n turned by +90°), appended after every other row (coulomb).
-  pure subroutine contact_add_friction(cs, j, eqs, coefs, mu)
+  !> along the tangent t = n turned by +90°; in 3D along t1, and eqs2, coefs2 the row along t2),
+  !> appended after every other row (coulomb).
+  pure subroutine contact_add_friction(cs, j, eqs, coefs, mu, eqs2, coefs2)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(in) :: j, eqs(:)
     real(dp), intent(in) :: coefs(:), mu
+    integer, intent(in), optional :: eqs2(:)
+    real(dp), intent(in), optional :: coefs2(:)
     call cs%c%add(0.0_dp, eqs, coefs, cs%c%nodes(j), cs%c%label(j))
     cs%nc = cs%c%n()
-    call cs%fr%add(cs%nc, j, mu)
+    if (present(eqs2)) then
+      call cs%c%add(0.0_dp, eqs2, coefs2, cs%c%nodes(j), cs%c%label(j))
+      cs%nc = cs%c%n()
+      call cs%fr%add(cs%nc - 1, j, mu, cs%nc)
+    else
+      call cs%fr%add(cs%nc, j, mu)
+    end if
     cs%finalized = .false.
   end subroutine contact_add_friction
 
@@ -641,91 +680,6 @@ contains
     cs%geo_step = cs%geo_now
     cs%gaps_kept = .true.
   end subroutine contact_step_gaps
-
-  !> Check the conditions against neq free equations, set the model size (length_scale > 0,
-  !> e.g. the bounding-box diagonal; tolerances are relative to it) and allocate the state and
-  !> the workspaces: nothing active, no reaction. The initial gaps are the driver's (scene)
-  !> business. cs%settings%solver and %switch_size are read here.
-  subroutine contact_finalize(cs, neq, length_scale, stat, errmsg, mode)
-    type(contact_set_t), intent(inout), target :: cs
-    integer, intent(in) :: neq
-    real(dp), intent(in) :: length_scale
-    integer, intent(in), optional :: mode         !< the run's IMPACT: its scratch sized here, not in the time loop
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: nc, g0j, j
-    real(dp), allocatable :: g0(:)
-    type(paper_t) :: fresh_paper
-    type(persist_t) :: fresh_persist
-    type(massless_t) :: fresh_massless
-    type(symmetric_t) :: fresh_symmetric
-    type(scaling_t) :: fresh_following
-    call cs%c%finalize(neq, stat, errmsg)
-    if (stat /= STAT_OK) return
-    if (.not. (length_scale > 0.0_dp)) then
-      call set_error(stat, errmsg, STAT_INPUT, 'contact: the model size must be positive, got ' // str(length_scale))
-      return
-    end if
-    nc = cs%c%n()
-    cs%nc = nc
-    cs%neq = neq
-    cs%length_scale = length_scale
-    allocate (g0(nc))
-    do g0j = 1, nc
-      g0(g0j) = cs%c%gap0(g0j)
-    end do
-    call cs%st%init(g0)
-    if (allocated(cs%bilat)) deallocate (cs%bilat)
-    allocate (cs%bilat(nc))
-    call cs%fr%init(nc)
-    if (allocated(cs%tangent)) deallocate (cs%tangent)
-    allocate (cs%tangent(nc))
-    call cs%fr%tangent_mask(cs%tangent)
-    cs%bilat = [(j >= cs%first_bilateral, j = 1, nc)] .or. cs%tangent
-    if (allocated(cs%follow)) deallocate (cs%follow, cs%xg, cs%geo_now, cs%geo_step)
-    allocate (cs%follow(nc), cs%xg(nc), cs%geo_now(nc), cs%geo_step(nc))
-    cs%follow = .false.
-    cs%st%active_iter = cs%bilat                  ! (st%active: the contacts only, none yet)
-    if (allocated(cs%wq)) deallocate (cs%wq, cs%wdiag, cs%gn, cs%gend, cs%e, cs%y, cs%r, cs%nu, cs%viol, cs%now, &
-      cs%est, cs%rel, cs%fallback, cs%xw, cs%ev, cs%tolj, cs%cimp, cs%bimp, cs%lam_step, cs%changing)
-    allocate (cs%lam_step(nc), cs%changing(nc), cs%cimp(nc), cs%bimp(3, nc), cs%tolj(nc), cs%wq(nc), cs%wdiag(nc), &
-      cs%gn(nc), cs%gend(nc), cs%e(nc), cs%y(nc), cs%r(nc), cs%nu(nc), cs%viol(nc), &
-      cs%now(nc), cs%est(nc), cs%rel(nc), cs%fallback(nc), cs%ev(nc), cs%xw(neq))
-    cs%fallback = .false.
-    cs%inelastic = any([(cs%c%restitution(j) < 1.0_dp, j = 1, nc)])
-    call cs%sp%init(neq, nc)                       ! (the rigid modes go; M⁻¹ stays)
-    cs%paper = fresh_paper                         ! (the modes size their scratch at first use)
-    cs%persist = fresh_persist
-    cs%massless = fresh_massless
-    cs%symmetric = fresh_symmetric
-    cs%following = fresh_following
-    call cs%paper%init(nc)                         ! (PAPER, and the fallback of PERSIST and SYMMETRIC)
-    if (present(mode)) then
-      select case (mode)
-      case (IMPACT_PERSIST)
-        call cs%persist%init(neq, nc)
-      case (IMPACT_MASSLESS)
-        call cs%massless%init(neq, nc)
-      case (IMPACT_SYMMETRIC)
-        call cs%symmetric%init(neq, nc)
-      end select
-      if (mode /= IMPACT_OFF) call cs%following%init(neq, nc)
-    end if
-    cs%wdiag = 1.0_dp
-    cs%cimp = 0.0_dp
-    cs%bimp = 0.0_dp
-    cs%lam_step = 0.0_dp
-    cs%n_ev = 0
-    cs%ms%mode = cs%settings%solver
-    cs%ms%switch_size = cs%settings%switch_size
-    call cs%ms%bind(cs%c)
-    call cs%ms%init(int(min(int(max(nc, 1), 8), max(8_8, min(int(cs%settings%switch_size, 8), &
-      cs%settings%z_max_entries / max(neq, 1))))))
-    call cs%ms%set_pairs([(cs%fr%tangent_of(j), j = 1, nc)])   ! (FRICTION: the augmented system's pairs)
-    call cs%ms%unbind()
-    cs%finalized = .true.
-    cs%prepared = .false.
-  end subroutine contact_finalize
 
   !> Free the caches and the factors.
   subroutine contact_destroy(cs)

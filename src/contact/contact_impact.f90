@@ -118,8 +118,7 @@ contains
       ! what the friction takes is dissipation, never restored).
       if (cs%fr%count() > 0 .and. mode /= IMPACT_OFF .and. present(step)) then
         cs%nu = 0.0_dp                          ! (tangential_impulse's one-entry impulse vector)
-        call correction_friction(cs, step, v, mv, rep, stat, errmsg)
-        if (stat == STAT_OK) call stick_velocities(cs, step, v, mv, rep, stat, errmsg)
+        call friction_impulses(cs, step, v, mv, rep, stat, errmsg)
         if (stat /= STAT_OK) return
       end if
 
@@ -192,110 +191,6 @@ contains
       if (cs%moving) rep%obstacle_work = 0.5_dp * sum(cs%lam_step * cs%wshift, mask=.not. cs%bilat .or. cs%tangent)
     end associate
   end subroutine step_conditions
-
-  !> FRICTION on the impulses of the impact correction (docs/contact.md, "Friction"): a
-  !> condition j the correction pushes by I_N = cimp(j) > 0 gets along its tangential row t the
-  !> impulse that opposes its slip rate v_t (c_t v, relative to a moving obstacle), capped by the
-  !> cone and by what stops the slip: -sign(v_t) min(μ I_N, |v_t| / a_tt), a_tt = c_t M⁻¹c_t'; one
-  !> the correction pulls back (I_N < 0: PERSIST's projection of the closing step's reflection)
-  !> gives back the friction of that share of the step's impulse F = h/2 Λ_T: -sign(F) min(μ |I_N|,
-  !> |F|), so that the step's tangential impulse stays within μ times its net normal one. One
-  !> condition after the other; the kinetic energy each changes is the friction's, never restored
-  !> (tangential_impulse); I_T is kept in cimp(t) for the outputs.
-  subroutine correction_friction(cs, h, v, mv, rep, stat, errmsg)
-    type(contact_set_t), intent(inout) :: cs
-    real(dp), intent(in) :: h
-    real(dp), intent(inout) :: v(:), mv(:)
-    type(contact_report_t), intent(inout) :: rep
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, jt
-    real(dp) :: vt, a(1, 1), f, p
-    stat = STAT_OK
-    do j = 1, cs%nc                                    ! (cimp(jt) = 0 since contact_end_step began)
-      jt = cs%fr%tangent_of(j)
-      if (jt == 0 .or. cs%cimp(j) == 0.0_dp) cycle
-      vt = slip_rate(cs, jt, v)
-      f = 0.5_dp * h * cs%st%lambda(jt)                ! the step's tangential impulse
-      if (cs%cimp(j) > 0.0_dp .and. vt == 0.0_dp) cycle
-      if (cs%cimp(j) < 0.0_dp .and. f == 0.0_dp) cycle
-      call cs%sp%am_block(cs%c, [jt], 1, a, stat, errmsg)
-      if (stat /= STAT_OK) return
-      if (.not. (a(1, 1) > 0.0_dp)) cycle
-      if (cs%cimp(j) > 0.0_dp) then                    ! a push: its friction, against the slip rate
-        p = -sign(min(cs%fr%mu_of(j) * cs%cimp(j), abs(vt) / a(1, 1)), vt)
-      else                                             ! the correction took normal impulse back:
-        p = -sign(min(cs%fr%mu_of(j) * abs(cs%cimp(j)), abs(f)), f)   ! the step's friction gives back its share
-      end if
-      call tangential_impulse(cs, jt, p, vt, a(1, 1), v, mv, rep, stat, errmsg)
-      if (stat /= STAT_OK) return
-    end do
-  end subroutine correction_friction
-
-  !> FRICTION: a stuck condition's slip over the step is 0, Δu_T = (h/2)(v_T(n) + v_T(n+1)) = 0, so
-  !> a node that sticks while it slid leaves the step at v_T(n+1) = -v_T(n) and keeps alternating
-  !> (the trapezoid rule's signature, as the normal velocity's before eq (16)). A sticking contact
-  !> is a tangential impact: its slip rate is brought to 0 by the impulse -v_t / a_tt along c_t,
-  !> within what the cone leaves of the step's impulses, μ (h/2 Λ_N + I_N) - |h/2 Λ_T + I_T|; the
-  !> kinetic energy it removes is the friction's (rep%friction_dissipated), I_T kept in cimp(t).
-  subroutine stick_velocities(cs, h, v, mv, rep, stat, errmsg)
-    type(contact_set_t), intent(inout) :: cs
-    real(dp), intent(in) :: h
-    real(dp), intent(inout) :: v(:), mv(:)
-    type(contact_report_t), intent(inout) :: rep
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, jt
-    real(dp) :: vt, a(1, 1), budget
-    stat = STAT_OK
-    do j = 1, cs%nc
-      jt = cs%fr%tangent_of(j)
-      if (jt == 0) cycle
-      if (.not. (cs%now(j) .and. cs%fr%sticks(jt))) cycle
-      vt = slip_rate(cs, jt, v)
-      if (vt == 0.0_dp) cycle
-      budget = cs%fr%mu_of(j) * (0.5_dp * h * cs%st%lambda(j) + max(cs%cimp(j), 0.0_dp)) - &
-        abs(0.5_dp * h * cs%st%lambda(jt) + cs%cimp(jt))
-      if (.not. budget > 0.0_dp) cycle
-      call cs%sp%am_block(cs%c, [jt], 1, a, stat, errmsg)
-      if (stat /= STAT_OK) return
-      if (.not. (a(1, 1) > 0.0_dp)) cycle
-      call tangential_impulse(cs, jt, -sign(min(budget, abs(vt) / a(1, 1)), vt), vt, a(1, 1), v, mv, rep, stat, &
-        errmsg)
-      if (stat /= STAT_OK) return
-    end do
-  end subroutine stick_velocities
-
-  !> The slip rate of tangential row jt: c_t v, relative to a moving obstacle (its tangential
-  !> velocity wrate(jt)).
-  pure real(dp) function slip_rate(cs, jt, v) result(vt)
-    type(contact_set_t), intent(in) :: cs
-    integer, intent(in) :: jt
-    real(dp), intent(in) :: v(:)
-    vt = cs%c%dot(jt, v)
-    if (cs%moving) vt = vt - cs%wrate(jt)
-  end function slip_rate
-
-  !> The impulse p along tangential row jt (vt its slip rate, a = c_t M⁻¹c_t'):
-  !> v <- v + p M⁻¹c_t', its dissipation -p (vt + ½ a p) >= 0 booked as the friction's and the
-  !> rest of the kinetic change, p times the obstacle's tangential velocity, as the obstacle's
-  !> work; p kept in cimp(jt).
-  subroutine tangential_impulse(cs, jt, p, vt, a, v, mv, rep, stat, errmsg)
-    type(contact_set_t), intent(inout) :: cs
-    integer, intent(in) :: jt
-    real(dp), intent(in) :: p, vt, a
-    real(dp), intent(inout) :: v(:), mv(:)
-    type(contact_report_t), intent(inout) :: rep
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    cs%nu(jt) = p
-    call cs%sp%add_minv_ct(cs%c, cs%nu, 1.0_dp, v, mv, stat, errmsg)
-    cs%nu(jt) = 0.0_dp
-    if (stat /= STAT_OK) return
-    rep%friction_dissipated = rep%friction_dissipated - p * (vt + 0.5_dp * a * p)
-    if (cs%moving) rep%obstacle_work = rep%obstacle_work + p * cs%wrate(jt)
-    cs%cimp(jt) = cs%cimp(jt) + p
-  end subroutine tangential_impulse
 
   !> What the impact correction of the step that just converged would leave in the energy balance
   !> (contact_end_step's report%unrestored), found before anything is committed, so that the

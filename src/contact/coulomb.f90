@@ -16,6 +16,10 @@
 !> states that violate their law change and the pass is repeated. The first version, a fixed
 !> point on the thresholds μ Λ_N (Tresca problems), cycled on a block sliding on its base: the
 !> friction tips it, and the trailing corner's Λ_N falls by more than the threshold it carries.
+!>
+!> In 3D a condition has two tangential rows (t1, t2: scene's condition_tangent) and the cone is
+!> the circle |Λ_T| <= μ Λ_N, not a pyramid: the submodule coulomb_cone (cone_solve) runs the same
+!> active set, a slipping condition's direction being an unknown angle of a Newton iteration.
 module coulomb
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
@@ -23,20 +27,21 @@ module coulomb
   use contact_modes, only: SOLVER_AUTO, SOLVER_AUGMENTED
   use lapack_pure, only: dgesv
   use checkpoint, only: ckpt_file_t
+  use coulomb_passes, only: FRICTION_FREE, FRICTION_STICK, FRICTION_SLIP_POS, FRICTION_SLIP_NEG, BLOCK_TRIES, fixed_rows, &
+    unilateral_violations, limit_changes
   implicit none
   private
   public :: coulomb_t
 
-  !> The state of a tangential row: FREE (its contact open: no force), STICK, or slipping along +t
-  !> (force -μ Λ_N) or -t (force +μ Λ_N).
-  integer, parameter :: FRICTION_FREE = 0, FRICTION_STICK = 1, FRICTION_SLIP_POS = 2, FRICTION_SLIP_NEG = 3
-  integer, parameter :: MAX_PASSES = 200, BLOCK_TRIES = 3
+  integer, parameter :: MAX_PASSES = 200
   real(dp), parameter :: THRESHOLD_RTOL = 1.0e-13_dp
 
   type :: coulomb_t
     private
     integer :: n = 0                         !< frictional conditions
     integer, allocatable :: trow(:), nrow(:) !< their tangential and normal rows
+    integer, allocatable :: trow2(:)         !< 3D: the second tangential row (0 in 2D)
+    real(dp), allocatable :: theta(:), sig(:) !< 3D, slipping: the slip's direction in (t1, t2), its length
     real(dp), allocatable :: mu(:)
     integer, allocatable :: state(:)         !< FRICTION_* of the last solve (warm start of the next)
     integer, allocatable :: kof(:)           !< (rows) k of a tangential row, -k of its contact's row, else 0
@@ -45,6 +50,9 @@ module coulomb
     logical, allocatable :: keep(:)
     real(dp), allocatable :: m(:, :), rhs(:), col(:, :), rho(:)
     logical, allocatable :: on(:)
+    ! (3D, coulomb_cone) W's block on the rows, the multipliers on the rows, a row's place in rows
+    real(dp), allocatable :: wb(:, :), lr(:), lam_rows(:)
+    integer, allocatable :: pos(:)
   contains
     procedure :: add => coulomb_add
     procedure :: count => coulomb_count
@@ -52,21 +60,47 @@ module coulomb
     procedure :: solve => coulomb_solve
     procedure :: tangent_mask => coulomb_tangent_mask
     procedure :: tangent_of => coulomb_tangent_of
+    procedure :: tangent2_of => coulomb_tangent2_of
     procedure :: mu_of => coulomb_mu_of
     procedure :: sticks => coulomb_sticks
     procedure :: save => coulomb_save
     procedure :: load => coulomb_load
   end type coulomb_t
 
+  interface
+    !> 3D: coulomb_solve's problem on the circular cone (coulomb_cone).
+    module subroutine cone_solve(self, ms, q, tol, tol_free, bilateral, lam, g, active, wdiag, viol, iterations, stat, &
+      errmsg)
+      class(coulomb_t), intent(inout) :: self
+      type(multiplier_system_t), intent(inout) :: ms
+      real(dp), intent(in) :: q(:), tol, tol_free(:)
+      logical, intent(in) :: bilateral(:)
+      real(dp), intent(inout) :: lam(:)
+      real(dp), intent(out) :: g(:)
+      logical, intent(inout) :: active(:)
+      real(dp), intent(inout) :: wdiag(:)
+      logical, intent(inout) :: viol(:)
+      integer, intent(out) :: iterations
+      integer, intent(out) :: stat
+      character(len=:), allocatable, intent(out) :: errmsg
+    end subroutine cone_solve
+  end interface
+
 contains
 
-  !> Condition nrow gets friction mu > 0 through the tangential row trow (set building only).
-  pure subroutine coulomb_add(self, trow, nrow, mu)
+  !> Condition nrow gets friction mu > 0 through the tangential row trow (and in 3D trow2)
+  !> (set building only).
+  pure subroutine coulomb_add(self, trow, nrow, mu, trow2)
     class(coulomb_t), intent(inout) :: self
     integer, intent(in) :: trow, nrow
     real(dp), intent(in) :: mu
-    if (.not. allocated(self%trow)) allocate (self%trow(0), self%nrow(0), self%mu(0))
+    integer, intent(in), optional :: trow2
+    integer :: t2
+    if (.not. allocated(self%trow)) allocate (self%trow(0), self%nrow(0), self%mu(0), self%trow2(0))
+    t2 = 0
+    if (present(trow2)) t2 = trow2
     self%trow = [self%trow, trow]
+    self%trow2 = [self%trow2, t2]
     self%nrow = [self%nrow, nrow]
     self%mu = [self%mu, mu]
     self%n = size(self%trow)
@@ -82,15 +116,20 @@ contains
     class(coulomb_t), intent(inout) :: self
     integer, intent(in) :: nc
     integer :: k
-    if (.not. allocated(self%trow)) allocate (self%trow(0), self%nrow(0), self%mu(0))
+    if (.not. allocated(self%trow)) allocate (self%trow(0), self%nrow(0), self%mu(0), self%trow2(0))
     if (allocated(self%state)) deallocate (self%state, self%kof, self%rows, self%ipiv, self%keep, self%m, &
-      self%rhs, self%col, self%rho, self%on)
+      self%rhs, self%col, self%rho, self%on, self%theta, self%sig, self%wb, self%lr, self%pos, self%lam_rows)
     allocate (self%state(self%n), self%kof(nc), self%rows(nc), self%ipiv(nc), self%keep(nc), &
-      self%m(min(nc, 64), min(nc, 64)), self%rhs(nc), self%col(nc, 1), self%rho(nc), self%on(nc))
+      self%m(min(nc, 64), min(nc, 64)), self%rhs(nc), self%col(nc, 1), self%rho(nc), self%on(nc), &
+      self%theta(self%n), self%sig(self%n), self%lr(nc), self%pos(nc), self%lam_rows(nc))
+    allocate (self%wb(size(self%m, 1), size(self%m, 2)))
     self%state = FRICTION_FREE
+    self%theta = 0.0_dp
+    self%sig = 0.0_dp
     self%kof = 0
     do k = 1, self%n
       self%kof(self%trow(k)) = k
+      if (self%trow2(k) > 0) self%kof(self%trow2(k)) = k
       self%kof(self%nrow(k)) = -k
     end do
   end subroutine coulomb_init
@@ -111,6 +150,15 @@ contains
     if (.not. allocated(self%kof)) return
     if (self%kof(j) < 0) t = self%trow(-self%kof(j))
   end function coulomb_tangent_of
+
+  !> 3D: the second tangential row of condition j (0: frictionless, or 2D).
+  pure integer function coulomb_tangent2_of(self, j) result(t)
+    class(coulomb_t), intent(in) :: self
+    integer, intent(in) :: j
+    t = 0
+    if (.not. allocated(self%kof)) return
+    if (self%kof(j) < 0) t = self%trow2(-self%kof(j))
+  end function coulomb_tangent2_of
 
   !> μ of condition j (0: frictionless).
   pure real(dp) function coulomb_mu_of(self, j) result(mu)
@@ -158,6 +206,12 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: pass, k, j, nv, nbest, tries
+    if (self%n > 0) then
+      if (self%trow2(1) > 0) then              ! 3D: the circular cone
+        call cone_solve(self, ms, q, tol, tol_free, bilateral, lam, g, active, wdiag, viol, iterations, stat, errmsg)
+        return
+      end if
+    end if
     stat = STAT_OK
     iterations = 0
     call open_states(self, active, q, tol)
@@ -168,15 +222,7 @@ contains
       call solve_states(self, ms, q, bilateral, active, lam, g, wdiag, stat, errmsg)
       if (stat /= STAT_OK) return
       ! The violations: unilateral rows (the tangential ones are bilateral), then the cone.
-      viol = .false.
-      do j = 1, size(q)
-        if (bilateral(j)) cycle
-        if (active(j)) then
-          viol(j) = lam(j) * wdiag(j) < -tol
-        else
-          viol(j) = g(j) < -tol_free(j)
-        end if
-      end do
+      call unilateral_violations(bilateral, active, lam, g, wdiag, tol, tol_free, viol)
       do k = 1, self%n
         j = self%trow(k)
         if (.not. active(self%nrow(k))) cycle
@@ -191,16 +237,7 @@ contains
       end do
       nv = count(viol)
       if (nv == 0) return
-      if (nv < nbest) then
-        nbest = nv
-        tries = BLOCK_TRIES
-      else if (tries > 0) then
-        tries = tries - 1
-      else                                     ! one change only: the first violation
-        k = findloc(viol, .true., 1)
-        viol = .false.
-        viol(k) = .true.
-      end if
+      call limit_changes(viol, nv, nbest, tries)
       where (viol .and. .not. bilateral) active = .not. active
       call open_states(self, active, g, tol)     ! (a contact that closes slips as its slip goes)
       do k = 1, self%n
@@ -251,19 +288,7 @@ contains
     stat = STAT_OK
     ! The unknowns I (ni) and the columns needed, I and the slipping rows (nl). (An open contact's
     ! tangent is FREE; a closed one's is never FREE here: open_states has set it.)
-    do k = 1, self%n
-      if (.not. active(self%nrow(k))) self%state(k) = FRICTION_FREE
-    end do
-    ni = 0
-    do j = 1, size(q)
-      if (self%kof(j) > 0) then
-        if (self%state(self%kof(j)) /= FRICTION_STICK) cycle
-      else if (.not. (active(j) .or. bilateral(j))) then
-        cycle
-      end if
-      ni = ni + 1
-      self%rows(ni) = j
-    end do
+    call fixed_rows(self%kof, self%nrow, bilateral, active, self%state, self%rows, ni)
     nl = ni
     do k = 1, self%n
       if (.not. slipping(self, k)) cycle
@@ -355,6 +380,10 @@ contains
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
     if (self%n > 0) call ck%put('contact_friction_state', self%state, stat, errmsg)
+    if (self%n > 0 .and. any(self%trow2 > 0)) then
+      call ck%put('contact_friction_theta', self%theta, stat, errmsg)
+      call ck%put('contact_friction_slip', self%sig, stat, errmsg)
+    end if
   end subroutine coulomb_save
 
   subroutine coulomb_load(self, ck, stat, errmsg)
@@ -363,6 +392,10 @@ contains
     integer, intent(inout) :: stat
     character(len=:), allocatable, intent(inout) :: errmsg
     if (self%n > 0) call ck%get('contact_friction_state', self%state, stat, errmsg)
+    if (self%n > 0 .and. any(self%trow2 > 0)) then
+      call ck%get('contact_friction_theta', self%theta, stat, errmsg)
+      call ck%get('contact_friction_slip', self%sig, stat, errmsg)
+    end if
     if (stat == STAT_OK .and. any(self%state < FRICTION_FREE .or. self%state > FRICTION_SLIP_NEG)) &
       call set_error(stat, errmsg, STAT_INPUT, 'checkpoint: contact_friction_state out of range')
   end subroutine coulomb_load

@@ -37,15 +37,19 @@ module elements
 
 contains
 
-  !> Which of the node DOF slots (mesh's UX, UY, RZ, UZ) each node of an element of type et carries.
-  pure function elem_dof_mask(et) result(mask)
+  !> Which of the node DOF slots (mesh's UX, UY, RZ, UZ) each node of an element of type et carries:
+  !> a volume's UX UY UZ, a planar element's UX UY (and RZ for BEAM2); a MASS carries the
+  !> translations of its space, UZ too in a scene of dimension ndim = 3 (absent: its own dimension).
+  pure function elem_dof_mask(et, ndim) result(mask)
     integer, intent(in) :: et
+    integer, intent(in), optional :: ndim
     logical :: mask(NODE_DOFS)
     mask = .false.
     mask(DOF_UX) = .true.
     mask(DOF_UY) = .true.
     mask(DOF_RZ) = et == ET_BEAM2
     mask(DOF_UZ) = etype_dimension(et) == 3
+    if (present(ndim) .and. et == ET_MASS) mask(DOF_UZ) = ndim == 3
   end function elem_dof_mask
 
   !> Number of nodes.
@@ -54,10 +58,11 @@ contains
     elem_nen = etype_nen(et)
   end function elem_nen
 
-  !> Number of element DOFs: nen * count(mask).
-  pure integer function elem_ndof(et)
+  !> Number of element DOFs: nen * count(mask) (ndim: as elem_dof_mask).
+  pure integer function elem_ndof(et, ndim)
     integer, intent(in) :: et
-    elem_ndof = etype_nen(et) * count(elem_dof_mask(et))
+    integer, intent(in), optional :: ndim
+    elem_ndof = etype_nen(et) * count(elem_dof_mask(et, ndim))
   end function elem_ndof
 
   !> Number of (generalized) strain components.
@@ -206,9 +211,9 @@ contains
     logical, intent(in) :: lumped
     real(dp), intent(out) :: me(:, :)
     logical, intent(in), optional :: large
-    real(dp) :: xl(2, MAX_NEN), ml(MAX_EDOF, MAX_EDOF), m2(2, 2), m4(4, 4), m6(6, 6), x3(3, MAX_NEN), m16(16, 16)
+    real(dp) :: xl(2, MAX_NEN), ml(MAX_EDOF, MAX_EDOF), m3(3, 3), m4(4, 4), m6(6, 6), x3(3, MAX_NEN), m16(16, 16)
     integer :: nd
-    nd = elem_ndof(et)
+    nd = elem_ndof(et, size(x, 1))       ! (a MASS in a 3D scene: x, y, z)
     ml(1:nd, 1:nd) = 0.0_dp              ! (the element's block: a 60 x 60 zero per element cost more than its mass)
     if (etype_dimension(et) == 3) then
       call local_coords_3(et, x, x3)
@@ -218,8 +223,8 @@ contains
     end if
     select case (et)
     case (ET_MASS)
-      call mass_mass(sec, m2)
-      ml(1:2, 1:2) = m2
+      call mass_mass(sec, nd, m3)
+      ml(1:nd, 1:nd) = m3(1:nd, 1:nd)
     case (ET_BAR2)
       call bar2_mass(xl(:, 1:2), sec%area, rho, lumped, m4)
       ml(1:4, 1:4) = m4

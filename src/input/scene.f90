@@ -26,6 +26,8 @@ module scene
   !> The DOF slots of the translations along x, y, z.
   integer, parameter, public :: TRANSLATION_SLOT(3) = [DOF_UX, DOF_UY, DOF_UZ]
 
+  !> The most nodes of a condition: b and a face of 8 (condition_nodes).
+  integer, parameter, public :: COND_NODES = 9
   integer, parameter :: INIT_DISPLACEMENT = 1, INIT_VELOCITY = 2, INIT_STATIC = 3, INIT_ANGULAR = 4
   integer, parameter, public :: SPIN_LINE = 2 * NODE_DOFS + 1   !< scene_t%initial_line's ANGULAR_VELOCITY row
   integer, parameter, public :: LOAD_NODAL = 0, LOAD_PRESSURE = 1, LOAD_TRACTION = 2
@@ -33,13 +35,17 @@ module scene
   integer, parameter, public :: MAX_LAYERS = 1000, MAX_SUBSTEPS = 10000
 
   !> One unilateral contact condition (method.md section 3): a node b against a rigid plane
-  !> (node_a = 0: g = g0 + n.u_b), against a node a (g = g0 + n.(u_b - u_a)), or against the
+  !> (node_a = 0: g = g0 + n.u_b), against a node a (g = g0 + n.(u_b - u_a)), against the
   !> point at xi along the segment from node a to node c (node_c > 0, GAP … SEGMENTS:
-  !> g = g0 + n.(u_b - (1 - xi) u_a - xi u_c)); condition_nodes gives the nodes and weights.
+  !> g = g0 + n.(u_b - (1 - xi) u_a - xi u_c)), or in 3D against the point of a solid's face
+  !> (face(1) > 0, GAP … FACES: g = g0 + n.(u_b - Σ N_k u_face(k)), node_a the face's node of the
+  !> largest weight, for messages); condition_nodes gives the nodes and weights.
   type :: condition_t
     character(len=:), allocatable :: source   !< the OBSTACLE or GAP statement's name
     integer :: node_a = 0, node_b = 0
     integer :: node_c = 0                     !< second end of the segment (0: node to node or plane)
+    integer :: face(8) = 0                    !< GAP … FACES: the face's nodes (0: not a face)
+    real(dp) :: face_w(8) = 0.0_dp            !< their weights N_k(ξ, η) at b's foot on the face
     real(dp) :: xi = 0.0_dp                   !< position of the contact point along a -> c
     real(dp) :: normal(3) = 0.0_dp           !< unit normal (x, y[, z]; z = 0 in 2D)
     real(dp) :: g0 = 0.0_dp
@@ -226,40 +232,64 @@ contains
   end function scene_axisymmetric
 
   !> The nodes of a condition and their weights along its normal: g = g0 + n.Σ_k w(k) u(node(k))
-  !> over the nodes(k) > 0 (b first, then a and c).
+  !> over the nodes(k) > 0 (b first, then a and c; or b, then a face's nodes).
   pure subroutine condition_nodes(c, nodes, w)
     type(condition_t), intent(in) :: c
-    integer, intent(out) :: nodes(3)
-    real(dp), intent(out) :: w(3)
-    nodes = [c%node_b, c%node_a, c%node_c]
-    w = [1.0_dp, -(1.0_dp - c%xi), -c%xi]
+    integer, intent(out) :: nodes(COND_NODES)
+    real(dp), intent(out) :: w(COND_NODES)
+    nodes = 0
+    w = 0.0_dp
+    if (c%face(1) > 0) then
+      nodes = [c%node_b, c%face]
+      w = [1.0_dp, -c%face_w]
+      where (nodes == 0) w = 0.0_dp
+      return
+    end if
+    nodes(1:3) = [c%node_b, c%node_a, c%node_c]
+    w(1:3) = [1.0_dp, -(1.0_dp - c%xi), -c%xi]
     if (c%node_c == 0) w(2) = -1.0_dp
     where (nodes == 0) w = 0.0_dp
   end subroutine condition_nodes
 
-  !> FRICTION's tangent of condition c (2D): its normal turned by +90° about z (the slip and the
-  !> tangential force are along it).
-  pure function condition_tangent(c) result(t)
+  !> FRICTION's tangent k of condition c (the slip and the tangential force are along the
+  !> tangents). 2D (ndim 2): one tangent, the normal turned by +90° about z. 3D: two, t1 the unit
+  !> part normal to n of the coordinate axis least aligned with n (the first of equals), t2 = n × t1:
+  !> on a floor n = z, t1 = x and t2 = y.
+  pure function condition_tangent(c, ndim, k) result(t)
     type(condition_t), intent(in) :: c
+    integer, intent(in) :: ndim
+    integer, intent(in), optional :: k
     real(dp) :: t(3)
-    t = [-c%normal(2), c%normal(1), 0.0_dp]
+    real(dp) :: e(3), n(3)
+    if (ndim /= 3) then
+      t = [-c%normal(2), c%normal(1), 0.0_dp]
+      return
+    end if
+    n = c%normal
+    e = 0.0_dp
+    e(minloc(abs(n), 1)) = 1.0_dp
+    t = e - dot_product(e, n) * n
+    t = t / norm2(t)
+    if (present(k)) then
+      if (k == 2) t = [n(2) * t(3) - n(3) * t(2), n(3) * t(1) - n(1) * t(3), n(1) * t(2) - n(2) * t(1)]
+    end if
   end function condition_tangent
 
   !> Condition c's row along the unit vector dir (x, y, z: its normal, or its tangent) on the
-  !> translations UX UY UZ of its nodes b, a, c (condition_nodes' weights; eqn the DOF map):
+  !> translations UX UY UZ of its nodes (condition_nodes' weights; eqn the DOF map):
   !> entries eqs(3k-2:3k) and coefs(3k-2:3k) for node k, eqs 0 where a node or a DOF is absent
   !> (UZ in 2D, where dir(3) = 0).
   pure subroutine condition_row(c, dir, eqn, eqs, coefs)
     type(condition_t), intent(in) :: c
     real(dp), intent(in) :: dir(3)
     integer, intent(in) :: eqn(:, :)
-    integer, intent(out) :: eqs(9)
-    real(dp), intent(out) :: coefs(9)
-    integer :: k, d, nodes(3)
-    real(dp) :: w(3)
+    integer, intent(out) :: eqs(3 * COND_NODES)
+    real(dp), intent(out) :: coefs(3 * COND_NODES)
+    integer :: k, d, nodes(COND_NODES)
+    real(dp) :: w(COND_NODES)
     call condition_nodes(c, nodes, w)
     eqs = 0
-    do k = 1, 3
+    do k = 1, COND_NODES
       coefs(3 * k - 2:3 * k) = w(k) * dir
       if (nodes(k) == 0) cycle
       do d = 1, 3
@@ -272,7 +302,7 @@ contains
   pure function condition_keyword(c) result(k)
     type(condition_t), intent(in) :: c
     character(len=:), allocatable :: k
-    if (c%node_a == 0) then
+    if (c%node_a == 0 .and. c%face(1) == 0) then
       k = 'OBSTACLE'
     else
       k = 'GAP'
@@ -283,8 +313,8 @@ contains
   pure subroutine contact_nodes(scn, mark)
     type(scene_t), intent(in) :: scn
     logical, allocatable, intent(out) :: mark(:)
-    integer :: j, nodes(3)
-    real(dp) :: w(3)
+    integer :: j, nodes(COND_NODES)
+    real(dp) :: w(COND_NODES)
     allocate (mark(scn%mesh%nnode))
     mark = .false.
     do j = 1, size(scn%conditions)

@@ -163,7 +163,9 @@ contains
 
   !> Values of a parameter with 2 or 3 numbers (x, y[, rotation] in 2D, x, y[, z] in 3D) into their
   !> DOF slots (vector_slot), each within ±MAX_COORD (1e100: their squares, the energies, stay finite).
-  subroutine get_vector(scn, st, key, v, mask, stat, errmsg)
+  !> In 3D a vector takes its three numbers (another count is an error) unless scalar_ok (PRESSURE's
+  !> VALUE p).
+  subroutine get_vector(scn, st, key, v, mask, stat, errmsg, scalar_ok)
     type(scene_t), intent(in) :: scn
     type(statement_t), intent(in) :: st
     character(len=*), intent(in) :: key
@@ -171,10 +173,18 @@ contains
     logical, intent(out) :: mask(NODE_DOFS)
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    logical, intent(in), optional :: scalar_ok
     integer :: k, i, j
+    logical :: whole
     v = 0.0_dp
     mask = .false.
     k = find_param(st, key)
+    whole = scn%mesh%ndim == 3                 ! (3D: x y z; in 2D a third value is rz)
+    if (present(scalar_ok)) whole = whole .and. .not. scalar_ok
+    if (whole) then
+      call check_count(st, key, 3, stat, errmsg)
+      if (stat /= STAT_OK) return
+    end if
     do i = 1, size(st%params(k)%values)
       j = vector_slot(scn%mesh%ndim, i)
       call to_real(st%params(k)%values(i), st, v(j), stat, errmsg)
@@ -468,7 +478,7 @@ contains
       call check_count(st, 'VALUE', scn%mesh%ndim, stat, errmsg)
       if (stat /= STAT_OK) return
     end if
-    call get_vector(scn, st, 'VALUE', v, mask, stat, errmsg)        ! (p, or tx ty [tz] in slots UX UY [UZ])
+    call get_vector(scn, st, 'VALUE', v, mask, stat, errmsg, scalar_ok=.true.)   ! (p, or tx ty [tz]: UX UY [UZ])
     if (stat /= STAT_OK) return
     ld%force(1:3) = [v(DOF_UX), v(DOF_UY), v(DOF_UZ)]
     call get_function(scn, st, ld%func, stat, errmsg)

@@ -1,5 +1,5 @@
-!> Scene input: the unilateral contacts (OBSTACLE, GAP): one condition per node, node pair or
-!> node facing a segment (GAP … SEGMENTS).
+!> Scene input: the unilateral contacts (OBSTACLE, GAP): one condition per node, node pair,
+!> node facing a segment (GAP … SEGMENTS) or in 3D a face (GAP … FACES: scene_gap_faces).
 !> Their grammar (schema) and their handlers; scene_loader calls them.
 module scene_contacts
   use kinds, only: dp
@@ -11,7 +11,9 @@ module scene_contacts
     SOLVER_AUTO, SOLVER_SCHUR
   use element_traits, only: ET_MASS, ET_SPRING
   use material_law, only: law_is_linear, law_name
-  use scene_helpers, only: node_group, get_point, model_size, get_unit, get_choice, check_modelled, get_function
+  use scene_helpers, only: node_group, get_point, model_size, get_unit, get_choice, check_modelled, get_function, &
+    on_models, modelled_group
+  use scene_gap_faces, only: do_gap_faces
   use mesh_segments, only: segment_set_t, segment_pair_t, group_segments, closest_segment, pair_segment, orient_lines, &
     node_stars, NO_PARTNER
   implicit none
@@ -42,6 +44,7 @@ contains
     call sch%add_param('GAP', 'NODES', 1, 1)
     call sch%add_param('GAP', 'WITH', 1, 1)
     call sch%add_param('GAP', 'SEGMENTS', 1, 1)
+    call sch%add_param('GAP', 'FACES', 1, 1)
     call sch%add_param('GAP', 'PAIRS', 2, -1)
     call sch%add_param('GAP', 'NORMAL', 2, 3)
     call sch%add_param('GAP', 'RESTITUTION', 1, 1)
@@ -70,21 +73,21 @@ contains
     if (stat == STAT_OK) call get_friction(scn, st, first, stat, errmsg)
   end subroutine contacts_statement
 
-  !> What a DIMENSION 3 contact offers so far: plane obstacles and node-to-node gaps, frictionless;
-  !> the other forms are refused by name rather than ignored.
+  !> What a DIMENSION 3 contact offers so far: plane obstacles and node-to-node gaps, with or
+  !> without FRICTION; the other forms are refused by name rather than ignored.
   subroutine check_3d_contact(st, stat, errmsg)
     type(statement_t), intent(in) :: st
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=8), parameter :: refused(4) = [character(len=8) :: 'SPHERE', 'CYLINDER', 'SEGMENTS', 'FRICTION']
+    character(len=8), parameter :: refused(3) = [character(len=8) :: 'SPHERE', 'CYLINDER', 'SEGMENTS']
     integer :: k, ip
     stat = STAT_OK
     do k = 1, size(refused)
       ip = find_param(st, trim(refused(k)))
       if (ip == 0) cycle
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, st%keyword // ' … ' // trim(refused(k)) // &
-        ' is not available in DIMENSION 3 yet (3D: plane OBSTACLE, fixed or moving, GAP … WITH or PAIRS; ' // &
-        'frictionless)', &
+        ' is not available in DIMENSION 3 yet (3D: plane OBSTACLE, fixed or moving, GAP … WITH, PAIRS or FACES, ' // &
+        'with or without FRICTION)', &
         st%params(ip)%keytok))
       return
     end do
@@ -155,9 +158,7 @@ contains
       call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'missing parameter NODES', st%lead(1)))
       return
     end if
-    call node_group(scn, st, st%params(k)%values(1), ig, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call check_modelled(scn, st, st%params(k)%values(1), scn%mesh%ngroups(ig)%items, stat, errmsg)
+    call modelled_group(scn, st, st%params(k)%values(1), ig, stat, errmsg)
     if (stat /= STAT_OK) return
     if (find_param(st, 'SPHERE') > 0 .or. find_param(st, 'CYLINDER') > 0) then
       call do_curved_obstacle(scn, st, ig, stat, errmsg)
@@ -308,13 +309,17 @@ contains
     kn = find_param(st, 'NODES')
     kw = find_param(st, 'WITH')
     kp = find_param(st, 'PAIRS')
+    if (find_param(st, 'FACES') > 0) then
+      call do_gap_faces(scn, st, stat, errmsg)
+      return
+    end if
     if (find_param(st, 'SEGMENTS') > 0) then
       call do_gap_segments(scn, st, stat, errmsg)
       return
     end if
     i = find_param(st, 'PAIRING')
     if (i > 0) then
-      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'PAIRING goes with SEGMENTS (node-to-node pairs are ' // &
+      call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'PAIRING goes with SEGMENTS or FACES (node-to-node pairs are ' // &
         'made once)', st%params(i)%keytok))
       return
     end if
@@ -342,13 +347,8 @@ contains
         end do
       end associate
     else if (kn > 0 .and. kw > 0 .and. kp == 0) then
-      call node_group(scn, st, st%params(kn)%values(1), ga, stat, errmsg)
-      if (stat /= STAT_OK) return
-      call check_modelled(scn, st, st%params(kn)%values(1), scn%mesh%ngroups(ga)%items, stat, errmsg)
-      if (stat /= STAT_OK) return
-      call node_group(scn, st, st%params(kw)%values(1), gb, stat, errmsg)
-      if (stat /= STAT_OK) return
-      call check_modelled(scn, st, st%params(kw)%values(1), scn%mesh%ngroups(gb)%items, stat, errmsg)
+      call modelled_group(scn, st, st%params(kn)%values(1), ga, stat, errmsg)
+      if (stat == STAT_OK) call modelled_group(scn, st, st%params(kw)%values(1), gb, stat, errmsg)
       if (stat /= STAT_OK) return
       associate (na => scn%mesh%ngroups(ga)%items, nb => scn%mesh%ngroups(gb)%items)
         allocate (pa(size(na)), pb(size(na)))
@@ -456,13 +456,8 @@ contains
     call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
       upper=1.0_dp, upper_inclusive=.true.)
     if (stat /= STAT_OK) return
-    call node_group(scn, st, st%params(kn)%values(1), ga, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call check_modelled(scn, st, st%params(kn)%values(1), scn%mesh%ngroups(ga)%items, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call node_group(scn, st, st%params(ks)%values(1), gs, stat, errmsg)
-    if (stat /= STAT_OK) return
-    call check_modelled(scn, st, st%params(ks)%values(1), scn%mesh%ngroups(gs)%items, stat, errmsg)
+    call modelled_group(scn, st, st%params(kn)%values(1), ga, stat, errmsg)
+    if (stat == STAT_OK) call modelled_group(scn, st, st%params(ks)%values(1), gs, stat, errmsg)
     if (stat /= STAT_OK) return
     call group_segments(scn%mesh, scn%mesh%ngroups(gs)%items, segs, stat, errmsg)
     if (stat /= STAT_OK) then
@@ -565,28 +560,6 @@ contains
     end if
   end subroutine do_gap_segments
 
-  !> Whether one of the nodes is on an element of a model with sel(model) (KINEMATICS LARGE:
-  !> scn%models%large).
-  logical function on_models(scn, nodes, sel) result(found)
-    type(scene_t), intent(in) :: scn
-    integer, intent(in) :: nodes(:)
-    logical, intent(in) :: sel(:)
-    logical, allocatable :: in(:)
-    integer :: e, im
-    allocate (in(scn%mesh%nnode))
-    in = .false.
-    in(nodes) = .true.
-    found = .false.
-    do e = 1, scn%mesh%nelem
-      im = scn%elem_model(e)
-      if (im == 0) cycle
-      if (.not. sel(im)) cycle
-      if (any(in(scn%mesh%conn(1:scn%mesh%nen(e), e)))) then
-        found = .true.
-        return
-      end if
-    end do
-  end function on_models
 
   !> A pairing that follows the configuration rewrites its rows at every step: the Schur
   !> multipliers only (the augmented system's pattern is analysed once), and the contact nodes
@@ -769,6 +742,9 @@ contains
         ! the step"); SYMMETRIC's lumped rows and MASSLESS's moved mass would not.
         if (.not. on_models(scn, nodes, .not. scn%models%tuned_exact)) scn%impact = IMPACT_PERSIST
         if (scn%impact == IMPACT_MASSLESS .and. on_models(scn, nodes, nonlinear)) scn%impact = IMPACT_PERSIST
+        ! GAP … FACES: every node of a face is a contact node, and MASSLESS may leave a quadratic
+        ! solid's layer under the face without mass (a HEX20 or TET10 slab one element thick).
+        if (scn%impact == IMPACT_MASSLESS .and. any(scn%conditions%face(1) > 0)) scn%impact = IMPACT_PERSIST
       end if
     end if
   end subroutine resolve_impact

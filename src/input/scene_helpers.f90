@@ -10,6 +10,7 @@ module scene_helpers
   use scene, only: scene_t
   implicit none
   private
+  public :: on_models, modelled_group
   public :: get_etype, node_group, get_choice, get_pair, get_point, model_size, get_unit, check_modelled, resolve_path, &
     get_function, check_count
 
@@ -97,6 +98,19 @@ contains
     end do
     dist = row(len(b))
   end function edit_distance
+
+  !> The node group named by tok (node_group) whose every node is on a modelled element
+  !> (check_modelled): a contact statement's groups.
+  subroutine modelled_group(scn, st, tok, ig, stat, errmsg)
+    type(scene_t), intent(in) :: scn
+    type(statement_t), intent(in) :: st
+    type(token_t), intent(in) :: tok
+    integer, intent(out) :: ig
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call node_group(scn, st, tok, ig, stat, errmsg)
+    if (stat == STAT_OK) call check_modelled(scn, st, tok, scn%mesh%ngroups(ig)%items, stat, errmsg)
+  end subroutine modelled_group
 
   !> Every node of nodes must carry an element of some MODEL (scn%modelled, set after the models
   !> are read): a node of no model has no degree of freedom, and as a contact or load node it
@@ -262,4 +276,27 @@ contains
     if (ifn == 0) call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, 'unknown function', &
       st%params(find_param(st, 'FUNCTION'))%values(1)))
   end subroutine get_function
+
+  !> Whether one of the nodes is on an element of a model with sel(model) (KINEMATICS LARGE:
+  !> scn%models%large).
+  logical function on_models(scn, nodes, sel) result(found)
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: nodes(:)
+    logical, intent(in) :: sel(:)
+    logical, allocatable :: in(:)
+    integer :: e, im
+    allocate (in(scn%mesh%nnode))
+    in = .false.
+    in(nodes) = .true.
+    found = .false.
+    do e = 1, scn%mesh%nelem
+      im = scn%elem_model(e)
+      if (im == 0) cycle
+      if (.not. sel(im)) cycle
+      if (any(in(scn%mesh%conn(1:scn%mesh%nen(e), e)))) then
+        found = .true.
+        return
+      end if
+    end do
+  end function on_models
 end module scene_helpers

@@ -95,10 +95,10 @@ contains
         if (stat /= STAT_OK) return
       end if
     end associate
-    if (etype_dimension(md%etype) /= scn%mesh%ndim) then
+    if (etype_dimension(md%etype) /= scn%mesh%ndim .and. md%etype /= ET_MASS) then   ! (a MASS lives in either)
       if (scn%mesh%ndim == 3) then
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, etype_name(md%etype) // ' elements in a DIMENSION 3 ' // &
-          'scene (3D elements: HEX8, TET4)', st%lead(1)))
+          'scene (3D elements: HEX8, HEX20, TET4, TET10, WEDGE6, and MASS)', st%lead(1)))
       else
         call set_error(stat, errmsg, STAT_INPUT, stmt_error(st, etype_name(md%etype) // ' elements in a planar scene ' // &
           '(they need DIMENSION 3)', st%lead(1)))

@@ -4,7 +4,7 @@
 module contact_checks
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use scene, only: scene_t, condition_nodes, condition_keyword, TRANSLATION_SLOT
+  use scene, only: scene_t, condition_nodes, condition_keyword, TRANSLATION_SLOT, COND_NODES
   use assembly, only: system_t
   use contact, only: contact_set_t, contact_gaps
   implicit none
@@ -25,8 +25,8 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg
     real(dp), allocatable :: dm(:)
     logical, allocatable :: mark(:)
-    real(dp) :: w(3)
-    integer :: j, n, k, i, nodes(3)
+    real(dp) :: w(COND_NODES)
+    integer :: j, n, k, i, nodes(COND_NODES)
     stat = STAT_OK
     allocate (mark(sys%dofs%neq))
     mark = .false.
@@ -35,7 +35,7 @@ contains
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j))
         call condition_nodes(c, nodes, w)
-        do k = 1, 3
+        do k = 1, COND_NODES
           n = nodes(k)
           if (n <= 0) cycle
           if (any(dm(pack(sys%dofs%eqn(TRANSLATION_SLOT, n), sys%dofs%eqn(TRANSLATION_SLOT, n) > 0)) > 0.0_dp)) then

@@ -100,7 +100,7 @@ contains
     type(contact_set_t), intent(inout) :: cs
     type(following_t), intent(inout) :: follow
     real(dp), intent(in) :: t0, t1
-    integer :: j
+    integer :: j, k
     real(dp) :: f1, vn
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j))
@@ -114,11 +114,16 @@ contains
         vn = dot_product(c%normal(1:scn%mesh%ndim), c%velocity(1:scn%mesh%ndim))
         call contact_set_gap0(cs, j, c%g0 - vn * function_integral(scn%functions, c%vfunc, scn%t_start, t1))
         call cs%move_obstacle(j, vn * function_integral(scn%functions, c%vfunc, t0, t1), vn * f1, c%velocity * f1)
-        if (cs%tangent_row(j) > 0) then        ! FRICTION: the slip is relative to the obstacle
-          vn = dot_product(c%velocity(1:2), [-c%normal(2), c%normal(1)])   ! (friction: 2D)
-          call cs%move_obstacle(cs%tangent_row(j), vn * function_integral(scn%functions, c%vfunc, t0, t1), vn * f1, &
+        do k = 1, scn%mesh%ndim - 1            ! FRICTION: the slip is relative to the obstacle
+          if (cs%tangent_row(j, k) == 0) exit
+          if (scn%mesh%ndim == 3) then
+            vn = dot_product(c%velocity, condition_tangent(c, 3, k))
+          else
+            vn = dot_product(c%velocity(1:2), [-c%normal(2), c%normal(1)])
+          end if
+          call cs%move_obstacle(cs%tangent_row(j, k), vn * function_integral(scn%functions, c%vfunc, t0, t1), vn * f1, &
             c%velocity * f1)
-        end if
+        end do
       end associate
     end do
   end subroutine obstacle_targets

@@ -6,7 +6,7 @@
 module newmark
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
-  use scene, only: scene_t, condition_row, condition_tangent
+  use scene, only: scene_t, condition_row, condition_tangent, COND_NODES
   use contact_modes, only: IMPACT_PAPER, IMPACT_PERSIST, IMPACT_MASSLESS, IMPACT_SYMMETRIC
   use dof_map, only: equation_bodies, body_rigid_freedom
   use imposed_motion, only: imposed_start, imposed_rows, imposed_targets, imposed_probe_map, imposed_reactions, &
@@ -179,9 +179,9 @@ contains
     type(run_state_t), intent(inout) :: rs
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, eqs(9)
+    integer :: j, eqs(3 * COND_NODES), eqs2(3 * COND_NODES)
     integer, allocatable :: sptr(:), star(:)
-    real(dp) :: coefs(9), lscale
+    real(dp) :: coefs(3 * COND_NODES), coefs2(3 * COND_NODES), lscale
     character(len=:), allocatable :: msg
     real(dp), allocatable :: circ(:, :)
     logical, allocatable :: free(:, :)
@@ -197,8 +197,13 @@ contains
     call imposed_rows(scn, sys, rs%cs)
     do j = 1, size(scn%conditions)            ! FRICTION: a tangential row each, after all the others
       if (scn%conditions(j)%friction <= 0.0_dp) cycle
-      call condition_row(scn%conditions(j), condition_tangent(scn%conditions(j)), sys%dofs%eqn, eqs, coefs)
-      call contact_add_friction(rs%cs, j, eqs, coefs, scn%conditions(j)%friction)
+      call condition_row(scn%conditions(j), condition_tangent(scn%conditions(j), scn%mesh%ndim), sys%dofs%eqn, eqs, coefs)
+      if (scn%mesh%ndim == 3) then             ! (3D: two tangential rows, the cone a circle)
+        call condition_row(scn%conditions(j), condition_tangent(scn%conditions(j), 3, 2), sys%dofs%eqn, eqs2, coefs2)
+        call contact_add_friction(rs%cs, j, eqs, coefs, scn%conditions(j)%friction, eqs2, coefs2)
+      else
+        call contact_add_friction(rs%cs, j, eqs, coefs, scn%conditions(j)%friction)
+      end if
     end do
     associate (x => scn%mesh%x(:, 1:scn%mesh%nnode))
       lscale = maxval(maxval(x, dim=2) - minval(x, dim=2))

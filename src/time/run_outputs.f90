@@ -5,7 +5,7 @@
 module run_outputs
   use kinds, only: dp
   use errors, only: STAT_OK
-  use scene, only: scene_t, condition_nodes, condition_tangent, scene_axisymmetric
+  use scene, only: scene_t, condition_nodes, condition_tangent, scene_axisymmetric, COND_NODES
   use mesh, only: mesh_t, DOF_UX, DOF_UY, DOF_UZ, DOF_RZ
   use assembly, only: system_t, stored_energy
   use point_fields, only: element_stress, element_scalars, nodal_values
@@ -359,8 +359,8 @@ contains
     type(output_set_t), intent(inout) :: self
     type(scene_t), intent(in) :: scn
     type(contact_set_t), intent(in) :: cs
-    integer :: j, k, nodes(3), nd
-    real(dp) :: f, w(3), ft, slip, imp_t, tg(3)
+    integer :: j, k, nodes(COND_NODES), nd
+    real(dp) :: f, w(COND_NODES), ft, slip, imp_t, tg(3)
     self%reaction = 0.0_dp
     nd = self%ndim                             ! (rows x, y[, z]; row 3 is the moment in 2D)
     do j = 1, size(scn%conditions)
@@ -371,13 +371,17 @@ contains
       end if
       associate (c => scn%conditions(j))
         f = step_impulse(self, cs, j) / self%h
-        call cs%tangential(j, ft, slip, imp_t)     ! (FRICTION: the tangential force along t)
+        call cs%tangential(j, ft, slip, imp_t)     ! (FRICTION: the tangential force along t, or t1 in 3D)
         ft = 0.5_dp * ft + imp_t / self%h
-        tg = condition_tangent(c)                ! (x, y, 0; FRICTION is 2D)
+        tg = ft * condition_tangent(c, nd)
+        if (nd == 3) then                        ! (3D: and along t2)
+          call cs%tangential(j, ft, slip, imp_t, 2)
+          tg = tg + (0.5_dp * ft + imp_t / self%h) * condition_tangent(c, 3, 2)
+        end if
         call condition_nodes(c, nodes, w)
-        do k = 1, 3
+        do k = 1, COND_NODES
           if (nodes(k) > 0) self%reaction(1:nd, nodes(k)) = self%reaction(1:nd, nodes(k)) + w(k) * (f * c%normal(1:nd) &
-            + ft * tg(1:nd))
+            + tg(1:nd))
         end do
       end associate
     end do
@@ -465,7 +469,7 @@ contains
     real(dp), intent(in) :: u(:), du(:)
     type(contact_set_t), intent(in) :: cs
     type(row_geometry_t) :: gs, ge
-    real(dp) :: istep(3), icorr(3), sgn, lam_t, slip, imp_t
+    real(dp) :: istep(3), icorr(3), sgn, lam_t, slip, imp_t, lam_t2, slip2, imp_t2, tg(3), t2(3)
     integer :: j, node
     do j = 1, size(scn%conditions)
       associate (c => scn%conditions(j), s => self%cstat(j))
@@ -476,13 +480,22 @@ contains
           icorr = [cs%correction_impulse(j) * ge%normal(1:2), 0.0_dp] + cs%body_impulse(j)
           node = c%node_b
         else
-          ! on the NODES group: node b of an OBSTACLE or GAP … SEGMENTS, node a of GAP … WITH or PAIRS
-          sgn = merge(-1.0_dp, 1.0_dp, c%node_a > 0 .and. c%node_c == 0)
-          call cs%tangential(j, lam_t, slip, imp_t)   ! (FRICTION: along t = n turned by +90°)
-          istep = sgn * 0.5_dp * self%h * (cs%multiplier(j) * c%normal + lam_t * condition_tangent(c))   ! (x, y, z)
-          self%cslip(s) = self%cslip(s) + slip
-          icorr = sgn * (cs%correction_impulse(j) * c%normal + imp_t * condition_tangent(c)) + cs%body_impulse(j)
-          node = merge(c%node_a, c%node_b, c%node_a > 0 .and. c%node_c == 0)
+          ! on the NODES group: node b of an OBSTACLE or GAP … SEGMENTS or FACES, node a of GAP … WITH or PAIRS
+          sgn = merge(-1.0_dp, 1.0_dp, c%node_a > 0 .and. c%node_c == 0 .and. c%face(1) == 0)
+          call cs%tangential(j, lam_t, slip, imp_t)   ! (FRICTION: along t = n turned by +90°; t1 in 3D)
+          if (self%ndim == 3) then             ! (3D: the tangential force along t1 and t2, the slip's length)
+            tg = condition_tangent(c, 3)
+            call cs%tangential(j, lam_t2, slip2, imp_t2, 2)
+            t2 = condition_tangent(c, 3, 2)
+            istep = sgn * 0.5_dp * self%h * (cs%multiplier(j) * c%normal + lam_t * tg + lam_t2 * t2)
+            self%cslip(s) = self%cslip(s) + hypot(slip, slip2)
+            icorr = sgn * (cs%correction_impulse(j) * c%normal + imp_t * tg + imp_t2 * t2) + cs%body_impulse(j)
+          else
+            istep = sgn * 0.5_dp * self%h * (cs%multiplier(j) * c%normal + lam_t * condition_tangent(c, 2))   ! (x, y, z)
+            self%cslip(s) = self%cslip(s) + slip
+            icorr = sgn * (cs%correction_impulse(j) * c%normal + imp_t * condition_tangent(c, 2)) + cs%body_impulse(j)
+          end if
+          node = merge(c%node_a, c%node_b, c%node_a > 0 .and. c%node_c == 0 .and. c%face(1) == 0)
         end if
         self%cimp(1:2, s) = self%cimp(1:2, s) + istep(1:2) + icorr(1:2)
         self%cimp(4, s) = self%cimp(4, s) + istep(3) + icorr(3)

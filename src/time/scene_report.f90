@@ -101,9 +101,9 @@ contains
       x(1:ns, 1:nen) = scn%mesh%x(:, scn%mesh%conn(1:nen, e))
       rho = 0.0_dp
       if (scn%models(im)%material > 0) rho = scn%materials(scn%models(im)%material)%density
-      nd = elem_ndof(scn%mesh%etype(e))
+      nd = elem_ndof(scn%mesh%etype(e), scn%mesh%ndim)
       call elem_mass(scn%mesh%etype(e), x(1:ns, 1:nen), scn%models(im)%sec, rho, .false., me(1:nd, 1:nd))
-      mask = elem_dof_mask(scn%mesh%etype(e))
+      mask = elem_dof_mask(scn%mesh%etype(e), scn%mesh%ndim)
       tx(1:nd) = 0.0_dp
       k = 0
       do a = 1, nen

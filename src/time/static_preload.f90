@@ -14,7 +14,7 @@
 module static_preload
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_RUN, STAT_INPUT, set_error, str
-  use scene, only: scene_t, condition_row, condition_tangent
+  use scene, only: scene_t, condition_row, condition_tangent, COND_NODES
   use scene_helpers, only: model_size
   use assembly, only: system_t, external_force, commit_state
   use internal_forces, only: internal_force, work_increment_t
@@ -287,21 +287,27 @@ contains
     real(dp), intent(in) :: kappa
     logical, intent(in) :: held(:)
     real(dp), intent(inout) :: sval(:)
-    integer :: j, k, l, eqs(9), ki, ii, nimp, jc
-    real(dp) :: coefs(9), ke(9, 9)
+    integer :: j, k, l, eqs(3 * COND_NODES), ki, ii, nimp, jc, nt, kt
+    real(dp) :: coefs(3 * COND_NODES), ke(3 * COND_NODES, 3 * COND_NODES)
     logical :: fits
     ki = 1
     ii = 0
     jc = 0
-    nimp = size(held) - size(scn%conditions) - count(scn%conditions%friction > 0.0_dp)
+    nt = scn%mesh%ndim - 1                          ! (FRICTION's tangential rows per condition)
+    nimp = size(held) - size(scn%conditions) - nt * count(scn%conditions%friction > 0.0_dp)
+    kt = nt
     do j = 1, size(held)
       eqs = 0
       coefs = 0.0_dp
-      if (j > size(scn%conditions) + nimp) then   ! FRICTION: the next frictional condition's tangent
-        jc = jc + 1
-        do while (scn%conditions(jc)%friction <= 0.0_dp)
+      if (j > size(scn%conditions) + nimp) then   ! FRICTION: the next tangent (t1, t2 in 3D) of a condition
+        kt = kt + 1
+        if (kt > nt) then
+          kt = 1
           jc = jc + 1
-        end do
+          do while (scn%conditions(jc)%friction <= 0.0_dp)
+            jc = jc + 1
+          end do
+        end if
       else if (j > size(scn%conditions)) then       ! IMPOSE k's i-th node: u_i on its DOF
         ii = ii + 1
         do while (ii > size(scn%mesh%ngroups(scn%imposes(ki)%ngroup)%items))
@@ -317,7 +323,7 @@ contains
           if (j <= size(scn%conditions)) then
             call condition_row(c, c%normal, sys%dofs%eqn, eqs, coefs)
           else
-            call condition_row(c, condition_tangent(c), sys%dofs%eqn, eqs, coefs)
+            call condition_row(c, condition_tangent(c, scn%mesh%ndim, kt), sys%dofs%eqn, eqs, coefs)
           end if
         end associate
       end if
@@ -333,18 +339,19 @@ contains
   end subroutine add_held_rows
 
   !> The rows after the conditions: IMPOSE's (held always), then FRICTION's tangential rows, one per
-  !> condition with friction in order (held with their condition).
+  !> condition with friction in order (two in 3D; held with their condition).
   pure subroutine held_rows_after(scn, nc, held)
     type(scene_t), intent(in) :: scn
     integer, intent(in) :: nc
     logical, intent(inout) :: held(:)
-    integer :: j, t
-    t = size(held) - count(scn%conditions%friction > 0.0_dp)
+    integer :: j, t, nt
+    nt = scn%mesh%ndim - 1
+    t = size(held) - nt * count(scn%conditions%friction > 0.0_dp)
     held(nc + 1:t) = .true.
     do j = 1, nc
       if (scn%conditions(j)%friction <= 0.0_dp) cycle
-      t = t + 1
-      held(t) = held(j)
+      held(t + 1:t + nt) = held(j)
+      t = t + nt
     end do
   end subroutine held_rows_after
 

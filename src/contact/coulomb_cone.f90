@@ -1,0 +1,284 @@
+!> Coulomb's law in 3D on the circular cone (docs/contact.md, "Friction in 3D"). A frictional
+!> condition k has a normal row N and two tangential rows t1, t2 (an orthonormal basis of the
+!> tangent plane: scene's condition_tangent); on the step multipliers Λ and the step's slip
+!> s = (g_t1, g_t2) = C_T Δu,
+!>   stick   s = 0                          and |Λ_T| <= μ Λ_N,
+!>   slip    Λ_T = -μ Λ_N d,  s = σ d,  σ >= 0,  d = (cos θ, sin θ):
+!> the force on the circle, opposite to the slip. The cone is not faceted: the slip's direction θ
+!> is an unknown, so the friction's work ½ Λ_T·s = -½ μ Λ_N σ is never positive to round-off.
+!>
+!> cone_solve keeps the primal-dual active set of coulomb_solve over the states (contact open or
+!> closed; stick or slip); for given states the unknowns are the multipliers of the active,
+!> sticking and bilateral rows and, per slipping condition, (θ, σ). The equations
+!>   g_I = q_I + W Λ = 0,   g_t1 - σ cos θ = 0,   g_t2 - σ sin θ = 0
+!> are linear in every unknown but θ (Λ_T of a slipping condition is -μ Λ_N d(θ)), and are solved
+!> by Newton's method on the dense block of W = C S⁻¹C' over those rows (the Schur columns of the
+!> multiplier system, LAPACK dgesv): quadratic in θ, exact in the rest at every iterate. Then a
+!> state that violates its law changes, as in 2D: a stick force outside the circle slips opposite
+!> to it, a slip whose length σ turned negative sticks. A submodule of coulomb.
+submodule (coulomb) coulomb_cone
+  implicit none
+
+  integer, parameter :: NEWTON_MAX = 40
+  real(dp), parameter :: THETA_TOL = 1.0e-14_dp       !< |Δθ| (rad) below which θ has converged
+  !> |Δθ| still accepted after NEWTON_MAX steps (round-off on a direction whose condition has almost
+  !> no normal force nor slip); above it the pass's states are wrong (a contact that opens: its Λ_N
+  !> turns negative) and change, or, if they violate nothing, the step fails (retried as sub-steps).
+  real(dp), parameter :: THETA_ACCEPT = 1.0e-8_dp
+  real(dp), parameter :: THETA_STEP = 0.5_dp          !< largest |Δθ| of one Newton step (rad)
+
+contains
+
+  module procedure cone_solve
+    integer :: pass, k, j, j2, nv, nbest, tries
+    logical :: converged
+    stat = STAT_OK
+    iterations = 0
+    call cone_open(self, active, q, tol)
+    nbest = huge(1)
+    tries = BLOCK_TRIES
+    do pass = 1, MAX_PASSES
+      iterations = pass
+      call cone_states(self, ms, q, bilateral, active, lam, g, wdiag, converged, stat, errmsg)
+      if (stat /= STAT_OK) return
+      call unilateral_violations(bilateral, active, lam, g, wdiag, tol, tol_free, viol)
+      do k = 1, self%n
+        j = self%trow(k)
+        j2 = self%trow2(k)
+        if (.not. active(self%nrow(k))) cycle
+        select case (self%state(k))
+        case (FRICTION_STICK)
+          viol(j) = hypot(lam(j), lam(j2)) > self%mu(k) * max(lam(self%nrow(k)), 0.0_dp) * (1.0_dp + THRESHOLD_RTOL)
+        case (FRICTION_SLIP_POS)
+          viol(j) = self%sig(k) < -tol
+        end select
+      end do
+      nv = count(viol)
+      if (nv == 0 .and. .not. converged) then  ! (states that violate nothing, directions not found)
+        call set_error(stat, errmsg, STAT_RUN, 'friction: the slip directions of the contact zone did not converge ' // &
+          'in ' // str(NEWTON_MAX) // ' Newton steps')
+        return
+      end if
+      if (nv == 0) return
+      call limit_changes(viol, nv, nbest, tries)
+      where (viol .and. .not. bilateral) active = .not. active
+      call cone_open(self, active, g, tol)
+      do k = 1, self%n
+        j = self%trow(k)
+        if (.not. viol(j)) cycle
+        if (self%state(k) == FRICTION_STICK) then   ! slip opposite to the force that left the circle
+          self%state(k) = FRICTION_SLIP_POS
+          self%theta(k) = atan2(-lam(self%trow2(k)), -lam(j))
+          self%sig(k) = 0.0_dp
+        else
+          self%state(k) = FRICTION_STICK
+        end if
+      end do
+    end do
+    call set_error(stat, errmsg, STAT_RUN, 'friction: no consistent contact, stick and slip states after ' // &
+      str(MAX_PASSES) // ' passes (' // str(nv) // ' conditions still violated)')
+  end procedure cone_solve
+
+  !> The conditions whose contact closes (state FREE, the contact active): slipping the way their
+  !> slip s = (s_t1, s_t2) goes where |s| > tol, stuck otherwise.
+  pure subroutine cone_open(self, active, s, tol)
+    class(coulomb_t), intent(inout) :: self
+    logical, intent(in) :: active(:)
+    real(dp), intent(in) :: s(:), tol
+    integer :: k
+    real(dp) :: s1, s2
+    do k = 1, self%n
+      if (self%state(k) /= FRICTION_FREE .or. .not. active(self%nrow(k))) cycle
+      s1 = s(self%trow(k))
+      s2 = s(self%trow2(k))
+      self%state(k) = FRICTION_STICK
+      if (hypot(s1, s2) > tol) then
+        self%state(k) = FRICTION_SLIP_POS
+        self%theta(k) = atan2(s2, s1)
+        self%sig(k) = hypot(s1, s2)
+      end if
+    end do
+  end subroutine cone_open
+
+  !> One pass of cone_solve: the rows of the states (I: active, bilateral, sticking tangential;
+  !> then each slipping condition's t1, t2, whose unknowns are θ and σ), Newton's iteration on
+  !> them, then lam, g = q + W lam and wdiag.
+  subroutine cone_states(self, ms, q, bilateral, active, lam, g, wdiag, converged, stat, errmsg)
+    class(coulomb_t), intent(inout) :: self
+    type(multiplier_system_t), intent(inout) :: ms
+    real(dp), intent(in) :: q(:)
+    logical, intent(in) :: bilateral(:)
+    logical, intent(in) :: active(:)
+    real(dp), intent(inout) :: lam(:)
+    real(dp), intent(out) :: g(:)
+    real(dp), intent(inout) :: wdiag(:)
+    logical, intent(out) :: converged
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, l, ni, nl, it
+    real(dp) :: dmax
+    stat = STAT_OK
+    call fixed_rows(self%kof, self%nrow, bilateral, active, self%state, self%rows, ni)
+    nl = ni
+    do k = 1, self%n
+      if (self%state(k) /= FRICTION_SLIP_POS) cycle
+      self%rows(nl + 1:nl + 2) = [self%trow(k), self%trow2(k)]
+      nl = nl + 2
+    end do
+    self%keep = .false.
+    do l = 1, nl
+      self%keep(self%rows(l)) = .true.
+      self%pos(self%rows(l)) = l
+    end do
+    call ms%ensure(self%rows, nl, self%keep, stat, errmsg)
+    if (stat /= STAT_OK) return
+    if (size(self%m, 1) < nl) then             ! grow past the high-water mark
+      deallocate (self%m, self%wb)
+      allocate (self%m(2 * nl, 2 * nl), self%wb(2 * nl, 2 * nl))
+    end if
+    call ms%w_block(self%rows, nl, self%rows, nl, self%wb)
+    ! The unknowns in place: Λ of the rows of I (from the last pass: a slipping condition's Λ_N
+    ! starts where it was, not at 0 where its direction would be undetermined), then (θ, σ) at a
+    ! slipping condition's t1, t2.
+    do l = 1, ni
+      self%lr(l) = lam(self%rows(l))
+    end do
+    do k = 1, self%n
+      if (self%state(k) /= FRICTION_SLIP_POS) cycle
+      l = self%pos(self%trow(k))
+      self%lr(l:l + 1) = [self%theta(k), self%sig(k)]
+    end do
+    do it = 1, NEWTON_MAX
+      call cone_newton_step(self, q, ni, nl, dmax, stat, errmsg)
+      if (stat /= STAT_OK) return
+      if (dmax <= THETA_TOL) exit
+    end do
+    converged = dmax <= THETA_ACCEPT
+    do k = 1, self%n
+      if (self%state(k) /= FRICTION_SLIP_POS) cycle
+      l = self%pos(self%trow(k))
+      self%theta(k) = self%lr(l)
+      self%sig(k) = self%lr(l + 1)
+    end do
+    lam = 0.0_dp
+    call cone_multipliers(self, ni, nl, lam)
+    g = q
+    call ms%add_columns(self%rows, nl, lam, g)
+    do l = 1, nl
+      wdiag(self%rows(l)) = self%wb(l, l)
+    end do
+  end subroutine cone_states
+
+  !> The multipliers of the rows from the unknowns lr: Λ of I as they are, a slipping condition's
+  !> Λ_T = -μ Λ_N (cos θ, sin θ); into lam (over every row).
+  pure subroutine cone_multipliers(self, ni, nl, lam)
+    class(coulomb_t), intent(in) :: self
+    integer, intent(in) :: ni, nl
+    real(dp), intent(inout) :: lam(:)
+    integer :: k, l
+    real(dp) :: f
+    do l = 1, ni
+      lam(self%rows(l)) = self%lr(l)
+    end do
+    do k = 1, self%n
+      if (self%state(k) /= FRICTION_SLIP_POS) cycle
+      l = self%pos(self%trow(k))
+      if (l > nl) cycle
+      f = -self%mu(k) * self%lr(self%pos(self%nrow(k)))
+      lam(self%trow(k)) = f * cos(self%lr(l))
+      lam(self%trow2(k)) = f * sin(self%lr(l))
+    end do
+  end subroutine cone_multipliers
+
+  !> One Newton step on the unknowns lr(1:nl): the residual r = (g_I, g_t - σ d) and its Jacobian
+  !> from W's block wb, J Δ = -r by dgesv (|Δθ| capped at THETA_STEP), then lr <- lr + t Δ with t
+  !> halved from 1 until |r| falls (Armijo, down to 1/64); dmax the largest |t Δθ| (0 without a
+  !> slipping condition: the system is then linear, solved at once).
+  subroutine cone_newton_step(self, q, ni, nl, dmax, stat, errmsg)
+    class(coulomb_t), intent(inout) :: self
+    real(dp), intent(in) :: q(:)
+    integer, intent(in) :: ni, nl
+    real(dp), intent(out) :: dmax
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: k, l, ln, info
+    real(dp) :: c, s, sig, lamn, r0, rt, t
+    stat = STAT_OK
+    dmax = 0.0_dp
+    call cone_residual(self, q, ni, nl, self%lr, self%col(:, 1))
+    r0 = norm2(self%col(1:nl, 1))
+    ! The Jacobian: W's columns for Λ of I; a slipping condition adds to its Λ_N's column
+    ! -μ (c W_t1 + s W_t2), and its θ and σ columns.
+    self%m(1:nl, 1:ni) = self%wb(1:nl, 1:ni)
+    do k = 1, self%n
+      if (self%state(k) /= FRICTION_SLIP_POS) cycle
+      l = self%pos(self%trow(k))
+      ln = self%pos(self%nrow(k))
+      c = cos(self%lr(l))
+      s = sin(self%lr(l))
+      sig = self%lr(l + 1)
+      lamn = self%lr(ln)
+      self%m(1:nl, ln) = self%m(1:nl, ln) - self%mu(k) * (c * self%wb(1:nl, l) + s * self%wb(1:nl, l + 1))
+      self%m(1:nl, l) = -self%mu(k) * lamn * (-s * self%wb(1:nl, l) + c * self%wb(1:nl, l + 1))
+      self%m(l, l) = self%m(l, l) + sig * s
+      self%m(l + 1, l) = self%m(l + 1, l) - sig * c
+      self%m(1:nl, l + 1) = 0.0_dp
+      self%m(l:l + 1, l + 1) = [-c, -s]
+    end do
+    self%rhs(1:nl) = -self%col(1:nl, 1)
+    info = 0
+    if (nl > 0) call dgesv(nl, 1, self%m, size(self%m, 1), self%ipiv, self%rhs, size(self%rhs), info)
+    if (info /= 0) then
+      call set_error(stat, errmsg, STAT_RUN, 'friction: the conditions of the contact zone are dependent (a ' // &
+        'FRICTION contact on a DOF an IMPOSE or another contact also holds, or a slipping contact without ' // &
+        'normal force nor slip)')
+      return
+    end if
+    do k = 1, self%n
+      if (self%state(k) /= FRICTION_SLIP_POS) cycle
+      l = self%pos(self%trow(k))
+      self%rhs(l) = max(-THETA_STEP, min(THETA_STEP, self%rhs(l)))
+      dmax = max(dmax, abs(self%rhs(l)))
+    end do
+    t = 1.0_dp
+    do                                         ! (rho: the trial unknowns)
+      self%rho(1:nl) = self%lr(1:nl) + t * self%rhs(1:nl)
+      if (dmax == 0.0_dp) exit                 ! (linear: the full step is the solution)
+      call cone_residual(self, q, ni, nl, self%rho, self%col(:, 1))
+      rt = norm2(self%col(1:nl, 1))
+      if (rt <= (1.0_dp - 1.0e-4_dp * t) * r0 .or. t <= 1.0_dp / 64) exit
+      t = 0.5_dp * t
+    end do
+    dmax = t * dmax
+    self%lr(1:nl) = self%rho(1:nl)
+  end subroutine cone_newton_step
+
+  !> r(1:nl) = (g_I, g_t1 - σ cos θ, g_t2 - σ sin θ) at the unknowns x(1:nl), g = q + W Λ(x)
+  !> (self%keep's rows as they are; the multipliers of the rows in the scratch on).
+  subroutine cone_residual(self, q, ni, nl, x, r)
+    class(coulomb_t), intent(inout) :: self
+    real(dp), intent(in) :: q(:), x(:)
+    integer, intent(in) :: ni, nl
+    real(dp), intent(inout) :: r(:)
+    integer :: k, l
+    real(dp) :: f
+    self%lam_rows(1:ni) = x(1:ni)
+    do k = 1, self%n
+      if (self%state(k) /= FRICTION_SLIP_POS) cycle
+      l = self%pos(self%trow(k))
+      f = -self%mu(k) * x(self%pos(self%nrow(k)))
+      self%lam_rows(l:l + 1) = f * [cos(x(l)), sin(x(l))]
+    end do
+    do l = 1, nl
+      r(l) = q(self%rows(l))
+    end do
+    do k = 1, nl                               ! (loops: matmul may take a temporary)
+      r(1:nl) = r(1:nl) + self%lam_rows(k) * self%wb(1:nl, k)
+    end do
+    do k = 1, self%n
+      if (self%state(k) /= FRICTION_SLIP_POS) cycle
+      l = self%pos(self%trow(k))
+      r(l:l + 1) = r(l:l + 1) - x(l + 1) * [cos(x(l)), sin(x(l))]
+    end do
+  end subroutine cone_residual
+end submodule coulomb_cone
