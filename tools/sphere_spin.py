@@ -7,7 +7,7 @@ the contact point rolls, v = ω r, at the rigid body's
 LARGE, the defaults otherwise. Measured: the rolling speed, the end of the slip phase, the friction's
 dissipation against the rigid body's, the balance; CPU of each run.
 
-usage: sphere_spin.py [--out DIR] [--doc docs/friction-sphere.md] [--figures docs/figures] [--n 2 3]
+usage: sphere_spin.py [--out DIR] [--doc docs/friction-sphere.md] [--figures docs/figures] [--n 2 3] [--rebond BIN]
 """
 import argparse
 import os
@@ -32,7 +32,7 @@ OUTPUT    HISTORY EVERY 5  FIELDS EVERY 0
 '''
 
 
-def run_case(n, out):
+def run_case(rebond, n, out):
     os.makedirs(out, exist_ok=True)
     mesh = os.path.join(out, 'ball%d.msh' % n)
     subprocess.run([sys.executable, os.path.join(ROOT, 'tools', 'ball_mesh.py'), str(n), repr(R), mesh], check=True,
@@ -42,7 +42,7 @@ def run_case(n, out):
         f.write(SCENE.format(mesh=os.path.basename(mesh), rho=RHO, mu=MU, g=G, w0=W0, r=R, h=H))
     res = os.path.join(out, 'ball%d' % n)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run([os.path.join(ROOT, 'bin', 'rebond'), scene, '-o', res, '--quiet'], check=True)
+    subprocess.run([rebond, scene, '-o', res, '--quiet'], check=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
     h = np.genfromtxt(os.path.join(res, 'history.csv'), delimiter=',', names=True)
@@ -55,6 +55,7 @@ def main():
     ap.add_argument('--doc', default=os.path.join(ROOT, 'docs', 'friction-sphere.md'))
     ap.add_argument('--figures', default=os.path.join(ROOT, 'docs', 'figures'))
     ap.add_argument('--n', type=int, nargs='+', default=[2, 3])
+    ap.add_argument('--rebond', default=os.path.join(ROOT, 'bin', 'rebond'))
     a = ap.parse_args()
     m = 4.0 / 3.0 * np.pi * R ** 3 * RHO
     inertia = 0.4 * m * R * R
@@ -63,7 +64,7 @@ def main():
     loss = 0.5 * inertia * W0 ** 2 * m * R * R / (inertia + m * R * R)
     rows, curves = [], []
     for n in a.n:
-        h, cpu = run_case(n, a.out)
+        h, cpu = run_case(a.rebond, n, a.out)
         t = h['time']
         v = h['momentum_x'] / m
         fd = h['friction_dissipated']

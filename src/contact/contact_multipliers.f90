@@ -53,7 +53,8 @@ module contact_multipliers
     ! FRICTION (coulomb): pair(j) the tangential row of condition j (0: none), its entry (row neq +
     ! pair(j), column neq + j) at pos_p(j): a slipping row's equation Λ_t = ρ_t Λ_j; kkt_rho the ρ
     ! of the current factorization, no_rho all zero (no row slipping: the frictionless system).
-    integer, allocatable :: pair(:), pos_p(:)
+    ! In 3D pair2(j), pos_p2(j): the second tangential row, likewise.
+    integer, allocatable :: pair(:), pos_p(:), pair2(:), pos_p2(:)
     real(dp), allocatable :: kkt_rho(:), no_rho(:)
     ! The last solution.
     logical :: x_ok = .false.                       !< x = S⁻¹C'Λ of the last Λ
@@ -258,8 +259,13 @@ contains
       allocate (self%pair(nc))
       self%pair = 0
     end if
+    if (.not. allocated(self%pair2)) then
+      allocate (self%pair2(nc))
+      self%pair2 = 0
+    end if
     do j = 1, nc
-      self%kptr(neq + j + 1) = self%c%last(j) - self%c%first(j) + 2 + merge(1, 0, self%pair(j) > 0)
+      self%kptr(neq + j + 1) = self%c%last(j) - self%c%first(j) + 2 + merge(1, 0, self%pair(j) > 0) + &
+        merge(1, 0, self%pair2(j) > 0)
     end do
     self%kptr(1) = 1
     do i = 1, n
@@ -267,8 +273,9 @@ contains
     end do
     nnz = self%kptr(n + 1) - 1
     allocate (self%krow(nnz), self%kval(nnz), self%pos_s(2, pat%nnz), self%pos_cr(nzc), &
-      self%pos_cc(nzc), self%pos_d(nc), self%pos_p(nc), self%kkt_rho(nc), self%no_rho(nc))
+      self%pos_cc(nzc), self%pos_d(nc), self%pos_p(nc), self%pos_p2(nc), self%kkt_rho(nc), self%no_rho(nc))
     self%pos_p = 0
+    self%pos_p2 = 0
     self%kkt_rho = 0.0_dp
     self%no_rho = 0.0_dp
     self%kval = 0.0_dp
@@ -310,6 +317,10 @@ contains
       if (self%pair(j) > 0) then               ! (a tangential row comes after every contact's)
         self%krow(k + 1) = neq + self%pair(j)
         self%pos_p(j) = k + 1
+      end if
+      if (self%pair2(j) > 0) then              ! (3D: the second, right after the first)
+        self%krow(k + 2) = neq + self%pair2(j)
+        self%pos_p2(j) = k + 2
       end if
     end do
     call self%lu%analyze(n, self%kptr, self%krow, stat, errmsg)
@@ -559,13 +570,18 @@ contains
     end if
   end subroutine kkt_factorize
 
-  !> FRICTION: pair(j), the tangential row of condition j (0: none), for the augmented system's
-  !> pattern (before its first prepare).
-  subroutine ms_set_pairs(self, pair)
+  !> FRICTION: pair(j), the tangential row of condition j (0: none), and in 3D pair2(j) the second,
+  !> for the augmented system's pattern (before its first prepare).
+  subroutine ms_set_pairs(self, pair, pair2)
     class(multiplier_system_t), intent(inout) :: self
     integer, intent(in) :: pair(:)
+    integer, intent(in), optional :: pair2(:)
     if (allocated(self%pair)) deallocate (self%pair)
+    if (allocated(self%pair2)) deallocate (self%pair2)
     allocate (self%pair, source=pair)
+    allocate (self%pair2(size(pair)))
+    self%pair2 = 0
+    if (present(pair2)) self%pair2 = pair2
   end subroutine ms_set_pairs
 
   !> The step on the augmented system (kkt_solve: no row slipping; FRICTION's coulomb on large
@@ -598,6 +614,7 @@ contains
         end do
         self%kval(self%pos_d(j)) = merge(0.0_dp, self%dscale(j), on(j))
         if (self%pos_p(j) > 0) self%kval(self%pos_p(j)) = -rho(self%pair(j)) * self%dscale(self%pair(j))
+        if (self%pos_p2(j) > 0) self%kval(self%pos_p2(j)) = -rho(self%pair2(j)) * self%dscale(self%pair2(j))
       end do
       call kkt_factorize(self, singular, stat, errmsg)
       if (singular .or. stat /= STAT_OK) return
@@ -688,9 +705,10 @@ contains
     if (allocated(self%waa)) deallocate (self%waa)
     if (allocated(self%kptr)) deallocate (self%kptr)
     if (allocated(self%krow)) deallocate (self%krow, self%kval, self%pos_s, self%pos_cr, self%pos_cc, self%pos_d, &
-      self%pos_p, self%kkt_rho, self%no_rho)
+      self%pos_p, self%pos_p2, self%kkt_rho, self%no_rho)
     if (allocated(self%kb)) deallocate (self%kb, self%kx)
     if (allocated(self%pair)) deallocate (self%pair)
+    if (allocated(self%pair2)) deallocate (self%pair2)
     self%kkt_built = .false.
     self%kkt_factored = .false.
     self%nc = 0

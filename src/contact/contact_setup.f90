@@ -79,7 +79,7 @@ contains
     call cs%ms%bind(cs%c)
     call cs%ms%init(int(min(int(max(nc, 1), 8), max(8_8, min(int(cs%settings%switch_size, 8), &
       cs%settings%z_max_entries / max(neq, 1))))))
-    call cs%ms%set_pairs([(cs%fr%tangent_of(j), j = 1, nc)])   ! (FRICTION: the augmented system's pairs)
+    call cs%ms%set_pairs([(cs%fr%tangent_of(j), j = 1, nc)], [(cs%fr%tangent2_of(j), j = 1, nc)])   ! (FRICTION)
     call cs%ms%unbind()
     cs%finalized = .true.
     cs%prepared = .false.

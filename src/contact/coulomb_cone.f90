@@ -15,11 +15,15 @@
 !> by Newton's method on the dense block of W = C S⁻¹C' over those rows (the Schur columns of the
 !> multiplier system, LAPACK dgesv): quadratic in θ, exact in the rest at every iterate. Then a
 !> state that violates its law changes, as in 2D: a stick force outside the circle slips opposite
-!> to it, a slip whose length σ turned negative sticks. A submodule of coulomb.
+!> to it, a slip whose length σ turned negative sticks. Large zones (MULTIPLIERS AUGMENTED, or AUTO
+!> above AUGMENTED_ABOVE unknowns) solve each pass on the augmented sparse system instead, the
+!> directions by a fixed point (cone_fixed_point: each θ takes its slip's direction), the Schur
+!> block's Newton serving where that does not settle. A submodule of coulomb.
 submodule (coulomb) coulomb_cone
   implicit none
 
   integer, parameter :: NEWTON_MAX = 40
+  integer, parameter :: FP_MAX = 60                   !< sparse solves of the augmented fixed point
   real(dp), parameter :: THETA_TOL = 1.0e-14_dp       !< |Δθ| (rad) below which θ has converged
   !> |Δθ| still accepted after NEWTON_MAX steps (round-off on a direction whose condition has almost
   !> no normal force nor slip); above it the pass's states are wrong (a contact that opens: its Λ_N
@@ -125,6 +129,15 @@ contains
       self%rows(nl + 1:nl + 2) = [self%trow(k), self%trow2(k)]
       nl = nl + 2
     end do
+    ! A large zone (MULTIPLIERS AUGMENTED, or AUTO above AUGMENTED_ABOVE unknowns): the augmented
+    ! sparse system, the directions by a fixed point; the Schur block's Newton where that fails.
+    if (ms%kkt_built .and. (ms%mode == SOLVER_AUGMENTED .or. (ms%mode == SOLVER_AUTO .and. ni > ms%switch_size))) then
+      call cone_fixed_point(self, ms, q, ni, lam, g, converged, stat, errmsg)
+      if (stat /= STAT_OK .or. converged) then
+        if (converged) wdiag = ms%wlow
+        return
+      end if
+    end if
     self%keep = .false.
     do l = 1, nl
       self%keep(self%rows(l)) = .true.
@@ -168,6 +181,56 @@ contains
       wdiag(self%rows(l)) = self%wb(l, l)
     end do
   end subroutine cone_states
+
+  !> cone_states on the augmented sparse system (ms%solve_coulomb): for the directions θ of the
+  !> slipping conditions their tangential rows are Λ_t1 = -μ cos θ Λ_N, Λ_t2 = -μ sin θ Λ_N in place of
+  !> their slips, the rows I (rows(1:ni)) hold g = 0, and the step is one sparse solve; each θ then
+  !> takes the direction of its slip, until no θ moves by more than THETA_TOL (FP_MAX solves at
+  !> most: converged = .false. then, or where the system is singular). σ = s·d(θ).
+  subroutine cone_fixed_point(self, ms, q, ni, lam, g, converged, stat, errmsg)
+    class(coulomb_t), intent(inout) :: self
+    type(multiplier_system_t), intent(inout) :: ms
+    real(dp), intent(in) :: q(:)
+    integer, intent(in) :: ni
+    real(dp), intent(inout) :: lam(:)
+    real(dp), intent(out) :: g(:)
+    logical, intent(out) :: converged
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: it, k, l
+    real(dp) :: dmax, s1, s2, th
+    logical :: singular
+    converged = .false.
+    self%on = .false.
+    do l = 1, ni
+      self%on(self%rows(l)) = .true.
+    end do
+    do it = 1, FP_MAX
+      self%rho = 0.0_dp
+      do k = 1, self%n
+        if (self%state(k) /= FRICTION_SLIP_POS) cycle
+        self%rho(self%trow(k)) = -self%mu(k) * cos(self%theta(k))
+        self%rho(self%trow2(k)) = -self%mu(k) * sin(self%theta(k))
+      end do
+      call ms%solve_coulomb(q, self%on, self%rho, lam, g, singular, stat, errmsg)
+      if (stat /= STAT_OK .or. singular) return
+      dmax = 0.0_dp
+      do k = 1, self%n
+        if (self%state(k) /= FRICTION_SLIP_POS) cycle
+        s1 = g(self%trow(k))
+        s2 = g(self%trow2(k))
+        self%sig(k) = s1 * cos(self%theta(k)) + s2 * sin(self%theta(k))
+        if (.not. self%sig(k) > 0.0_dp) cycle    ! (slipping against its force: a violation, it sticks)
+        th = atan2(s2, s1)
+        dmax = max(dmax, abs(atan2(sin(th - self%theta(k)), cos(th - self%theta(k)))))
+        self%theta(k) = th
+      end do
+      if (dmax <= THETA_TOL) then
+        converged = .true.
+        return
+      end if
+    end do
+  end subroutine cone_fixed_point
 
   !> The multipliers of the rows from the unknowns lr: Λ of I as they are, a slipping condition's
   !> Λ_T = -μ Λ_N (cos θ, sin θ); into lam (over every row).

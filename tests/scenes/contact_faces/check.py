@@ -4,8 +4,8 @@ src/mesh/face_projection.f90; docs/input.md "GAP … FACES in detail").
 
 - a steel cube (2 × 2 × 2 HEX8) thrown at a free slab (3 × 3 × 1 HEX8: the meshes do not match),
   resting on it at t = 0, in every impact mode but MASSLESS, with FRICTION 0.2 and without: the six
-  momenta (linear and angular) of the free pair kept to 1e-12, |balance| <= 1e-10 of E, the floor's
-  tangential impulse inside the circle μ × the normal one;
+  momenta (linear and angular) of the free pair kept to 1e-12, |balance| <= 1e-10 of E, no gap
+  below -1e-12 m, the floor's tangential impulse inside the circle μ × the normal one;
 - the same from a 1 mm gap, frictionless: the six momenta kept (with friction the tangential force
   at the node and its reaction at the foot are the gap apart: small-displacement kinematics, the
   angular momenta about x and y then change by that moment, measured and printed);
@@ -14,6 +14,8 @@ src/mesh/face_projection.f90; docs/input.md "GAP … FACES in detail").
   inside the cone;
 - matching meshes: GAP … FACES gives GAP … WITH's history (1e-10): a node on a face's corner has
   the weights (1, 0, 0, 0);
+- two passes (cube on slab and slab on cube, for two deformable faces): non-matching, the six
+  momenta kept; matching, the momentum transferred is one pass's (1e-12) and the history the same;
 - a restart mid-impact continues bit for bit;
 - bad input: FACES in 2D, with WITH, PAIRING STEP, a LARGE model without PAIRING START, no node
   facing a face, a node inside the face it faces.
@@ -42,8 +44,9 @@ def balance(tag, out, mu):
     sc.report_measured(tag + ': |balance| <= 1e-10 of E', bal <= 1e-10, '%.2e' % bal)
     dfr = np.diff(hist['friction_dissipated'])
     sc.report(tag + ': friction_dissipated never falls', dfr.min() >= -1e-14, '%.2e' % dfr.min())
+    ct = sc.contacts(out)
+    sc.report_measured(tag + ': no gap below -1e-12 m', ct['min_gap'].min() >= -1e-12, '%.2e m' % ct['min_gap'].min())
     if mu > 0.0:
-        ct = sc.contacts(out)
         over = (np.hypot(ct['impulse_x'], ct['impulse_y']) - mu * ct['impulse_z']).max()
         sc.report(tag + ': tangential impulse inside the circle every step', over <= 1e-15, 'excess %.2e' % over)
         sc.report(tag + ': the contact was made and slipped', ct['active'].max() > 0 and
@@ -101,6 +104,28 @@ def matching():
     sc.report_measured('matching meshes: GAP … FACES = GAP … WITH (1e-10)', err <= 1e-10, '%.2e' % err)
 
 
+def two_passes():
+    text = open(HERE + 'cube_slab.dat').read().replace(
+        'GAP       hit NODES cube.zmin FACES slab.zmax FRICTION 0.2\n',
+        'GAP       hit NODES cube.zmin FACES slab.zmax FRICTION 0.2\nGAP       hit2 NODES slab.zmax FACES cube.zmin FRICTION 0.2\n')
+    two = sc.write_scene('cube_slab_two.dat', text)
+    hist = balance('two passes', sc.run_ok(two), 0.0)
+    d = drifts(hist, MOMENTA)
+    sc.report_measured('two passes, non-matching: the six momenta kept (1e-12)', d <= 1e-12, '%.2e' % d)
+    sets = ['BOX.cube.SIZE=0.2 0.2 0.1', 'BOX.cube.ORIGIN=0 0.1 0.05', 'BOX.cube.ELEMENTS=2 2 1', 'SCHEME.IMPACT=PERSIST']
+    one = sc.run_ok(HERE + 'cube_slab.dat', sets + ['GAP.FRICTION=0'])
+    both = sc.run_ok(two, sets + ['GAP.hit.FRICTION=0', 'GAP.hit2.FRICTION=0'])
+    c1, c2 = sc.contacts(one), sc.contacts(both)
+    p1 = c1['impulse_z'].sum()
+    hit = np.array([c == 'hit' for c in c2['contact']])
+    p2 = c2['impulse_z'][hit].sum() - c2['impulse_z'][~hit].sum()     # (hit2's impulses are on the slab)
+    sc.report_measured('two passes, matching: the momentum transferred is one pass\'s (1e-12)',
+                       abs(p2 - p1) <= 1e-12 * abs(p1), '%.17g vs %.17g N s' % (p2, p1))
+    a, b = sc.history(one), sc.history(both)
+    err = max(np.abs(a[k] - b[k]).max() / np.abs(a[k]).max() for k in ['kinetic', 'internal', 'momentum_z'])
+    sc.report_measured('two passes, matching: the history of one pass (1e-10)', err <= 1e-10, '%.2e' % err)
+
+
 def restart():
     same, detail = sc.restart_same(HERE + 'cube_slab.dat', ['OUTPUT.CHECKPOINT=50', 'TIME.END=4e-4'], '2e-4',
                                    files=('history.csv', 'contacts.csv'))
@@ -135,5 +160,6 @@ if __name__ == '__main__':
     quadratic()
     ball()
     matching()
+    two_passes()
     restart()
     bad_inputs()
