@@ -98,10 +98,11 @@ def main():
                 '| ratio |\n|---|---|---|---|---|\n')
         for n, mu, free, rough in rows3:
             f.write('| %d | %.2f | %.3f | %.3f | %.1f |\n' % (n, mu, free, rough, rough / max(free, 1e-3)))
-        f.write('\nSmall zones solve the cone by Newton on the dense Schur block (3 rows per node); above '
-                'AUGMENTED_ABOVE unknowns (MULTIPLIERS AUTO) the augmented sparse system with both tangential rows '
-                'of a slipping contact tied to its Λ_N, the directions by a fixed point (3 to 6 sparse solves a '
-                'pass on this plate).\n')
+        f.write('\nSmall zones solve the cone by Newton on the dense Schur block (3 rows per node); where that '
+                'block would pass AUGMENTED_ABOVE rows (MULTIPLIERS AUTO), a fixed point on the augmented sparse '
+                'system: the slipping contacts\' forces as known loads on the factor of the other rows, kept from '
+                'solve to solve and step to step, each direction taking its slip\'s (about 7 sparse solves a pass '
+                'on this plate, against 1 or 2 for the frictionless step).\n')
 
 if __name__ == '__main__':
     main()

@@ -590,7 +590,9 @@ contains
   !> force acts, its gap is free: [d, -rho d] in its row), the others Λ = 0; refactorized (UMFPACK,
   !> nonsymmetric) when on or rho changed. lam, g = q + C x, x = S⁻¹C'Λ kept for ms_correction;
   !> singular: dependent rows (nothing computed, the caller falls back to the Schur columns).
-  subroutine ms_solve_coulomb(self, q, on, rho, lam, g, singular, stat, errmsg)
+  !> force: known multipliers of rows neither on nor tied (3D friction's slipping rows with their
+  !> forces given: the right-hand side C'force, the factor of on and rho kept); lam = force there.
+  subroutine ms_solve_coulomb(self, q, on, rho, lam, g, singular, stat, errmsg, force)
     class(multiplier_system_t), intent(inout) :: self
     real(dp), intent(in) :: q(:), rho(:)
     logical, intent(in) :: on(:)
@@ -598,6 +600,7 @@ contains
     logical, intent(out) :: singular
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
+    real(dp), intent(in), optional :: force(:)
     integer :: j, p, neq
     logical :: same, acts
     neq = self%neq
@@ -623,6 +626,7 @@ contains
       self%kkt_factored = .true.
     end if
     self%kb(1:neq) = 0.0_dp
+    if (present(force)) call self%c%add_transpose(force, self%kb(1:neq))
     do j = 1, self%nc
       self%kb(neq + j) = merge(-q(j), 0.0_dp, on(j))
     end do
@@ -634,6 +638,11 @@ contains
     do j = 1, self%nc
       lam(j) = merge(-self%kx(neq + j), 0.0_dp, on(j) .or. rho(j) /= 0.0_dp)
     end do
+    if (present(force)) then                   ! (a loop: a WHERE would allocate its mask)
+      do j = 1, self%nc
+        if (.not. on(j) .and. rho(j) == 0.0_dp) lam(j) = force(j)
+      end do
+    end if
     call self%c%times(self%x, g)
     g = q + g
   end subroutine ms_solve_coulomb

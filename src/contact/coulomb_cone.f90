@@ -16,14 +16,17 @@
 !> multiplier system, LAPACK dgesv): quadratic in θ, exact in the rest at every iterate. Then a
 !> state that violates its law changes, as in 2D: a stick force outside the circle slips opposite
 !> to it, a slip whose length σ turned negative sticks. Large zones (MULTIPLIERS AUGMENTED, or AUTO
-!> above AUGMENTED_ABOVE unknowns) solve each pass on the augmented sparse system instead, the
-!> directions by a fixed point (cone_fixed_point: each θ takes its slip's direction), the Schur
-!> block's Newton serving where that does not settle. A submodule of coulomb.
+!> where the dense block would pass AUGMENTED_ABOVE rows) solve each pass on the augmented sparse
+!> system instead, by a fixed point (cone_fixed_point: the slipping forces as known loads on the
+!> kept factor, each θ taking its slip's direction), the Schur block's Newton serving where that
+!> does not settle. A submodule of coulomb.
 submodule (coulomb) coulomb_cone
   implicit none
 
   integer, parameter :: NEWTON_MAX = 40
   integer, parameter :: FP_MAX = 60                   !< sparse solves of the augmented fixed point
+  integer, parameter :: FX_MAX = 60                   !< its solves with the slipping forces known
+  real(dp), parameter :: FORCE_RTOL = 1.0e-14_dp      !< their change (relative) at convergence
   real(dp), parameter :: THETA_TOL = 1.0e-14_dp       !< |Δθ| (rad) below which θ has converged
   !> |Δθ| still accepted after NEWTON_MAX steps (round-off on a direction whose condition has almost
   !> no normal force nor slip); above it the pass's states are wrong (a contact that opens: its Λ_N
@@ -131,7 +134,8 @@ contains
     end do
     ! A large zone (MULTIPLIERS AUGMENTED, or AUTO above AUGMENTED_ABOVE unknowns): the augmented
     ! sparse system, the directions by a fixed point; the Schur block's Newton where that fails.
-    if (ms%kkt_built .and. (ms%mode == SOLVER_AUGMENTED .or. (ms%mode == SOLVER_AUTO .and. ni > ms%switch_size))) then
+    ! (nl: the dense block's order, 3 rows a slipping node)
+    if (ms%kkt_built .and. (ms%mode == SOLVER_AUGMENTED .or. (ms%mode == SOLVER_AUTO .and. nl > ms%switch_size))) then
       call cone_fixed_point(self, ms, q, ni, lam, g, converged, stat, errmsg)
       if (stat /= STAT_OK .or. converged) then
         if (converged) wdiag = ms%wlow
@@ -182,11 +186,13 @@ contains
     end do
   end subroutine cone_states
 
-  !> cone_states on the augmented sparse system (ms%solve_coulomb): for the directions θ of the
-  !> slipping conditions their tangential rows are Λ_t1 = -μ cos θ Λ_N, Λ_t2 = -μ sin θ Λ_N in place of
-  !> their slips, the rows I (rows(1:ni)) hold g = 0, and the step is one sparse solve; each θ then
-  !> takes the direction of its slip, until no θ moves by more than THETA_TOL (FP_MAX solves at
-  !> most: converged = .false. then, or where the system is singular). σ = s·d(θ).
+  !> cone_states on the augmented sparse system (ms%solve_coulomb), the rows I (rows(1:ni)) holding
+  !> g = 0. First the slipping conditions' forces as known loads, -μ Λ_N d(θ) from the last iterate,
+  !> on the factor of the rows I alone (kept from solve to solve and step to step), each θ taking the
+  !> direction of its slip, until neither the forces (1e-14 relative) nor any θ (THETA_TOL) move
+  !> (FX_MAX solves); where that does not settle, their rows Λ_t1 = -μ cos θ Λ_N, Λ_t2 = -μ sin θ Λ_N
+  !> in the system (refactorized at each θ), the same update (FP_MAX solves). converged = .false.:
+  !> neither settled, or the system is singular. σ = s·d(θ).
   subroutine cone_fixed_point(self, ms, q, ni, lam, g, converged, stat, errmsg)
     class(coulomb_t), intent(inout) :: self
     type(multiplier_system_t), intent(inout) :: ms
@@ -205,6 +211,8 @@ contains
     do l = 1, ni
       self%on(self%rows(l)) = .true.
     end do
+    call cone_known_forces(self, ms, q, lam, g, converged, stat, errmsg)
+    if (stat /= STAT_OK .or. converged) return
     do it = 1, FP_MAX
       self%rho = 0.0_dp
       do k = 1, self%n
@@ -231,6 +239,60 @@ contains
       end if
     end do
   end subroutine cone_fixed_point
+
+  !> cone_fixed_point's first stage: the slipping forces known (lam_rows), the factor of on kept.
+  subroutine cone_known_forces(self, ms, q, lam, g, converged, stat, errmsg)
+    class(coulomb_t), intent(inout) :: self
+    type(multiplier_system_t), intent(inout) :: ms
+    real(dp), intent(in) :: q(:)
+    real(dp), intent(inout) :: lam(:)
+    real(dp), intent(out) :: g(:)
+    logical, intent(out) :: converged
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    integer :: it, k, t1, t2
+    real(dp) :: dmax, df, fmax, s1, s2, th, f1, f2
+    logical :: singular
+    converged = .false.
+    stat = STAT_OK
+    self%rho = 0.0_dp
+    self%lam_rows = 0.0_dp
+    do k = 1, self%n
+      if (self%state(k) /= FRICTION_SLIP_POS) cycle
+      self%lam_rows(self%trow(k)) = -self%mu(k) * lam(self%nrow(k)) * cos(self%theta(k))
+      self%lam_rows(self%trow2(k)) = -self%mu(k) * lam(self%nrow(k)) * sin(self%theta(k))
+    end do
+    do it = 1, FX_MAX
+      call ms%solve_coulomb(q, self%on, self%rho, lam, g, singular, stat, errmsg, force=self%lam_rows)
+      if (stat /= STAT_OK .or. singular) return
+      dmax = 0.0_dp
+      df = 0.0_dp
+      fmax = 0.0_dp
+      do k = 1, self%n
+        if (self%state(k) /= FRICTION_SLIP_POS) cycle
+        t1 = self%trow(k)
+        t2 = self%trow2(k)
+        s1 = g(t1)
+        s2 = g(t2)
+        self%sig(k) = s1 * cos(self%theta(k)) + s2 * sin(self%theta(k))
+        if (self%sig(k) > 0.0_dp) then         ! (else slipping against its force: it will stick)
+          th = atan2(s2, s1)
+          dmax = max(dmax, abs(atan2(sin(th - self%theta(k)), cos(th - self%theta(k)))))
+          self%theta(k) = th
+        end if
+        f1 = -self%mu(k) * lam(self%nrow(k)) * cos(self%theta(k))
+        f2 = -self%mu(k) * lam(self%nrow(k)) * sin(self%theta(k))
+        df = max(df, hypot(f1 - self%lam_rows(t1), f2 - self%lam_rows(t2)))
+        fmax = max(fmax, hypot(f1, f2))
+        self%lam_rows(t1) = f1
+        self%lam_rows(t2) = f2
+      end do
+      if (dmax <= THETA_TOL .and. df <= FORCE_RTOL * fmax) then
+        converged = .true.
+        return
+      end if
+    end do
+  end subroutine cone_known_forces
 
   !> The multipliers of the rows from the unknowns lr: Λ of I as they are, a slipping condition's
   !> Λ_T = -μ Λ_N (cos θ, sin θ); into lam (over every row).

@@ -12,7 +12,7 @@ module scene_contacts
   use element_traits, only: ET_MASS, ET_SPRING
   use material_law, only: law_is_linear, law_name
   use scene_helpers, only: node_group, get_point, model_size, get_unit, get_choice, check_modelled, get_function, &
-    on_models, modelled_group
+    on_models, modelled_group, get_restitution
   use scene_gap_faces, only: do_gap_faces
   use mesh_segments, only: segment_set_t, segment_pair_t, group_segments, closest_segment, pair_segment, orient_lines, &
     node_stars, NO_PARTNER
@@ -176,8 +176,7 @@ contains
     if (stat /= STAT_OK) return
     call get_unit(st, 'NORMAL', n, stat, errmsg)
     if (stat /= STAT_OK) return
-    call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
-      upper=1.0_dp, upper_inclusive=.true.)
+    call get_restitution(st, c%restitution, stat, errmsg)
     if (stat == STAT_OK) call get_motion(scn, st, c, stat, errmsg)
     if (stat /= STAT_OK) return
     allocate (batch(size(scn%mesh%ngroups(ig)%items)))
@@ -260,8 +259,7 @@ contains
       return
     end if
     s = merge(-1, 1, find_param(st, 'INSIDE') > 0)
-    call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
-      upper=1.0_dp, upper_inclusive=.true.)
+    call get_restitution(st, c%restitution, stat, errmsg)
     if (stat == STAT_OK) call get_motion(scn, st, c, stat, errmsg)
     if (stat /= STAT_OK) return
     call check_following(scn, st, k, stat, errmsg)
@@ -328,8 +326,7 @@ contains
       call get_unit(st, 'NORMAL', n, stat, errmsg)
       if (stat /= STAT_OK) return
     end if
-    call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
-      upper=1.0_dp, upper_inclusive=.true.)
+    call get_restitution(st, c%restitution, stat, errmsg)
     if (stat /= STAT_OK) return
     if (kp > 0 .and. kn == 0 .and. kw == 0) then
       associate (vals => st%params(kp)%values)
@@ -453,8 +450,7 @@ contains
         'NORMAL: the segments give the normal)', st%params(ks)%keytok))
       return
     end if
-    call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
-      upper=1.0_dp, upper_inclusive=.true.)
+    call get_restitution(st, c%restitution, stat, errmsg)
     if (stat /= STAT_OK) return
     call modelled_group(scn, st, st%params(kn)%values(1), ga, stat, errmsg)
     if (stat == STAT_OK) call modelled_group(scn, st, st%params(ks)%values(1), gs, stat, errmsg)

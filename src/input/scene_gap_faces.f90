@@ -8,9 +8,9 @@
 module scene_gap_faces
   use kinds, only: dp
   use errors, only: STAT_OK, STAT_INPUT, set_error, str
-  use statement, only: statement_t, stmt_error, find_param, get
+  use statement, only: statement_t, stmt_error, find_param
   use scene, only: scene_t, condition_t
-  use scene_helpers, only: model_size, get_choice, on_models, modelled_group
+  use scene_helpers, only: model_size, get_choice, on_models, modelled_group, get_restitution
   use mesh_faces, only: face_set_t, group_faces
   use face_projection, only: project_on_face
   implicit none
@@ -46,8 +46,7 @@ contains
         'SEGMENTS or NORMAL: the faces give the normal)', st%params(kf)%keytok))
       return
     end if
-    call get(st, 'RESTITUTION', c%restitution, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
-      upper=1.0_dp, upper_inclusive=.true.)
+    call get_restitution(st, c%restitution, stat, errmsg)
     if (stat /= STAT_OK) return
     call modelled_group(scn, st, st%params(kn)%values(1), ga, stat, errmsg)
     if (stat == STAT_OK) call modelled_group(scn, st, st%params(kf)%values(1), gf, stat, errmsg)

@@ -6,11 +6,11 @@ module scene_helpers
   use errors, only: STAT_OK, STAT_INPUT, set_error, str, upper
   use mesh, only: mesh_t, MAX_COORD
   use element_traits, only: etype_from_name, etype_name
-  use statement, only: statement_t, token_t, stmt_error, find_param, get_real, get_word
+  use statement, only: statement_t, token_t, stmt_error, find_param, get_real, get_word, get
   use scene, only: scene_t
   implicit none
   private
-  public :: on_models, modelled_group
+  public :: on_models, modelled_group, get_restitution
   public :: get_etype, node_group, get_choice, get_pair, get_point, model_size, get_unit, check_modelled, resolve_path, &
     get_function, check_count
 
@@ -98,6 +98,16 @@ contains
     end do
     dist = row(len(b))
   end function edit_distance
+
+  !> RESTITUTION e of an OBSTACLE or GAP: 0 <= e <= 1, default 1 (elastic).
+  subroutine get_restitution(st, e, stat, errmsg)
+    type(statement_t), intent(in) :: st
+    real(dp), intent(out) :: e
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    call get(st, 'RESTITUTION', e, stat, errmsg, default=1.0_dp, lower=0.0_dp, lower_inclusive=.true., &
+      upper=1.0_dp, upper_inclusive=.true.)
+  end subroutine get_restitution
 
   !> The node group named by tok (node_group) whose every node is on a modelled element
   !> (check_modelled): a contact statement's groups.
