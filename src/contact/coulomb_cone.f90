@@ -234,7 +234,7 @@ contains
         self%theta(k) = th
       end do
       if (dmax <= THETA_TOL) then
-        converged = .true.
+        converged = slips_forward(self)
         return
       end if
     end do
@@ -288,11 +288,23 @@ contains
         self%lam_rows(t2) = f2
       end do
       if (dmax <= THETA_TOL .and. df <= FORCE_RTOL * fmax) then
-        converged = .true.
+        converged = slips_forward(self)
         return
       end if
     end do
   end subroutine cone_known_forces
+
+  !> Whether every slipping condition slips along its force's opposite (σ > 0). A fixed point that
+  !> settles with one slipping against its force (σ <= 0, where θ is not updated) is not the pass's
+  !> answer: the Schur block's Newton, which solves θ and σ together, decides that pass.
+  pure logical function slips_forward(self) result(ok)
+    class(coulomb_t), intent(in) :: self
+    integer :: k
+    ok = .true.
+    do k = 1, self%n
+      if (self%state(k) == FRICTION_SLIP_POS) ok = ok .and. self%sig(k) > 0.0_dp
+    end do
+  end function slips_forward
 
   !> The multipliers of the rows from the unknowns lr: Λ of I as they are, a slipping condition's
   !> Λ_T = -μ Λ_N (cos θ, sin θ); into lam (over every row).

@@ -16,6 +16,8 @@ src/mesh/face_projection.f90; docs/input.md "GAP … FACES in detail").
   the weights (1, 0, 0, 0);
 - two passes (cube on slab and slab on cube, for two deformable faces): non-matching, the six
   momenta kept; matching, the momentum transferred is one pass's (1e-12) and the history the same;
+- the augmented sparse system (MULTIPLIERS AUGMENTED: the cone's fixed point, the Schur Newton where
+  a contact would slip against its force) gives the Schur block's answer (1e-12), PAPER and from a gap;
 - a restart mid-impact continues bit for bit;
 - bad input: FACES in 2D, with WITH, PAIRING STEP, a LARGE model without PAIRING START, no node
   facing a face, a node inside the face it faces.
@@ -126,6 +128,16 @@ def two_passes():
     sc.report_measured('two passes, matching: the history of one pass (1e-10)', err <= 1e-10, '%.2e' % err)
 
 
+def augmented():
+    for sets in [['SCHEME.IMPACT=PAPER'], ['BOX.cube.ORIGIN=0.08 0.11 0.051', 'TIME.END=1.2e-3'], []]:
+        a = sc.history(sc.run_ok(HERE + 'cube_slab.dat', sets + ['SCHEME.MULTIPLIERS=SCHUR']))
+        b = sc.history(sc.run_ok(HERE + 'cube_slab.dat', sets + ['SCHEME.MULTIPLIERS=AUGMENTED']))
+        err = max(np.abs(a[k] - b[k]).max() / np.abs(a[k]).max() for k in ['kinetic', 'internal', 'friction_dissipated',
+                                                                              'momentum_z'])
+        sc.report_measured('cube on slab %s: MULTIPLIERS AUGMENTED = SCHUR (1e-12)' % ' '.join(sets), err <= 1e-12,
+                           '%.2e' % err)
+
+
 def restart():
     same, detail = sc.restart_same(HERE + 'cube_slab.dat', ['OUTPUT.CHECKPOINT=50', 'TIME.END=4e-4'], '2e-4',
                                    files=('history.csv', 'contacts.csv'))
@@ -161,5 +173,6 @@ if __name__ == '__main__':
     ball()
     matching()
     two_passes()
+    augmented()
     restart()
     bad_inputs()
