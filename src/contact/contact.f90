@@ -208,7 +208,7 @@ module contact
       character(len=:), allocatable, intent(out) :: errmsg
       integer, intent(in), optional :: body(:)
       type(contact_report_t), intent(out), optional :: report
-      real(dp), intent(in), optional :: step           !< h: FRICTION's stuck contacts (stick_velocities)
+      real(dp), intent(in), optional :: step           !< h: FRICTION's stuck contacts (friction_impulses)
     end subroutine contact_end_step
 
     !> FRICTION on the correction's impulses, then the sticking contacts' slip rates, after the

@@ -1,36 +1,32 @@
 !> FRICTION on the impulses of the impact corrections (docs/contact.md, "Friction"): the normal
-!> impulses a correction gives carry their Coulomb share (correction_friction) and a sticking
-!> contact's slip rate is brought to zero (stick_velocities), in 2D along the tangent, in 3D on
-!> the circle of the cone. What these impulses take from the kinetic energy is the friction's
-!> dissipation, booked as such, never restored. A submodule of contact.
+!> impulses a correction gives carry their Coulomb share and a sticking contact's slip rate is
+!> brought to zero (friction_impulses), in 2D along the tangent, in 3D on the circle of the cone.
+!> What these impulses take from the kinetic energy is the friction's dissipation, booked as such,
+!> never restored. A submodule of contact.
 submodule (contact) contact_friction
   implicit none
 
 contains
 
+  !> FRICTION on the impulses of the impact correction (docs/contact.md, "Friction"), one condition
+  !> after the other; the kinetic energy each changes is the friction's, never restored
+  !> (tangential_impulse), I_T kept in cimp(t) for the outputs.
+  !> First the corrections: a condition j the correction pushes by I_N = cimp(j) > 0 gets along its
+  !> tangential row t the impulse that opposes its slip rate v_t (c_t v, relative to a moving
+  !> obstacle), capped by the cone and by what stops the slip: -sign(v_t) min(μ I_N, |v_t| / a_tt),
+  !> a_tt = c_t M⁻¹c_t'; one the correction pulls back (I_N < 0: PERSIST's projection of the closing
+  !> step's reflection) gives back the friction of that share of the step's impulse F = h/2 Λ_T:
+  !> -sign(F) min(μ |I_N|, |F|), so that the step's tangential impulse stays within μ times its net
+  !> normal one.
+  !> Then the sticking contacts: a stuck condition's slip over the step is 0, Δu_T = (h/2)(v_T(n) +
+  !> v_T(n+1)) = 0, so a node that sticks while it slid leaves the step at v_T(n+1) = -v_T(n) and
+  !> keeps alternating (the trapezoid rule's signature, as the normal velocity's before eq (16)). A
+  !> sticking contact is a tangential impact: its slip rate is brought to 0 by the impulse -v_t / a_tt
+  !> along c_t, within what the cone leaves of the step's impulses, μ (h/2 Λ_N + I_N) - |h/2 Λ_T + I_T|.
+  !> In 3D both on the circle (friction_impulse_3d).
   module procedure friction_impulses
-    call correction_friction(cs, h, v, mv, rep, stat, errmsg)
-    if (stat == STAT_OK) call stick_velocities(cs, h, v, mv, rep, stat, errmsg)
-  end procedure friction_impulses
-
-  !> FRICTION on the impulses of the impact correction (docs/contact.md, "Friction"): a
-  !> condition j the correction pushes by I_N = cimp(j) > 0 gets along its tangential row t the
-  !> impulse that opposes its slip rate v_t (c_t v, relative to a moving obstacle), capped by the
-  !> cone and by what stops the slip: -sign(v_t) min(μ I_N, |v_t| / a_tt), a_tt = c_t M⁻¹c_t'; one
-  !> the correction pulls back (I_N < 0: PERSIST's projection of the closing step's reflection)
-  !> gives back the friction of that share of the step's impulse F = h/2 Λ_T: -sign(F) min(μ |I_N|,
-  !> |F|), so that the step's tangential impulse stays within μ times its net normal one. One
-  !> condition after the other; the kinetic energy each changes is the friction's, never restored
-  !> (tangential_impulse); I_T is kept in cimp(t) for the outputs.
-  subroutine correction_friction(cs, h, v, mv, rep, stat, errmsg)
-    type(contact_set_t), intent(inout) :: cs
-    real(dp), intent(in) :: h
-    real(dp), intent(inout) :: v(:), mv(:)
-    type(contact_report_t), intent(inout) :: rep
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
     integer :: j, jt
-    real(dp) :: vt, a(1, 1), f, p
+    real(dp) :: vt, a(1, 1), f, p, budget
     stat = STAT_OK
     do j = 1, cs%nc                                    ! (cimp(jt) = 0 since contact_end_step began)
       jt = cs%fr%tangent_of(j)
@@ -55,25 +51,7 @@ contains
       call tangential_impulse(cs, jt, p, vt, a(1, 1), v, mv, rep, stat, errmsg)
       if (stat /= STAT_OK) return
     end do
-  end subroutine correction_friction
-
-  !> FRICTION: a stuck condition's slip over the step is 0, Δu_T = (h/2)(v_T(n) + v_T(n+1)) = 0, so
-  !> a node that sticks while it slid leaves the step at v_T(n+1) = -v_T(n) and keeps alternating
-  !> (the trapezoid rule's signature, as the normal velocity's before eq (16)). A sticking contact
-  !> is a tangential impact: its slip rate is brought to 0 by the impulse -v_t / a_tt along c_t,
-  !> within what the cone leaves of the step's impulses, μ (h/2 Λ_N + I_N) - |h/2 Λ_T + I_T|; the
-  !> kinetic energy it removes is the friction's (rep%friction_dissipated), I_T kept in cimp(t).
-  subroutine stick_velocities(cs, h, v, mv, rep, stat, errmsg)
-    type(contact_set_t), intent(inout) :: cs
-    real(dp), intent(in) :: h
-    real(dp), intent(inout) :: v(:), mv(:)
-    type(contact_report_t), intent(inout) :: rep
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    integer :: j, jt
-    real(dp) :: vt, a(1, 1), budget
-    stat = STAT_OK
-    do j = 1, cs%nc
+    do j = 1, cs%nc                                    ! the sticking contacts' slip rates
       jt = cs%fr%tangent_of(j)
       if (jt == 0) cycle
       if (.not. (cs%now(j) .and. cs%fr%sticks(jt))) cycle
@@ -94,7 +72,7 @@ contains
         errmsg)
       if (stat /= STAT_OK) return
     end do
-  end subroutine stick_velocities
+  end procedure friction_impulses
 
   !> The slip rate of tangential row jt: c_t v, relative to a moving obstacle (its tangential
   !> velocity wrate(jt)).
@@ -128,11 +106,12 @@ contains
   end subroutine tangential_impulse
 
   !> The friction impulse of a 3D condition j (tangential rows t1, t2; A = C_T M⁻¹C_T', 2 × 2; v_t
-  !> the slip rate). stick = .false., correction_friction: a push I_N > 0 gets the impulse p* =
+  !> the slip rate). stick = .false., the corrections: a push I_N > 0 gets the impulse p* =
   !> -A⁻¹v_t that stops the slip, brought back to the circle μ I_N if it leaves it; a pull I_N < 0
   !> gives back -F min(1, μ |I_N| / |F|) of the step's tangential impulse F = h/2 Λ_T. stick =
-  !> .true., stick_velocities: p* within what the circle leaves of the step's impulses, μ (h/2 Λ_N +
-  !> I_N) - |h/2 Λ_T + I_T|. Each is α p* (0 < α <= 1) and dissipates α (1 - α/2) p*'A p* >= 0.
+  !> .true., the sticking contacts: p* within what the circle leaves of the step's impulses,
+  !> μ (h/2 Λ_N + I_N) - |h/2 Λ_T + I_T|. Each is α p* (0 < α <= 1) and dissipates
+  !> α (1 - α/2) p*'A p* >= 0.
   subroutine friction_impulse_3d(cs, j, h, stick, v, mv, rep, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
     integer, intent(in) :: j
