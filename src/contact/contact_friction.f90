@@ -48,7 +48,7 @@ contains
       else                                             ! the correction took normal impulse back:
         p = -sign(min(cs%fr%mu_of(j) * abs(cs%cimp(j)), abs(f)), f)   ! the step's friction gives back its share
       end if
-      call tangential_impulse(cs, jt, p, vt, a(1, 1), v, mv, rep, stat, errmsg)
+      call tangential_impulse(cs, [jt], [p], [vt], a, v, mv, rep, stat, errmsg)
       if (stat /= STAT_OK) return
     end do
     do j = 1, cs%nc                                    ! the sticking contacts' slip rates
@@ -68,7 +68,7 @@ contains
       call cs%sp%am_block(cs%c, [jt], 1, a, stat, errmsg)
       if (stat /= STAT_OK) return
       if (.not. (a(1, 1) > 0.0_dp)) cycle
-      call tangential_impulse(cs, jt, -sign(min(budget, abs(vt) / a(1, 1)), vt), vt, a(1, 1), v, mv, rep, stat, &
+      call tangential_impulse(cs, [jt], [-sign(min(budget, abs(vt) / a(1, 1)), vt)], [vt], a, v, mv, rep, stat, &
         errmsg)
       if (stat /= STAT_OK) return
     end do
@@ -84,25 +84,41 @@ contains
     if (cs%moving) vt = vt - cs%wrate(jt)
   end function slip_rate
 
-  !> The impulse p along tangential row jt (vt its slip rate, a = c_t M⁻¹c_t'):
-  !> v <- v + p M⁻¹c_t', its dissipation -p (vt + ½ a p) >= 0 booked as the friction's and the
-  !> rest of the kinetic change, p times the obstacle's tangential velocity, as the obstacle's
-  !> work; p kept in cimp(jt).
+  !> The impulse p(1:n) along the tangential rows jt(1:n) of a condition (n = 1 in 2D, 2 in 3D;
+  !> vt their slip rates, a = C_T M⁻¹C_T'): v <- v + M⁻¹C_T'p, its dissipation -p·(vt + ½ a p) >= 0
+  !> booked as the friction's and the rest of the kinetic change, p·(the obstacle's tangential
+  !> velocity), as the obstacle's work; p kept in cimp(jt). (Loops: matmul would take a temporary.)
   subroutine tangential_impulse(cs, jt, p, vt, a, v, mv, rep, stat, errmsg)
     type(contact_set_t), intent(inout) :: cs
-    integer, intent(in) :: jt
-    real(dp), intent(in) :: p, vt, a
+    integer, intent(in) :: jt(:)
+    real(dp), intent(in) :: p(:), vt(:), a(:, :)
     real(dp), intent(inout) :: v(:), mv(:)
     type(contact_report_t), intent(inout) :: rep
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    cs%nu(jt) = p
+    integer :: k, l
+    real(dp) :: ap, dis, ow
+    do k = 1, size(jt)
+      cs%nu(jt(k)) = p(k)
+    end do
     call cs%sp%add_minv_ct(cs%c, cs%nu, 1.0_dp, v, mv, stat, errmsg)
-    cs%nu(jt) = 0.0_dp
+    do k = 1, size(jt)
+      cs%nu(jt(k)) = 0.0_dp
+    end do
     if (stat /= STAT_OK) return
-    rep%friction_dissipated = rep%friction_dissipated - p * (vt + 0.5_dp * a * p)
-    if (cs%moving) rep%obstacle_work = rep%obstacle_work + p * cs%wrate(jt)
-    cs%cimp(jt) = cs%cimp(jt) + p
+    dis = 0.0_dp
+    ow = 0.0_dp
+    do k = 1, size(jt)
+      ap = 0.0_dp
+      do l = 1, size(jt)
+        ap = ap + a(k, l) * p(l)
+      end do
+      dis = dis + p(k) * (vt(k) + 0.5_dp * ap)
+      if (cs%moving) ow = ow + p(k) * cs%wrate(jt(k))
+      cs%cimp(jt(k)) = cs%cimp(jt(k)) + p(k)
+    end do
+    rep%friction_dissipated = rep%friction_dissipated - dis
+    if (cs%moving) rep%obstacle_work = rep%obstacle_work + ow
   end subroutine tangential_impulse
 
   !> The friction impulse of a 3D condition j (tangential rows t1, t2; A = C_T M⁻¹C_T', 2 × 2; v_t
@@ -148,7 +164,7 @@ contains
       if (.not. ok) return
     end if
     if (norm2(p) > cap) p = p * (cap / norm2(p))
-    call tangential_impulse_3d(cs, jt, p, vt, a, v, mv, rep, stat, errmsg)
+    call tangential_impulse(cs, jt, p, vt, a, v, mv, rep, stat, errmsg)
   end subroutine friction_impulse_3d
 
   !> p = -A⁻¹v_t, the impulse that stops the slip rate v_t (A symmetric 2 × 2; ok = .false. where
@@ -163,24 +179,4 @@ contains
     p = 0.0_dp
     if (ok) p = -[a(2, 2) * vt(1) - a(1, 2) * vt(2), a(1, 1) * vt(2) - a(2, 1) * vt(1)] / det
   end subroutine stop_impulse
-
-  !> The impulse p along tangential rows jt(1:2) (v_t their slip rates, A = C_T M⁻¹C_T'):
-  !> v <- v + M⁻¹C_T'p, its dissipation -p·(v_t + ½ A p) >= 0 booked as the friction's, p·(the
-  !> obstacle's tangential velocity) as the obstacle's work; p kept in cimp(jt).
-  subroutine tangential_impulse_3d(cs, jt, p, vt, a, v, mv, rep, stat, errmsg)
-    type(contact_set_t), intent(inout) :: cs
-    integer, intent(in) :: jt(2)
-    real(dp), intent(in) :: p(2), vt(2), a(2, 2)
-    real(dp), intent(inout) :: v(:), mv(:)
-    type(contact_report_t), intent(inout) :: rep
-    integer, intent(out) :: stat
-    character(len=:), allocatable, intent(out) :: errmsg
-    cs%nu(jt) = p
-    call cs%sp%add_minv_ct(cs%c, cs%nu, 1.0_dp, v, mv, stat, errmsg)
-    cs%nu(jt) = 0.0_dp
-    if (stat /= STAT_OK) return
-    rep%friction_dissipated = rep%friction_dissipated - dot_product(p, vt + 0.5_dp * matmul(a, p))
-    if (cs%moving) rep%obstacle_work = rep%obstacle_work + dot_product(p, cs%wrate(jt))
-    cs%cimp(jt) = cs%cimp(jt) + p
-  end subroutine tangential_impulse_3d
 end submodule contact_friction

@@ -132,9 +132,9 @@ contains
       self%rows(nl + 1:nl + 2) = [self%trow(k), self%trow2(k)]
       nl = nl + 2
     end do
-    ! A large zone (MULTIPLIERS AUGMENTED, or AUTO above AUGMENTED_ABOVE unknowns): the augmented
-    ! sparse system, the directions by a fixed point; the Schur block's Newton where that fails.
-    ! (nl: the dense block's order, 3 rows a slipping node)
+    ! A large zone (MULTIPLIERS AUGMENTED, or AUTO where the dense block's order nl, 3 rows a
+    ! slipping node, passes AUGMENTED_ABOVE): the augmented sparse system by a fixed point; the
+    ! Schur block's Newton where that does not settle.
     if (ms%kkt_built .and. (ms%mode == SOLVER_AUGMENTED .or. (ms%mode == SOLVER_AUTO .and. nl > ms%switch_size))) then
       call cone_fixed_point(self, ms, q, ni, lam, g, converged, stat, errmsg)
       if (stat /= STAT_OK .or. converged) then
@@ -204,7 +204,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: it, k, l
-    real(dp) :: dmax, s1, s2, th
+    real(dp) :: dmax
     logical :: singular
     converged = .false.
     self%on = .false.
@@ -222,17 +222,7 @@ contains
       end do
       call ms%solve_coulomb(q, self%on, self%rho, lam, g, singular, stat, errmsg)
       if (stat /= STAT_OK .or. singular) return
-      dmax = 0.0_dp
-      do k = 1, self%n
-        if (self%state(k) /= FRICTION_SLIP_POS) cycle
-        s1 = g(self%trow(k))
-        s2 = g(self%trow2(k))
-        self%sig(k) = s1 * cos(self%theta(k)) + s2 * sin(self%theta(k))
-        if (.not. self%sig(k) > 0.0_dp) cycle    ! (slipping against its force: a violation, it sticks)
-        th = atan2(s2, s1)
-        dmax = max(dmax, abs(atan2(sin(th - self%theta(k)), cos(th - self%theta(k)))))
-        self%theta(k) = th
-      end do
+      call follow_slips(self, g, dmax)
       if (dmax <= THETA_TOL) then
         converged = slips_forward(self)
         return
@@ -251,7 +241,7 @@ contains
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
     integer :: it, k, t1, t2
-    real(dp) :: dmax, df, fmax, s1, s2, th, f1, f2
+    real(dp) :: dmax, df, fmax, f1, f2
     logical :: singular
     converged = .false.
     stat = STAT_OK
@@ -265,21 +255,13 @@ contains
     do it = 1, FX_MAX
       call ms%solve_coulomb(q, self%on, self%rho, lam, g, singular, stat, errmsg, force=self%lam_rows)
       if (stat /= STAT_OK .or. singular) return
-      dmax = 0.0_dp
+      call follow_slips(self, g, dmax)
       df = 0.0_dp
       fmax = 0.0_dp
       do k = 1, self%n
         if (self%state(k) /= FRICTION_SLIP_POS) cycle
         t1 = self%trow(k)
         t2 = self%trow2(k)
-        s1 = g(t1)
-        s2 = g(t2)
-        self%sig(k) = s1 * cos(self%theta(k)) + s2 * sin(self%theta(k))
-        if (self%sig(k) > 0.0_dp) then         ! (else slipping against its force: it will stick)
-          th = atan2(s2, s1)
-          dmax = max(dmax, abs(atan2(sin(th - self%theta(k)), cos(th - self%theta(k)))))
-          self%theta(k) = th
-        end if
         f1 = -self%mu(k) * lam(self%nrow(k)) * cos(self%theta(k))
         f2 = -self%mu(k) * lam(self%nrow(k)) * sin(self%theta(k))
         df = max(df, hypot(f1 - self%lam_rows(t1), f2 - self%lam_rows(t2)))
@@ -293,6 +275,28 @@ contains
       end if
     end do
   end subroutine cone_known_forces
+
+  !> The fixed point's update from the slips g of its last solve: each slipping condition's σ = s·d(θ)
+  !> and, where σ > 0, θ the slip's direction; dmax the largest change of θ. (σ <= 0, slipping
+  !> against its force: θ stays, and slips_forward hands the pass to the Newton.)
+  pure subroutine follow_slips(self, g, dmax)
+    class(coulomb_t), intent(inout) :: self
+    real(dp), intent(in) :: g(:)
+    real(dp), intent(out) :: dmax
+    integer :: k
+    real(dp) :: s1, s2, th
+    dmax = 0.0_dp
+    do k = 1, self%n
+      if (self%state(k) /= FRICTION_SLIP_POS) cycle
+      s1 = g(self%trow(k))
+      s2 = g(self%trow2(k))
+      self%sig(k) = s1 * cos(self%theta(k)) + s2 * sin(self%theta(k))
+      if (.not. self%sig(k) > 0.0_dp) cycle
+      th = atan2(s2, s1)
+      dmax = max(dmax, abs(atan2(sin(th - self%theta(k)), cos(th - self%theta(k)))))
+      self%theta(k) = th
+    end do
+  end subroutine follow_slips
 
   !> Whether every slipping condition slips along its force's opposite (σ > 0). A fixed point that
   !> settles with one slipping against its force (σ <= 0, where θ is not updated) is not the pass's
