@@ -163,12 +163,14 @@ zone: bin/rebond
 	@/usr/bin/python3 tools/zone_study.py
 
 # rebond and CalculiX side by side (docs/peers.md): SDNV100's bar on a wall, elastic and
-# elastic-plastic, over meshes and steps; installs Debian's calculix-ccx when it is missing.
+# elastic-plastic, over meshes and steps, and the copper Taylor bar (axisymmetric and plane strain);
+# installs Debian's calculix-ccx when it is missing.
 .PHONY: peers
 peers: bin/rebond
 	@command -v ccx >/dev/null 2>&1 || apt-get install -y calculix-ccx >/dev/null || \
 	  { echo "peers: CalculiX is needed (apt-get install calculix-ccx, as root)"; exit 1; }
 	@/usr/bin/python3 tools/peers.py
+	@/usr/bin/python3 tools/peers_taylor.py
 	@/usr/bin/python3 tools/peers_friction.py
 
 # The contact comparison (docs/contact-table.md): three impact benchmarks with exact solutions,

@@ -243,8 +243,15 @@ def write_doc(doc, rows, wall):
     fig.tight_layout()
     fig.savefig(os.path.join(ROOT, 'docs', 'figures', 'peers.png'), dpi=100)
     lines += ['', '![accuracy against CPU](figures/peers.png)', ''] + reading(rows)
+    # tools/peers_taylor.py's section (between its markers) is kept as it is
+    kept = ''
+    if os.path.exists(doc):
+        old = open(doc).read()
+        b, e = '<!-- taylor:begin -->', '<!-- taylor:end -->'
+        if b in old and e in old:
+            kept = old[old.index(b):old.index(e) + len(e)] + '\n'
     with open(doc, 'w') as f:
-        f.write('\n'.join(lines) + '\n')
+        f.write('\n'.join(lines) + '\n' + kept)
     print('wrote', doc)
 
 

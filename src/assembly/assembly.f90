@@ -19,7 +19,7 @@ module assembly
   use pair_blocks, only: pair_block_t
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_mass, &
     elem_elastic_d, MAX_EDOF, MAX_NSTRAIN
-  use material_law, only: law_is_linear, law_nstate, law_stored, law_elastic_matrix, LAW_HYPERELASTIC
+  use material_law, only: law_is_linear, law_nstate, law_stored, law_elastic_matrix, LAW_HYPERELASTIC, LAW_VON_MISES
   use law_hyperelastic, only: nh_lame, nh_mean_energy
   use checkpoint, only: ckpt_file_t
   use reactions, only: reaction_set_t
@@ -70,6 +70,10 @@ module assembly
     !> The compressive part of the LARGE surface elements' geometric stiffness (negative semi-
     !> definite), apart from tval: the iteration matrix adds it where S stays positive definite.
     real(dp), allocatable :: gval(:)
+    !> The antisymmetric part of the Jacobian of eq (9)'s forces that tval (symmetric, for CHOLMOD)
+    !> leaves out (wants_anti), its upper triangle on the pattern: iterate_eq9 takes it in with one
+    !> more solve (anti_sweep).
+    real(dp), allocatable :: aval(:)
     real(dp), allocatable :: cval(:)         !< Rayleigh damping C = Σ (alpha M_e + beta K0_e) (MODEL DAMPING)
     type(k0_product_t) :: k0u                !< Bσ = K0 u for a linear elastic small-strain model
   end type operators_t
@@ -187,8 +191,28 @@ contains
         allocate (sys%ops%gval(sys%ops%pat%nnz))
         sys%ops%gval = 0.0_dp
       end if
+      if (any([(wants_anti(scn, k), k = 1, size(scn%models))])) then
+        allocate (sys%ops%aval(sys%ops%pat%nnz))
+        sys%ops%aval = 0.0_dp
+      end if
     end if
   end subroutine build_system
+
+  !> Whether model k's Jacobian of eq (9)'s forces has an antisymmetric part the tangent keeps apart
+  !> (sys%ops%aval): LARGE surface and volume elements (the step's force at F_mid: large_plane's and
+  !> large_solid's step tangent), and small-strain ones under VON_MISES (the law's path-mean dbar).
+  logical function wants_anti(scn, k)
+    type(scene_t), intent(in) :: scn
+    integer, intent(in) :: k
+    integer :: fam
+    fam = etype_family(scn%models(k)%etype)
+    wants_anti = .false.
+    if (fam /= FAMILY_SURFACE .and. fam /= FAMILY_VOLUME) return
+    if (scn%models(k)%large) wants_anti = .true.
+    if (scn%models(k)%material > 0) then
+      if (scn%materials(scn%models(k)%material)%law == LAW_VON_MISES .and. .not. scn%models(k)%large) wants_anti = .true.
+    end if
+  end function wants_anti
 
   !> held(k, b): body b has an element acting on a fixed DOF where its rigid mode k (2D: UX, UY, the
   !> rotation about the origin; 3D: UX, UY, UZ, the rotations about x, y, z) does not vanish, so

@@ -10,7 +10,7 @@ module element_table
   use elements, only: elem_dof_mask, elem_ndof, elem_nstrain, elem_ngauss, elem_gauss_b, MAX_EDOF, MAX_NSTRAIN
   implicit none
   private
-  public :: element_table_t, build_element_table, add_btdb
+  public :: element_table_t, build_element_table, add_btdb, add_anti
 
   !> The element table: every element's equations and integration points (B, weights), per model
   !> the elastic matrix, the point kind and the linearity of its law. Computed once.
@@ -269,4 +269,30 @@ contains
       end do
     end do
   end subroutine add_btdb
+
+  !> ka += w × the antisymmetric part of bl' D br (bl, br: nstr x ndof; D nstr x nstr, not symmetric in
+  !> general): the part of eq (9)'s Jacobian that the symmetric iteration matrix leaves out, kept
+  !> apart for iterate_eq9's anti_sweep (a law's path-mean tangent, the step force's B at F_mid).
+  pure subroutine add_anti(nstr, ndof, bl, d, br, w, ka)
+    integer, intent(in) :: nstr, ndof
+    real(dp), intent(in) :: bl(nstr, ndof), d(:, :), br(nstr, ndof), w
+    real(dp), intent(inout) :: ka(:, :)
+    real(dp) :: db(MAX_NSTRAIN, MAX_EDOF), t(MAX_EDOF, MAX_EDOF)
+    integer :: i, k, l
+    do l = 1, ndof
+      do i = 1, nstr
+        db(i, l) = dot_product(d(i, 1:nstr), br(1:nstr, l))
+      end do
+    end do
+    do l = 1, ndof
+      do k = 1, ndof
+        t(k, l) = dot_product(bl(1:nstr, k), db(1:nstr, l))
+      end do
+    end do
+    do l = 1, ndof
+      do k = 1, ndof
+        ka(k, l) = ka(k, l) + 0.5_dp * w * (t(k, l) - t(l, k))
+      end do
+    end do
+  end subroutine add_anti
 end module element_table

@@ -10,10 +10,11 @@ module internal_forces
   use elements, only: MAX_EDOF, MAX_NSTRAIN
   use material_law, only: law_step_t
   use element_points, only: model_view_t, view_model, point_update
-  use element_table, only: element_table_t, add_btdb
+  use element_table, only: element_table_t, add_btdb, add_anti
   use large_kinematics, only: large_axial_element, large_beam_element
   use large_plane, only: large_plane_element
   use large_solid, only: large_solid_element
+  use small_matrix, only: sym_part
   use subincrement, only: correction_stress
   implicit none
   private
@@ -54,7 +55,7 @@ contains
     type(model_view_t) :: mv
     integer :: e, ndof, nstr, ng, g0, k, j, e0, ie, nel
     real(dp) :: ue(MAX_EDOF), une(MAX_EDOF), fe(MAX_EDOF), fc(MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), kg(MAX_EDOF, MAX_EDOF), &
-      wsum, dsum, esum
+      ka(MAX_EDOF, MAX_EDOF), wsum, dsum, esum
     real(qp) :: esumq
     logical :: any_c
     if (sys%ops%k0u%active() .and. .not. (tangent .or. present(elist) .or. sys%extended)) then
@@ -83,6 +84,7 @@ contains
       fcorr = 0.0_dp
       if (tangent) sys%ops%tval = 0.0_dp
       if (tangent .and. allocated(sys%ops%gval)) sys%ops%gval = 0.0_dp
+      if (tangent .and. allocated(sys%ops%aval)) sys%ops%aval = 0.0_dp
       if (sys%react%nslot > 0) sys%react%fc_t = 0.0_dp
     end if
     sys%elems%inverted = 0
@@ -121,21 +123,27 @@ contains
           call large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
         else
           if (tangent) kg(1:ndof, 1:ndof) = 0.0_dp
+          if (tangent) ka(1:ndof, 1:ndof) = 0.0_dp
           if (nstr == 6) then
-            call large_solid_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, any_c, &
-              wsum, dsum)
+            call large_solid_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, ka, &
+              any_c, wsum, dsum)
           else
-            call large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, any_c, &
-              wsum, dsum)
+            call large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, ka, &
+              any_c, wsum, dsum)
           end if
+          if (tangent .and. correct .and. allocated(sys%ops%aval)) call sys%ops%pat%add_element(sys%ops%aval, &
+            sys%elems%edof(e0:e0 + ndof - 1), ka(1:ndof, 1:ndof))
           if (tangent .and. allocated(sys%ops%gval)) call sys%ops%pat%add_element(sys%ops%gval, &
             sys%elems%edof(e0:e0 + ndof - 1), kg(1:ndof, 1:ndof))
         end if
       else if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1 .or. nstr == 6)) then
         call linear_element(sys%elems, sys%pts%eps_t, sys%pts%sig_t, g0, ng, ndof, nstr, mv%im, ue, tangent, fe, ke, esum)
       else
-        call nonlinear_element(scn, sys, mv, g0, ng, ndof, nstr, ue, correct, tangent, fe, fc, ke, any_c, wsum, dsum, &
-          esum)
+        if (tangent) ka(1:ndof, 1:ndof) = 0.0_dp
+        call nonlinear_element(scn, sys, mv, g0, ng, ndof, nstr, ue, correct, tangent, fe, fc, ke, ka, any_c, wsum, &
+          dsum, esum)
+        if (tangent .and. correct .and. allocated(sys%ops%aval)) call sys%ops%pat%add_element(sys%ops%aval, &
+          sys%elems%edof(e0:e0 + ndof - 1), ka(1:ndof, 1:ndof))
       end if
       associate (dofs => sys%elems%edof(e0:e0 + ndof - 1))
         do k = 1, ndof
@@ -400,8 +408,8 @@ contains
   !> The points of one element through their law (material_law's law_update: sub-incremented
   !> along the step), the element forces fe, with correct the correction forces fc of eq (9)
   !> (any_c: some point was sub-incremented), the tangent into ke, the works of the increment.
-  subroutine nonlinear_element(scn, sys, mv, g0, ng, ndof, nstr, ue, correct, tangent, fe, fc, ke, any_c, wsum, dsum, &
-                               esum)
+  subroutine nonlinear_element(scn, sys, mv, g0, ng, ndof, nstr, ue, correct, tangent, fe, fc, ke, ka, any_c, wsum, &
+                               dsum, esum)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     type(model_view_t), intent(in) :: mv
@@ -409,6 +417,7 @@ contains
     real(dp), intent(in) :: ue(:)
     logical, intent(in) :: correct, tangent
     real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum, dsum, esum
+    real(dp), intent(inout) :: ka(:, :)   !< with tangent and correct: += B' (the antisymmetric part of dbar) B
     logical, intent(inout) :: any_c
     real(dp) :: deps(MAX_NSTRAIN), sc(MAX_NSTRAIN), w
     type(law_step_t) :: r
@@ -424,6 +433,10 @@ contains
       sys%pts%sig_t(1:nstr, igp) = r%sig(1:nstr)
       if (tangent) then                     ! (with the correction: the tangent of 2Bσ̄ - Bσ(n), law_step_t's dbar)
         if (correct .and. r%has_dbar) then
+          ! dbar = d(2σ̄)/dΔε is not symmetric: its symmetric part to ke (CHOLMOD's S), the rest to ka
+          ! (iterate_eq9's anti_sweep)
+          call add_anti(nstr, ndof, sys%elems%bmat(p), r%dbar, sys%elems%bmat(p), w, ka)
+          call sym_part(r%dbar(1:nstr, 1:nstr))
           call add_btdb(nstr, ndof, sys%elems%bmat(p), r%dbar, w, ke)
         else
           call add_btdb(nstr, ndof, sys%elems%bmat(p), r%dtan, w, ke)

@@ -5,11 +5,13 @@
 !> element's mean dilatation, and their forces the element's mean pressure.
 module large_plane
   use kinds, only: dp
+  use small_matrix, only: sym_part
   use scene, only: scene_t
   use assembly, only: system_t
   use elements, only: MAX_EDOF, MAX_GAUSS
   use material_law, only: law_step_t
   use element_points, only: model_view_t, point_update
+  use element_table, only: add_anti
   use law_hyperelastic, only: nh_stress, nh_tangent, nh_discrete_stress
   use log_strain, only: hencky_strain, log_tangent, log_curvature, positive_inplane, positive_all
   implicit none
@@ -28,6 +30,7 @@ module large_plane
     real(dp) :: fn(2, 2), f1(2, 2)   !< F(n), F(n+1) in the plane
     real(dp) :: zn, z1               !< F_θθ = 1 + u_r/R at n and n+1 (1 unless AXISYMMETRIC)
     real(dp) :: b1(4, MAX_EDOF)      !< B_NL(F(n+1)) (dE = B_NL du; columns u_x, u_y of each node)
+    real(dp) :: bm(4, MAX_EDOF)      !< B_NL(F_mid), F_mid = ½(F(n) + F(n+1)): the B of the step's force
     real(dp) :: en(4), e1(4)         !< Green-Lagrange strains
     real(dp) :: ln(4), l1(4)         !< the strains the law sees (E, or ℓ; with BBAR ℓ̄)
     real(dp) :: lon(4), lo1(4)       !< the point's own ℓ (the secant of its log map; = ln, l1 without BBAR)
@@ -60,8 +63,8 @@ contains
   !> trace, <> the element's volume mean), which is linear in the points' ℓ: the forces take
   !> T̃ = T + ½(<tr T> - tr T) I₂ at every point (mean_pressure), the step's work Σ w T̄·Δℓ̄ stays
   !> exact through the same secants, and bmat keeps the B of ℓ̄ (the support reactions' Σ w B'T).
-  subroutine large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, any_c, wsum, &
-                                 dsum)
+  subroutine large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, ka, any_c, &
+                                 wsum, dsum)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     type(model_view_t), intent(in) :: mv
@@ -70,9 +73,10 @@ contains
     logical, intent(in) :: correct, tangent
     real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), wsum, dsum
     real(dp), intent(inout) :: kg(:, :)   !< with tangent: += the compressive part of the geometric stiffness
+    real(dp), intent(inout) :: ka(:, :)   !< with tangent and correct: += the Jacobian's antisymmetric part
     logical, intent(inout) :: any_c
     type(plane_pt_t) :: pt(MAX_GAUSS)
-    real(dp) :: mrow(MAX_EDOF), jmean, wtot, gcurv(4, 4)
+    real(dp) :: mrow(MAX_EDOF), mrow_m(MAX_EDOF), jmean, wtot, gcurv(4, 4)
     integer :: k, ntr
     fc(1:ndof) = 0.0_dp
     jmean = 0.0_dp
@@ -95,12 +99,13 @@ contains
         call mean_pressure(sys%elems%wt(g0:g0 + ng - 1), ntr, sys%pts%sig(1:4, g0:g0 + ng - 1), pt(1:ng))
       end if
       mrow(1:ndof) = 0.0_dp
+      mrow_m(1:ndof) = 0.0_dp
       do k = 1, ng                ! <b_v>: the mean of the in-plane trace rows of P B_NL(F(n+1))
-        call add_trace_row(sys%elems%wt(g0 + k - 1) / wtot, ntr, pt(k), ndof, mrow)
+        call add_trace_row(sys%elems%wt(g0 + k - 1) / wtot, ntr, pt(k), ndof, mrow, mrow_m)
       end do
     end if
     do k = 1, ng
-      call point_forces(sys, mv, g0 + k - 1, ndof, correct, tangent, pt(k), mrow, fe, fc, ke, kg, wsum, dsum)
+      call point_forces(sys, mv, g0 + k - 1, ndof, correct, tangent, pt(k), mrow, mrow_m, fe, fc, ke, kg, ka, wsum, dsum)
     end do
     if (tangent .and. mv%bbar .and. mv%hyper) then
       ! HYPERELASTIC's volumetric energy W λ/2 <ln J>²: its Hessian W λ m m' (m = d<ln J>/du, mrow)
@@ -148,6 +153,7 @@ contains
     q%en = green(hn, hzn)
     q%e1 = green(h1, hz1)
     call bnl(q%f1, q%z1, q%dn, q%nr, nen, q%b1)
+    call bnl(0.5_dp * (q%fn + q%f1), 0.5_dp * (q%zn + q%z1), q%dn, q%nr, nen, q%bm)
     ! The Hencky strain: the law's with STRAIN_MEASURE LOG; HYPERELASTIC with BBAR takes its ln J.
     if (mv%log_strain .or. (mv%hyper .and. mv%bbar)) then
       call hencky_strain(q%en, q%lon, q%pn, okn)
@@ -305,19 +311,24 @@ contains
   end subroutine mean_volume
 
   !> mrow += wr (I₂' P(n+1) B_NL(F(n+1))): a point's share of the mean in-plane trace row of dℓ/du.
-  pure subroutine add_trace_row(wr, ntr, q, ndof, mrow)
+  pure subroutine add_trace_row(wr, ntr, q, ndof, mrow, mrow_m)
     real(dp), intent(in) :: wr
     integer, intent(in) :: ntr
     type(plane_pt_t), intent(in) :: q
     integer, intent(in) :: ndof
     real(dp), intent(inout) :: mrow(:)
+    real(dp), intent(inout) :: mrow_m(:)   !< the same of P_m B_NL(F_mid), P_m = ½(P(n) + P(n+1))
+    real(dp) :: tr1(4), trm(4)
     integer :: a
+    tr1 = q%pl(1, :) + q%pl(2, :)
+    trm = 0.5_dp * (q%pn(1, :) + q%pn(2, :)) + 0.5_dp * tr1
+    if (ntr == 3) then
+      tr1 = tr1 + q%pl(3, :)
+      trm = trm + 0.5_dp * (q%pn(3, :) + q%pl(3, :))
+    end if
     do a = 1, ndof
-      if (ntr == 3) then
-        mrow(a) = mrow(a) + wr * dot_product(q%pl(1, :) + q%pl(2, :) + q%pl(3, :), q%b1(:, a))
-      else
-        mrow(a) = mrow(a) + wr * dot_product(q%pl(1, :) + q%pl(2, :), q%b1(:, a))
-      end if
+      mrow(a) = mrow(a) + wr * dot_product(tr1, q%b1(:, a))
+      mrow_m(a) = mrow_m(a) + wr * dot_product(trm, q%bm(:, a))
     end do
   end subroutine add_trace_row
 
@@ -368,15 +379,17 @@ contains
   !> w B' (P'DP + T:d²ℓ/dE², positive part) B + the geometric part with the tensile part of S.
   !> With BBAR the material part is w B̄'D B̄ (B̄ the B of ℓ̄: mrow, the mean trace row) and the log
   !> map's curvature keeps its positive part alone.
-  subroutine point_forces(sys, mv, igp, ndof, correct, tangent, q, mrow, fe, fc, ke, kg, wsum, dsum)
+  subroutine point_forces(sys, mv, igp, ndof, correct, tangent, q, mrow, mrow_m, fe, fc, ke, kg, ka, wsum, dsum)
     type(system_t), intent(inout) :: sys
     type(model_view_t), intent(in) :: mv
     integer, intent(in) :: igp, ndof
     logical, intent(in) :: correct, tangent
     type(plane_pt_t), intent(in) :: q
-    real(dp), intent(in) :: mrow(:)
+    real(dp), intent(in) :: mrow(:), mrow_m(:)
     real(dp), intent(inout) :: fe(:), fc(:), ke(:, :), kg(:, :), wsum, dsum
-    real(dp) :: sn(4), s1(4), sbar(4), snoise, bn(4, MAX_EDOF), bm(4, MAX_EDOF), bb(4, MAX_EDOF), &
+    real(dp), intent(inout) :: ka(:, :)   !< with tangent and correct: += the antisymmetric part (step_b)
+    real(dp) :: sn(4), s1(4), sbar(4), sg(4), snoise, bn(4, MAX_EDOF), bb(4, MAX_EDOF), bh(4, MAX_EDOF), bhe(4, MAX_EDOF), &
+      bl(4, MAX_EDOF), br(4, MAX_EDOF), &
       dm(4, 4), gc(4, 4), st(2, 2), sc(2, 2), w, g, gcm, tr, pmax
     integer :: p, nen, a, b, i
     p = sys%elems%b_ptr(igp)
@@ -389,7 +402,7 @@ contains
       sn = matmul(q%tn, q%pn)
       s1 = matmul(q%t1, q%pl)
       call secant_stress(q%tbar, q%lon, q%lo1, q%en, q%e1, q%pn, q%pl, sbar, snoise)
-      if (tangent .and. .not. mv%bbar) call log_tangent(q%e1, q%t1, q%pl, dm, mv%axi)
+      if (tangent .and. .not. (mv%bbar .or. correct)) call log_tangent(q%e1, q%t1, q%pl, dm, mv%axi)
     else
       sn = q%tn
       s1 = q%t1
@@ -406,7 +419,6 @@ contains
     if (snoise > 0.0_dp) sys%elems%round_floor = sys%elems%round_floor + &
       (w * snoise * max(1.0_dp, maxval(abs(q%f1))))**2 * sum(q%dn(:, 1:nen)**2)
     call bnl(q%fn, q%zn, q%dn, q%nr, nen, bn)
-    call bnl(0.5_dp * (q%fn + q%f1), 0.5_dp * (q%zn + q%z1), q%dn, q%nr, nen, bm)
     do a = 1, ndof                          ! (loops, not reshape/matmul: no temporaries)
       if (mv%bbar .and. .not. mv%hyper) then  ! the B of ℓ̄: Q P B_NL + ½ I₂ <b_v>
         do i = 1, 4
@@ -433,24 +445,43 @@ contains
     dsum = dsum + w * q%dpt
     if (correct) then
       do a = 1, ndof
-        fc(a) = fc(a) + w * (2.0_dp * s_dot_b(sbar, bm, a) - s_dot_b(sn, bn, a) - s_dot_b(s1, q%b1, a))
+        fc(a) = fc(a) + w * (2.0_dp * s_dot_b(sbar, q%bm, a) - s_dot_b(sn, bn, a) - s_dot_b(s1, q%b1, a))
       end do
     end if
     if (.not. tangent) return
-    if (mv%bbar .and. .not. mv%hyper) then
-      ! The law's tangent (that of 2T̄ with the correction: not always positive) through B̄, the log
-      ! map's curvature T̃ : d²ℓ/dE² through B_NL: each split into ke and kg.
-      call add_split(ke, kg, w, bb, dm, ndof, mv%axi)
+    ! With the correction the force is eq (9)'s 2 w B_NL(F_mid)' S̄: its tangent takes the step's B
+    ! (step_b) and the geometric part with S̄ (step_tangent); without, B(n+1) and S(n+1).
+    sg = s1
+    if (correct) then
+      ! B̂ and the antisymmetric part (step_b); the log map's curvature with T̄ through B̂ on E
+      ! (2 B_NL(F_mid)' (dG'/dE T̄) B_NL(F(n+1)), G ≈ P_m); the geometric part with S̄.
+      call step_b(mv, q, mrow_m, bb, ndof, bl, br)
+      bh(:, 1:ndof) = 0.5_dp * (bl(:, 1:ndof) + br(:, 1:ndof))
+      call add_anti(4, ndof, bl, dm, br, w, ka)
+      call sym_part(dm)                    ! (the law's dbar is not symmetric)
+      sg = sbar
+      bhe(:, 1:ndof) = 0.5_dp * (q%bm(:, 1:ndof) + q%b1(:, 1:ndof))
       if (mv%log_strain) then
-        call log_curvature(q%e1, q%t1, gc)
-        call add_split(ke, kg, w, q%b1, gc, ndof, mv%axi)
+        call log_curvature(q%e1, q%tbar, gc)
+        call add_anti(4, ndof, q%bm, gc, q%b1, w, ka)
       end if
     else
-      call add_btdb(ke, w, q%b1, dm, ndof)
+      bh(:, 1:ndof) = q%b1(:, 1:ndof)
+      if (mv%bbar .and. .not. mv%hyper) bh(:, 1:ndof) = bb(:, 1:ndof)
+      bhe(:, 1:ndof) = q%b1(:, 1:ndof)
+      if (mv%log_strain) call log_curvature(q%e1, q%t1, gc)
+    end if
+    if ((mv%bbar .and. .not. mv%hyper) .or. (correct .and. mv%log_strain)) then
+      ! The law's tangent (that of 2T̄ with the correction: not always positive) on ℓ (or ℓ̄), the
+      ! log map's curvature T : d²ℓ/dE² through B_NL: each split into ke and kg.
+      call add_split(ke, kg, w, bh, dm, ndof, mv%axi)
+      if (mv%log_strain) call add_split(ke, kg, w, bhe, gc, ndof, mv%axi)
+    else
+      call add_btdb(ke, w, bh, dm, ndof)
     end if
     ! Geometric part ∇N_a' S ∇N_b on both directions: the tensile part of S in ke, the compressive
     ! part in kg (the iteration matrix takes it where S stays positive definite: iteration_matrix).
-    st = reshape([s1(1), s1(4), s1(4), s1(2)], [2, 2])
+    st = reshape([sg(1), sg(4), sg(4), sg(2)], [2, 2])
     sc = st
     call tensile_part(st)
     sc = sc - st
@@ -468,8 +499,8 @@ contains
     ! The hoop part, d²Eθθ/du_ra du_rb = N_a N_b / R²: S_θθ (an eigenvalue of S) to ke or kg.
     do a = 1, nen
       do b = 1, nen
-        g = w * s1(3) * q%nr(a) * q%nr(b)
-        if (s1(3) > 0.0_dp) then
+        g = w * sg(3) * q%nr(a) * q%nr(b)
+        if (sg(3) > 0.0_dp) then
           ke(2 * a - 1, 2 * b - 1) = ke(2 * a - 1, 2 * b - 1) + g
         else
           kg(2 * a - 1, 2 * b - 1) = kg(2 * a - 1, 2 * b - 1) + g
@@ -477,6 +508,51 @@ contains
       end do
     end do
   end subroutine point_forces
+
+  !> The B's of eq (9)'s step tangent (the energy correction on): the force 2 w B_l' T̄ (B_l, bl here,
+  !> the B of the step's force: B_NL(F_mid), through P_m = ½(P(n) + P(n+1)) for ℓ, with BBAR the
+  !> element's mean trace row of those, mrow_m) has the Jacobian B_l' D B_r + the geometric part with
+  !> S̄, B_r (br) the B of the strain at n+1 (bb with BBAR, P(n+1) B_NL(F(n+1)) for ℓ, else
+  !> B_NL(F(n+1))) and D the law's tangent of 2T̄. With B̂ = ½(B_l + B_r) and δ = B_r - B_l its
+  !> symmetric part is B̂' D_s B̂ - ¼ δ' D_s δ + the antisymmetric parts of D (D_s = ½(D + D')): the
+  !> tangent takes B̂' D_s B̂ (to O(δ²), δ = O(ΔF) the step's change of the gradient; B_r' D B_r, the
+  !> tangent at n+1, misses it by O(ΔF): Newton then contracts by only about |ΔF| per iterate, 1/40
+  !> to 1/100 on the Taylor bar's impact) and ka the antisymmetric part (add_anti).
+  pure subroutine step_b(mv, q, mrow_m, bb, ndof, bl, br)
+    type(model_view_t), intent(in) :: mv
+    type(plane_pt_t), intent(in) :: q
+    real(dp), intent(in) :: mrow_m(:), bb(:, :)
+    integer, intent(in) :: ndof
+    real(dp), intent(out) :: bl(:, :), br(:, :)
+    real(dp) :: pm(4, 4), tr
+    integer :: a, i
+    if (.not. ((mv%bbar .and. .not. mv%hyper) .or. mv%log_strain)) then
+      bl(:, 1:ndof) = q%bm(:, 1:ndof)
+      br(:, 1:ndof) = q%b1(:, 1:ndof)
+      return
+    end if
+    pm = 0.5_dp * (q%pn + q%pl)
+    do a = 1, ndof
+      do i = 1, 4
+        bl(i, a) = dot_product(pm(i, :), q%bm(:, a))
+      end do
+      if (.not. (mv%bbar .and. .not. mv%hyper)) then
+        do i = 1, 4
+          br(i, a) = dot_product(q%pl(i, :), q%b1(:, a))
+        end do
+        cycle
+      end if
+      if (mv%axi) then
+        tr = (mrow_m(a) - (bl(1, a) + bl(2, a) + bl(3, a))) / 3.0_dp
+        bl(1:3, a) = bl(1:3, a) + tr
+      else
+        tr = 0.5_dp * (mrow_m(a) - (bl(1, a) + bl(2, a)))
+        bl(1:2, a) = bl(1:2, a) + tr
+      end if
+      br(:, a) = bb(:, a)
+    end do
+  end subroutine step_b
+
 
   !> The step's second Piola-Kirchhoff stress of a STRAIN_MEASURE LOG point: S̄ = G'T̄, T̄ the law's
   !> step stress on the Hencky strain (its path mean: T̄·Δℓ is the law's path work) and G a secant
@@ -550,7 +626,7 @@ contains
     end if
     call add_btdb(ke, w, b, mp, ndof)
     mn = mn - mp
-    call add_btdb(kg, w, b, mn, ndof)
+    if (any(mn /= 0.0_dp)) call add_btdb(kg, w, b, mn, ndof)      ! m positive definite: nothing to split
   end subroutine add_split
 
   !> dE = B_NL(F) du (rows as green's; columns u_x, u_y of each node), ∇N in dn; the hoop row

@@ -20,8 +20,8 @@ module large_solid
   use element_points, only: model_view_t, point_update
   use law_hyperelastic, only: nh_solid_stress, nh_solid_tangent, nh_solid_discrete_stress
   use lapack_pure, only: dsyev
-  use small_matrix, only: det3
-  use element_table, only: add_btdb
+  use small_matrix, only: det3, sym_part
+  use element_table, only: add_btdb, add_anti
   implicit none
   private
   public :: large_solid_element
@@ -37,8 +37,8 @@ contains
   !> dissipation sums, and with tangent ke (+)= w B_NL' D B_NL + the tensile part of the geometric
   !> stiffness (kg the compressive part, which the iteration matrix takes where it keeps S positive:
   !> iteration_matrix). bmat keeps B_NL(F(n+1)) for the support reactions; the points keep (E, S).
-  subroutine large_solid_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, any_c, wsum, &
-                                 dsum)
+  subroutine large_solid_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, ka, any_c, &
+                                 wsum, dsum)
     type(scene_t), intent(in) :: scn
     type(system_t), intent(inout) :: sys
     type(model_view_t), intent(in) :: mv
@@ -46,6 +46,7 @@ contains
     real(dp), intent(in) :: ue(:), une(:)
     logical, intent(in) :: correct, tangent
     real(dp), intent(inout) :: fe(:), fc(:), ke(MAX_EDOF, MAX_EDOF), kg(:, :), wsum, dsum
+    real(dp), intent(inout) :: ka(:, :)   !< with tangent and correct: += the Jacobian's antisymmetric part
     logical, intent(inout) :: any_c
     type(law_step_t) :: r
     real(dp) :: dn(3, NEN_MAX), fn(3, 3), f1(3, 3), en(NS), e1(NS), sn(NS), s1(NS), sbar(NS), dm(NS, NS), &
@@ -101,7 +102,16 @@ contains
       end if
       wsum = wsum + w * dot_product(sbar, e1 - en)
       dsum = dsum + w * dpt
-      if (tangent) then
+      if (tangent .and. correct) then
+        ! eq (9)'s step tangent (large_plane's step_b): the force 2 w B_NL(F_mid)' S̄ has the Jacobian
+        ! B_NL(F_mid)' D B_NL(F(n+1)) + the geometric part with S̄; its symmetric part B̂' D_s B̂ (B̂ the
+        ! mean of the two B's, to O(ΔF²)) to ke, its antisymmetric part to ka (iterate_eq9's anti_sweep).
+        call add_anti(NS, ndof, bm, dm, b1, w, ka)
+        call sym_part(dm)
+        bm(:, 1:ndof) = 0.5_dp * (bm(:, 1:ndof) + b1(:, 1:ndof))
+        call add_btdb(NS, ndof, bm(:, 1:ndof), dm, w, ke)
+        call add_geometric(ke, kg, w, sbar, dn, nen)
+      else if (tangent) then
         call add_btdb(NS, ndof, b1(:, 1:ndof), dm, w, ke)
         call add_geometric(ke, kg, w, s1, dn, nen)
       end if

@@ -11,7 +11,7 @@
 module log_strain
   use kinds, only: dp
   use law_hyperelastic, only: log1p_
-  use lapack_pure, only: dsyev
+  use lapack_pure, only: dsyev, dpotrf
   implicit none
   private
   public :: hencky_strain, log_tangent, log_curvature, positive_inplane, positive_all
@@ -96,13 +96,20 @@ contains
   end subroutine log_tangent
 
   !> The symmetric 4 x 4 a (on E, the hoop row included) kept to its positive part, into dm; a failed
-  !> eigensolve leaves dm as it was.
+  !> eigensolve leaves dm as it was. A positive definite a (its Cholesky factorization succeeds: the
+  !> common case, an elastic or hardening point) is its own positive part, without the eigensolve.
   pure subroutine positive_all(a, dm)
     real(dp), intent(inout) :: a(4, 4)
     real(dp), intent(inout) :: dm(4, 4)
-    real(dp) :: w(4), work(24)
+    real(dp) :: w(4), work(24), c(4, 4)
     integer :: info, i
     a = 0.5_dp * (a + transpose(a))
+    c = a
+    call dpotrf('U', 4, c, 4, info)
+    if (info == 0) then
+      dm = a
+      return
+    end if
     call dsyev('V', 'U', 4, a, 4, w, work, size(work), info)
     if (info /= 0) return
     dm = 0.0_dp
@@ -137,14 +144,21 @@ contains
   end subroutine log_curvature
 
   !> The in-plane block a (xx, yy, xy rows of a 4 x 4 on E) symmetrized and kept to its positive
-  !> part, into dm(ip, ip) (the rest of dm untouched); a failed eigensolve leaves dm as it was.
+  !> part, into dm(ip, ip) (the rest of dm untouched); a failed eigensolve leaves dm as it was. A
+  !> positive definite a is its own positive part (as in positive_all).
   pure subroutine positive_inplane(a, dm)
     real(dp), intent(inout) :: a(3, 3)
     real(dp), intent(inout) :: dm(4, 4)
-    real(dp) :: w(3), work(16)
+    real(dp) :: w(3), work(16), c(3, 3)
     integer :: info, i
     integer, parameter :: ip(3) = [1, 2, 4]
     a = 0.5_dp * (a + transpose(a))
+    c = a
+    call dpotrf('U', 3, c, 3, info)
+    if (info == 0) then
+      dm(ip, ip) = a
+      return
+    end if
     call dsyev('V', 'U', 3, a, 3, w, work, size(work), info)
     if (info /= 0) return
     dm(ip, ip) = 0.0_dp

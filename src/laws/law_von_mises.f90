@@ -271,8 +271,8 @@ contains
     real(dp), intent(out) :: q(:)
     type(law_step_t), intent(out) :: r
     real(dp) :: qn(2 * NCMAX + 2), qk(2 * NCMAX + 2), s1(NCMAX), q1(2 * NCMAX + 2), dep(NCMAX), d(NCMAX), &
-      cel(NCMAX, NCMAX), eps0(NCMAX), nu, g, xi(NCMAX), dt4(4, 4), t, de(NCMAX), sn(NCMAX)
-    integer :: ns, ia, i, j
+      cel(NCMAX, NCMAX), eps0(NCMAX), nu, g, xi(NCMAX), dt4(4, 4), de(NCMAX), sn(NCMAX)
+    integer :: ns, ia, i
     call law_step_reset(r)
     ns = vm_state_size(nc)
     ia = vm_alpha_index(nc)
@@ -336,15 +336,9 @@ contains
         call vm_return(p, 6, sn(1:6), qn, d(1:6), s1(1:6), q1, dep(1:6), r%dtan)
       end if
     end if
-    ! (The chain X_k = D_k (cel X_(k-1) + I/N) is not symmetric: its symmetric part, as the
-    ! iteration matrix takes it; half of each would depend on the equations' order.)
-    do j = 1, nc
-      do i = 1, j
-        t = 0.5_dp * (r%dbar(i, j) + r%dbar(j, i))
-        r%dbar(i, j) = t
-        r%dbar(j, i) = t
-      end do
-    end do
+    ! (The chain X_k = D_k (cel X_(k-1) + I/N) is not symmetric: dbar is left whole; the callers
+    ! assemble its symmetric part (sym_part) and the LARGE surface elements its antisymmetric one
+    ! apart, for iterate_eq9's anti_sweep.)
     r%has_dbar = .true.
   end subroutine vm_path
 end module law_von_mises

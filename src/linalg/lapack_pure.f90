@@ -9,7 +9,7 @@ module lapack_pure
   use kinds, only: dp
   implicit none
   private
-  public :: dsygvd, dsyev, dposv, dsysv, dpstrf, dpotrs, dgesv, dgetrf, dgetrs
+  public :: dsygvd, dsyev, dposv, dsysv, dpstrf, dpotrf, dpotrs, dgesv, dgetrf, dgetrs
 
   interface
     !> Generalized symmetric-definite eigenproblem, divide and conquer.
@@ -63,6 +63,16 @@ module lapack_pure
       real(dp), intent(in) :: tol
       real(dp), intent(out) :: work(*)
     end subroutine dpstrf
+
+    !> Cholesky factorization; info > 0 when a is not positive definite (the leading minor of that
+    !> order is not positive): a cheap definiteness test.
+    pure subroutine dpotrf(uplo, n, a, lda, info)
+      import :: dp
+      character(len=1), intent(in) :: uplo
+      integer, intent(in) :: n, lda
+      real(dp), intent(inout) :: a(lda, *)
+      integer, intent(out) :: info
+    end subroutine dpotrf
 
     !> Solve with a Cholesky factor from dpotrf/dposv (or the leading block of dpstrf's).
     pure subroutine dpotrs(uplo, n, nrhs, a, lda, b, ldb, info)

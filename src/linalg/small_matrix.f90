@@ -1,11 +1,12 @@
 !> 3 x 3 matrices in closed form, for the solids' Jacobians, deformation gradients and right
 !> Cauchy-Green tensors (element_solid, large_solid, law_hyperelastic): the determinant and the
-!> adjugate (A adj(A) = det(A) I), so that a caller divides once and checks det itself.
+!> adjugate (A adj(A) = det(A) I), so that a caller divides once and checks det itself; and the
+!> symmetric part of a small square matrix in place (a law's tangent before a symmetric assembly).
 module small_matrix
   use kinds, only: dp
   implicit none
   private
-  public :: det3, adjugate3
+  public :: det3, adjugate3, sym_part
 
 contains
 
@@ -29,4 +30,18 @@ contains
     c(3, 2) = a(1, 2) * a(3, 1) - a(1, 1) * a(3, 2)
     c(3, 3) = a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1)
   end function adjugate3
+
+  !> a = ½(a + a') in place (the same arithmetic on both halves: the result is exactly symmetric).
+  pure subroutine sym_part(a)
+    real(dp), intent(inout) :: a(:, :)
+    real(dp) :: t
+    integer :: i, j
+    do j = 1, size(a, 2)
+      do i = 1, j
+        t = 0.5_dp * (a(i, j) + a(j, i))
+        a(i, j) = t
+        a(j, i) = t
+      end do
+    end do
+  end subroutine sym_part
 end module small_matrix

@@ -20,6 +20,7 @@ module sparse_matrix
     procedure :: locate => sym_csc_locate
     procedure :: add_element => sym_csc_add_element
     procedure :: matvec => sym_csc_matvec
+    procedure :: anti_matvec => sym_csc_anti_matvec
     procedure :: diagonal => sym_csc_diagonal
     procedure :: isolated_diagonal => sym_csc_isolated_diagonal
     procedure :: compact => sym_csc_compact
@@ -338,6 +339,29 @@ contains
       y(j) = y(j) + s + values(kd) * xj
     end do
   end subroutine sym_csc_matvec
+
+  !> y = A x for the antisymmetric A (A' = -A) whose upper triangle is values (the diagonal entries,
+  !> zero for an antisymmetric matrix, are not read). add_element assembles it from antisymmetric
+  !> element matrices as it does the symmetric ones. No allocation.
+  pure subroutine sym_csc_anti_matvec(self, values, x, y)
+    class(sym_csc_t), intent(in) :: self
+    real(dp), intent(in) :: values(:)
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: y(:)
+    integer :: i, j, k
+    real(dp) :: xj, s
+    y(1:self%n) = 0.0_dp
+    do j = 1, self%n
+      xj = x(j)
+      s = 0.0_dp
+      do k = self%colptr(j), self%colptr(j + 1) - 2    ! the diagonal, last in its column, left out
+        i = self%rowind(k)
+        y(i) = y(i) + values(k) * xj
+        s = s - values(k) * x(i)
+      end do
+      y(j) = y(j) + s
+    end do
+  end subroutine sym_csc_anti_matvec
 
   !> The pattern cpat and values cval of the matrix values on self without its off-diagonal exact
   !> zeros (the diagonal kept: the invariants hold). A consistent mass on the stiffness's pattern is

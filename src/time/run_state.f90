@@ -97,6 +97,7 @@ contains
     ! a restart iterates with the same matrix (bit for bit).
     if (allocated(sys%ops%tval)) call ck%put('tangent', sys%ops%tval, stat, errmsg)
     if (allocated(sys%ops%gval)) call ck%put('tangent_geometric', sys%ops%gval, stat, errmsg)
+    if (allocated(sys%ops%aval)) call ck%put('tangent_antisymmetric', sys%ops%aval, stat, errmsg)
     call refresh_points(scn, sys, rs%st%u, .false.)
     call save_points(sys, ck, stat, errmsg)
     call rs%en%save(ck, stat, errmsg)
@@ -154,6 +155,7 @@ contains
     call rs%mat%load(sys, ck, stat, errmsg)
     if (allocated(sys%ops%tval)) call ck%get('tangent', sys%ops%tval, stat, errmsg)
     if (allocated(sys%ops%gval)) call ck%get('tangent_geometric', sys%ops%gval, stat, errmsg)
+    if (allocated(sys%ops%aval)) call ck%get('tangent_antisymmetric', sys%ops%aval, stat, errmsg)
     call load_points(sys, ck, stat, errmsg)
     call rs%en%load(ck, stat, errmsg)
     if (rs%has_contact) call rs%cs%load(ck, stat, errmsg)

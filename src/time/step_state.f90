@@ -27,6 +27,7 @@ module step_state
     real(dp), allocatable :: f_np1(:), rhs(:), du(:), ddu(:), r(:), utrial(:), fint(:), fcorr(:), mdu(:), v_eq3(:)
     real(dp), allocatable :: cdu(:)          !< C du (MODEL DAMPING)
     real(dp), allocatable :: du_prev(:)      !< the last iterate's du (a relaxed iterate: iterate_eq9)
+    real(dp), allocatable :: aw(:), ay(:)    !< work of the antisymmetric sweep (iterate_eq9's anti_sweep)
     real(dp), allocatable :: res_hist(:)     !< residual norm of each iteration of the step
     ! Follower pressures (KINEMATICS LARGE): F(n+1) = the dead part f_fix + the sides' forces at the
     ! trial configuration, at t(n+1); f_new the scratch of its update.
@@ -72,7 +73,7 @@ contains
     self%extended = extended
     allocate (self%u(n), self%v(n), self%fint_n(n), self%f_n(n), self%mv(n), self%f_np1(n), self%rhs(n), &
       self%du(n), self%ddu(n), self%r(n), self%utrial(n), self%fint(n), self%fcorr(n), self%mdu(n), self%v_eq3(n), &
-      self%cdu(n), self%du_prev(n), self%res_hist(max_iter))
+      self%cdu(n), self%du_prev(n), self%aw(n), self%ay(n), self%res_hist(max_iter))
     if (extended) allocate (self%rhs_q(n), self%mv_q(n), self%mdu_q(n), self%r_q(n), self%utrial_q(n))
   end subroutine state_init
 
