@@ -112,8 +112,8 @@ def ccx_results(path):
                 continue
             p = line.split()
             if cur and len(p) >= 2:
-                try:
-                    data[cur][int(p[0])] = [float(x) for x in p[1:]]
+                try:                    # ('L': values in a node's local system, *TRANSFORM)
+                    data[cur][int(p[0])] = [float(x) for x in p[1:] if x != 'L']
                 except ValueError:
                     pass
     return data

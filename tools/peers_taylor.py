@@ -31,10 +31,8 @@ other setting the default (FORMULATION AUTO -> BBAR, ITERATION AUTO, SUBSTEPS AU
     /usr/bin/python3 tools/peers_taylor.py [--doc docs/peers.md] [--meshes 4x20,8x40] [--steps 5e-7,2.5e-7]
 """
 import argparse
-import collections
 import os
 import re
-import resource
 import shutil
 import subprocess
 import sys
@@ -42,6 +40,8 @@ import tempfile
 import time
 
 import numpy as np
+
+from peers import ccx_results, cpu_of
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 REBOND = os.environ.get('REBOND_BIN', os.path.join(ROOT, 'bin', 'rebond'))
@@ -51,13 +51,6 @@ BEGIN, END = '<!-- taylor:begin -->', '<!-- taylor:end -->'
 # one thread for both codes (ccx: 'Using up to 1 cpu(s)'; rebond's BLAS would otherwise take the two cores)
 ENV = dict(os.environ, OMP_NUM_THREADS='1', OPENBLAS_NUM_THREADS='1', CCX_NPROC_STIFFNESS='1',
            CCX_NPROC_EQUATION_SOLVER='1')
-
-
-def cpu_of(fn):
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    out = fn()
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return out, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
 def held_scene(geom, work):
@@ -165,25 +158,6 @@ def ccx_input(geom, nx, ny, h, etype, path, nprint):
     with open(path, 'w') as f:
         f.write('\n'.join(out) + '\n')
     return nid(nx, 0, 0), nid(0, ny, 0)
-
-
-def ccx_results(path):
-    """{(quantity, time): {id: values}} of a CalculiX .dat file."""
-    data = collections.defaultdict(dict)
-    cur = None
-    with open(path) as f:
-        for line in f:
-            m = re.match(r'\s*(displacements|internal energy|kinetic energy).*time\s+(\S+)', line)
-            if m:
-                cur = (m.group(1), float(m.group(2)))
-                continue
-            p = line.split()
-            if cur and len(p) >= 2:
-                try:
-                    data[cur][int(p[0])] = [float(x) for x in p[1:] if x != 'L']
-                except ValueError:
-                    pass
-    return data
 
 
 def run_ccx(geom, nx, ny, h, work, etype):

@@ -390,7 +390,7 @@ contains
     real(dp), intent(inout) :: ka(:, :)   !< with tangent and correct: += the antisymmetric part (step_b)
     real(dp) :: sn(4), s1(4), sbar(4), sg(4), snoise, bn(4, MAX_EDOF), bb(4, MAX_EDOF), bh(4, MAX_EDOF), bhe(4, MAX_EDOF), &
       bl(4, MAX_EDOF), br(4, MAX_EDOF), &
-      dm(4, 4), gc(4, 4), st(2, 2), sc(2, 2), w, g, gcm, tr, pmax
+      dm(4, 4), gc(4, 4), st(2, 2), sc(2, 2), w, g, gcm, pmax
     integer :: p, nen, a, b, i
     p = sys%elems%b_ptr(igp)
     w = sys%elems%wt(igp)
@@ -424,13 +424,7 @@ contains
         do i = 1, 4
           bb(i, a) = dot_product(q%pl(i, :), q%b1(:, a))
         end do
-        if (mv%axi) then
-          tr = (mrow(a) - (bb(1, a) + bb(2, a) + bb(3, a))) / 3.0_dp
-          bb(1:3, a) = bb(1:3, a) + tr
-        else
-          tr = 0.5_dp * (mrow(a) - (bb(1, a) + bb(2, a)))
-          bb(1:2, a) = bb(1:2, a) + tr
-        end if
+        call set_trace(bb(:, a), mrow(a), mv%axi)
         sys%elems%bmat(p + 4 * a - 4:p + 4 * a - 1) = bb(:, a)
       else if (mv%log_strain) then          ! the B of the point's strain: P B_NL for ℓ
         do i = 1, 4
@@ -524,7 +518,7 @@ contains
     real(dp), intent(in) :: mrow_m(:), bb(:, :)
     integer, intent(in) :: ndof
     real(dp), intent(out) :: bl(:, :), br(:, :)
-    real(dp) :: pm(4, 4), tr
+    real(dp) :: pm(4, 4)
     integer :: a, i
     if (.not. ((mv%bbar .and. .not. mv%hyper) .or. mv%log_strain)) then
       bl(:, 1:ndof) = q%bm(:, 1:ndof)
@@ -542,17 +536,27 @@ contains
         end do
         cycle
       end if
-      if (mv%axi) then
-        tr = (mrow_m(a) - (bl(1, a) + bl(2, a) + bl(3, a))) / 3.0_dp
-        bl(1:3, a) = bl(1:3, a) + tr
-      else
-        tr = 0.5_dp * (mrow_m(a) - (bl(1, a) + bl(2, a)))
-        bl(1:2, a) = bl(1:2, a) + tr
-      end if
+      call set_trace(bl(:, a), mrow_m(a), mv%axi)
       br(:, a) = bb(:, a)
     end do
   end subroutine step_b
 
+
+  !> B-bar's column b (xx, yy, zz, xy rows) given the element's mean trace: its normal rows (in-plane,
+  !> with the hoop row when axi) shifted alike so that their sum is target.
+  pure subroutine set_trace(b, target, axi)
+    real(dp), intent(inout) :: b(4)
+    real(dp), intent(in) :: target
+    logical, intent(in) :: axi
+    real(dp) :: tr
+    if (axi) then
+      tr = (target - (b(1) + b(2) + b(3))) / 3.0_dp
+      b(1:3) = b(1:3) + tr
+    else
+      tr = 0.5_dp * (target - (b(1) + b(2)))
+      b(1:2) = b(1:2) + tr
+    end if
+  end subroutine set_trace
 
   !> The step's second Piola-Kirchhoff stress of a STRAIN_MEASURE LOG point: S̄ = G'T̄, T̄ the law's
   !> step stress on the Hencky strain (its path mean: T̄·Δℓ is the law's path work) and G a secant

@@ -165,6 +165,18 @@ def free_body(tag, h, mom_bound, am_bound=1e-10, bal_bound=1e-10):
     report('%s: |balance| <= %g of E' % (tag, bal_bound), bal <= bal_bound, '%.2e' % bal)
 
 
+def hertz_sphere(radius, young, poisson, density, speed):
+    """Hertz's elastic sphere on a rigid plane (quasi-static half-spaces): its mass m, the contact
+    duration 2.87 (m^2 / (R E*^2 v))^(1/5) and the peak force 4/3 E* sqrt(R) d^(3/2) at the approach
+    d = (15 m v^2 / (16 E* sqrt(R)))^(2/5), E* = E / (1 - nu^2)."""
+    import numpy as np
+    m = 4.0 / 3.0 * np.pi * radius ** 3 * density
+    e_star = young / (1 - poisson ** 2)
+    t = 2.87 * (m ** 2 / (radius * e_star ** 2 * speed)) ** 0.2
+    d = (15 * m * speed ** 2 / (16 * e_star * np.sqrt(radius))) ** 0.4
+    return m, t, 4.0 / 3.0 * e_star * np.sqrt(radius) * d ** 1.5
+
+
 def restart_same(scene, sets, end_half, files=('history.csv',)):
     """A run stopped at TIME.END = end_half and restarted from its checkpoint (the sets must write one,
     OUTPUT.CHECKPOINT=k) writes the same files as the run in one go, byte for byte. Returns (same,

@@ -244,12 +244,8 @@ sc.report_measured('Taylor cylinder: foot radius and length change by < 0.5 % as
 
 # --- Hertz: an elastic sphere on a rigid plane (inputs/hertz_axi.dat), three meshes --------------------
 HERE = os.path.dirname(os.path.abspath(__file__))
-R_S, E_S, NU_S, RHO_S, V_S = 0.01, 2.1e11, 0.3, 7800.0, 1.0
-m_s = 4.0 / 3.0 * np.pi * R_S ** 3 * RHO_S
-e_star = E_S / (1 - NU_S ** 2)
-t_hertz = 2.87 * (m_s ** 2 / (R_S * e_star ** 2 * V_S)) ** 0.2
-d_hertz = (15 * m_s * V_S ** 2 / (16 * e_star * np.sqrt(R_S))) ** 0.4
-f_hertz = 4.0 / 3.0 * e_star * np.sqrt(R_S) * d_hertz ** 1.5
+R_S, V_S = 0.01, 1.0
+m_s, t_hertz, f_hertz = sc.hertz_sphere(R_S, 2.1e11, 0.3, 7800.0, V_S)
 for tag, msh in (('125 TRI6', os.path.join(HERE, 'hertz_coarse.msh')), ('475 TRI6', os.path.join(sc.ROOT, 'inputs', 'hertz.msh')),
                  ('958 TRI6', os.path.join(HERE, 'hertz_fine.msh'))):
     out = sc.run_ok(os.path.join('inputs', 'hertz_axi.dat'), ['GMSH.FILE=' + msh, 'OUTPUT.FIELDS=EVERY 0'])

@@ -19,12 +19,8 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import scenecheck as sc  # noqa: E402
 
-R_S, E_S, NU_S, RHO_S, V_S = 0.01, 2.1e11, 0.3, 7800.0, 1.0
-m_s = 4.0 / 3.0 * np.pi * R_S ** 3 * RHO_S
-e_star = E_S / (1 - NU_S ** 2)
-t_hertz = 2.87 * (m_s ** 2 / (R_S * e_star ** 2 * V_S)) ** 0.2
-d_hertz = (15 * m_s * V_S ** 2 / (16 * e_star * np.sqrt(R_S))) ** 0.4
-f_hertz = 4.0 / 3.0 * e_star * np.sqrt(R_S) * d_hertz ** 1.5
+V_S = 1.0
+m_s, t_hertz, f_hertz = sc.hertz_sphere(0.01, 2.1e11, 0.3, 7800.0, V_S)
 
 mesh_dir = sc.new_dir('hertz3d_mesh')
 os.makedirs(mesh_dir)
