@@ -378,7 +378,8 @@ contains
   !> (secant_stress); the work and dissipation sums; bmat; with tangent, ke += the point's tangent:
   !> w B' (P'DP + T:d²ℓ/dE², positive part) B + the geometric part with the tensile part of S.
   !> With BBAR the material part is w B̄'D B̄ (B̄ the B of ℓ̄: mrow, the mean trace row) and the log
-  !> map's curvature keeps its positive part alone.
+  !> map's curvature keeps its positive part alone. With correct, the step tangent: B̂ (step_b, from
+  !> B_NL(F_mid), mrow_m and B(n+1)) and S̄ in those terms, ka += the antisymmetric part.
   subroutine point_forces(sys, mv, igp, ndof, correct, tangent, q, mrow, mrow_m, fe, fc, ke, kg, ka, wsum, dsum)
     type(system_t), intent(inout) :: sys
     type(model_view_t), intent(in) :: mv

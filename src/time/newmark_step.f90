@@ -231,12 +231,10 @@ contains
     call st%commit(sys)
   end subroutine end_step
 
-  !> Whether the iteration cycles (iterate_eq9's relaxed iterate), from the third iterate on: the
-  !> residual res rose after a fall, or |du| (dun: the last three iterates) went up and down while
-  !> the residual did not halve in two iterates.
-  !> Newton's step with the Jacobian's antisymmetric part A (sys%ops%aval: LARGE surface elements under
-  !> eq (9), whose force 2 B_NL(F_mid)' S̄ and law's path mean have a Jacobian that is not symmetric;
-  !> S, factorized by CHOLMOD, holds its symmetric part): one sweep of (S + A) x = r_t,
+  !> Newton's step with the Jacobian's antisymmetric part A (sys%ops%aval: LARGE surface and volume
+  !> elements under eq (9), whose force 2 B_NL(F_mid)' S̄ and the laws' path mean have a Jacobian that
+  !> is not symmetric, and small-strain VON_MISES points; S, factorized by CHOLMOD, holds its
+  !> symmetric part): one sweep of (S + A) x = r_t,
   !>     ddu <- S⁻¹ r - S⁻¹ A S⁻¹ r_t,
   !> r_t the whole residual (with the contact forces C'Λ of the iterate; the contact solve then adds
   !> S⁻¹C'Λ to the free iterate, so its fixed point stays r_t = 0). |S⁻¹A| is about 1/50 on the
@@ -263,6 +261,9 @@ contains
     if (stat == STAT_OK) st%ddu = st%ddu - st%ay
   end subroutine anti_sweep
 
+  !> Whether the iteration cycles (iterate_eq9's relaxed iterate), from the third iterate on: the
+  !> residual res rose after a fall, or |du| (dun: the last three iterates) went up and down while
+  !> the residual did not halve in two iterates.
   pure logical function cycling(res, dun)
     real(dp), intent(in) :: res(:), dun(3)
     integer :: n
