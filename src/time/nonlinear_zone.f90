@@ -322,6 +322,9 @@ contains
       st%fcorr(i) = 0.0_dp
     end do
     if (tangent) sys%ops%tval(self%pp_k) = 0.0_dp
+    ! (The Jacobian's antisymmetric part, which the zone's Newton leaves out: its entries of Z' are
+    ! formed afresh too, so that aval stays the tangent's.)
+    if (tangent .and. allocated(sys%ops%aval)) sys%ops%aval(self%pp_k) = 0.0_dp
     call internal_force(scn, sys, st%utrial, st%fint, st%fcorr, scn%energy_correction, tangent, st%inc, un=st%u, &
       elist=self%elist)
   end subroutine zone_trial
