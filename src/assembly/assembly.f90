@@ -200,13 +200,15 @@ contains
 
   !> Whether model k's Jacobian of eq (9)'s forces has an antisymmetric part the tangent keeps apart
   !> (sys%ops%aval): LARGE surface and volume elements (the step's force at F_mid: large_plane's and
-  !> large_solid's step tangent), and small-strain ones under VON_MISES (the law's path-mean dbar).
+  !> large_solid's step tangent), and small-strain ones under VON_MISES (the law's path-mean dbar);
+  !> none without the energy correction (the forces are then f(n+1), whose tangent is kept whole).
   logical function wants_anti(scn, k)
     type(scene_t), intent(in) :: scn
     integer, intent(in) :: k
     integer :: fam
     fam = etype_family(scn%models(k)%etype)
     wants_anti = .false.
+    if (.not. scn%energy_correction) return
     if (fam /= FAMILY_SURFACE .and. fam /= FAMILY_VOLUME) return
     if (scn%models(k)%large) wants_anti = .true.
     if (scn%models(k)%material > 0) then

@@ -57,7 +57,7 @@ contains
     real(dp) :: ue(MAX_EDOF), une(MAX_EDOF), fe(MAX_EDOF), fc(MAX_EDOF), ke(MAX_EDOF, MAX_EDOF), kg(MAX_EDOF, MAX_EDOF), &
       ka(MAX_EDOF, MAX_EDOF), wsum, dsum, esum
     real(qp) :: esumq
-    logical :: any_c
+    logical :: any_c, keeps_a
     if (sys%ops%k0u%active() .and. .not. (tangent .or. present(elist) .or. sys%extended)) then
       ! A linear elastic small-strain model: Bσ(u) = K0 u (stiffness_product), σc = 0 (no law is
       ! sub-incremented); the points are evaluated where they are read (refresh_points).
@@ -108,6 +108,8 @@ contains
         cycle
       end if
       if (tangent) ke(1:ndof, 1:ndof) = 0.0_dp
+      if (tangent) ka(1:ndof, 1:ndof) = 0.0_dp
+      keeps_a = .false.                     ! (a kernel that forms ka: the antisymmetric part of eq (9)'s Jacobian)
       if (mv%large) then
         une(1:ndof) = 0.0_dp
         if (present(un)) then
@@ -123,7 +125,7 @@ contains
           call large_axial_element(scn, sys, mv, e, g0, ng, ue, une, correct, tangent, fe, fc, ke, any_c, wsum, dsum)
         else
           if (tangent) kg(1:ndof, 1:ndof) = 0.0_dp
-          if (tangent) ka(1:ndof, 1:ndof) = 0.0_dp
+          keeps_a = .true.
           if (nstr == 6) then
             call large_solid_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, ka, &
               any_c, wsum, dsum)
@@ -131,19 +133,15 @@ contains
             call large_plane_element(scn, sys, mv, e, g0, ng, ndof, ue, une, correct, tangent, fe, fc, ke, kg, ka, &
               any_c, wsum, dsum)
           end if
-          if (tangent .and. correct .and. allocated(sys%ops%aval)) call sys%ops%pat%add_element(sys%ops%aval, &
-            sys%elems%edof(e0:e0 + ndof - 1), ka(1:ndof, 1:ndof))
           if (tangent .and. allocated(sys%ops%gval)) call sys%ops%pat%add_element(sys%ops%gval, &
             sys%elems%edof(e0:e0 + ndof - 1), kg(1:ndof, 1:ndof))
         end if
       else if (mv%linear .and. (nstr == 4 .or. nstr == 2 .or. nstr == 1 .or. nstr == 6)) then
         call linear_element(sys%elems, sys%pts%eps_t, sys%pts%sig_t, g0, ng, ndof, nstr, mv%im, ue, tangent, fe, ke, esum)
       else
-        if (tangent) ka(1:ndof, 1:ndof) = 0.0_dp
+        keeps_a = .true.
         call nonlinear_element(scn, sys, mv, g0, ng, ndof, nstr, ue, correct, tangent, fe, fc, ke, ka, any_c, wsum, &
           dsum, esum)
-        if (tangent .and. correct .and. allocated(sys%ops%aval)) call sys%ops%pat%add_element(sys%ops%aval, &
-          sys%elems%edof(e0:e0 + ndof - 1), ka(1:ndof, 1:ndof))
       end if
       associate (dofs => sys%elems%edof(e0:e0 + ndof - 1))
         do k = 1, ndof
@@ -157,6 +155,8 @@ contains
           if (any_c) fcorr(j) = fcorr(j) + fc(k)
         end do
         if (tangent) call sys%ops%pat%add_element(sys%ops%tval, dofs, ke(1:ndof, 1:ndof))
+        if (keeps_a .and. tangent .and. correct .and. allocated(sys%ops%aval)) &
+          call sys%ops%pat%add_element(sys%ops%aval, dofs, ka(1:ndof, 1:ndof))
       end associate
       ! Support reactions (PROBE … RX|RY|MZ) take the correction force of eq (9) on their rows.
       if (any_c .and. sys%react%nslot > 0 .and. .not. present(elist)) call sys%react%add_correction(e, fc)

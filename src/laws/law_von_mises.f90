@@ -337,8 +337,8 @@ contains
       end if
     end if
     ! (The chain X_k = D_k (cel X_(k-1) + I/N) is not symmetric: dbar is left whole; the callers
-    ! assemble its symmetric part (sym_part) and the LARGE surface elements its antisymmetric one
-    ! apart, for iterate_eq9's anti_sweep.)
+    ! assemble its symmetric part (sym_part) in the tangent and its antisymmetric one apart (add_anti),
+    ! for iterate_eq9's anti_sweep.)
     r%has_dbar = .true.
   end subroutine vm_path
 end module law_von_mises
